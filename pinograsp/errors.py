@@ -1,0 +1,105 @@
+"""Exceptions and warnings raised by pinograsp.
+
+Every error pinograsp raises derives from :class:`PinograspError`. Subclasses carry the
+culprit (a contact, joint, actuator, file or value) as attributes so that callers can react
+programmatically, and their messages name it so that users can fix their input.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+
+
+class PinograspError(Exception):
+    """Root of every error raised by pinograsp."""
+
+
+class InvalidInputError(PinograspError, ValueError):
+    """A user-supplied value is malformed (NaN, wrong shape, out of range, ...).
+
+    Attributes:
+        name: Name of the offending argument or item (e.g. ``"wrench"``, ``"contact 3"``).
+        value: The offending value, when it is small enough to keep.
+    """
+
+    def __init__(self, name: str, message: str, value: object = None) -> None:
+        self.name = name
+        self.value = value
+        super().__init__(f"{name}: {message}")
+
+
+class UnknownNameError(PinograspError, KeyError):
+    """A name (joint, link, actuator, contact, scene, solver, ...) does not exist.
+
+    Attributes:
+        kind: What kind of name was looked up (``"joint"``, ``"actuator"``, ...).
+        name: The unknown name.
+        valid: The names that would have been accepted.
+    """
+
+    def __init__(self, kind: str, name: object, valid: Iterable[object]) -> None:
+        self.kind = kind
+        self.name = name
+        self.valid = list(valid)
+        shown = ", ".join(repr(v) for v in self.valid[:40])
+        more = "" if len(self.valid) <= 40 else f", ... ({len(self.valid)} in all)"
+        super().__init__(f"unknown {kind} {name!r}; valid {kind}s: {shown}{more}")
+
+    def __str__(self) -> str:  # KeyError would otherwise print the repr of the message
+        return str(self.args[0])
+
+
+class ModelError(PinograspError, ValueError):
+    """A grasp model cannot be built from the given contacts, actuators and couplings."""
+
+
+class SolverError(PinograspError, RuntimeError):
+    """An optimisation backend failed or returned an answer that did not pass the audit.
+
+    Attributes:
+        solver: Name of the backend.
+        status: The backend's status string, when there is one.
+    """
+
+    def __init__(self, message: str, solver: str | None = None, status: str | None = None) -> None:
+        self.solver = solver
+        self.status = status
+        super().__init__(message)
+
+
+class SolverNotAvailableError(SolverError, ImportError):
+    """The requested optimisation backend is not installed.
+
+    The message names the package (or pinograsp extra) to install.
+    """
+
+
+class SolverTimeoutError(SolverError):
+    """A solve hit its time limit before proving optimality or infeasibility."""
+
+
+class PreloadNotInEquilibriumError(PinograspError):
+    """The preload alone (``w = 0``) has no passive equilibrium.
+
+    Raised by analyses that start from the preloaded grasp, instead of reporting that the
+    grasp "resists 0 N". Attributes:
+        command: The actuator command that failed, in actuator units.
+        detail: What the equilibrium solve reported.
+    """
+
+    def __init__(self, command: object, detail: str) -> None:
+        self.command = command
+        self.detail = detail
+        super().__init__(f"preload not in equilibrium at w = 0 (command {command}): {detail}")
+
+
+class PinograspWarning(UserWarning):
+    """Root of every warning issued by pinograsp."""
+
+
+class BigMWarning(PinograspWarning):
+    """A mixed-integer solution touched (or came close to) a big-M bound."""
+
+
+class ConvergenceWarning(PinograspWarning):
+    """An iterative computation stopped without meeting its tolerance."""
