@@ -16,10 +16,29 @@ from .errors import (
     UnknownNameError,
 )
 from .model import WRENCH_AXES, GraspModel, PruneRecord
+from .analysis import max_resistible_wrench, resistance_profile, wrench_direction
+from .baseline import LinearComplianceResult, linear_compliance
+from .response import PassiveSolver, Settings, passive_response, solver_for
+from .results import Audit, MaxWrench, PassiveResponse, ResistanceProfile
+from .solvers import available_miqp_solvers
 
 __version__ = "0.1.0"
 
 __all__ = [
+    "Audit",
+    "LinearComplianceResult",
+    "MaxWrench",
+    "PassiveResponse",
+    "PassiveSolver",
+    "ResistanceProfile",
+    "Settings",
+    "available_miqp_solvers",
+    "linear_compliance",
+    "max_resistible_wrench",
+    "passive_response",
+    "resistance_profile",
+    "solver_for",
+    "wrench_direction",
     "ACTUATOR_KINDS",
     "Actuator",
     "BigMWarning",

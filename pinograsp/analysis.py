@@ -1,0 +1,206 @@
+"""Analyses built on the passive response: max resistible wrench and resistance profiles."""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Sequence
+
+import numpy as np
+
+from .errors import InvalidInputError, PreloadNotInEquilibriumError, SolverError, SolverTimeoutError
+from .model import GraspModel, axis_index
+from .response import METHODS, PassiveSolver, Settings, solver_for
+from .results import MaxWrench, PassiveResponse, ResistanceProfile
+
+
+def wrench_direction(model: GraspModel, direction: object, name: str = "direction") -> np.ndarray:
+    """A unit 6-vector from an axis name (``"fx"``, ``"-fy"``, ``"mz"``) or a wrench vector.
+
+    The norm is the plain Euclidean norm of ``(force [N], torque [N·m])`` as given.
+    """
+    if isinstance(direction, str):
+        sign = -1.0 if direction.startswith("-") else 1.0
+        d = np.zeros(6)
+        d[axis_index(direction.lstrip("+-"))] = sign
+    else:
+        d = model.wrench_vector(direction, name)
+    norm = float(np.linalg.norm(d))
+    if not norm > 0:
+        raise InvalidInputError(name, "zero-length direction", d)
+    d = d / norm
+    return model.wrench_vector(d, name)
+
+
+def _check(resp: PassiveResponse, magnitude: float) -> bool:
+    if resp.status == "timeout":
+        raise SolverTimeoutError(f"solver timed out at magnitude {magnitude:.6g}", solver=resp.solver, status="timeout")
+    if resp.status == "failed":
+        raise SolverError(
+            f"solver failed at magnitude {magnitude:.6g} (no trustworthy verdict)", solver=resp.solver, status="failed"
+        )
+    return resp.resistible
+
+
+def check_preload(solver: PassiveSolver, command: object, method: str) -> PassiveResponse:
+    """Solve ``w = 0``; raise :class:`PreloadNotInEquilibriumError` if the preload alone has no
+    passive equilibrium."""
+    resp = solver.response(command, np.zeros(6), method)
+    if not _check(resp, 0.0):
+        detail = f"{method} solve at w = 0 returned {resp.status!r}"
+        if resp.residual_history:
+            detail += f" (net wrench {resp.residual_history[-1]:.3g} N)"
+        raise PreloadNotInEquilibriumError(solver.model.command_vector(command).tolist(), detail)
+    return resp
+
+
+def max_resistible_wrench(
+    model: GraspModel,
+    command: object,
+    direction: object,
+    method: str = "iterative",
+    upper: float = 1e3,
+    steps: int = 20,
+    *,
+    settings: Settings | None = None,
+    check_preload_first: bool = True,
+    **overrides: object,
+) -> MaxWrench:
+    """Largest wrench magnitude along ``direction`` that the preloaded grasp resists passively.
+
+    Bisection on ``[0, upper]`` (seed paper: 20 steps, upper 1e3 N). The preload alone is
+    checked first (``w = 0``); a grasp whose preload is not in equilibrium raises
+    :class:`PreloadNotInEquilibriumError` instead of "resisting 0 N". If ``upper`` itself is
+    resisted the direction is reported ``unbounded`` with ``magnitude = inf``.
+
+    Args:
+        model: The grasp.
+        command: Actuator commands (see :func:`pinograsp.passive_response`).
+        direction: Wrench direction: axis name (``"fx"``, ``"-fy"``, ``"mz"``) or vector
+            (normalised here).
+        method: ``"iterative"`` (default; no wedging artefact) or ``"prp"``.
+        upper: Upper limit of the search [N or N·m along the unit direction].
+        steps: Bisection steps; resolution ``upper / 2**steps``.
+        settings, overrides: Solver settings (see :class:`pinograsp.response.Settings`).
+
+    Raises:
+        PreloadNotInEquilibriumError, SolverTimeoutError, SolverError, InvalidInputError.
+    """
+    t0 = time.perf_counter()
+    if method not in METHODS:
+        raise InvalidInputError("method", f"must be one of {METHODS}, got {method!r}")
+    if not (np.isfinite(upper) and upper > 0):
+        raise InvalidInputError("upper", f"must be finite and > 0, got {upper!r}")
+    if int(steps) < 1:
+        raise InvalidInputError("steps", f"must be >= 1, got {steps!r}")
+    solver = solver_for(model, settings, **overrides)
+    d = wrench_direction(model, direction)
+    solve_time, n_solves = 0.0, 0
+    if check_preload_first:
+        pre = check_preload(solver, command, method)
+        solve_time += pre.solve_time
+        n_solves += pre.n_solves
+    evidence: list[tuple[float, bool]] = []
+
+    def test(mag: float) -> tuple[bool, PassiveResponse]:
+        nonlocal solve_time, n_solves
+        resp = solver.response(command, mag * d, method)
+        solve_time += resp.solve_time
+        n_solves += resp.n_solves
+        ok = _check(resp, mag)
+        evidence.append((mag, ok))
+        return ok, resp
+
+    ok, resp = test(float(upper))
+    if ok:
+        return MaxWrench(
+            d, float("inf"), True, float(upper), float(upper) / 2**steps, tuple(evidence), method,
+            solve_time, time.perf_counter() - t0, n_solves, resp,
+        )
+    lo, hi, best = 0.0, float(upper), None
+    for _ in range(int(steps)):
+        mid = 0.5 * (lo + hi)
+        ok, resp = test(mid)
+        if ok:
+            lo, best = mid, resp
+        else:
+            hi = mid
+    return MaxWrench(
+        d, lo, False, float(upper), float(upper) / 2**steps, tuple(evidence), method,
+        solve_time, time.perf_counter() - t0, n_solves, best,
+    )
+
+
+def _plane_basis(model: GraspModel, plane: Sequence[object]) -> tuple[np.ndarray, tuple[str, str]]:
+    if len(plane) != 2:
+        raise InvalidInputError("plane", f"expected two wrench axes or vectors, got {plane!r}")
+    b = [wrench_direction(model, p, f"plane[{i}]") for i, p in enumerate(plane)]
+    b2 = b[1] - (b[1] @ b[0]) * b[0]
+    if np.linalg.norm(b2) < 1e-9:
+        raise InvalidInputError("plane", "the two directions are parallel")
+    labels = tuple(p if isinstance(p, str) else f"d{i}" for i, p in enumerate(plane))
+    return np.vstack([b[0], b2 / np.linalg.norm(b2)]), labels  # type: ignore[return-value]
+
+
+def resistance_profile(
+    model: GraspModel,
+    command: object,
+    plane: Sequence[object] = ("fx", "fy"),
+    n: int = 72,
+    method: str = "iterative",
+    upper: float = 1e3,
+    steps: int = 20,
+    *,
+    normalize: bool | str | None = None,
+    settings: Settings | None = None,
+    progress: Callable[[int, int], None] | None = None,
+    **overrides: object,
+) -> ResistanceProfile:
+    """Max resistible magnitude over ``n`` directions in a plane of wrench space.
+
+    Directions are ``cos(a) b1 + sin(a) b2`` for ``a = 2πi/n`` with ``(b1, b2)`` the plane's
+    spanning directions (axis names like ``("fx", "fy")``, ``("fx", "fz")``, ``("mx", "my")``,
+    or any two wrench vectors, orthonormalised).
+
+    Args:
+        normalize: Divide magnitudes by the value along a reference direction, as the paper
+            does (``True``: along ``+b2``, i.e. ``+Y`` for the XY plane; or an axis name like
+            ``"fy"``). A reference direction that is unbounded raises ``InvalidInputError``.
+        progress: Called as ``progress(done, total)`` after each direction.
+        Other arguments: as :func:`max_resistible_wrench`.
+    """
+    t0 = time.perf_counter()
+    if int(n) < 1:
+        raise InvalidInputError("n", f"must be >= 1, got {n!r}")
+    basis, labels = _plane_basis(model, plane)
+    solver = solver_for(model, settings, **overrides)
+    check_preload(solver, command, method) if method in METHODS else None
+    angles = 2.0 * np.pi * np.arange(int(n)) / int(n)
+    dirs = np.cos(angles)[:, None] * basis[0] + np.sin(angles)[:, None] * basis[1]
+    results = []
+    for i, d in enumerate(dirs):
+        results.append(
+            max_resistible_wrench(
+                model, command, d, method, upper, steps, settings=solver.settings, check_preload_first=False
+            )
+        )
+        if progress is not None:
+            progress(i + 1, len(dirs))
+    mags = np.array([r.magnitude for r in results])
+    unb = np.array([r.unbounded for r in results])
+    norm_by = None
+    if normalize:
+        ref = basis[1] if normalize is True else wrench_direction(model, normalize, "normalize")
+        hit = [r for r, d in zip(results, dirs) if np.allclose(d, ref, atol=1e-12)]
+        ref_res = hit[0] if hit else max_resistible_wrench(
+            model, command, ref, method, upper, steps, settings=solver.settings, check_preload_first=False
+        )
+        if ref_res.unbounded or not ref_res.magnitude > 0:
+            raise InvalidInputError(
+                "normalize", f"the reference direction is {'unbounded' if ref_res.unbounded else 'not resisted'}"
+            )
+        norm_by = ref_res.magnitude
+        mags = mags / norm_by
+    return ResistanceProfile(
+        plane=labels, basis=basis, angles=angles, directions=dirs, magnitudes=mags, unbounded=unb,
+        normalized_by=norm_by, results=tuple(results), wall_time=time.perf_counter() - t0,
+    )

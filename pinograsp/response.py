@@ -1,0 +1,404 @@
+"""Passive response of a preloaded grasp to an external wrench (seed Alg. 1, 2 and 3).
+
+* ``method="prp"`` — Alg. 1: one mixed-integer QP, minimise the spring energy ``|c_n|^2``
+  subject to equilibrium, friction, springs and actuation. Admits the *wedging artefact*.
+* ``method="iterative"`` — Alg. 2 inside Alg. 3: the object may only move along the current
+  net wrench (step in ``[0, gamma]``), each step minimises the net wrench, repeat until it
+  falls below ``eps`` (resisted) or stops improving (not resisted).
+
+Two variants (DESIGN §4.2):
+
+* ``"single-step"`` (the paper): preload and load are solved together from the
+  touching-without-force configuration;
+* ``"preload-first"`` (the authors' released code): first the preload alone (``w = 0``), then
+  ``w`` on top, with the preload normal forces as spring pre-compression and displacements
+  counted from the preloaded state — so a finger that closed during preloading may hold still
+  afterwards. Default for ``"iterative"``; the paper's single-step is the default for ``"prp"``.
+"""
+
+from __future__ import annotations
+
+import time
+import weakref
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from .errors import InvalidInputError
+from .model import GraspModel
+from .results import Audit, PassiveResponse
+from .solvers import OPTIMAL, ExactSolver, Formulation, ScaledData, resolve_solver
+from .solvers.base import INFEASIBLE, TIMEOUT, RawSolution
+
+METHODS = ("prp", "iterative")
+VARIANTS = ("single-step", "preload-first")
+
+
+@dataclass(frozen=True)
+class Settings:
+    """Solver and iteration settings (all analyses accept them as keyword overrides).
+
+    Attributes:
+        solver: MIQP backend: ``"scip"`` (default, open source) or any installed cvxpy MIQP
+            solver (``"gurobi"`` with ``pinograsp[gurobi]``).
+        time_limit: Per-MIQP time limit [s]; hitting it gives status ``"timeout"``.
+        bigm: Initial big-M constant in scaled force units (multiples of the data scale).
+        bigm_retries: Enlargements (x100 each) when a solution reaches 10 % of big-M.
+        polish: Polish every MIQP solution with the exact fixed-mode QP (ProxSuite).
+        gamma: Step bound of Alg. 2, dimensionless: one step changes the spring force of the
+            stiffest contact by at most ``gamma`` times the current net wrench.
+        eps: Equilibrium tolerance of the iterative scheme [N] on the net wrench norm
+            (torques divided by the model's length scale). Paper: 1e-3 N.
+        improvement: The iteration stops (not resisted) when the net wrench norm improves by
+            less than this fraction in one step (authors' code: 1 %).
+        max_iterations: Iteration cap (authors' code: 100); hitting it gives
+            ``"not_converged"``.
+        variant: ``"single-step"`` or ``"preload-first"``; ``None`` picks the method's default.
+        tolerance: Audit tolerance on hand/complementarity/friction residuals, relative to the
+            data scale.
+    """
+
+    solver: str = "scip"
+    time_limit: float = 60.0
+    bigm: float = 1e3
+    bigm_retries: int = 2
+    polish: bool = True
+    gamma: float = 1.0
+    eps: float = 1e-3
+    improvement: float = 1e-2
+    max_iterations: int = 100
+    variant: str | None = None
+    tolerance: float = 1e-6
+
+    def validated(self) -> Settings:
+        """Check every field; raise :class:`InvalidInputError` naming the bad one."""
+        resolve_solver(self.solver)
+        for name in ("time_limit", "bigm", "gamma", "eps", "tolerance"):
+            v = getattr(self, name)
+            if not (isinstance(v, (int, float)) and np.isfinite(v) and v > 0):
+                raise InvalidInputError(name, f"must be a finite number > 0, got {v!r}")
+        if not 0 <= self.improvement < 1:
+            raise InvalidInputError("improvement", f"must be in [0, 1), got {self.improvement!r}")
+        if int(self.max_iterations) < 1:
+            raise InvalidInputError("max_iterations", f"must be >= 1, got {self.max_iterations!r}")
+        if self.variant is not None and self.variant not in VARIANTS:
+            raise InvalidInputError("variant", f"must be one of {VARIANTS}, got {self.variant!r}")
+        return self
+
+    def variant_for(self, method: str) -> str:
+        """The variant used for ``method``."""
+        if self.variant is not None:
+            return self.variant
+        return "single-step" if method == "prp" else "preload-first"
+
+
+def make_settings(settings: Settings | None = None, **overrides: object) -> Settings:
+    """A validated :class:`Settings` from a base and keyword overrides."""
+    base = settings or Settings()
+    if overrides:
+        unknown = set(overrides) - set(Settings.__dataclass_fields__)
+        if unknown:
+            from .errors import UnknownNameError
+
+            raise UnknownNameError("setting", sorted(unknown)[0], list(Settings.__dataclass_fields__))
+        base = replace(base, **overrides)  # type: ignore[arg-type]
+    return base.validated()
+
+
+@dataclass(frozen=True, eq=False)
+class _Stage:
+    """Internal: one solved stage in scaled coordinates."""
+
+    raw: RawSolution | None
+    data: ScaledData
+    xh: np.ndarray  # scaled object displacement of the stage's solution (increment)
+    status: str
+    converged: bool
+    iterations: int
+    history: tuple[float, ...]
+    solve_time: float
+    n_solves: int
+
+
+class PassiveSolver:
+    """Passive-response solver of one model: builds each optimisation problem once and
+    re-solves it with new data (bisections and profiles call it thousands of times).
+
+    Use :func:`solver_for` to get the cached instance of a model and settings.
+    """
+
+    def __init__(self, model: GraspModel, settings: Settings | None = None) -> None:
+        if not isinstance(model, GraspModel):
+            raise InvalidInputError("model", f"expected pinograsp.GraspModel, got {type(model).__name__}")
+        self.model = model
+        self.settings = (settings or Settings()).validated()
+        self.form = Formulation(model)
+        self._exact: dict[str, ExactSolver] = {}
+        self._preload: dict[tuple, tuple[_Stage, str]] = {}
+
+    def exact(self, kind: str) -> ExactSolver:
+        """The exact (MIQP + polish) solver of problem ``kind`` (``"prp"``/``"move"``), built once."""
+        if kind not in self._exact:
+            s = self.settings
+            self._exact[kind] = ExactSolver(
+                self.form,
+                kind,
+                solver=s.solver,
+                gamma=s.gamma,
+                bigm=s.bigm,
+                bigm_retries=s.bigm_retries,
+                time_limit=s.time_limit,
+                polish=s.polish,
+            )
+        return self._exact[kind]
+
+    # --------------------------------------------------------------- stages
+    def _prp_stage(self, w: np.ndarray, fc: np.ndarray, p: np.ndarray, F: float | None = None) -> _Stage:
+        data = self.form.scale_data(w, fc, p, F=F)
+        raw = self.exact("prp").solve(data)
+        ok = raw.status == OPTIMAL
+        xh = raw.z[self.form.layout("prp")["obj"]] if ok else np.zeros(self.form.nx)
+        status = "resisted" if ok else ("not_resisted" if raw.status == INFEASIBLE else raw.status)
+        return _Stage(raw, data, xh, status, ok, 1, (), raw.solve_time, 1 + raw.bigm_retries)
+
+    def _iterative_stage(self, w: np.ndarray, fc: np.ndarray, p: np.ndarray, F: float | None = None) -> _Stage:
+        s = self.settings
+        f = self.form
+        lay = f.layout("move")
+        base = f.scale_data(w, fc, p, F=F)
+        xh = np.zeros(f.nx)
+        direction = np.zeros(f.nx)
+        history: list[float] = []
+        total, n = 0.0, 0
+        status, converged, raw_best = "not_converged", False, None
+        prev = None
+        for _ in range(int(s.max_iterations)):
+            data = ScaledData(base.F, base.w, base.fc, base.p, xh, direction)
+            raw = self.exact("move").solve(data)
+            total += raw.solve_time
+            n += 1 + raw.bigm_retries
+            if raw.status != OPTIMAL:
+                status = "not_resisted" if raw.status == INFEASIBLE else raw.status
+                break
+            r = base.w + f.Gb @ raw.z[lay["beta"]]
+            norm = float(np.linalg.norm(r) * base.F)
+            history.append(norm)
+            xh_next = xh + raw.z[lay["obj"]][0] * direction
+            raw_best = (raw, xh_next, data)
+            if norm <= s.eps:
+                status, converged = "resisted", True
+                break
+            if prev is not None and prev - norm < s.improvement * prev:
+                status = "not_resisted"
+                break
+            prev = norm
+            xh, direction = xh_next, r
+        if raw_best is None:
+            return _Stage(None, base, xh, status, False, n, tuple(history), total, n)
+        raw, xh_sol, data = raw_best
+        return _Stage(raw, data, xh_sol, status, converged, len(history), tuple(history), total, n)
+
+    def preload_stage(self, command: np.ndarray, method: str) -> _Stage:
+        """The preload alone (``w = 0``), cached per command."""
+        key = (method, tuple(np.round(command, 15)))
+        if key not in self._preload:
+            zero = np.zeros(self.model.nw)
+            nop = np.zeros(self.model.nc)
+            st = self._prp_stage(zero, command, nop) if method == "prp" else self._iterative_stage(zero, command, nop)
+            self._preload[key] = (st, method)
+        return self._preload[key][0]
+
+    # ------------------------------------------------------------- response
+    def response(self, command: object, wrench: object, method: str = "prp") -> PassiveResponse:
+        """Passive response to ``wrench`` under ``command`` (see :func:`passive_response`)."""
+        if method not in METHODS:
+            raise InvalidInputError("method", f"must be one of {METHODS}, got {method!r}")
+        m = self.model
+        fc = m.command_vector(command)
+        w6 = m.wrench_vector(wrench)
+        w = m.reduce_wrench(w6)
+        variant = self.settings.variant_for(method)
+        stage_fn = self._prp_stage if method == "prp" else self._iterative_stage
+        pre = None
+        p = np.zeros(m.nc)
+        if variant == "preload-first":
+            pre = self.preload_stage(fc, method)
+            if not pre.converged:
+                return self._build(method, variant, w6, fc, pre, pre=None, note="preload not in equilibrium")
+            p = m.E @ pre.raw.z[self.form.layout(pre.raw and ("prp" if method == "prp" else "move"))["beta"]] * pre.data.F
+        st = stage_fn(w, fc, p)
+        return self._build(method, variant, w6, fc, st, pre=pre)
+
+    def _build(
+        self,
+        method: str,
+        variant: str,
+        w6: np.ndarray,
+        fc: np.ndarray,
+        st: _Stage,
+        pre: _Stage | None,
+        note: str = "",
+    ) -> PassiveResponse:
+        m, f = self.model, self.form
+        kind = "prp" if method == "prp" else "move"
+        lay = f.layout(kind)
+        nc, nq, na = m.nc, m.nq, m.na
+        raw = st.raw
+        status = st.status
+        if note and status == "resisted":
+            status = "not_resisted"
+        n_solves = st.n_solves + (pre.n_solves if pre is not None else 0)
+        solve_time = st.solve_time + (pre.solve_time if pre is not None else 0.0)
+        if raw is None or raw.z is None:
+            nan = np.full
+            return PassiveResponse(
+                resistible=False,
+                status=status,
+                method=method,
+                variant=variant,
+                wrench=w6,
+                command=fc,
+                contact_forces=nan((nc, 3), np.nan),
+                contact_forces_world=nan((nc, 3), np.nan),
+                joint_torques=nan(nq, np.nan),
+                actuator_forces=nan(na, np.nan),
+                coupling_forces=nan(m.ncp, np.nan),
+                object_displacement=nan(6, np.nan),
+                joint_displacements=nan(nq, np.nan),
+                actuator_displacements=nan(na, np.nan),
+                contact_modes=(),
+                actuator_modes=(),
+                net_wrench=nan(6, np.nan),
+                audit=None,
+                iterations=st.iterations,
+                residual_history=st.history,
+                converged=False,
+                solver=self.settings.solver,
+                solve_time=solve_time,
+                n_solves=n_solves,
+                contact_names=m.contact_names,
+                joint_names=m.joint_names,
+                actuator_names=m.actuator_names,
+            )
+        z, F = raw.z, st.data.F
+        beta = z[lay["beta"]] * F
+        c = m.D @ beta  # (nc*d,)
+        cf = np.zeros((nc, 3))
+        cf[:, : m.d] = c.reshape(nc, m.d)
+        tau = m.J.T @ c
+        fa = z[lay["fh"]] * F / f.rho if na else np.zeros(0)
+        lam = z[lay["lam"]] * F / f.cl_norm if m.ncp else np.zeros(0)
+        qh = z[lay["qh"]]
+        q = qh * F / f.qscale if nq else np.zeros(0)
+        x = f.unscale_x(st.xh, F)
+        if pre is not None and pre.raw is not None and pre.raw.z is not None:
+            play = f.layout("prp" if method == "prp" else "move")
+            q = q + pre.raw.z[play["qh"]] * pre.data.F / f.qscale
+            x = x + f.unscale_x(pre.xh, pre.data.F)
+        u = m.R.T @ q
+        net = m.G @ c + m.reduce_wrench(w6)
+        # audit, in force units
+        gap = f.spring_gap(z[lay["beta"]], st.xh, qh, st.data.p) * F
+        cn = m.E @ beta
+        comp = np.minimum(np.abs(cn), np.abs(gap)).max(initial=0.0)
+        if na:
+            uh = f.Ru @ qh * F
+            over = (z[lay["fh"]] - st.data.fc) * F
+            nbd = f.nbd
+            comp = max(comp, np.minimum(np.abs(uh[nbd]), np.abs(over[nbd])).max(initial=0.0))
+        hand = (m.J.T @ c - m.R @ fa - m.C.T @ lam) / np.where(f.lever > 0, f.lever, 1.0) if nq else np.zeros(0)
+        scale = max(F, 1e-300)
+        audit = Audit(
+            equilibrium=float(np.linalg.norm(net * f.wscale)),
+            hand=float(np.abs(hand).max(initial=0.0)),
+            complementarity=float(comp),
+            friction=float(max(0.0, -beta.min(initial=0.0))),
+            bigm_ratio=raw.bigm_ratio,
+            bigm_retries=raw.bigm_retries,
+            polished=raw.polished,
+            tolerance=self.settings.tolerance * scale,
+        )
+        modes_c = tuple("touching" if t else "separated" for t in raw.mode.touching)
+        modes_a = tuple(
+            ("moving" if mv else "holding") if k == "non-backdrivable" else k
+            for k, mv in zip(m.kinds, raw.mode.moving)
+        )
+        resistible = status == "resisted"
+        if method == "prp" and resistible and audit.equilibrium > 1e-6 * scale:
+            status, resistible = "failed", False
+        return PassiveResponse(
+            resistible=resistible,
+            status=status,
+            method=method,
+            variant=variant,
+            wrench=w6,
+            command=fc,
+            contact_forces=cf,
+            contact_forces_world=m.world_forces(c),
+            joint_torques=tau,
+            actuator_forces=fa,
+            coupling_forces=lam,
+            object_displacement=m.expand_twist(x),
+            joint_displacements=q,
+            actuator_displacements=u,
+            contact_modes=modes_c,
+            actuator_modes=modes_a,
+            net_wrench=m.expand_wrench(net),
+            audit=audit,
+            iterations=st.iterations,
+            residual_history=st.history,
+            converged=st.converged,
+            solver=raw.backend,
+            solve_time=solve_time,
+            n_solves=n_solves,
+            contact_names=m.contact_names,
+            joint_names=m.joint_names,
+            actuator_names=m.actuator_names,
+        )
+
+
+_CACHE: weakref.WeakKeyDictionary[GraspModel, dict[Settings, PassiveSolver]] = weakref.WeakKeyDictionary()
+
+
+def solver_for(model: GraspModel, settings: Settings | None = None, **overrides: object) -> PassiveSolver:
+    """The cached :class:`PassiveSolver` of ``model`` with these settings (built on first use)."""
+    if not isinstance(model, GraspModel):
+        raise InvalidInputError("model", f"expected pinograsp.GraspModel, got {type(model).__name__}")
+    s = make_settings(settings, **overrides)
+    per_model = _CACHE.setdefault(model, {})
+    if s not in per_model:
+        per_model[s] = PassiveSolver(model, s)
+    return per_model[s]
+
+
+def passive_response(
+    model: GraspModel,
+    command: object,
+    wrench: object,
+    method: str = "prp",
+    *,
+    settings: Settings | None = None,
+    **overrides: object,
+) -> PassiveResponse:
+    """Passive response of the grasp ``model`` preloaded with ``command`` to ``wrench``.
+
+    Args:
+        model: The grasp.
+        command: Actuator commands ``f_c`` (scalar, sequence, or ``{actuator_name: value}``)
+            [N·m for direct drive, N for tendons].
+        wrench: External wrench on the object ``(fx, fy, fz, mx, my, mz)`` [N, N·m] about the
+            object reference point (planar models also take ``(fx, fy, mz)``).
+        method: ``"prp"`` (Alg. 1) or ``"iterative"`` (Alg. 2 + 3).
+        settings: Base :class:`Settings`; keyword ``overrides`` replace single fields
+            (e.g. ``solver="gurobi"``, ``gamma=2.0``, ``variant="single-step"``).
+
+    Returns:
+        A :class:`~pinograsp.results.PassiveResponse`; ``resistible`` says whether the wrench is
+        resisted, ``status`` why not (``"timeout"``/``"failed"`` are never reported as resisted).
+    """
+    if method not in METHODS:
+        raise InvalidInputError("method", f"must be one of {METHODS}, got {method!r}")
+    return solver_for(model, settings, **overrides).response(command, wrench, method)
+
+
+__all__ = ["METHODS", "VARIANTS", "PassiveSolver", "Settings", "TIMEOUT", "make_settings", "passive_response", "solver_for"]

@@ -1,0 +1,192 @@
+"""Typed, immutable results of pinograsp analyses."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class Audit:
+    """Post-solve check of a solution, in physical force units [N] (torques divided by the
+    model's length scale, joint torques by their lever).
+
+    Attributes:
+        equilibrium: Norm of the object's net wrench ``w + G c`` [N]. Zero (to solver accuracy)
+            for an equilibrium; for the iterative scheme this is the final residual.
+        hand: Largest joint-torque imbalance ``|J^T c - R f - C^T lambda| / lever`` [N].
+        complementarity: Largest ``min(a, b)`` over every complementary pair (contact force /
+            spring gap, actuator motion / over-force) [N]: zero when complementarity holds.
+        friction: Largest violation of the friction pyramid (negative edge weight) [N].
+        bigm_ratio: Largest big-M-bounded quantity as a fraction of its bound (0 without MIQP).
+        bigm_retries: How many times the big-M bounds had to be enlarged.
+        polished: Whether the solution was polished by the exact fixed-mode QP.
+        tolerance: Tolerance the residuals are compared with [N].
+    """
+
+    equilibrium: float
+    hand: float
+    complementarity: float
+    friction: float
+    bigm_ratio: float = 0.0
+    bigm_retries: int = 0
+    polished: bool = False
+    tolerance: float = 1e-6
+
+    @property
+    def ok(self) -> bool:
+        """All hand/complementarity/friction residuals within tolerance and no big-M saturation."""
+        return (
+            self.hand <= self.tolerance
+            and self.complementarity <= self.tolerance
+            and self.friction <= self.tolerance
+            and self.bigm_ratio < 0.1
+        )
+
+
+@dataclass(frozen=True)
+class PassiveResponse:
+    """Passive response of a preloaded grasp to one external wrench.
+
+    Shapes: ``nc`` contacts, ``nq`` joints, ``na`` actuators, ``ncp`` couplings (of the pruned
+    model). Forces in [N], torques in [N·m], displacements in [m] / [rad] (virtual, from the
+    touching-without-force configuration; scaled by the contact stiffness).
+
+    Attributes:
+        resistible: Whether the wrench is resisted passively (PRP: feasible; iterative:
+            converged to equilibrium below ``eps``).
+        status: ``"resisted"``, ``"not_resisted"`` (infeasible / converged above ``eps``),
+            ``"not_converged"`` (iteration cap), ``"timeout"`` or ``"failed"``.
+        method: ``"prp"`` or ``"iterative"``.
+        variant: ``"single-step"`` or ``"preload-first"``.
+        wrench: Applied wrench ``(fx, fy, fz, mx, my, mz)`` about the object reference point.
+        command: Actuator commands of the kept actuators (na,).
+        contact_forces: Contact-frame forces ``(c_n, c_t1, c_t2)`` on the object, (nc, 3).
+        contact_forces_world: World-frame forces on the object, (nc, 3).
+        joint_torques: ``tau = J^T c``, (nq,).
+        actuator_forces: (na,).
+        coupling_forces: Coupling reactions ``lambda``, (ncp,).
+        object_displacement: ``(translation, rotation)``, (6,).
+        joint_displacements: (nq,).
+        actuator_displacements: ``u = R^T q``, (na,).
+        contact_modes: ``"touching"`` / ``"separated"`` per contact.
+        actuator_modes: ``"moving"`` / ``"holding"`` (non-backdrivable), ``"backdrivable"``,
+            ``"locked"``.
+        net_wrench: ``w + G c`` (6,): zero at equilibrium.
+        audit: Residual checks of the returned solution.
+        iterations: Movement-constrained solves of the iterative scheme (1 for PRP).
+        residual_history: Net-wrench norm after each iteration [N] (empty for PRP).
+        converged: The iteration met ``eps`` (PRP: same as ``resistible``).
+        solver: Backend(s) used.
+        solve_time: Wall time of the solver calls [s].
+        n_solves: Number of optimisation problems solved.
+        contact_names, joint_names, actuator_names: Labels of the rows above.
+    """
+
+    resistible: bool
+    status: str
+    method: str
+    variant: str
+    wrench: np.ndarray
+    command: np.ndarray
+    contact_forces: np.ndarray
+    contact_forces_world: np.ndarray
+    joint_torques: np.ndarray
+    actuator_forces: np.ndarray
+    coupling_forces: np.ndarray
+    object_displacement: np.ndarray
+    joint_displacements: np.ndarray
+    actuator_displacements: np.ndarray
+    contact_modes: tuple[str, ...]
+    actuator_modes: tuple[str, ...]
+    net_wrench: np.ndarray
+    audit: Audit | None
+    iterations: int = 1
+    residual_history: tuple[float, ...] = ()
+    converged: bool = False
+    solver: str = ""
+    solve_time: float = 0.0
+    n_solves: int = 0
+    contact_names: tuple[str, ...] = ()
+    joint_names: tuple[str, ...] = ()
+    actuator_names: tuple[str, ...] = ()
+
+    @property
+    def normal_forces(self) -> np.ndarray:
+        """Normal contact forces ``c_n`` (nc,) [N]."""
+        return self.contact_forces[:, 0]
+
+
+@dataclass(frozen=True)
+class MaxWrench:
+    """Largest resistible wrench magnitude along one direction (bisection).
+
+    Attributes:
+        direction: Unit direction in wrench space, (6,) (torques in [N·m] per unit).
+        magnitude: Largest magnitude verified resistible [N or N·m along ``direction``];
+            ``inf`` when ``unbounded``.
+        unbounded: The grasp resisted the upper limit: passively resisted without bound under
+            this model. ``magnitude`` is then ``inf``, never the limit itself.
+        upper: Upper limit of the search.
+        resolution: Bisection resolution ``upper / 2**steps`` (the true limit lies in
+            ``[magnitude, magnitude + resolution]`` if resistibility is monotone along the ray).
+        evidence: Every magnitude tried and its verdict, in order.
+        method: ``"prp"`` or ``"iterative"``.
+        solve_time: Total solver wall time [s] (including the preload check).
+        wall_time: Total wall time of the query [s].
+        n_solves: Optimisation problems solved.
+        response: The passive response at ``magnitude`` (or at ``upper`` when unbounded).
+    """
+
+    direction: np.ndarray
+    magnitude: float
+    unbounded: bool
+    upper: float
+    resolution: float
+    evidence: tuple[tuple[float, bool], ...]
+    method: str
+    solve_time: float
+    wall_time: float
+    n_solves: int
+    response: PassiveResponse | None = field(default=None, repr=False)
+
+    @property
+    def monotone(self) -> bool:
+        """No tried magnitude was resisted above one that was not (bisection's assumption)."""
+        bad = [m for m, ok in self.evidence if not ok]
+        good = [m for m, ok in self.evidence if ok]
+        return not bad or not good or max(good) < min(bad)
+
+
+@dataclass(frozen=True)
+class ResistanceProfile:
+    """Maximum resistible magnitude over directions in a plane of wrench space.
+
+    Attributes:
+        plane: Names (or labels) of the two spanning wrench directions.
+        basis: The two unit spanning directions, (2, 6).
+        angles: Direction angles from the first basis vector [rad], (n,).
+        directions: Unit wrench directions, (n, 6).
+        magnitudes: Max resistible magnitude per direction (``inf`` where unbounded), (n,).
+        unbounded: (n,) bool.
+        normalized_by: Magnitude the profile was divided by (``None``: not normalised).
+        results: The per-direction :class:`MaxWrench` records.
+        wall_time: Total wall time [s].
+    """
+
+    plane: tuple[str, str]
+    basis: np.ndarray
+    angles: np.ndarray
+    directions: np.ndarray
+    magnitudes: np.ndarray
+    unbounded: np.ndarray
+    normalized_by: float | None
+    results: tuple[MaxWrench, ...] = field(repr=False)
+    wall_time: float = 0.0
+
+    @property
+    def points(self) -> np.ndarray:
+        """Finite profile points in plane coordinates, (n, 2) (``nan`` where unbounded)."""
+        m = np.where(self.unbounded, np.nan, self.magnitudes)
+        return np.column_stack([m * np.cos(self.angles), m * np.sin(self.angles)])

@@ -1,0 +1,53 @@
+"""Common types of the solver layer: the raw scaled solution and the mode of a solution."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+#: Solver status strings used throughout pinograsp.
+OPTIMAL, INFEASIBLE, TIMEOUT, FAILED = "optimal", "infeasible", "timeout", "failed"
+
+
+@dataclass(frozen=True)
+class Mode:
+    """A complementarity mode: which contacts touch and which actuators move.
+
+    Attributes:
+        touching: (nc,) True where the contact spring is compressed (``c_n = k delta``).
+        moving: (na,) True where a non-backdrivable actuator moves at its command (``f = f_c``);
+            meaningless (False) for backdrivable and locked actuators.
+    """
+
+    touching: tuple[bool, ...]
+    moving: tuple[bool, ...]
+
+
+@dataclass(frozen=True, eq=False)
+class RawSolution:
+    """A solution of one scaled problem (see :mod:`pinograsp.solvers.formulation`).
+
+    Attributes:
+        status: ``"optimal"``, ``"infeasible"``, ``"timeout"`` or ``"failed"``.
+        z: Scaled variables, or None when there is no solution.
+        mode: Complementarity mode of the solution, or None.
+        objective: Scaled objective value.
+        solve_time: Wall time in the backend [s].
+        backend: Name of the backend that produced ``z``.
+        bigm_ratio: Largest ``|value| / M`` over the big-M-bounded quantities (0 if no big-M).
+        bigm_retries: How many times the big-M constants were enlarged.
+        polished: Whether ``z`` comes from the exact fixed-mode QP (exact complementarity).
+        message: Extra backend information.
+    """
+
+    status: str
+    z: np.ndarray | None = None
+    mode: Mode | None = None
+    objective: float = float("nan")
+    solve_time: float = 0.0
+    backend: str = ""
+    bigm_ratio: float = 0.0
+    bigm_retries: int = 0
+    polished: bool = False
+    message: str = ""

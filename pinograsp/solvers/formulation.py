@@ -1,0 +1,182 @@
+"""Scaled problem data shared by every passive-response backend.
+
+The solvers work on a **normalised** copy of the model so that one set of big-M constants
+and tolerances fits every scene (SOLVER_NOTES: big-M is a correctness issue):
+
+* torques are divided by the model's ``length_scale`` ``ℓ`` so that every wrench component is
+  in force units;
+* each solve divides all forces by a data scale ``F`` (largest of the applied wrench, the
+  actuator commands and the pre-compression forces, in force units): the model is
+  homogeneous of degree one in ``(w, f_c)``, so solutions scale back exactly;
+* displacements are multiplied by stiffness (``q̂_j = k_j ℓ_j q_j`` with ``ℓ_j`` the joint's
+  lever to its contacts, ``x̂ = k_x (x_lin, ℓ x_rot)``), so every bounded quantity — normal
+  force, spring gap, actuator displacement, actuator over-force — is in force units and of
+  order one.
+
+Variables of the scaled problem, in this order::
+
+    z = [beta (nb), obj (nx or 1), qh (nq), fh (na), lam (ncp)]
+
+``obj`` is the object displacement ``x̂`` for the PRP (Alg. 1) and the step ``ŝ`` along the
+previous net wrench for the movement-constrained PRP (Alg. 2).
+
+Constraints (every row is in force units)::
+
+    equilibrium  Gb beta + ŵ = 0                           (PRP only)
+    hand         T beta - Rf fh - Cl lam = 0               (tau = J^T c = R f + C^T lambda)
+    coupling     Cq qh = 0
+    spring gap   s = E beta - Kq qh + Kx x̂ - p̂ >= 0,  c_n = E beta >= 0,  c_n · s = 0
+    actuator     û = Ru qh,  f̂ - f̂_c  (kind-dependent complementarity, see actuation.py)
+
+This module never imports a solver library.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..model import GraspModel
+
+NBD, BACKDRIVABLE, LOCKED = "non-backdrivable", "backdrivable", "locked"
+
+
+@dataclass(frozen=True, eq=False)
+class ScaledData:
+    """Normalised right-hand sides of one solve.
+
+    Attributes:
+        F: Force scale [N] the data were divided by.
+        w: Applied wrench, (nw,), torques / ℓ, divided by ``F``.
+        fc: Actuator commands in contact-force units, divided by ``F``, (na,).
+        p: Spring pre-compression (preload normal forces of the preload-first variant), (nc,).
+        x0: Previous object displacement (scaled), (nx,) — Alg. 2 only.
+        direction: Movement direction (scaled previous net wrench), (nx,) — Alg. 2 only.
+    """
+
+    F: float
+    w: np.ndarray
+    fc: np.ndarray
+    p: np.ndarray
+    x0: np.ndarray
+    direction: np.ndarray
+
+
+class Formulation:
+    """Scaled matrices of a :class:`~pinograsp.model.GraspModel` (built once per model)."""
+
+    def __init__(self, model: GraspModel) -> None:
+        self.model = model
+        m = model
+        nc, nb, nq, na = m.nc, m.nb, m.nq, m.na
+        ell = m.length_scale
+        self.nc, self.nb, self.nq, self.na, self.ncp = nc, nb, nq, na, m.ncp
+        self.nw = m.nw
+        self.nx = m.nw
+        # wrench metric: torque rows / ℓ
+        self.wscale = np.ones(m.nw)
+        self.wscale[(2 if m.planar else 3) :] = 1.0 / ell
+        G = m.G * self.wscale[:, None]
+        self.Gb = G @ m.D  # (nw, nb)
+        self.E = m.E  # (nc, nb)
+        nrows = m.normal_rows
+        Jn = m.J[nrows]  # (nc, nq)
+        absJ = np.abs(m.J)
+        self.lever = absJ.max(axis=0) if nq else np.zeros(0)  # (nq,) [m/rad]
+        if nq and np.any(self.lever <= 0):
+            raise AssertionError("joints without contact must be pruned before solving")
+        # stiffness of each joint's contacts
+        reach = np.zeros((nc, nq), bool)
+        for i in range(nc):
+            reach[i] = np.any(absJ[i * m.d : (i + 1) * m.d] > 0, axis=0)
+        self.kq = np.array([m.k[reach[:, j]].max() for j in range(nq)]) if nq else np.zeros(0)
+        self.kx = float(m.k.max())
+        self.qscale = self.kq * self.lever  # qh = qscale * q
+        self.Kq = (m.k[:, None] * Jn) / self.qscale[None, :] if nq else np.zeros((nc, 0))
+        self.Kx = (m.k / self.kx)[:, None] * G[:, nrows].T  # (nc, nx): object motion along n
+        # actuator force scaling: fh = f * rho / F
+        if na:
+            self.rho = np.abs(m.R / self.lever[:, None]).max(axis=0)
+        else:
+            self.rho = np.zeros(0)
+        T = (m.J.T @ m.D) / self.lever[:, None] if nq else np.zeros((0, nb))
+        self.T = T  # (nq, nb)
+        self.Rf = m.R / self.lever[:, None] / self.rho[None, :] if na else np.zeros((nq, 0))
+        if m.ncp:
+            Cl = m.C.T / self.lever[:, None]
+            self.cl_norm = np.abs(Cl).max(axis=0)  # lambda = F * lam_hat / cl_norm
+            self.Cl = Cl / self.cl_norm[None, :]
+            Cq = m.C / self.qscale[None, :]
+            self.Cq = Cq / np.abs(Cq).max(axis=1)[:, None]
+        else:
+            self.Cl = np.zeros((nq, 0))
+            self.cl_norm = np.zeros(0)
+            self.Cq = np.zeros((0, nq))
+        Ru = m.R.T / self.qscale[None, :] if na else np.zeros((0, nq))
+        self.usigma = 1.0 / np.abs(Ru).max(axis=1) if na else np.zeros(0)
+        self.Ru = Ru * self.usigma[:, None]  # (na, nq): û = Ru qh
+        self.kinds = m.kinds
+        self.nbd = np.array([k == NBD for k in m.kinds], bool)
+        self.bdr = np.array([k == BACKDRIVABLE for k in m.kinds], bool)
+        self.lck = np.array([k == LOCKED for k in m.kinds], bool)
+        # variable slices
+        self.sl_beta = slice(0, nb)
+
+    # ------------------------------------------------------------------ layout
+    def layout(self, kind: str) -> dict[str, slice]:
+        """Variable slices for ``kind`` ``"prp"`` (object displacement) or ``"move"`` (step)."""
+        nobj = self.nx if kind == "prp" else 1
+        o = self.nb
+        out = {"beta": slice(0, o), "obj": slice(o, o + nobj)}
+        o += nobj
+        out["qh"] = slice(o, o + self.nq)
+        o += self.nq
+        out["fh"] = slice(o, o + self.na)
+        o += self.na
+        out["lam"] = slice(o, o + self.ncp)
+        out["n"] = slice(0, o + self.ncp)
+        return out
+
+    # -------------------------------------------------------------- data scaling
+    def scale_data(
+        self,
+        wrench: np.ndarray,
+        command: np.ndarray,
+        precompression: np.ndarray | None = None,
+        x0: np.ndarray | None = None,
+        direction: np.ndarray | None = None,
+        F: float | None = None,
+    ) -> ScaledData:
+        """Normalise one solve's data (physical units in, force-unit scaled out).
+
+        Args:
+            wrench: Applied wrench in model coordinates (nw,) [N, N·m].
+            command: Actuator commands (na,) [actuator units].
+            precompression: Spring pre-compression forces (nc,) [N].
+            x0: Previous object displacement in model coordinates (nx,) [m, rad].
+            direction: Movement direction, scaled wrench units (nx,) (already normalised).
+            F: Force scale to use; default from the data.
+        """
+        w = np.asarray(wrench, float) * self.wscale
+        fc = np.asarray(command, float) * self.rho
+        p = np.zeros(self.nc) if precompression is None else np.asarray(precompression, float)
+        if F is None:
+            F = max(np.abs(w).max(initial=0.0), np.abs(fc).max(initial=0.0), np.abs(p).max(initial=0.0))
+            if not F > 0:
+                F = 1.0
+        xh0 = np.zeros(self.nx) if x0 is None else self.scale_x(np.asarray(x0, float)) / F
+        d = np.zeros(self.nx) if direction is None else np.asarray(direction, float)
+        return ScaledData(F=float(F), w=w / F, fc=fc / F, p=p / F, x0=xh0, direction=d)
+
+    def scale_x(self, x: np.ndarray) -> np.ndarray:
+        """Physical object displacement (translation [m], rotation [rad]) → scaled (force units)."""
+        return self.kx * x / self.wscale
+
+    def unscale_x(self, xh: np.ndarray, F: float) -> np.ndarray:
+        """Scaled object displacement → physical."""
+        return xh * F * self.wscale / self.kx
+
+    def spring_gap(self, beta: np.ndarray, xh: np.ndarray, qh: np.ndarray, p: np.ndarray) -> np.ndarray:
+        """Scaled spring gap ``s = c_n - k delta - p`` (nc,)."""
+        return self.E @ beta - self.Kq @ qh + self.Kx @ xh - p
