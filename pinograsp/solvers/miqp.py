@@ -34,7 +34,7 @@ MIQP_SOLVERS = {
 SCIP_DEFAULTS: dict[str, Any] = {
     "heuristics/mpec/freq": -1,
     "separating/aggregation/freq": -1,
-    "numerics/feastol": 1e-9,
+    "numerics/feastol": 1e-8,
 }
 
 
