@@ -103,3 +103,61 @@ class BigMWarning(PinograspWarning):
 
 class ConvergenceWarning(PinograspWarning):
     """An iterative computation stopped without meeting its tolerance."""
+
+
+class ModelFileError(PinograspError, ValueError):
+    """A model file (URDF, hand description, mesh) is missing, unreadable or malformed.
+
+    Attributes:
+        path: The offending file (as given, or as resolved).
+        detail: What went wrong.
+    """
+
+    def __init__(self, path: object, detail: str) -> None:
+        self.path = str(path)
+        self.detail = detail
+        super().__init__(f"{self.path}: {detail}")
+
+
+class UrdfError(ModelFileError):
+    """A URDF file cannot be loaded (malformed XML, missing mesh, unsupported joint, ...)."""
+
+
+class NoContactError(PinograspError):
+    """No hand collision geometry is within the contact tolerance of the object.
+
+    Attributes:
+        distances: Closest signed distance [m] of each hand link to the object.
+        tolerance: The contact tolerance [m] that was used.
+    """
+
+    def __init__(self, distances: dict[str, float], tolerance: float) -> None:
+        self.distances = dict(distances)
+        self.tolerance = float(tolerance)
+        ordered = sorted(self.distances.items(), key=lambda kv: kv[1])
+        shown = ", ".join(f"{k}: {v * 1e3:.3f} mm" for k, v in ordered)
+        super().__init__(
+            f"the hand touches nothing (contact tolerance {self.tolerance * 1e3:.3f} mm); "
+            f"closest signed distances per link: {shown or 'no collision geometry'}"
+        )
+
+
+class PenetrationError(PinograspError):
+    """Hand links penetrate the object deeper than allowed.
+
+    Attributes:
+        depths: Signed distance [m] (negative) of each offending link.
+        max_penetration: The allowed penetration depth [m].
+        distances: Closest signed distance [m] of every hand link.
+    """
+
+    def __init__(self, depths: dict[str, float], max_penetration: float, distances: dict[str, float]) -> None:
+        self.depths = dict(depths)
+        self.max_penetration = float(max_penetration)
+        self.distances = dict(distances)
+        shown = ", ".join(f"{k}: {v * 1e3:.3f} mm" for k, v in self.depths.items())
+        super().__init__(
+            f"deep penetration (more than {self.max_penetration * 1e3:.3f} mm) of links into the object: "
+            f"{shown}; "
+            "move the hand or the object, or raise max_penetration"
+        )
