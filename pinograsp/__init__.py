@@ -59,3 +59,26 @@ __all__ = [
     "WRENCH_AXES",
     "friction_edges",
 ]
+
+# --- URDF side (issue 3): hands, objects, contact detection; imported lazily so that solvers and
+# analytic models never load Pinocchio or Coal.
+from .errors import ModelFileError, NoContactError, PenetrationError, UrdfError  # noqa: E402
+
+_URDF_SIDE = {
+    "Hand": "hand",
+    "HandDescription": "hand",
+    "example_robot_data_dir": "hand",
+    "RigidObject": "objects",
+    "detect_contacts": "collision",
+    "link_distances": "collision",
+    "grasp_model_from_scene": "scene",
+}
+__all__ += ["ModelFileError", "NoContactError", "PenetrationError", "UrdfError", *_URDF_SIDE]
+
+
+def __getattr__(name: str) -> object:
+    if name in _URDF_SIDE:
+        import importlib
+
+        return getattr(importlib.import_module(f".{_URDF_SIDE[name]}", __name__), name)
+    raise AttributeError(f"module 'pinograsp' has no attribute {name!r}")
