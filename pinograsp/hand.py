@@ -459,6 +459,20 @@ class Hand:
             msg = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
             raise UrdfError(path, f"Pinocchio cannot load it: {msg} (package_dirs: {dirs})") from exc
 
+        # Pinocchio silently skips collision elements it cannot parse (e.g. <capsule>): refuse that
+        expected: dict[str, int] = {}
+        for ln in ET.parse(path).getroot().findall("link"):
+            expected[ln.get("name", "")] = len(ln.findall("collision"))
+        loaded: dict[str, int] = {}
+        for g in geom.geometryObjects:
+            loaded[model.frames[g.parentFrame].name] = loaded.get(model.frames[g.parentFrame].name, 0) + 1
+        for ln, n in expected.items():
+            if loaded.get(ln, 0) < n:
+                raise UrdfError(
+                    path,
+                    f"link {ln!r}: {n - loaded.get(ln, 0)} of {n} <collision> elements were not loaded "
+                    "(unsupported geometry such as <capsule>? use box, cylinder, sphere or mesh)",
+                )
         movable = [model.names[j] for j in range(1, model.njoints)]
         hand_joints = list(movable) if desc.joints is None else list(desc.joints)
         for j in hand_joints:
