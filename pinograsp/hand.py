@@ -757,10 +757,19 @@ class Hand:
                 break
             mov = moving_geoms()
             dq = np.where(active, d * scale, 0.0)
-            # clip to the joint limits; joints that reach a limit stop with their group
-            target = np.clip(q + dq, self.lower, self.upper)
-            at_limit = active & (np.abs(target - (q + dq)) > 0)
-            dq = target - q
+            # shorten each coupled group's step so that none of its joints passes a limit (the
+            # group keeps its couplings); a group that reaches a limit stops
+            room = np.where(dq > 0, self.upper - q, self.lower - q)  # signed room to the limit
+            frac = np.ones(self.nq)
+            moving = dq != 0
+            frac[moving] = np.clip(room[moving] / dq[moving], 0.0, 1.0)
+            at_limit = np.zeros(self.nq, bool)
+            for g in np.unique(group[moving]):
+                members = group == g
+                alpha = frac[members & moving].min()
+                dq[members] *= alpha
+                if alpha < 1.0:
+                    at_limit |= members & active
 
             def trial(
                 h: float, q0: np.ndarray = q, dq: np.ndarray = dq, mov: np.ndarray = mov

@@ -48,7 +48,7 @@ def test_barrett_description(barrett):
         "bh_j33",
     )
     np.testing.assert_allclose(barrett.upper[[1, 2]], np.radians([140, 48]))
-    assert dict(zip(barrett.actuator_names, [a.kind for a in barrett.actuators])) == {
+    assert {a.name: a.kind for a in barrett.actuators} == {
         "spread": "locked",
         "f1": "non-backdrivable",
         "f2": "non-backdrivable",
@@ -142,7 +142,8 @@ def test_malformed_urdf_and_missing_mesh_name_the_file(tmp_path):
     nomesh.write_text(
         '<robot name="x"><link name="a"><collision><geometry><mesh filename="ghost_finger.stl"/>'
         '</geometry></collision></link><link name="b"/><joint name="j" type="revolute"><parent link="a"/>'
-        '<child link="b"/><axis xyz="0 0 1"/><limit lower="0" upper="1" effort="1" velocity="1"/></joint></robot>'
+        '<child link="b"/><axis xyz="0 0 1"/><limit lower="0" upper="1" effort="1" velocity="1"/>'
+        "</joint></robot>"
     )
     with pytest.raises(pg.UrdfError) as exc:
         pg.Hand.from_urdf(nomesh)
