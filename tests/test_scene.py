@@ -158,3 +158,18 @@ def test_no_contact_error_lists_distances_per_link():
     assert exc.value.distances["uf_palm"] == pytest.approx(0.29, abs=1e-9)
     with pytest.raises(pg.InvalidInputError, match="expected 4 joint values"):
         pg.GraspModel.from_scene(hand, [0.0] * 3, far)
+
+
+def test_planar_urdf_pinch_resists_the_analytic_load(tmp_path: Path):
+    """The URDF pinch gives the same answer as the hand-built one: F_max = 2 mu tau0 / (L |sin θ|)."""
+    if not pg.available_miqp_solvers():
+        pytest.skip("no MIQP solver installed")
+    f = tmp_path / "pinch.urdf"
+    f.write_text(_pinch_urdf(False))
+    hand = pg.Hand.from_urdf(f)  # default description: direct drive on jl and jr
+    m = pg.GraspModel.from_scene(
+        hand, [0.0, 0.0], pg.RigidObject.box((2 * A, 0.05, 0.02)), mu=0.4, planar=True
+    )
+    theta = np.pi / 4
+    res = pg.max_resistible_wrench(m, [1.0, 1.0], [np.cos(theta), np.sin(theta), 0.0])
+    assert res.magnitude == pytest.approx(2 * 0.4 * 1.0 / (L * np.sin(theta)), rel=1e-3)
