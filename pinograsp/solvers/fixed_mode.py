@@ -145,7 +145,10 @@ class FixedModeQP:
         qp = proxsuite.proxqp.dense.QP(self.n, self.A.shape[0], C.shape[0])
         qp.settings.eps_abs = self.eps
         qp.settings.eps_rel = 0.0
-        qp.settings.max_iter = 10000
+        qp.settings.max_iter = 1000
+        qp.settings.max_iter_in = 100
+        qp.settings.eps_primal_inf = 1e-10
+        qp.settings.eps_dual_inf = 1e-10
         qp.settings.verbose = False
         qp.init(self.H, g, self.A, b, C, lo, up)
         qp.solve()

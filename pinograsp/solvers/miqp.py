@@ -176,7 +176,10 @@ class CvxpyMIQP:
         try:
             self.problem.solve(solver=self.solver, **self._solver_kwargs())
         except cp.error.SolverError as exc:
-            return RawSolution(status=FAILED, solve_time=time.perf_counter() - t0, backend=self.solver.lower(), message=str(exc))
+            # cvxpy raises when the backend stops without a solution, e.g. at its time limit
+            dt = time.perf_counter() - t0
+            status = TIMEOUT if dt >= 0.99 * self.time_limit else FAILED
+            return RawSolution(status=status, solve_time=dt, backend=self.solver.lower(), message=str(exc))
         except Exception as exc:  # backend crashed (licence, memory, ...)
             raise SolverError(f"{self.solver} raised {type(exc).__name__}: {exc}", solver=self.solver.lower()) from exc
         dt = time.perf_counter() - t0
