@@ -9,10 +9,7 @@ from __future__ import annotations
 import argparse
 import platform
 import statistics
-import time
 from importlib.metadata import version
-
-import numpy as np
 
 import pinograsp as pg
 from pinograsp import analytic
@@ -32,17 +29,21 @@ def main() -> None:
     print(f"machine: {platform.processor() or platform.machine()}, python {platform.python_version()}")
     print("versions: " + ", ".join(f"{p} {version(p)}" for p in ("cvxpy", "pyscipopt", "proxsuite", "numpy")))
     print()
-    print("| case | PRP solve [ms] | movement step [ms] | PRP direction [s] (solves) | iterative direction [s] (solves) | iterative error vs PRP [N] |")
+    print(
+        "| case | PRP solve [ms] | movement step [ms] | PRP direction [s] (solves) "
+        "| iterative direction [s] (solves) | iterative error vs PRP [N] |"
+    )
     print("|---|---|---|---|---|---|")
     for name, (factory, d) in CASES.items():
         m = factory()
-        s = pg.solver_for(m)
         t_prp, t_move = [], []
         for _ in range(args.repeat):
-            t_prp.append(pg.passive_response(m, 1.0, [0, 4.0, 0, 0, 0, 0] if not m.planar else [0, 4.0, 0]).solve_time)
-        ex = s.exact("move")
-        before = (ex.n_miqp, sum([]))
-        r = pg.passive_response(m, 1.0, [3.0, 4.0, 0, 0, 0, 0] if not m.planar else [3.0, 4.0, 0], method="iterative")
+            t_prp.append(
+                pg.passive_response(m, 1.0, [0, 4.0, 0, 0, 0, 0] if not m.planar else [0, 4.0, 0]).solve_time
+            )
+        r = pg.passive_response(
+            m, 1.0, [3.0, 4.0, 0, 0, 0, 0] if not m.planar else [3.0, 4.0, 0], method="iterative"
+        )
         t_move.append(r.solve_time / max(r.n_solves, 1))
         dp, di, np_, ni, ep = [], [], 0, 0, 0.0
         for _ in range(args.repeat):
@@ -52,7 +53,6 @@ def main() -> None:
             di.append(b.wall_time)
             np_, ni = a.n_solves, b.n_solves
             ep = (b.magnitude - a.magnitude) if not (a.unbounded or b.unbounded) else float("nan")
-        del before
         print(
             f"| {name} | {1e3 * statistics.median(t_prp):.1f} | {1e3 * statistics.median(t_move):.1f} | "
             f"{statistics.median(dp):.2f} ({np_}) | {statistics.median(di):.2f} ({ni}) | {ep:+.1e} |"

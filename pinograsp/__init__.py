@@ -1,6 +1,8 @@
 """pinograsp: passive reaction analysis for robot grasps."""
 
 from .actuation import ACTUATOR_KINDS, Actuator, Coupling
+from .analysis import max_resistible_wrench, resistance_profile, wrench_direction
+from .baseline import LinearComplianceResult, linear_compliance
 from .contact import Contact, friction_edges
 from .errors import (
     BigMWarning,
@@ -16,8 +18,6 @@ from .errors import (
     UnknownNameError,
 )
 from .model import WRENCH_AXES, GraspModel, PruneRecord
-from .analysis import max_resistible_wrench, resistance_profile, wrench_direction
-from .baseline import LinearComplianceResult, linear_compliance
 from .response import PassiveSolver, Settings, passive_response, solver_for
 from .results import Audit, MaxWrench, PassiveResponse, ResistanceProfile
 from .solvers import available_miqp_solvers

@@ -56,13 +56,9 @@ class Actuator:
 
     def __post_init__(self) -> None:
         label = f"actuator {self.name!r}" if self.name is not None else "actuator"
-        object.__setattr__(
-            self, "transmission", _check_weights(f"{label}.transmission", self.transmission)
-        )
+        object.__setattr__(self, "transmission", _check_weights(f"{label}.transmission", self.transmission))
         if self.kind not in ACTUATOR_KINDS:
-            raise InvalidInputError(
-                f"{label}.kind", f"must be one of {ACTUATOR_KINDS}, got {self.kind!r}"
-            )
+            raise InvalidInputError(f"{label}.kind", f"must be one of {ACTUATOR_KINDS}, got {self.kind!r}")
 
 
 @dataclass(frozen=True)

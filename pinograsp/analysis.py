@@ -33,10 +33,14 @@ def wrench_direction(model: GraspModel, direction: object, name: str = "directio
 
 def _check(resp: PassiveResponse, magnitude: float) -> bool:
     if resp.status == "timeout":
-        raise SolverTimeoutError(f"solver timed out at magnitude {magnitude:.6g}", solver=resp.solver, status="timeout")
+        raise SolverTimeoutError(
+            f"solver timed out at magnitude {magnitude:.6g}", solver=resp.solver, status="timeout"
+        )
     if resp.status == "failed":
         raise SolverError(
-            f"solver failed at magnitude {magnitude:.6g} (no trustworthy verdict)", solver=resp.solver, status="failed"
+            f"solver failed at magnitude {magnitude:.6g} (no trustworthy verdict)",
+            solver=resp.solver,
+            status="failed",
         )
     return resp.resistible
 
@@ -113,8 +117,17 @@ def max_resistible_wrench(
     ok, resp = test(float(upper))
     if ok:
         return MaxWrench(
-            d, float("inf"), True, float(upper), float(upper) / 2**steps, tuple(evidence), method,
-            solve_time, time.perf_counter() - t0, n_solves, resp,
+            d,
+            float("inf"),
+            True,
+            float(upper),
+            float(upper) / 2**steps,
+            tuple(evidence),
+            method,
+            solve_time,
+            time.perf_counter() - t0,
+            n_solves,
+            resp,
         )
     lo, hi, best = 0.0, float(upper), None
     for _ in range(int(steps)):
@@ -125,8 +138,17 @@ def max_resistible_wrench(
         else:
             hi = mid
     return MaxWrench(
-        d, lo, False, float(upper), float(upper) / 2**steps, tuple(evidence), method,
-        solve_time, time.perf_counter() - t0, n_solves, best,
+        d,
+        lo,
+        False,
+        float(upper),
+        float(upper) / 2**steps,
+        tuple(evidence),
+        method,
+        solve_time,
+        time.perf_counter() - t0,
+        n_solves,
+        best,
     )
 
 
@@ -191,16 +213,28 @@ def resistance_profile(
     if normalize:
         ref = basis[1] if normalize is True else wrench_direction(model, normalize, "normalize")
         hit = [r for r, d in zip(results, dirs) if np.allclose(d, ref, atol=1e-12)]
-        ref_res = hit[0] if hit else max_resistible_wrench(
-            model, command, ref, method, upper, steps, settings=solver.settings, check_preload_first=False
+        ref_res = (
+            hit[0]
+            if hit
+            else max_resistible_wrench(
+                model, command, ref, method, upper, steps, settings=solver.settings, check_preload_first=False
+            )
         )
         if ref_res.unbounded or not ref_res.magnitude > 0:
             raise InvalidInputError(
-                "normalize", f"the reference direction is {'unbounded' if ref_res.unbounded else 'not resisted'}"
+                "normalize",
+                f"the reference direction is {'unbounded' if ref_res.unbounded else 'not resisted'}",
             )
         norm_by = ref_res.magnitude
         mags = mags / norm_by
     return ResistanceProfile(
-        plane=labels, basis=basis, angles=angles, directions=dirs, magnitudes=mags, unbounded=unb,
-        normalized_by=norm_by, results=tuple(results), wall_time=time.perf_counter() - t0,
+        plane=labels,
+        basis=basis,
+        angles=angles,
+        directions=dirs,
+        magnitudes=mags,
+        unbounded=unb,
+        normalized_by=norm_by,
+        results=tuple(results),
+        wall_time=time.perf_counter() - t0,
     )

@@ -45,19 +45,27 @@ def pinch(
         acts = [Actuator({0: 1.0, 1: 1.0}, kind=kind, name="tendon")]
     else:
         acts = [Actuator({0: 1.0}, kind=kind, name="left"), Actuator({1: 1.0}, kind=kind, name="right")]
-    return GraspModel.from_contacts([left, right], actuators=acts, planar=planar, joint_names=("left", "right"))
+    return GraspModel.from_contacts(
+        [left, right], actuators=acts, planar=planar, joint_names=("left", "right")
+    )
 
 
-def palm_pinch(a: float = 0.05, L: float = 0.1, b: float = 0.04, mu: float = 0.5, mu_palm: float = 0.5) -> GraspModel:
+def palm_pinch(
+    a: float = 0.05, L: float = 0.1, b: float = 0.04, mu: float = 0.5, mu_palm: float = 0.5
+) -> GraspModel:
     """The pinch plus a palm contact at ``(0, -b)`` pushing along ``+y`` (fixed: no joint)."""
     left = _finger_contact([-a, 0.0, 0.0], [1.0, 0.0, 0.0], L, 0, 2, -EZ, mu=mu, name="left")
     right = _finger_contact([a, 0.0, 0.0], [-1.0, 0.0, 0.0], L, 1, 2, EZ, mu=mu, name="right")
     palm = Contact([0.0, -b, 0.0], [0.0, 1.0, 0.0], mu=mu_palm, jacobian=np.zeros((3, 2)), name="palm")
     acts = [Actuator({0: 1.0}, name="left"), Actuator({1: 1.0}, name="right")]
-    return GraspModel.from_contacts([left, right, palm], actuators=acts, planar=True, joint_names=("left", "right"))
+    return GraspModel.from_contacts(
+        [left, right, palm], actuators=acts, planar=True, joint_names=("left", "right")
+    )
 
 
-def coupled_finger(a: float = 0.05, L1: float = 0.06, L2: float = 0.04, ratio: float = 1.0 / 3.0, mu: float = 0.5) -> GraspModel:
+def coupled_finger(
+    a: float = 0.05, L1: float = 0.06, L2: float = 0.04, ratio: float = 1.0 / 3.0, mu: float = 0.5
+) -> GraspModel:
     """A fixed thumb at ``(-a, 0)`` and a two-link finger touching at ``(a, 0)`` with its distal link.
 
     Both finger joints lie on the vertical through the contact (proximal ``L1 + L2`` below,
@@ -67,7 +75,12 @@ def coupled_finger(a: float = 0.05, L1: float = 0.06, L2: float = 0.04, ratio: f
     """
     p = np.array([a, 0.0, 0.0])
     finger = Contact.revolute(
-        p, [-1.0, 0.0, 0.0], {0: (p - [0, L1 + L2, 0], EZ), 1: (p - [0, L2, 0], EZ)}, nq=2, mu=mu, name="distal"
+        p,
+        [-1.0, 0.0, 0.0],
+        {0: (p - [0, L1 + L2, 0], EZ), 1: (p - [0, L2, 0], EZ)},
+        nq=2,
+        mu=mu,
+        name="distal",
     )
     thumb = Contact([-a, 0.0, 0.0], [1.0, 0.0, 0.0], mu=mu, jacobian=np.zeros((3, 2)), name="thumb")
     return GraspModel.from_contacts(

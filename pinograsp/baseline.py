@@ -95,7 +95,9 @@ def linear_compliance(
     dc = np.zeros(nc * d)
     dc[free] = qp.results.x
     res = np.abs(m.G @ dc + w).max()
-    if qp.results.info.status != proxsuite.proxqp.QPSolverOutput.PROXQP_SOLVED or res > 1e-8 * max(1.0, np.abs(w).max()):
+    if qp.results.info.status != proxsuite.proxqp.QPSolverOutput.PROXQP_SOLVED or res > 1e-8 * max(
+        1.0, np.abs(w).max()
+    ):
         raise SolverError(
             f"the contacts cannot balance this wrench with linear springs (residual {res:.3g})",
             solver="proxsuite",
@@ -110,7 +112,9 @@ def linear_compliance(
     with np.errstate(divide="ignore", invalid="ignore"):
         ratio = np.where(ct <= tol, 0.0, ct / (m.mu * np.maximum(c[:, 0], 0.0)))
     push = tuple(nm for nm, cn in zip(m.contact_names, c[:, 0]) if cn < -tol)
-    fric = tuple(nm for nm, cn, t, mu in zip(m.contact_names, c[:, 0], ct, m.mu) if t > mu * max(cn, 0.0) + tol)
+    fric = tuple(
+        nm for nm, cn, t, mu in zip(m.contact_names, c[:, 0], ct, m.mu) if t > mu * max(cn, 0.0) + tol
+    )
     xs = np.zeros(m.nw)
     xs[:] = x[: m.nw] if x.size >= m.nw else 0.0
     return LinearComplianceResult(

@@ -22,7 +22,9 @@ from .errors import PinograspError
 SCENES = {
     "pinch": (analytic.pinch, 1.0, "two single-link fingers, DESIGN §6 (F_max = 2 mu tau0 / (L |sin θ|))"),
     "differential-pinch": (
-        lambda: analytic.pinch(differential=True), 1.0, "the pinch driven by one actuator through a differential"
+        lambda: analytic.pinch(differential=True),
+        1.0,
+        "the pinch driven by one actuator through a differential",
     ),
     "wedge": (lambda: analytic.pinch(h=0.01), 1.0, "diagonally offset contacts: PRP wedging artefact"),
     "palm": (analytic.palm_pinch, 1.0, "the pinch with a palm contact below the object"),
@@ -51,7 +53,10 @@ def cmd_demo(args: argparse.Namespace) -> int:
     print(f"\n{'angle [deg]':>11} | " + " | ".join(f"{m + ' [N]':>14}" for m in profiles))
     first = next(iter(profiles.values()))
     for i, a in enumerate(first.angles):
-        print(f"{np.degrees(a):11.1f} | " + " | ".join(f"{_fmt(p.magnitudes[i]):>14}" for p in profiles.values()))
+        print(
+            f"{np.degrees(a):11.1f} | "
+            + " | ".join(f"{_fmt(p.magnitudes[i]):>14}" for p in profiles.values())
+        )
     data = {
         "scene": args.scene,
         "command": command,
@@ -59,7 +64,10 @@ def cmd_demo(args: argparse.Namespace) -> int:
         "steps": args.steps,
         "angles_deg": np.degrees(first.angles).tolist(),
         "profiles": {
-            m: {"magnitude": [None if np.isinf(v) else float(v) for v in p.magnitudes], "unbounded": p.unbounded.tolist()}
+            m: {
+                "magnitude": [None if np.isinf(v) else float(v) for v in p.magnitudes],
+                "unbounded": p.unbounded.tolist(),
+            }
             for m, p in profiles.items()
         },
     }
@@ -98,7 +106,9 @@ def cmd_scenes(args: argparse.Namespace) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="pinograsp", description="Passive reaction analysis for robot grasps.")
+    parser = argparse.ArgumentParser(
+        prog="pinograsp", description="Passive reaction analysis for robot grasps."
+    )
     parser.add_argument("--debug", action="store_true", help="show full tracebacks")
     sub = parser.add_subparsers(dest="cmd", required=True)
     p = sub.add_parser("demo", help="resistance profile of a built-in scene (table, JSON, plot)")

@@ -80,17 +80,13 @@ class Contact:
             raise InvalidInputError(f"{label}.mu", f"must be finite and >= 0, got {self.mu}")
         k = float(self.stiffness)
         if not np.isfinite(k) or k <= 0:
-            raise InvalidInputError(
-                f"{label}.stiffness", f"must be finite and > 0, got {self.stiffness}"
-            )
+            raise InvalidInputError(f"{label}.stiffness", f"must be finite and > 0, got {self.stiffness}")
         if self.tangent is None:
             t1 = default_tangent(normal)
         else:
             t1 = _vector(f"{label}.tangent", self.tangent, 3)
             if abs(np.linalg.norm(t1) - 1.0) > UNIT_TOL or abs(t1 @ normal) > UNIT_TOL:
-                raise InvalidInputError(
-                    f"{label}.tangent", "must be a unit vector orthogonal to the normal"
-                )
+                raise InvalidInputError(f"{label}.tangent", "must be a unit vector orthogonal to the normal")
             t1 = t1 - (t1 @ normal) * normal
             t1 /= np.linalg.norm(t1)
         jac = None
@@ -100,9 +96,7 @@ class Contact:
             except (TypeError, ValueError) as exc:
                 raise InvalidInputError(f"{label}.jacobian", "not a numeric array") from exc
             if jac.ndim != 2 or jac.shape[0] != 3:
-                raise InvalidInputError(
-                    f"{label}.jacobian", f"expected shape (3, nq), got {jac.shape}"
-                )
+                raise InvalidInputError(f"{label}.jacobian", f"expected shape (3, nq), got {jac.shape}")
             if not np.all(np.isfinite(jac)):
                 raise InvalidInputError(f"{label}.jacobian", "contains NaN or inf")
         object.__setattr__(self, "point", point)

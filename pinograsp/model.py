@@ -305,11 +305,15 @@ class GraspModel:
             raise ModelError("a grasp needs at least one contact")
         for i, c in enumerate(contacts):
             if not isinstance(c, Contact):
-                raise InvalidInputError(f"contacts[{i}]", f"expected pinograsp.Contact, got {type(c).__name__}")
+                raise InvalidInputError(
+                    f"contacts[{i}]", f"expected pinograsp.Contact, got {type(c).__name__}"
+                )
         nqs = {c.jacobian.shape[1] for c in contacts if c.jacobian is not None}
         if len(nqs) > 1:
             detail = ", ".join(
-                f"{c.name or i}: {c.jacobian.shape[1]}" for i, c in enumerate(contacts) if c.jacobian is not None
+                f"{c.name or i}: {c.jacobian.shape[1]}"
+                for i, c in enumerate(contacts)
+                if c.jacobian is not None
             )
             raise ModelError(f"contact Jacobians disagree on the number of joints ({detail})")
         nq = nqs.pop() if nqs else (len(joint_names) if joint_names is not None else 0)
@@ -343,7 +347,11 @@ class GraspModel:
         if planar:
             scale = max(np.abs(points - o).max(), 1e-300)
             for i, c in enumerate(contacts):
-                if abs(c.point[2] - o[2]) > 1e-9 * scale or abs(c.normal[2]) > 1e-9 or abs(c.tangent[2]) > 1e-9:
+                if (
+                    abs(c.point[2] - o[2]) > 1e-9 * scale
+                    or abs(c.normal[2]) > 1e-9
+                    or abs(c.tangent[2]) > 1e-9
+                ):
                     raise ModelError(
                         f"contact {names[i]!r} is not in the XY plane (point z, normal z or tangent z "
                         "non-zero); use planar=False"
@@ -370,7 +378,9 @@ class GraspModel:
         act_names = []
         for a_i, a in enumerate(actuators):
             if not isinstance(a, Actuator):
-                raise InvalidInputError(f"actuators[{a_i}]", f"expected pinograsp.Actuator, got {type(a).__name__}")
+                raise InvalidInputError(
+                    f"actuators[{a_i}]", f"expected pinograsp.Actuator, got {type(a).__name__}"
+                )
             act_names.append(a.name if a.name is not None else f"a{a_i}")
         if len(set(act_names)) != len(act_names):
             raise ModelError(f"duplicate actuator names in {act_names}")
@@ -387,7 +397,9 @@ class GraspModel:
             if C.size == 0:
                 C = np.zeros((0, nq))
             if C.shape[1] != nq or not np.all(np.isfinite(C)):
-                raise InvalidInputError("couplings", f"expected a finite (ncp, {nq}) array, got shape {C.shape}")
+                raise InvalidInputError(
+                    "couplings", f"expected a finite (ncp, {nq}) array, got shape {C.shape}"
+                )
             cp_names = [f"k{r}" for r in range(C.shape[0])]
         else:
             couplings = list(couplings)
@@ -395,7 +407,9 @@ class GraspModel:
             cp_names = []
             for r, cp in enumerate(couplings):
                 if not isinstance(cp, Coupling):
-                    raise InvalidInputError(f"couplings[{r}]", f"expected pinograsp.Coupling, got {type(cp).__name__}")
+                    raise InvalidInputError(
+                        f"couplings[{r}]", f"expected pinograsp.Coupling, got {type(cp).__name__}"
+                    )
                 cp_names.append(cp.name if cp.name is not None else f"k{r}")
                 for key, v in cp.weights.items():
                     C[r, joint_idx(f"coupling {cp_names[-1]!r}", key)] += v
@@ -408,7 +422,10 @@ class GraspModel:
         keep_j = reaches if prune else np.ones(nq, bool)
         pruned_joints = tuple(joint_names[j] for j in range(nq) if not keep_j[j])
         dropped_tr = tuple(
-            (act_names[a_i], joint_names[j]) for a_i in range(R.shape[1]) for j in range(nq) if not keep_j[j] and R[j, a_i] != 0
+            (act_names[a_i], joint_names[j])
+            for a_i in range(R.shape[1])
+            for j in range(nq)
+            if not keep_j[j] and R[j, a_i] != 0
         )
         keep_cp = ~np.any(C[:, ~keep_j] != 0, axis=1) if C.shape[0] else np.zeros(0, bool)
         pruned_cp = tuple(cp_names[r] for r in range(C.shape[0]) if not keep_cp[r])
@@ -507,15 +524,16 @@ class GraspModel:
 
     def summary(self) -> str:
         """A short human-readable description (sizes, kinds, what was pruned)."""
+        kind = "planar" if self.planar else "3D"
         lines = [
-            f"GraspModel: {self.nc} contacts ({'planar' if self.planar else '3D'}, {self.edges}-edge pyramids), "
-            f"{self.nq} joints, {self.na} actuators, {self.ncp} couplings, length scale {self.length_scale:.4g} m",
+            f"GraspModel: {self.nc} contacts ({kind}, {self.edges}-edge pyramids), {self.nq} joints, "
+            f"{self.na} actuators, {self.ncp} couplings, length scale {self.length_scale:.4g} m",
             "  actuators: " + ", ".join(f"{n} ({k})" for n, k in zip(self.actuator_names, self.kinds)),
         ]
         if self.pruned:
             p = self.pruned
             lines.append(
-                f"  pruned: joints {list(p.joints)}, actuators {list(p.actuators)}, couplings {list(p.couplings)}, "
-                f"tangential variables of {list(p.tangential)}"
+                f"  pruned: joints {list(p.joints)}, actuators {list(p.actuators)}, "
+                f"couplings {list(p.couplings)}, tangential variables of {list(p.tangential)}"
             )
         return "\n".join(lines)

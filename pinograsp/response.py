@@ -18,7 +18,6 @@ Two variants (DESIGN §4.2):
 
 from __future__ import annotations
 
-import time
 import weakref
 from dataclasses import dataclass, replace
 
@@ -161,7 +160,9 @@ class PassiveSolver:
         status = "resisted" if ok else ("not_resisted" if raw.status == INFEASIBLE else raw.status)
         return _Stage(raw, data, xh, status, ok, 1, (), raw.solve_time, 1 + raw.bigm_retries)
 
-    def _iterative_stage(self, w: np.ndarray, fc: np.ndarray, p: np.ndarray, F: float | None = None) -> _Stage:
+    def _iterative_stage(
+        self, w: np.ndarray, fc: np.ndarray, p: np.ndarray, F: float | None = None
+    ) -> _Stage:
         s = self.settings
         f = self.form
         lay = f.layout("move")
@@ -204,7 +205,11 @@ class PassiveSolver:
         if key not in self._preload:
             zero = np.zeros(self.model.nw)
             nop = np.zeros(self.model.nc)
-            st = self._prp_stage(zero, command, nop) if method == "prp" else self._iterative_stage(zero, command, nop)
+            st = (
+                self._prp_stage(zero, command, nop)
+                if method == "prp"
+                else self._iterative_stage(zero, command, nop)
+            )
             self._preload[key] = (st, method)
         return self._preload[key][0]
 
@@ -225,7 +230,11 @@ class PassiveSolver:
             pre = self.preload_stage(fc, method)
             if not pre.converged:
                 return self._build(method, variant, w6, fc, pre, pre=None, note="preload not in equilibrium")
-            p = m.E @ pre.raw.z[self.form.layout(pre.raw and ("prp" if method == "prp" else "move"))["beta"]] * pre.data.F
+            p = (
+                m.E
+                @ pre.raw.z[self.form.layout(pre.raw and ("prp" if method == "prp" else "move"))["beta"]]
+                * pre.data.F
+            )
         st = stage_fn(w, fc, p)
         return self._build(method, variant, w6, fc, st, pre=pre)
 
@@ -306,7 +315,9 @@ class PassiveSolver:
             over = (z[lay["fh"]] - st.data.fc) * F
             nbd = f.nbd
             comp = max(comp, np.minimum(np.abs(uh[nbd]), np.abs(over[nbd])).max(initial=0.0))
-        hand = (m.J.T @ c - m.R @ fa - m.C.T @ lam) / np.where(f.lever > 0, f.lever, 1.0) if nq else np.zeros(0)
+        hand = (
+            (m.J.T @ c - m.R @ fa - m.C.T @ lam) / np.where(f.lever > 0, f.lever, 1.0) if nq else np.zeros(0)
+        )
         scale = max(F, 1e-300)
         audit = Audit(
             equilibrium=float(np.linalg.norm(net * f.wscale)),
@@ -401,4 +412,13 @@ def passive_response(
     return solver_for(model, settings, **overrides).response(command, wrench, method)
 
 
-__all__ = ["METHODS", "VARIANTS", "PassiveSolver", "Settings", "TIMEOUT", "make_settings", "passive_response", "solver_for"]
+__all__ = [
+    "METHODS",
+    "VARIANTS",
+    "PassiveSolver",
+    "Settings",
+    "TIMEOUT",
+    "make_settings",
+    "passive_response",
+    "solver_for",
+]

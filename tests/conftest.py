@@ -1,7 +1,5 @@
-import numpy as np
 import pytest
 
-import pinograsp as pg
 from pinograsp import analytic
 
 A, L, MU, TAU = 0.05, 0.1, 0.5, 1.0
@@ -10,5 +8,3 @@ A, L, MU, TAU = 0.05, 0.1, 0.5, 1.0
 @pytest.fixture(scope="session")
 def pinch():
     return analytic.pinch(a=A, L=L, mu=MU)
-
-

@@ -172,7 +172,9 @@ def test_backdrivable_fingers_cannot_hold_a_push():
 
 
 def test_profile_pinch_shape_and_normalisation(pinch):
-    p = pg.resistance_profile(pinch, TAU, ("fx", "fy"), n=8, method="prp", upper=UPPER, steps=STEPS, normalize=True)
+    p = pg.resistance_profile(
+        pinch, TAU, ("fx", "fy"), n=8, method="prp", upper=UPPER, steps=STEPS, normalize=True
+    )
     assert p.normalized_by == pytest.approx(2 * MU * TAU / L, abs=RES)
     expected = np.array([fmax_pinch(t) for t in p.angles]) / (2 * MU * TAU / L)
     assert np.array_equal(p.unbounded, np.isinf(expected))

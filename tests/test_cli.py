@@ -8,7 +8,9 @@ from pinograsp.cli import main
 
 
 def test_demo_writes_pinch_profile(tmp_path, capsys):
-    rc = main(["demo", "--out", str(tmp_path), "-n", "4", "--methods", "prp", "--upper", "100", "--steps", "14"])
+    rc = main(
+        ["demo", "--out", str(tmp_path), "-n", "4", "--methods", "prp", "--upper", "100", "--steps", "14"]
+    )
     assert rc == 0
     data = json.loads((tmp_path / "profile.json").read_text())
     prof = data["profiles"]["prp"]

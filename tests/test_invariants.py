@@ -7,7 +7,6 @@ import pytest
 import pinograsp as pg
 from pinograsp import analytic
 
-
 UPPER, STEPS = 100.0, 14
 
 
@@ -44,9 +43,20 @@ def test_rigid_motion_rotates_the_answers(method):
     base = build(cs)
     Rm = rot_z(0.7) @ np.array([[1, 0, 0], [0, np.cos(0.4), -np.sin(0.4)], [0, np.sin(0.4), np.cos(0.4)]])
     t = np.array([0.3, -0.2, 0.5])
-    moved = build([pg.Contact(Rm @ c.point + t, Rm @ c.normal, mu=c.mu, jacobian=Rm @ c.jacobian, tangent=Rm @ c.tangent,
-                                 name=c.name) for c in cs],
-                  reference_point=t)
+    moved = build(
+        [
+            pg.Contact(
+                Rm @ c.point + t,
+                Rm @ c.normal,
+                mu=c.mu,
+                jacobian=Rm @ c.jacobian,
+                tangent=Rm @ c.tangent,
+                name=c.name,
+            )
+            for c in cs
+        ],
+        reference_point=t,
+    )
     dirs = [[0, 1, 0, 0, 0, 0], [0, 0.8, 0.6, 0, 0, 0], [0.6, 0.8, 0, 0, 0, 0], [0, 0, 1, 0, 0, 0]]
     for d in dirs[: 2 if method == "iterative" else 4]:
         d = np.array(d, float)
@@ -68,7 +78,14 @@ def test_metres_to_millimetres(method):
     _, cs = pinch_contacts(h=0.01)
     m_m = build(cs, planar=True)
     cs_mm = [
-        pg.Contact(1e3 * c.point, c.normal, mu=c.mu, jacobian=1e3 * c.jacobian, stiffness=c.stiffness / 1e3, name=c.name)
+        pg.Contact(
+            1e3 * c.point,
+            c.normal,
+            mu=c.mu,
+            jacobian=1e3 * c.jacobian,
+            stiffness=c.stiffness / 1e3,
+            name=c.name,
+        )
         for c in cs
     ]
     m_mm = build(cs_mm, planar=True)
@@ -88,8 +105,13 @@ def test_metres_to_millimetres(method):
 def test_uniform_stiffness_scaling_keeps_prp_feasibility():
     _, cs = pinch_contacts(h=0.01)
     for k in (1e-3, 1e3):
-        scaled = build([pg.Contact(c.point, c.normal, mu=c.mu, jacobian=c.jacobian, stiffness=k, name=c.name) for c in cs],
-                       planar=True)
+        scaled = build(
+            [
+                pg.Contact(c.point, c.normal, mu=c.mu, jacobian=c.jacobian, stiffness=k, name=c.name)
+                for c in cs
+            ],
+            planar=True,
+        )
         ref = build(cs, planar=True)
         for w in ([0, 9.0, 0], [0, 11.0, 0], [3.0, 4.0, 0.1], [0, 0, 2.0]):
             a = pg.passive_response(ref, TAU, w, method="prp")

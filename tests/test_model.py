@@ -29,7 +29,9 @@ def test_grasp_map_is_finite_difference_of_contact_velocity():
     for i in range(4):
         n = rng.normal(size=3)
         n /= np.linalg.norm(n)
-        contacts.append(pg.Contact(rng.normal(size=3), n, mu=0.3, jacobian=rng.normal(size=(3, 3)), name=f"c{i}"))
+        contacts.append(
+            pg.Contact(rng.normal(size=3), n, mu=0.3, jacobian=rng.normal(size=(3, 3)), name=f"c{i}")
+        )
     o = np.array([0.1, -0.2, 0.3])
     m = pg.GraspModel.from_contacts(contacts, reference_point=o)
     # G^T x = contact-frame velocity of the object point at p_i for a small rigid motion x
@@ -65,7 +67,11 @@ def test_pruning_records_what_is_dropped():
         pg.Contact([-0.05, 0, 0], [1, 0, 0], mu=0.5, jacobian=j, name="c0"),
         pg.Contact([0.05, 0, 0], [-1, 0, 0], mu=0.0, jacobian=j2, name="c1"),
     ]
-    acts = [pg.Actuator({0: 1.0}, name="a0"), pg.Actuator({1: 1.0}, name="a1"), pg.Actuator({2: 1.0}, name="idle")]
+    acts = [
+        pg.Actuator({0: 1.0}, name="a0"),
+        pg.Actuator({1: 1.0}, name="a1"),
+        pg.Actuator({2: 1.0}, name="idle"),
+    ]
     cps = [pg.Coupling.follow(2, 1, 0.5, name="k")]
     m = pg.GraspModel.from_contacts(cs, acts, cps, joint_names=("j0", "j1", "j2"))
     assert m.joint_names == ("j0", "j1") and m.pruned.joints == ("j2",)
@@ -105,7 +111,9 @@ def test_model_validation_names_the_culprit():
     with pytest.raises(pg.ModelError, match="disagree"):
         pg.GraspModel.from_contacts([c0, c1])
     with pytest.raises(pg.UnknownNameError) as err:
-        pg.GraspModel.from_contacts([c0], actuators=[pg.Actuator({"elbow": 1.0}, name="m")], joint_names=("j0", "j1"))
+        pg.GraspModel.from_contacts(
+            [c0], actuators=[pg.Actuator({"elbow": 1.0}, name="m")], joint_names=("j0", "j1")
+        )
     assert err.value.valid == ["j0", "j1"] and "elbow" in str(err.value)
     with pytest.raises(pg.InvalidInputError, match="kind"):
         pg.Actuator({0: 1.0}, kind="springy")

@@ -8,7 +8,6 @@ import numpy as np
 import pytest
 
 import pinograsp as pg
-from pinograsp import analytic
 from pinograsp.solvers import Formulation, Mode, available_miqp_solvers
 from pinograsp.solvers.fixed_mode import FixedModeQP
 
@@ -35,8 +34,17 @@ def random_model(seed, nc=3):
         jac_col = np.cross(axis, p - piv)
         if jac_col @ n < 0:
             axis = -axis
-        cs.append(pg.Contact.revolute(p, n, {i: (piv, axis)}, nq=nc, mu=rng.uniform(0.2, 0.8),
-                                      stiffness=rng.uniform(0.5, 2), name=f"c{i}"))
+        cs.append(
+            pg.Contact.revolute(
+                p,
+                n,
+                {i: (piv, axis)},
+                nq=nc,
+                mu=rng.uniform(0.2, 0.8),
+                stiffness=rng.uniform(0.5, 2),
+                name=f"c{i}",
+            )
+        )
     return pg.GraspModel.from_contacts(cs, planar=True)
 
 
@@ -112,6 +120,7 @@ def test_iterative_reports_history_and_cap(pinch):
     r = pg.passive_response(pinch, TAU, [40.0, 0, 0], method="iterative")
     assert r.converged and r.residual_history[-1] <= 1e-3 and r.iterations == len(r.residual_history)
     assert all(b <= a for a, b in zip(r.residual_history, r.residual_history[1:]))
-    capped = pg.passive_response(pinch, TAU, [400.0, 0, 0], method="iterative", gamma=0.05, max_iterations=2,
-                                 variant="single-step")
+    capped = pg.passive_response(
+        pinch, TAU, [400.0, 0, 0], method="iterative", gamma=0.05, max_iterations=2, variant="single-step"
+    )
     assert capped.status == "not_converged" and not capped.resistible and capped.iterations == 2

@@ -163,10 +163,14 @@ class FixedModeQP:
         ok = st == proxsuite.proxqp.QPSolverOutput.PROXQP_SOLVED and res < 1e-7
         if not ok:
             status = INFEASIBLE if res >= 1e-7 else FAILED
-            return RawSolution(status=status, solve_time=dt, backend="proxsuite", message=f"{st}, residual {res:.2e}")
+            return RawSolution(
+                status=status, solve_time=dt, backend="proxsuite", message=f"{st}, residual {res:.2e}"
+            )
         obj = float(0.5 * z @ self.H @ z + g @ z)
         if self.kind == "move":
             obj = float(np.sum((data.w + f.Gb @ z[self.lay["beta"]]) ** 2))
         else:
             obj = float(np.sum((f.E @ z[self.lay["beta"]]) ** 2))
-        return RawSolution(status=OPTIMAL, z=z, mode=mode, objective=obj, solve_time=dt, backend="proxsuite", polished=True)
+        return RawSolution(
+            status=OPTIMAL, z=z, mode=mode, objective=obj, solve_time=dt, backend="proxsuite", polished=True
+        )

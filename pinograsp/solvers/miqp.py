@@ -181,7 +181,9 @@ class CvxpyMIQP:
             status = TIMEOUT if dt >= 0.99 * self.time_limit else FAILED
             return RawSolution(status=status, solve_time=dt, backend=self.solver.lower(), message=str(exc))
         except Exception as exc:  # backend crashed (licence, memory, ...)
-            raise SolverError(f"{self.solver} raised {type(exc).__name__}: {exc}", solver=self.solver.lower()) from exc
+            raise SolverError(
+                f"{self.solver} raised {type(exc).__name__}: {exc}", solver=self.solver.lower()
+            ) from exc
         dt = time.perf_counter() - t0
         self.n_solves += 1
         st = self.problem.status
@@ -190,14 +192,20 @@ class CvxpyMIQP:
         if stats is not None and stats.extra_stats is not None and hasattr(stats.extra_stats, "getStatus"):
             raw_status = str(stats.extra_stats.getStatus())
         if st in (cp.INFEASIBLE, cp.settings.INFEASIBLE_OR_UNBOUNDED):
-            return RawSolution(status=INFEASIBLE, solve_time=dt, backend=self.solver.lower(), message=raw_status)
+            return RawSolution(
+                status=INFEASIBLE, solve_time=dt, backend=self.solver.lower(), message=raw_status
+            )
         if st == cp.OPTIMAL_INACCURATE and raw_status in ("timelimit", "") and self.beta.value is not None:
             # cvxpy maps SCIP's time limit to OPTIMAL_INACCURATE: a time-out, not an answer
             if raw_status == "timelimit":
-                return RawSolution(status=TIMEOUT, solve_time=dt, backend=self.solver.lower(), message=raw_status)
+                return RawSolution(
+                    status=TIMEOUT, solve_time=dt, backend=self.solver.lower(), message=raw_status
+                )
         if st not in (cp.OPTIMAL, cp.OPTIMAL_INACCURATE) or self.beta.value is None:
             status = TIMEOUT if raw_status == "timelimit" else FAILED
-            return RawSolution(status=status, solve_time=dt, backend=self.solver.lower(), message=f"{st} {raw_status}")
+            return RawSolution(
+                status=status, solve_time=dt, backend=self.solver.lower(), message=f"{st} {raw_status}"
+            )
         lay = f.layout(self.kind)
         z = np.zeros(lay["n"].stop)
         z[lay["beta"]] = self.beta.value
