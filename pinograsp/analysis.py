@@ -115,20 +115,24 @@ def max_resistible_wrench(
         return ok, resp
 
     ok, resp = test(float(upper))
-    if ok:
+
+    def result(magnitude: float, unbounded: bool, response: PassiveResponse | None) -> MaxWrench:
         return MaxWrench(
-            d,
-            float("inf"),
-            True,
-            float(upper),
-            float(upper) / 2**steps,
-            tuple(evidence),
-            method,
-            solve_time,
-            time.perf_counter() - t0,
-            n_solves,
-            resp,
+            direction=d,
+            magnitude=magnitude,
+            unbounded=unbounded,
+            upper=float(upper),
+            resolution=float(upper) / 2**steps,
+            evidence=tuple(evidence),
+            method=method,
+            solve_time=solve_time,
+            wall_time=time.perf_counter() - t0,
+            n_solves=n_solves,
+            response=response,
         )
+
+    if ok:
+        return result(float("inf"), True, resp)
     lo, hi, best = 0.0, float(upper), None
     for _ in range(int(steps)):
         mid = 0.5 * (lo + hi)
@@ -137,19 +141,7 @@ def max_resistible_wrench(
             lo, best = mid, resp
         else:
             hi = mid
-    return MaxWrench(
-        d,
-        lo,
-        False,
-        float(upper),
-        float(upper) / 2**steps,
-        tuple(evidence),
-        method,
-        solve_time,
-        time.perf_counter() - t0,
-        n_solves,
-        best,
-    )
+    return result(lo, False, best)
 
 
 def _plane_basis(model: GraspModel, plane: Sequence[object]) -> tuple[np.ndarray, tuple[str, str]]:

@@ -230,11 +230,7 @@ class PassiveSolver:
             pre = self.preload_stage(fc, method)
             if not pre.converged:
                 return self._build(method, variant, w6, fc, pre, pre=None, note="preload not in equilibrium")
-            p = (
-                m.E
-                @ pre.raw.z[self.form.layout(pre.raw and ("prp" if method == "prp" else "move"))["beta"]]
-                * pre.data.F
-            )
+            p = m.E @ pre.raw.z[self.form.layout("prp" if method == "prp" else "move")["beta"]] * pre.data.F
         st = stage_fn(w, fc, p)
         return self._build(method, variant, w6, fc, st, pre=pre)
 
