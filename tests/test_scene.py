@@ -173,3 +173,15 @@ def test_planar_urdf_pinch_resists_the_analytic_load(tmp_path: Path):
     theta = np.pi / 4
     res = pg.max_resistible_wrench(m, [1.0, 1.0], [np.cos(theta), np.sin(theta), 0.0])
     assert res.magnitude == pytest.approx(2 * 0.4 * 1.0 / (L * np.sin(theta)), rel=1e-3)
+
+
+def test_mismatched_configuration_length_names_the_joints():
+    import numpy as np
+    import pytest
+
+    import pinograsp as pg
+
+    hand = pg.Hand.builtin("underactuated_2f")
+    with pytest.raises(pg.InvalidInputError, match="expected 4 joint values") as err:
+        pg.GraspModel.from_scene(hand, np.zeros(3), pg.RigidObject.box([0.04, 0.04, 0.04]))
+    assert "uf_j11" in str(err.value)
