@@ -27,7 +27,7 @@ from .errors import InvalidInputError
 from .model import GraspModel
 from .results import Audit, PassiveResponse
 from .solvers import OPTIMAL, ExactSolver, Formulation, ScaledData, resolve_solver
-from .solvers.base import INFEASIBLE, TIMEOUT, RawSolution
+from .solvers.base import INFEASIBLE, RawSolution
 
 METHODS = ("prp", "iterative")
 VARIANTS = ("single-step", "preload-first")
@@ -230,7 +230,11 @@ class PassiveSolver:
             pre = self.preload_stage(fc, method)
             if not pre.converged:
                 return self._build(method, variant, w6, fc, pre, pre=None, note="preload not in equilibrium")
-            p = m.E @ pre.raw.z[self.form.layout("prp" if method == "prp" else "move")["beta"]] * pre.data.F
+            p = (
+                self.form.E
+                @ pre.raw.z[self.form.layout("prp" if method == "prp" else "move")["beta"]]
+                * pre.data.F
+            )
         st = stage_fn(w, fc, p)
         return self._build(method, variant, w6, fc, st, pre=pre)
 
@@ -254,36 +258,42 @@ class PassiveSolver:
             status = "not_resisted"
         n_solves = st.n_solves + (pre.n_solves if pre is not None else 0)
         solve_time = st.solve_time + (pre.solve_time if pre is not None else 0.0)
-        if raw is None or raw.z is None:
-            nan = np.full
+        common = dict(
+            method=method,
+            variant=variant,
+            wrench=w6,
+            command=fc,
+            iterations=st.iterations,
+            residual_history=st.history,
+            solve_time=solve_time,
+            n_solves=n_solves,
+            contact_names=m.contact_names,
+            joint_names=m.joint_names,
+            actuator_names=m.actuator_names,
+        )
+        if raw is None or raw.z is None:  # no solution: every quantity is NaN
+
+            def nan(*shape: int) -> np.ndarray:
+                return np.full(shape, np.nan)
+
             return PassiveResponse(
                 resistible=False,
                 status=status,
-                method=method,
-                variant=variant,
-                wrench=w6,
-                command=fc,
-                contact_forces=nan((nc, 3), np.nan),
-                contact_forces_world=nan((nc, 3), np.nan),
-                joint_torques=nan(nq, np.nan),
-                actuator_forces=nan(na, np.nan),
-                coupling_forces=nan(m.ncp, np.nan),
-                object_displacement=nan(6, np.nan),
-                joint_displacements=nan(nq, np.nan),
-                actuator_displacements=nan(na, np.nan),
+                contact_forces=nan(nc, 3),
+                contact_forces_world=nan(nc, 3),
+                joint_torques=nan(nq),
+                actuator_forces=nan(na),
+                coupling_forces=nan(m.ncp),
+                object_displacement=nan(6),
+                joint_displacements=nan(nq),
+                actuator_displacements=nan(na),
                 contact_modes=(),
                 actuator_modes=(),
-                net_wrench=nan(6, np.nan),
+                net_wrench=nan(6),
                 audit=None,
-                iterations=st.iterations,
-                residual_history=st.history,
                 converged=False,
                 solver=self.settings.solver,
-                solve_time=solve_time,
-                n_solves=n_solves,
-                contact_names=m.contact_names,
-                joint_names=m.joint_names,
-                actuator_names=m.actuator_names,
+                **common,
             )
         z, F = raw.z, st.data.F
         beta = z[lay["beta"]] * F
@@ -304,7 +314,7 @@ class PassiveSolver:
         net = m.G @ c + m.reduce_wrench(w6)
         # audit, in force units
         gap = f.spring_gap(z[lay["beta"]], st.xh, qh, st.data.p) * F
-        cn = m.E @ beta
+        cn = f.E @ beta
         comp = np.minimum(np.abs(cn), np.abs(gap)).max(initial=0.0)
         if na:
             uh = f.Ru @ qh * F
@@ -336,10 +346,6 @@ class PassiveSolver:
         return PassiveResponse(
             resistible=resistible,
             status=status,
-            method=method,
-            variant=variant,
-            wrench=w6,
-            command=fc,
             contact_forces=cf,
             contact_forces_world=m.world_forces(c),
             joint_torques=tau,
@@ -352,15 +358,9 @@ class PassiveSolver:
             actuator_modes=modes_a,
             net_wrench=m.expand_wrench(net),
             audit=audit,
-            iterations=st.iterations,
-            residual_history=st.history,
             converged=st.converged,
             solver=raw.backend,
-            solve_time=solve_time,
-            n_solves=n_solves,
-            contact_names=m.contact_names,
-            joint_names=m.joint_names,
-            actuator_names=m.actuator_names,
+            **common,
         )
 
 
@@ -413,7 +413,6 @@ __all__ = [
     "VARIANTS",
     "PassiveSolver",
     "Settings",
-    "TIMEOUT",
     "make_settings",
     "passive_response",
     "solver_for",
