@@ -161,3 +161,18 @@ class PenetrationError(PinograspError):
             f"{shown}; "
             "move the hand or the object, or raise max_penetration"
         )
+
+
+class MissingDependencyError(PinograspError, ImportError):
+    """An optional dependency needed for a feature is not installed.
+
+    Attributes:
+        package: The missing Python package (e.g. ``"plotly"``).
+        extra: The pinograsp extra that installs it (e.g. ``"viz"``), when there is one.
+    """
+
+    def __init__(self, package: str, feature: str, extra: str | None = None) -> None:
+        self.package = package
+        self.extra = extra
+        how = f'pip install "pinograsp[{extra}]"' if extra else f"pip install {package}"
+        super().__init__(f"{feature} needs the optional package {package!r}: {how}")
