@@ -1,0 +1,696 @@
+"""3D scene view: hand, object, contact points, friction cones and contact-force arrows.
+
+* :func:`scene_figure` builds a plotly ``go.Figure``. It renders in a Jupyter notebook without
+  any server (the figure carries its own data; plotly's JavaScript runs in the page) and is
+  exported to a standalone HTML file, which works offline, with :func:`save_html`.
+* :func:`save_png` (and :func:`scene_axes` for your own figure) draws the same elements with
+  matplotlib's 3D axes, so a PNG needs neither kaleido nor a browser.
+
+Both accept a :class:`~pinograsp.GraspModel` alone (explicit-contact scenes: contact points,
+normals, friction cones and force arrows) or together with the hand, its configuration and the
+object (``hand=``, ``q=``, ``obj=``), or any *scene* object with a ``.model`` attribute (and
+optionally ``.hand``, ``.q``, ``.object``), such as the result of ``pinograsp.load_scene``.
+
+Drawing conventions (world frame = hand base frame, metres):
+
+* Hand links are the hand's **collision** geometries (the ones contacts are computed with),
+  placed at ``q`` with Pinocchio; primitives are meshed with trimesh.
+* Friction cones and force arrows are drawn on the **hand side** of each contact: a cone has its
+  apex at the contact point, axis ``-n`` (away from the object, ``n`` points from the hand into
+  the object) and half-angle ``atan(mu)``; the force the hand applies to the object is an arrow
+  that *ends* at the contact point (the finger pushes). An arrow inside its cone is a force
+  inside the friction cone.
+* The external force (the force part of ``response.wrench``) is an arrow starting at the
+  object's reference point. Torques are not drawn.
+
+plotly is an optional dependency (``pip install "pinograsp[viz]"``); matplotlib and trimesh
+are required dependencies.
+"""
+
+from __future__ import annotations
+
+import os
+import warnings
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from .errors import InvalidInputError, MissingDependencyError, PinograspWarning
+from .model import GraspModel
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .hand import Hand
+    from .objects import RigidObject
+
+#: Default colours (hand, object, contacts, cones, contact forces, external force, normals).
+COLORS = {
+    "hand": "#8c9bb5",
+    "object": "#f4a261",
+    "contacts": "#1d3557",
+    "cones": "#2a9d8f",
+    "forces": "#d62828",
+    "external": "#7b2cbf",
+    "normals": "#555555",
+}
+
+
+# ----------------------------------------------------------------------------- elements
+@dataclass
+class Mesh:
+    """A triangle mesh in the world frame: vertices (n, 3) [m], faces (m, 3), one label per vertex."""
+
+    name: str
+    vertices: np.ndarray
+    faces: np.ndarray
+    color: str
+    opacity: float = 1.0
+    labels: list[str] = field(default_factory=list)
+
+
+@dataclass
+class Segments:
+    """Line segments (k, 2, 3) [m]."""
+
+    name: str
+    segments: np.ndarray
+    color: str
+    width: float = 4.0
+    dash: bool = False
+
+
+@dataclass
+class SceneElements:
+    """What a scene view draws (world frame, metres); built by :func:`scene_elements`.
+
+    Attributes:
+        meshes: Hand (one mesh merging all links), object, friction cones, arrow heads.
+        segments: Contact normals, force arrow shafts, external force shaft.
+        points: Contact points (nc, 3) [m].
+        point_labels: Hover text per contact.
+        contact_names: Contact names.
+        size: Scene size [m] used for the default scales.
+        cone_scale: Cone height [m].
+        force_scale: Arrow length per newton [m/N].
+        title: Default title.
+    """
+
+    meshes: list[Mesh]
+    segments: list[Segments]
+    points: np.ndarray
+    point_labels: list[str]
+    contact_names: tuple[str, ...]
+    size: float
+    cone_scale: float
+    force_scale: float
+    title: str
+
+    @property
+    def bounds(self) -> np.ndarray:
+        """Axis-aligned bounds of everything drawn, (2, 3) [m]."""
+        pts = (
+            [self.points]
+            + [m.vertices for m in self.meshes]
+            + [s.segments.reshape(-1, 3) for s in self.segments]
+        )
+        allp = np.concatenate([p for p in pts if p.size])
+        return np.vstack([allp.min(axis=0), allp.max(axis=0)])
+
+
+def geometry_mesh(geometry: object) -> Any:
+    """A ``trimesh.Trimesh`` of a Coal collision geometry in its own frame (``None`` if unsupported).
+
+    Boxes, spheres, cylinders, capsules, cones, ellipsoids, convex hulls and BVH meshes are
+    supported; planes and half-spaces (unbounded) are not.
+    """
+    import coal
+    import trimesh
+
+    g = geometry
+    if isinstance(g, coal.Box):
+        return trimesh.creation.box(extents=2.0 * np.asarray(g.halfSide, dtype=float))
+    if isinstance(g, coal.Sphere):
+        return trimesh.creation.icosphere(subdivisions=2, radius=float(g.radius))
+    if isinstance(g, coal.Ellipsoid):
+        m = trimesh.creation.icosphere(subdivisions=2, radius=1.0)
+        m.vertices = m.vertices * np.asarray(g.radii, dtype=float)
+        return m
+    if isinstance(g, coal.Capsule):
+        return trimesh.creation.capsule(
+            height=2.0 * float(g.halfLength), radius=float(g.radius), count=[16, 16]
+        )
+    if isinstance(g, coal.Cylinder):
+        return trimesh.creation.cylinder(
+            radius=float(g.radius), height=2.0 * float(g.halfLength), sections=24
+        )
+    if isinstance(g, coal.Cone):
+        m = trimesh.creation.cone(radius=float(g.radius), height=2.0 * float(g.halfLength), sections=24)
+        m.apply_translation([0.0, 0.0, -float(g.halfLength)])
+        return m
+    if isinstance(g, coal.ConvexBase):
+        pts = np.asarray(g.points(), dtype=float).reshape(-1, 3)
+        return trimesh.convex.convex_hull(pts)
+    if isinstance(g, coal.BVHModelBase):
+        verts = np.asarray(g.vertices(), dtype=float).reshape(-1, 3)
+        tris = [g.tri_indices(i) for i in range(int(g.num_tris))]
+        faces = np.array([[t[0], t[1], t[2]] for t in tris], dtype=int).reshape(-1, 3)
+        return trimesh.Trimesh(verts, faces, process=False)
+    return None
+
+
+def _transform(vertices: np.ndarray, T: np.ndarray) -> np.ndarray:
+    return vertices @ T[:3, :3].T + T[:3, 3]
+
+
+def _cone(apex: np.ndarray, axis: np.ndarray, height: float, radius: float, sections: int = 24):
+    """Open cone surface: apex, unit axis; returns vertices (sections + 1, 3), faces (sections, 3)."""
+    a = axis / np.linalg.norm(axis)
+    helper = np.array([1.0, 0.0, 0.0]) if abs(a[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    u = np.cross(a, helper)
+    u /= np.linalg.norm(u)
+    v = np.cross(a, u)
+    t = 2.0 * np.pi * np.arange(sections) / sections
+    ring = apex + height * a + radius * (np.cos(t)[:, None] * u + np.sin(t)[:, None] * v)
+    verts = np.vstack([apex, ring])
+    k = np.arange(sections)
+    faces = np.column_stack([np.zeros(sections, int), 1 + k, 1 + (k + 1) % sections])
+    return verts, faces
+
+
+def _merge(parts: Sequence[tuple[np.ndarray, np.ndarray, str]]) -> tuple[np.ndarray, np.ndarray, list[str]]:
+    verts, faces, labels, off = [], [], [], 0
+    for v, f, lab in parts:
+        verts.append(v)
+        faces.append(f + off)
+        labels += [lab] * len(v)
+        off += len(v)
+    if not verts:
+        return np.zeros((0, 3)), np.zeros((0, 3), int), []
+    return np.vstack(verts), np.vstack(faces), labels
+
+
+def _resolve(
+    model: object, hand: Hand | None, q: object, obj: RigidObject | None
+) -> tuple[GraspModel, Hand | None, object, RigidObject | None]:
+    if not isinstance(model, GraspModel):
+        inner = getattr(model, "model", None)
+        if not isinstance(inner, GraspModel):
+            raise InvalidInputError(
+                "model",
+                f"expected a GraspModel or a scene with a .model GraspModel, got {type(model).__name__}",
+            )
+        hand = hand if hand is not None else getattr(model, "hand", None)
+        q = q if q is not None else getattr(model, "q", None)
+        if obj is None:
+            obj = getattr(model, "object", None)
+            obj = obj if obj is not None else getattr(model, "obj", None)
+        model = inner
+    if hand is not None:
+        if not (hasattr(hand, "geometry") and hasattr(hand, "forward") and hasattr(hand, "configuration")):
+            raise InvalidInputError("hand", f"expected a pinograsp Hand, got {type(hand).__name__}")
+        if q is None:
+            raise InvalidInputError("q", "drawing a hand needs its configuration q (URDF joint values)")
+    if obj is not None and not (hasattr(obj, "geometry") and hasattr(obj, "pose")):
+        raise InvalidInputError("obj", f"expected a pinograsp RigidObject, got {type(obj).__name__}")
+    return model, hand, q, obj
+
+
+def _forces(model: GraspModel, response: object) -> tuple[np.ndarray | None, np.ndarray | None, str]:
+    """World contact forces (nc, 3), applied wrench (6,) or None, and a status label."""
+    if response is None:
+        return None, None, ""
+    if hasattr(response, "response") and hasattr(response, "unbounded"):  # MaxWrench
+        response = response.response
+        if response is None:
+            raise InvalidInputError("response", "the MaxWrench carries no passive response")
+    if hasattr(response, "contact_forces_world"):
+        f = np.asarray(response.contact_forces_world, dtype=float)
+        w = getattr(response, "wrench", None)
+        w = None if w is None else np.asarray(w, dtype=float).reshape(-1)
+        status = str(getattr(response, "status", "linear compliance"))
+    else:
+        try:
+            f = np.asarray(response, dtype=float)
+        except (TypeError, ValueError) as exc:
+            raise InvalidInputError(
+                "response",
+                f"expected a PassiveResponse, a LinearComplianceResult or an (nc, 3) array, got {response!r}",
+            ) from exc
+        w, status = None, ""
+    if f.shape != (model.nc, 3):
+        raise InvalidInputError(
+            "response", f"expected world contact forces of shape ({model.nc}, 3), got {f.shape}"
+        )
+    if w is not None and w.shape != (6,):
+        w = None
+    return f, w, status
+
+
+def _positive_or_none(name: str, value: object) -> float | None:
+    if value is None:
+        return None
+    try:
+        v = float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError) as exc:
+        raise InvalidInputError(name, f"expected a positive number, got {value!r}") from exc
+    if not np.isfinite(v) or v <= 0:
+        raise InvalidInputError(name, f"must be finite and > 0, got {value!r}")
+    return v
+
+
+def scene_elements(
+    model: object,
+    response: object = None,
+    *,
+    hand: Hand | None = None,
+    q: object = None,
+    obj: RigidObject | None = None,
+    cone_scale: float | None = None,
+    force_scale: float | None = None,
+    show_cones: bool = True,
+    show_forces: bool = True,
+) -> SceneElements:
+    """The meshes, segments and points a scene view draws (see :func:`scene_figure` for the arguments)."""
+    model, hand, q, obj = _resolve(model, hand, q, obj)
+    cone_scale = _positive_or_none("cone_scale", cone_scale)
+    force_scale = _positive_or_none("force_scale", force_scale)
+    forces, wrench, status = _forces(model, response)
+    meshes: list[Mesh] = []
+    skipped: list[str] = []
+    if hand is not None:
+        qv = hand.configuration(q)
+        hand.forward(qv)
+        parts = []
+        for k, go in enumerate(hand.geometry.geometryObjects):
+            m = geometry_mesh(go.geometry)
+            if m is None:
+                skipped.append(go.name)
+                continue
+            T = np.asarray(hand.geometry_data.oMg[k].homogeneous, dtype=float)
+            parts.append(
+                (
+                    _transform(np.asarray(m.vertices, float), T),
+                    np.asarray(m.faces, int),
+                    hand.link_of_geometry(k),
+                )
+            )
+        v, f, lab = _merge(parts)
+        if len(v):
+            meshes.append(Mesh("hand", v, f, COLORS["hand"], 1.0, lab))
+    if obj is not None:
+        m = geometry_mesh(obj.geometry)
+        if m is None:
+            skipped.append(str(obj.name))
+        else:
+            v = _transform(np.asarray(m.vertices, float), np.asarray(obj.pose, float))
+            meshes.append(
+                Mesh("object", v, np.asarray(m.faces, int), COLORS["object"], 0.45, [str(obj.name)] * len(v))
+            )
+    if skipped:
+        warnings.warn(
+            f"not drawn (unbounded or unsupported geometry): {', '.join(skipped)}",
+            PinograspWarning,
+            stacklevel=3,
+        )
+
+    pts = np.asarray(model.points, dtype=float).reshape(-1, 3)
+    normals = np.asarray(model.frames, dtype=float)[:, :, 0]
+    # scene size: object and contacts (not the whole hand)
+    ref = np.vstack([pts, np.asarray(model.reference_point, float).reshape(1, 3)])
+    if obj is not None and meshes and meshes[-1].name == "object":
+        ref = np.vstack([ref, meshes[-1].vertices])
+    size = float(np.linalg.norm(ref.max(axis=0) - ref.min(axis=0)))
+    size = max(size, 2.0 * float(model.length_scale), 1e-3)
+    h = cone_scale if cone_scale is not None else 0.3 * size
+    segments: list[Segments] = []
+    if model.nc:
+        segments.append(
+            Segments(
+                "contact normals", np.stack([pts, pts - h * normals], axis=1), COLORS["normals"], 2.0, True
+            )
+        )
+    if show_cones and model.nc:
+        parts = [
+            _cone(p, -n, h, h * float(mu)) + (name,)
+            for p, n, mu, name in zip(pts, normals, model.mu, model.contact_names)
+            if mu > 0
+        ]
+        v, f, lab = _merge(parts)
+        if len(v):
+            meshes.append(Mesh("friction cones", v, f, COLORS["cones"], 0.3, lab))
+
+    labels = []
+    for i, name in enumerate(model.contact_names):
+        text = f"{name}<br>mu = {model.mu[i]:g}<br>n = {np.round(normals[i], 3).tolist()}"
+        if forces is not None and np.all(np.isfinite(forces[i])):
+            c_n = float(forces[i] @ normals[i])
+            text += f"<br>force [N] = {np.round(forces[i], 3).tolist()}<br>c_n = {c_n:.4g} N"
+        labels.append(text)
+
+    fmax = 0.0
+    if forces is not None:
+        finite = np.all(np.isfinite(forces), axis=1)
+        mags = np.linalg.norm(np.where(finite[:, None], forces, 0.0), axis=1)
+        ext = 0.0 if wrench is None or not np.all(np.isfinite(wrench)) else float(np.linalg.norm(wrench[:3]))
+        fmax = max(float(mags.max()) if mags.size else 0.0, ext)
+    s = force_scale if force_scale is not None else (0.3 * size / fmax if fmax > 0 else 0.0)
+    if show_forces and forces is not None and fmax > 0:
+        shafts, heads = [], []
+        for p, f, name in zip(pts, forces, model.contact_names):
+            if not np.all(np.isfinite(f)) or np.linalg.norm(f) * s < 1e-9 * size:
+                continue
+            tail = p - s * f
+            length = float(np.linalg.norm(s * f))
+            u = f / np.linalg.norm(f)
+            hl = min(0.3 * length, 0.08 * size)
+            shafts.append([tail, p - hl * u])
+            heads.append(_cone(p, -u, hl, 0.4 * hl, 12) + (name,))
+        if shafts:
+            segments.append(Segments("contact forces", np.array(shafts), COLORS["forces"], 6.0))
+            v, f_, lab = _merge(heads)
+            meshes.append(Mesh("contact forces", v, f_, COLORS["forces"], 1.0, lab))
+        if (
+            wrench is not None
+            and np.all(np.isfinite(wrench))
+            and np.linalg.norm(wrench[:3]) * s > 1e-9 * size
+        ):
+            o = np.asarray(model.reference_point, float)
+            tip = o + s * wrench[:3]
+            length = float(np.linalg.norm(s * wrench[:3]))
+            u = wrench[:3] / np.linalg.norm(wrench[:3])
+            hl = min(0.3 * length, 0.08 * size)
+            segments.append(
+                Segments("external force", np.array([[o, tip - hl * u]]), COLORS["external"], 6.0)
+            )
+            v, f_ = _cone(tip, -u, hl, 0.4 * hl, 12)
+            meshes.append(Mesh("external force", v, f_, COLORS["external"], 1.0, ["external force"] * len(v)))
+    title = f"{model.nc} contacts" + (f" — {status}" if status else "")
+    return SceneElements(meshes, segments, pts, labels, tuple(model.contact_names), size, h, s, title)
+
+
+# ----------------------------------------------------------------------------- plotly
+def _plotly() -> Any:
+    try:
+        import plotly.graph_objects as go
+    except ImportError as exc:
+        raise MissingDependencyError("plotly", "the interactive 3D scene view", extra="viz") from exc
+    return go
+
+
+def scene_figure(
+    model: object,
+    response: object = None,
+    *,
+    hand: Hand | None = None,
+    q: object = None,
+    obj: RigidObject | None = None,
+    cone_scale: float | None = None,
+    force_scale: float | None = None,
+    show_cones: bool = True,
+    show_forces: bool = True,
+    title: str | None = None,
+    height: int = 600,
+) -> Any:
+    """Interactive 3D view of a grasp as a plotly ``go.Figure``.
+
+    Traces (legend names): ``hand`` (all collision geometries merged; hover shows the link),
+    ``object``, ``contacts``, ``contact normals``, ``friction cones``, ``contact forces``,
+    ``external force`` — only those that apply.
+
+    Args:
+        model: A :class:`~pinograsp.GraspModel`, or a scene with ``.model`` (and optionally
+            ``.hand``, ``.q``, ``.object``, used unless given explicitly).
+        response: Contact forces to draw: a :class:`~pinograsp.PassiveResponse`, a
+            :class:`~pinograsp.LinearComplianceResult`, a :class:`~pinograsp.MaxWrench` (its
+            response), or world forces (nc, 3) [N]. Non-finite rows are not drawn.
+        hand: Hand whose collision geometry is drawn at ``q`` (required with ``hand``).
+        q: Hand configuration (URDF joint values, see :meth:`~pinograsp.Hand.configuration`).
+        obj: Object to draw at its pose.
+        cone_scale: Friction-cone height [m] (default 0.3 × the scene size: the extent of the
+            object and the contacts).
+        force_scale: Arrow length per newton [m/N] (default: the largest force, contact or
+            external, is as long as the cones' default height).
+        show_cones, show_forces: Draw friction cones / force arrows.
+        title: Figure title (default: contact count and the response status).
+        height: Figure height in pixels.
+
+    Raises:
+        MissingDependencyError: plotly is not installed (``pip install "pinograsp[viz]"``).
+        InvalidInputError: A model/scene, response, hand, ``q`` or scale that does not fit.
+    """
+    go = _plotly()
+    el = scene_elements(
+        model,
+        response,
+        hand=hand,
+        q=q,
+        obj=obj,
+        cone_scale=cone_scale,
+        force_scale=force_scale,
+        show_cones=show_cones,
+        show_forces=show_forces,
+    )
+    fig = go.Figure()
+    for m in el.meshes:
+        first = not any(t.name == m.name for t in fig.data)
+        fig.add_trace(
+            go.Mesh3d(
+                x=m.vertices[:, 0],
+                y=m.vertices[:, 1],
+                z=m.vertices[:, 2],
+                i=m.faces[:, 0],
+                j=m.faces[:, 1],
+                k=m.faces[:, 2],
+                color=m.color,
+                opacity=m.opacity,
+                name=m.name,
+                legendgroup=m.name,
+                showlegend=first,
+                hovertext=m.labels or None,
+                hoverinfo="text" if m.labels else "name",
+                flatshading=True,
+                lighting={"ambient": 0.55, "diffuse": 0.7, "specular": 0.1},
+            )
+        )
+    for sg in el.segments:
+        xyz = np.full((len(sg.segments) * 3, 3), np.nan)
+        xyz[0::3] = sg.segments[:, 0]
+        xyz[1::3] = sg.segments[:, 1]
+        first = not any(t.name == sg.name for t in fig.data)
+        fig.add_trace(
+            go.Scatter3d(
+                x=xyz[:, 0],
+                y=xyz[:, 1],
+                z=xyz[:, 2],
+                mode="lines",
+                line={"color": sg.color, "width": sg.width, "dash": "dash" if sg.dash else "solid"},
+                name=sg.name,
+                legendgroup=sg.name,
+                showlegend=first,
+                hoverinfo="name",
+                connectgaps=False,
+            )
+        )
+    if len(el.points):
+        fig.add_trace(
+            go.Scatter3d(
+                x=el.points[:, 0],
+                y=el.points[:, 1],
+                z=el.points[:, 2],
+                mode="markers",
+                marker={"size": 5, "color": COLORS["contacts"]},
+                name="contacts",
+                hovertext=el.point_labels,
+                hoverinfo="text",
+            )
+        )
+    fig.update_layout(
+        title={"text": el.title if title is None else title},
+        height=height,
+        margin={"l": 0, "r": 0, "t": 40, "b": 0},
+        legend={"itemsizing": "constant"},
+        scene={
+            "aspectmode": "data",
+            "xaxis_title": "x [m]",
+            "yaxis_title": "y [m]",
+            "zaxis_title": "z [m]",
+        },
+    )
+    return fig
+
+
+def save_html(fig: Any, path: str | os.PathLike[str]) -> Path:
+    """Write a plotly figure to a standalone HTML file (plotly.js embedded: works offline).
+
+    Parent folders are created; returns the written path.
+    """
+    if not hasattr(fig, "write_html"):
+        raise InvalidInputError(
+            "fig", f"expected a plotly Figure (from scene_figure), got {type(fig).__name__}"
+        )
+    p = Path(path)
+    p.parent.mkdir(parents=True, exist_ok=True)
+    fig.write_html(str(p), include_plotlyjs=True, full_html=True)
+    return p
+
+
+# ----------------------------------------------------------------------------- matplotlib
+def _decimate(v: np.ndarray, f: np.ndarray, max_faces: int) -> np.ndarray:
+    """At most ``max_faces`` faces (every k-th face: a coarse preview of big meshes)."""
+    if len(f) <= max_faces:
+        return f
+    return f[:: int(np.ceil(len(f) / max_faces))]
+
+
+def scene_axes(
+    model: object,
+    response: object = None,
+    *,
+    ax: Any = None,
+    hand: Hand | None = None,
+    q: object = None,
+    obj: RigidObject | None = None,
+    cone_scale: float | None = None,
+    force_scale: float | None = None,
+    show_cones: bool = True,
+    show_forces: bool = True,
+    title: str | None = None,
+    elev: float = 30.0,
+    azim: float = -60.0,
+    max_faces: int = 4000,
+) -> Any:
+    """Draw the scene of :func:`scene_figure` on a matplotlib 3D Axes and return it.
+
+    Meshes are ``Poly3DCollection`` (each limited to ``max_faces`` faces, every k-th face kept),
+    segments lines, contacts points. ``ax``: a 3D Axes (default: a new pyplot figure).
+    Other arguments as :func:`scene_figure`; ``elev``/``azim``: view angles [deg].
+    """
+    from mpl_toolkits.mplot3d.art3d import Line3DCollection, Poly3DCollection
+
+    el = scene_elements(
+        model,
+        response,
+        hand=hand,
+        q=q,
+        obj=obj,
+        cone_scale=cone_scale,
+        force_scale=force_scale,
+        show_cones=show_cones,
+        show_forces=show_forces,
+    )
+    if ax is None:
+        from .plots import pyplot
+
+        fig = pyplot().figure(figsize=(6.5, 6.0))
+        ax = fig.add_subplot(projection="3d")
+    elif getattr(ax, "name", None) != "3d":
+        raise InvalidInputError("ax", "expected a 3D Axes (fig.add_subplot(projection='3d'))")
+    from matplotlib.colors import to_rgba
+    from matplotlib.lines import Line2D
+
+    # Surfaces go into one Poly3DCollection so that mplot3d depth-sorts their faces together
+    # (separate collections are sorted as wholes); force arrows, normals and contact points are
+    # drawn on top of them in this order, so that they are never hidden by the hand.
+    ax.computed_zorder = False
+    handles: list[Any] = []
+
+    def legend(name: str, artist: Any) -> None:
+        if name not in [h.get_label() for h in handles]:
+            artist.set_label(name)
+            handles.append(artist)
+
+    surf_polys, surf_face, surf_edge = [], [], []
+    top = [m for m in el.meshes if m.name in ("contact forces", "external force")]
+    for m in el.meshes:
+        if m in top:
+            continue
+        faces = _decimate(m.vertices, m.faces, int(max_faces))
+        surf_polys.append(m.vertices[faces])
+        surf_face += [to_rgba(m.color, m.opacity)] * len(faces)
+        surf_edge += [to_rgba("0.2", 0.4) if m.name == "hand" else (0.0, 0.0, 0.0, 0.0)] * len(faces)
+        legend(m.name, Line2D([], [], color=m.color, lw=6, alpha=max(m.opacity, 0.4)))
+    if surf_polys:
+        coll = Poly3DCollection(
+            np.concatenate(surf_polys), facecolors=surf_face, edgecolors=surf_edge, linewidths=0.3
+        )
+        coll.set_gid("pinograsp-surfaces")
+        coll.set_zorder(1)
+        ax.add_collection3d(coll)
+    for sg in el.segments:
+        lc = Line3DCollection(
+            sg.segments, colors=sg.color, linewidths=sg.width / 2.5, linestyles="--" if sg.dash else "-"
+        )
+        lc.set_gid(f"pinograsp-{sg.name.replace(' ', '-')}")
+        lc.set_zorder(2)
+        ax.add_collection3d(lc)
+        legend(sg.name, Line2D([], [], color=sg.color, lw=2, ls="--" if sg.dash else "-"))
+    for m in top:
+        heads = Poly3DCollection(m.vertices[m.faces], facecolors=m.color, edgecolors=m.color, linewidths=0.3)
+        heads.set_gid(f"pinograsp-{m.name.replace(' ', '-')}-heads")
+        heads.set_zorder(3)
+        ax.add_collection3d(heads)
+    if len(el.points):
+        ax.scatter(*el.points.T, color=COLORS["contacts"], s=25, depthshade=False, zorder=4)
+        legend("contacts", Line2D([], [], color=COLORS["contacts"], marker="o", ls="none"))
+    lo, hi = el.bounds
+    c, r = 0.5 * (lo + hi), 0.5 * float((hi - lo).max()) * 1.05 + 1e-9
+    ax.set_xlim(c[0] - r, c[0] + r)
+    ax.set_ylim(c[1] - r, c[1] + r)
+    ax.set_zlim(c[2] - r, c[2] + r)
+    ax.set_box_aspect((1, 1, 1))
+    ax.set_xlabel("x [m]", fontsize=8)
+    ax.set_ylabel("y [m]", fontsize=8)
+    ax.set_zlabel("z [m]", fontsize=8)
+    ax.tick_params(labelsize=6)
+    ax.view_init(elev=elev, azim=azim)
+    ax.set_title(el.title if title is None else title, fontsize=10)
+    ax.legend(handles=handles, loc="upper left", fontsize=7, framealpha=0.85)
+    return ax
+
+
+def save_png(
+    model: object,
+    response: object = None,
+    *,
+    path: str | os.PathLike[str],
+    dpi: int = 120,
+    figsize: tuple[float, float] = (6.5, 6.0),
+    **kwargs: Any,
+) -> Path:
+    """Render the scene with matplotlib 3D (no browser, no kaleido) and write a PNG.
+
+    Args:
+        model, response: As :func:`scene_figure`.
+        path: Output file (parent folders are created).
+        dpi, figsize: Figure resolution and size [in].
+        **kwargs: Passed to :func:`scene_axes` (``hand``, ``q``, ``obj``, scales, ``title``,
+            ``elev``, ``azim``, ``max_faces``, ...).
+
+    Returns:
+        The written path.
+    """
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    p = Path(path)
+    fig = Figure(figsize=figsize)
+    FigureCanvasAgg(fig)
+    ax = fig.add_subplot(projection="3d")
+    scene_axes(model, response, ax=ax, **kwargs)
+    p.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(p, dpi=dpi, format="png")
+    return p
+
+
+__all__ = [
+    "COLORS",
+    "SceneElements",
+    "geometry_mesh",
+    "save_html",
+    "save_png",
+    "scene_axes",
+    "scene_elements",
+    "scene_figure",
+]
