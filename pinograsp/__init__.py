@@ -75,6 +75,22 @@ _URDF_SIDE = {
 }
 __all__ += ["ModelFileError", "NoContactError", "PenetrationError", "UrdfError", *_URDF_SIDE]
 
+# --- plots and the 3D scene view (issue 5): matplotlib / plotly are imported only when used.
+from .errors import MissingDependencyError  # noqa: E402
+
+_URDF_SIDE.update(
+    {
+        "plot_profile": "plots",
+        "plot_preload_comparison": "plots",
+        "plot_force_comparison": "plots",
+        "save_figure": "plots",
+        "scene_figure": "viewer",
+        "save_html": "viewer",
+        "save_png": "viewer",
+    }
+)
+__all__ += ["MissingDependencyError", *[k for k in _URDF_SIDE if k not in __all__]]
+
 
 def __getattr__(name: str) -> object:
     if name in _URDF_SIDE:
