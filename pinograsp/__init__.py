@@ -91,6 +91,12 @@ _URDF_SIDE.update(
 )
 __all__ += ["MissingDependencyError", *[k for k in _URDF_SIDE if k not in __all__]]
 
+# --- scene files (issue 5): YAML scenes and the built-in paper scenes.
+from .errors import SceneError  # noqa: E402
+
+_URDF_SIDE.update({"load_scene": "scenes", "Scene": "scenes", "builtin_scenes": "scenes"})
+__all__ += ["SceneError", "load_scene", "Scene", "builtin_scenes"]
+
 
 def __getattr__(name: str) -> object:
     if name in _URDF_SIDE:

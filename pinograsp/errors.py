@@ -176,3 +176,28 @@ class MissingDependencyError(PinograspError, ImportError):
         self.extra = extra
         how = f'pip install "pinograsp[{extra}]"' if extra else f"pip install {package}"
         super().__init__(f"{feature} needs the optional package {package!r}: {how}")
+
+
+class SceneError(InvalidInputError, ModelFileError):
+    """A scene file (YAML) is missing, malformed or names something that does not exist.
+
+    The message names the file and the key path inside it, e.g.
+    ``case1.yaml: object.pose.xyz: expected 3 numbers, got 2``. Catchable as
+    :class:`InvalidInputError` and as :class:`ModelFileError`.
+
+    Attributes:
+        path: The scene file (full path).
+        key: Dotted key path inside the file (``""`` for the file as a whole).
+        detail: What went wrong.
+    """
+
+    def __init__(self, path: object, key: str, detail: str) -> None:
+        from pathlib import Path
+
+        self.path = str(path)
+        self.key = key
+        self.detail = detail
+        self.name = key
+        self.value = None
+        where = f"{Path(self.path).name}: {key}: " if key else f"{Path(self.path).name}: "
+        Exception.__init__(self, where + detail)
