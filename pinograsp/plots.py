@@ -204,6 +204,27 @@ def _as_profiles(
     return profiles, names
 
 
+def _circular_runs(mask: np.ndarray) -> list[tuple[int, int]]:
+    """Runs ``(first, last)`` of True in a circular boolean array (``last < first``: wraps)."""
+    n = mask.size
+    if mask.all():
+        return [(0, n - 1)]
+    runs = []
+    start = int(np.argmin(mask))  # a False entry: no run crosses it
+    i = 0
+    while i < n:
+        k = (start + i) % n
+        if mask[k]:
+            j = i
+            while j + 1 < n and mask[(start + j + 1) % n]:
+                j += 1
+            runs.append((k, (start + j) % n))
+            i = j + 1
+        else:
+            i += 1
+    return runs
+
+
 def _reference_value(p: ResistanceProfile, index: int) -> float:
     """Magnitude along ``+b2`` (angle π/2), the paper's ``+Y`` normalisation."""
     hit = np.flatnonzero(np.isclose(np.mod(p.angles, 2 * np.pi), np.pi / 2, atol=1e-9))
@@ -339,9 +360,17 @@ def plot_profile(
                     gid=GID_UNBOUNDED,
                     zorder=0.5,
                 )
+            # one ∞ mark per run of consecutive unbounded directions (circular), at its middle
+            runs = _circular_runs(unb)
+            mid = np.array(
+                [
+                    np.mod(0.5 * (lo[i0] + hi[i1] + (2 * np.pi if i1 < i0 else 0.0)), 2 * np.pi)
+                    for i0, i1 in runs
+                ]
+            )
             ax.plot(
-                a[unb],
-                np.full(int(unb.sum()), 0.92 * rmax),
+                mid,
+                np.full(mid.size, 0.92 * rmax),
                 linestyle="none",
                 marker=r"$\infty$",
                 markersize=11,
