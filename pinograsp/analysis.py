@@ -98,18 +98,20 @@ def max_resistible_wrench(
         raise InvalidInputError("steps", f"must be >= 1, got {steps!r}")
     solver = solver_for(model, settings, **overrides)
     d = wrench_direction(model, direction)
-    solve_time, n_solves = 0.0, 0
+    solve_time, n_solves, n_miqp = 0.0, 0, 0
     if check_preload_first:
         pre = check_preload(solver, command, method)
         solve_time += pre.solve_time
         n_solves += pre.n_solves
+        n_miqp += pre.n_miqp
     evidence: list[tuple[float, bool]] = []
 
     def test(mag: float) -> tuple[bool, PassiveResponse]:
-        nonlocal solve_time, n_solves
+        nonlocal solve_time, n_solves, n_miqp
         resp = solver.response(command, mag * d, method)
         solve_time += resp.solve_time
         n_solves += resp.n_solves
+        n_miqp += resp.n_miqp
         ok = _check(resp, mag)
         evidence.append((mag, ok))
         return ok, resp
@@ -129,6 +131,7 @@ def max_resistible_wrench(
             wall_time=time.perf_counter() - t0,
             n_solves=n_solves,
             response=response,
+            n_miqp=n_miqp,
         )
 
     if ok:

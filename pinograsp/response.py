@@ -26,8 +26,9 @@ import numpy as np
 from .errors import InvalidInputError
 from .model import GraspModel
 from .results import Audit, PassiveResponse
-from .solvers import OPTIMAL, ExactSolver, Formulation, ScaledData, resolve_solver
-from .solvers.base import INFEASIBLE, RawSolution
+from .solvers import OPTIMAL, ExactSolver, FixedModeQP, Formulation, ScaledData, resolve_solver
+from .solvers.base import INFEASIBLE, Mode, RawSolution
+from .solvers.fast import FastStats, ModeGuessSolver
 
 METHODS = ("prp", "iterative")
 VARIANTS = ("single-step", "preload-first")
@@ -55,6 +56,10 @@ class Settings:
         variant: ``"single-step"`` or ``"preload-first"``; ``None`` picks the method's default.
         tolerance: Audit tolerance on hand/complementarity/friction residuals, relative to the
             data scale.
+        fast: Use the mode-guess fast path (:mod:`pinograsp.solvers.fast`): solve the convex
+            QP of the previous solution's complementarity mode with ProxSuite, accept it when
+            it is feasible and strongly stationary, else fall back to the exact MIQP.
+            ``False`` solves every problem with the MIQP (the reference path).
     """
 
     solver: str = "scip"
@@ -68,6 +73,7 @@ class Settings:
     max_iterations: int = 100
     variant: str | None = None
     tolerance: float = 1e-6
+    fast: bool = True
 
     def validated(self) -> Settings:
         """Check every field; raise :class:`InvalidInputError` naming the bad one."""
@@ -117,6 +123,7 @@ class _Stage:
     history: tuple[float, ...]
     solve_time: float
     n_solves: int
+    n_miqp: int = 0
 
 
 class PassiveSolver:
@@ -133,6 +140,8 @@ class PassiveSolver:
         self.settings = (settings or Settings()).validated()
         self.form = Formulation(model)
         self._exact: dict[str, ExactSolver] = {}
+        self._fast: dict[str, ModeGuessSolver] = {}
+        self._guess: dict[str, Mode] = {}
         self._preload: dict[tuple, tuple[_Stage, str]] = {}
 
     def exact(self, kind: str) -> ExactSolver:
@@ -151,14 +160,55 @@ class PassiveSolver:
             )
         return self._exact[kind]
 
+    def fast(self, kind: str) -> ModeGuessSolver:
+        """The mode-guess fast path of problem ``kind``, built once."""
+        if kind not in self._fast:
+            ex = self.exact(kind)
+            qp = ex.qp if ex.qp is not None else FixedModeQP(self.form, kind, gamma=self.settings.gamma)
+            self._fast[kind] = ModeGuessSolver(ex, qp)
+        return self._fast[kind]
+
+    @property
+    def stats(self) -> dict[str, FastStats]:
+        """Fast-path counters per problem kind (``"prp"``, ``"move"``)."""
+        return {k: v.stats for k, v in self._fast.items()}
+
+    def solve(self, kind: str, data: ScaledData, guess: Mode | None = None) -> RawSolution:
+        """Solve one scaled problem: fast path with ``guess`` (default: the mode of this
+        solver's last solution of ``kind``) when ``settings.fast``, else exactly."""
+        if not self.settings.fast:
+            return self.exact(kind).solve(data)
+        raw = self.fast(kind).solve(data, guess if guess is not None else self._guess.get(kind))
+        if raw.status == OPTIMAL and raw.mode is not None:
+            self._guess[kind] = raw.mode
+        return raw
+
+    def solve_exact(self, kind: str, data: ScaledData) -> RawSolution:
+        """Solve one scaled problem with the exact MIQP path (updates the mode guess)."""
+        raw = self.exact(kind).solve(data)
+        if self.settings.fast:
+            self.fast(kind).stats.exact += 1
+        if raw.status == OPTIMAL and raw.mode is not None:
+            self._guess[kind] = raw.mode
+        return raw
+
+    @staticmethod
+    def _count(raw: RawSolution) -> tuple[int, int]:
+        """(problems solved, MIQPs solved) by one :meth:`solve` call."""
+        if raw.path == "guess":
+            return 1, 0
+        nm = 1 + raw.bigm_retries
+        return nm + (1 if raw.path == "fallback" else 0), nm
+
     # --------------------------------------------------------------- stages
     def _prp_stage(self, w: np.ndarray, fc: np.ndarray, p: np.ndarray, F: float | None = None) -> _Stage:
         data = self.form.scale_data(w, fc, p, F=F)
-        raw = self.exact("prp").solve(data)
+        raw = self.solve("prp", data)
         ok = raw.status == OPTIMAL
         xh = raw.z[self.form.layout("prp")["obj"]] if ok else np.zeros(self.form.nx)
         status = "resisted" if ok else ("not_resisted" if raw.status == INFEASIBLE else raw.status)
-        return _Stage(raw, data, xh, status, ok, 1, (), raw.solve_time, 1 + raw.bigm_retries)
+        n, nm = self._count(raw)
+        return _Stage(raw, data, xh, status, ok, 1, (), raw.solve_time, n, nm)
 
     def _iterative_stage(
         self, w: np.ndarray, fc: np.ndarray, p: np.ndarray, F: float | None = None
@@ -170,19 +220,33 @@ class PassiveSolver:
         xh = np.zeros(f.nx)
         direction = np.zeros(f.nx)
         history: list[float] = []
-        total, n = 0.0, 0
+        total, n, nm = 0.0, 0, 0
         status, converged, raw_best = "not_converged", False, None
         prev = None
         for _ in range(int(s.max_iterations)):
             data = ScaledData(base.F, base.w, base.fc, base.p, xh, direction)
-            raw = self.exact("move").solve(data)
+            raw = self.solve("move", data)
             total += raw.solve_time
-            n += 1 + raw.bigm_retries
+            dn, dm = self._count(raw)
+            n, nm = n + dn, nm + dm
             if raw.status != OPTIMAL:
                 status = "not_resisted" if raw.status == INFEASIBLE else raw.status
                 break
             r = base.w + f.Gb @ raw.z[lay["beta"]]
             norm = float(np.linalg.norm(r) * base.F)
+            stalls = prev is not None and prev - norm < s.improvement * prev
+            if raw.path == "guess" and norm > s.eps and stalls:
+                # about to stop on a guessed mode: the stop must be certified by the exact
+                # solve (a locally optimal mode can stall where another mode still improves)
+                ex = self.solve_exact("move", data)
+                total += ex.solve_time
+                dn, dm = self._count(ex)
+                n, nm = n + dn, nm + dm
+                if ex.status == OPTIMAL:
+                    r_ex = base.w + f.Gb @ ex.z[lay["beta"]]
+                    norm_ex = float(np.linalg.norm(r_ex) * base.F)
+                    if norm_ex < norm:
+                        raw, r, norm = ex, r_ex, norm_ex
             history.append(norm)
             xh_next = xh + raw.z[lay["obj"]][0] * direction
             raw_best = (raw, xh_next, data)
@@ -195,13 +259,17 @@ class PassiveSolver:
             prev = norm
             xh, direction = xh_next, r
         if raw_best is None:
-            return _Stage(None, base, xh, status, False, n, tuple(history), total, n)
+            return _Stage(None, base, xh, status, False, n, tuple(history), total, n, nm)
         raw, xh_sol, data = raw_best
-        return _Stage(raw, data, xh_sol, status, converged, len(history), tuple(history), total, n)
+        return _Stage(raw, data, xh_sol, status, converged, len(history), tuple(history), total, n, nm)
+
+    @staticmethod
+    def _preload_key(command: np.ndarray, method: str) -> tuple:
+        return (method, tuple(np.round(command, 15)))
 
     def preload_stage(self, command: np.ndarray, method: str) -> _Stage:
         """The preload alone (``w = 0``), cached per command."""
-        key = (method, tuple(np.round(command, 15)))
+        key = self._preload_key(command, method)
         if key not in self._preload:
             zero = np.zeros(self.model.nw)
             nop = np.zeros(self.model.nc)
@@ -224,9 +292,10 @@ class PassiveSolver:
         w = m.reduce_wrench(w6)
         variant = self.settings.variant_for(method)
         stage_fn = self._prp_stage if method == "prp" else self._iterative_stage
-        pre = None
+        pre, fresh = None, True
         p = np.zeros(m.nc)
         if variant == "preload-first":
+            fresh = self._preload_key(fc, method) not in self._preload
             pre = self.preload_stage(fc, method)
             if not pre.converged:
                 return self._build(method, variant, w6, fc, pre, pre=None, note="preload not in equilibrium")
@@ -236,7 +305,7 @@ class PassiveSolver:
                 * pre.data.F
             )
         st = stage_fn(w, fc, p)
-        return self._build(method, variant, w6, fc, st, pre=pre)
+        return self._build(method, variant, w6, fc, st, pre=pre, pre_fresh=fresh)
 
     def _build(
         self,
@@ -247,6 +316,7 @@ class PassiveSolver:
         st: _Stage,
         pre: _Stage | None,
         note: str = "",
+        pre_fresh: bool = True,
     ) -> PassiveResponse:
         m, f = self.model, self.form
         kind = "prp" if method == "prp" else "move"
@@ -256,8 +326,11 @@ class PassiveSolver:
         status = st.status
         if note and status == "resisted":
             status = "not_resisted"
-        n_solves = st.n_solves + (pre.n_solves if pre is not None else 0)
-        solve_time = st.solve_time + (pre.solve_time if pre is not None else 0.0)
+        # a cached preload stage costs nothing: count it only where it was solved
+        counted = pre if (pre is not None and pre_fresh) else None
+        n_solves = st.n_solves + (counted.n_solves if counted is not None else 0)
+        n_miqp = st.n_miqp + (counted.n_miqp if counted is not None else 0)
+        solve_time = st.solve_time + (counted.solve_time if counted is not None else 0.0)
         common = dict(
             method=method,
             variant=variant,
@@ -267,6 +340,7 @@ class PassiveSolver:
             residual_history=st.history,
             solve_time=solve_time,
             n_solves=n_solves,
+            n_miqp=n_miqp,
             contact_names=m.contact_names,
             joint_names=m.joint_names,
             actuator_names=m.actuator_names,

@@ -39,6 +39,11 @@ class RawSolution:
         bigm_retries: How many times the big-M constants were enlarged.
         polished: Whether ``z`` comes from the exact fixed-mode QP (exact complementarity).
         message: Extra backend information.
+        duals: Inequality multipliers of the fixed-mode QP (ProxSuite sign convention: negative
+            where a lower bound is active), or None for MIQP solutions.
+        path: How the solution was obtained: ``"miqp"`` (exact), ``"guess"`` (fixed-mode QP of a
+            guessed mode that passed the optimality check) or ``"fallback"`` (the guess failed
+            and the exact MIQP answered).
     """
 
     status: str
@@ -51,3 +56,5 @@ class RawSolution:
     bigm_retries: int = 0
     polished: bool = False
     message: str = ""
+    duals: np.ndarray | None = None
+    path: str = "miqp"

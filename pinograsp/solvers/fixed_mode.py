@@ -129,24 +129,43 @@ class FixedModeQP:
             up[self.r_step] = self.gamma
         return b, lo, up
 
-    def solve(self, data: ScaledData, mode: Mode) -> RawSolution:
+    def _matrices(self, data: ScaledData) -> tuple[np.ndarray, np.ndarray]:
+        """Inequality matrix and linear cost of one solve (``move`` depends on the data)."""
+        g = np.zeros(self.n)
+        if self.kind != "move":
+            return self.C, g
+        f = self.form
+        C = self.C.copy()
+        C[self.r_gap, self.lay["obj"]] = (f.Kx @ data.direction)[:, None]
+        g[self.lay["beta"]] = f.Gb.T @ data.w
+        return C, g
+
+    def solve(self, data: ScaledData, mode: Mode, max_iter: int = 1000) -> RawSolution:
         """Solve the QP of ``mode``; ``status`` is ``"optimal"`` only if ProxSuite converged and
         the primal residual is below tolerance (ProxSuite rarely certifies infeasibility, so a
-        non-converged solve is reported as ``"infeasible"`` when its primal residual is large)."""
-        f = self.form
+        non-converged solve is reported as ``"infeasible"`` when its primal residual is large).
+
+        Args:
+            data: Scaled data of the solve.
+            mode: The complementarity mode to fix.
+            max_iter: ProxSuite iteration cap. A feasible mode converges in ~10–30 iterations;
+                an infeasible one runs to the cap (~20 µs per iteration), so the mode-guess path
+                uses a small cap and treats "not converged" as "guess failed".
+        """
         b, lo, up = self.bounds(data, mode)
-        C = self.C
-        g = np.zeros(self.n)
-        if self.kind == "move":
-            C = C.copy()
-            C[self.r_gap, self.lay["obj"]] = (f.Kx @ data.direction)[:, None]
-            g[self.lay["beta"]] = f.Gb.T @ data.w
+        return self._solve(data, mode, b, lo, up, max_iter)
+
+    def _solve(
+        self, data: ScaledData, mode: Mode, b: np.ndarray, lo: np.ndarray, up: np.ndarray, max_iter: int
+    ) -> RawSolution:
+        f = self.form
+        C, g = self._matrices(data)
         t0 = time.perf_counter()
         qp = proxsuite.proxqp.dense.QP(self.n, self.A.shape[0], C.shape[0])
         qp.settings.eps_abs = self.eps
         qp.settings.eps_rel = 0.0
-        qp.settings.max_iter = 1000
-        qp.settings.max_iter_in = 100
+        qp.settings.max_iter = int(max_iter)
+        qp.settings.max_iter_in = 100 if max_iter >= 1000 else 30
         qp.settings.eps_primal_inf = 1e-10
         qp.settings.eps_dual_inf = 1e-10
         qp.settings.verbose = False
@@ -166,11 +185,83 @@ class FixedModeQP:
             return RawSolution(
                 status=status, solve_time=dt, backend="proxsuite", message=f"{st}, residual {res:.2e}"
             )
-        obj = float(0.5 * z @ self.H @ z + g @ z)
         if self.kind == "move":
             obj = float(np.sum((data.w + f.Gb @ z[self.lay["beta"]]) ** 2))
         else:
             obj = float(np.sum((f.E @ z[self.lay["beta"]]) ** 2))
         return RawSolution(
-            status=OPTIMAL, z=z, mode=mode, objective=obj, solve_time=dt, backend="proxsuite", polished=True
+            status=OPTIMAL,
+            z=z,
+            mode=mode,
+            objective=obj,
+            solve_time=dt,
+            backend="proxsuite",
+            polished=True,
+            duals=np.array(qp.results.z),
+            message=f"{int(qp.results.info.iter)} iterations",
         )
+
+    def check_local_optimality(
+        self,
+        data: ScaledData,
+        sol: RawSolution,
+        tol: float = 1e-9,
+        dual_tol: float = 1e-7,
+        max_branch_pairs: int = 3,
+    ) -> tuple[bool, float, RawSolution | None]:
+        """Whether a fixed-mode solution is a local optimum of the complementarity problem.
+
+        The fixed-mode QP is convex, so its solution is optimal within its mode. It is a local
+        optimum of the full problem iff no mode obtained by switching *biactive* pairs — a contact
+        with ``c_n = 0`` and spring gap ``0``; a non-backdrivable actuator with ``u = 0`` and
+        ``f = f_c`` — gives a better point (B-stationarity). Cheapest test first:
+
+        1. strong stationarity from ProxSuite's multipliers: at every biactive pair both
+           multipliers have the sign of a lower bound (``z <= dual_tol``). Sufficient, not
+           necessary: degenerate problems (common: an actuator holding at exactly its command)
+           have non-unique multipliers and points that are locally optimal without being
+           strongly stationary;
+        2. otherwise, if there are at most ``max_branch_pairs`` biactive pairs, the QP of every
+           mode obtained by switching a non-empty subset of them is solved (the point is feasible
+           in each): the point is locally optimal iff none is better.
+
+        Returns:
+            ``(ok, time, better)``: the verdict, the time of the extra QPs [s], and a strictly
+            better switched-mode solution when one was found (else None).
+        """
+        f = self.form
+        z = sol.duals
+        if z is None or sol.z is None or sol.mode is None:
+            return False, 0.0, None
+        b, lo, up = self.bounds(data, sol.mode)
+        C, _ = self._matrices(data)
+        v = C @ sol.z
+        cn, gap = v[self.r_cn], v[self.r_gap] - lo[self.r_gap]
+        bic = (np.abs(cn) <= tol) & (np.abs(gap) <= tol)
+        bia = np.zeros(f.na, bool)
+        if f.na:
+            u, over = v[self.r_u], v[self.r_f] - lo[self.r_f]
+            bia = f.nbd & (np.abs(u) <= tol) & (np.abs(over) <= tol)
+        bad_c = bic & ((z[self.r_cn] > dual_tol) | (z[self.r_gap] > dual_tol))
+        bad_a = bia & ((z[self.r_u] > dual_tol) | (z[self.r_f] > dual_tol)) if f.na else bia
+        if not (bad_c.any() or bad_a.any()):
+            return True, 0.0, None
+        pairs = [("c", i) for i in np.flatnonzero(bic)] + [("a", i) for i in np.flatnonzero(bia)]
+        if len(pairs) > max_branch_pairs:
+            return False, 0.0, None
+        spent = 0.0
+        limit = sol.objective - tol * max(1.0, sol.objective)
+        for bits in range(1, 2 ** len(pairs)):
+            touching = list(sol.mode.touching)
+            moving = list(sol.mode.moving)
+            for k, (what, i) in enumerate(pairs):
+                if bits >> k & 1:
+                    if what == "c":
+                        touching[i] = not touching[i]
+                    else:
+                        moving[i] = not moving[i]
+            other = self.solve(data, Mode(tuple(touching), tuple(moving)))
+            spent += other.solve_time
+            if other.status == OPTIMAL and other.objective < limit:
+                return False, spent, other
+        return True, spent, None
