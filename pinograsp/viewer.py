@@ -9,9 +9,11 @@
 Both accept a :class:`~pinograsp.GraspModel` alone (explicit-contact scenes: contact points,
 normals, friction cones and force arrows) or together with the hand, its configuration and the
 object (``hand=``, ``q=``, ``obj=``), or any *scene* object with a ``.model`` attribute (and
-optionally ``.hand``, ``.q``, ``.object``), such as the result of ``pinograsp.load_scene``.
+optionally ``.hand``, ``.q``, ``.object``, ``.frame``), such as the result of
+``pinograsp.load_scene``.
 
-Drawing conventions (world frame = hand base frame, metres):
+Drawing conventions (metres, in the **model's frame**: the hand base frame, unless ``frame`` —
+a scene's analysis axes — says otherwise; hand and object are then re-expressed in it):
 
 * Hand links are the hand's **collision** geometries (the ones contacts are computed with),
   placed at ``q`` with Pinocchio; primitives are meshed with trimesh.
@@ -192,8 +194,8 @@ def _merge(parts: Sequence[tuple[np.ndarray, np.ndarray, str]]) -> tuple[np.ndar
 
 
 def _resolve(
-    model: object, hand: Hand | None, q: object, obj: RigidObject | None
-) -> tuple[GraspModel, Hand | None, object, RigidObject | None]:
+    model: object, hand: Hand | None, q: object, obj: RigidObject | None, frame: object
+) -> tuple[GraspModel, Hand | None, object, RigidObject | None, np.ndarray]:
     if not isinstance(model, GraspModel):
         inner = getattr(model, "model", None)
         if not isinstance(inner, GraspModel):
@@ -206,6 +208,7 @@ def _resolve(
         if obj is None:
             obj = getattr(model, "object", None)
             obj = obj if obj is not None else getattr(model, "obj", None)
+        frame = frame if frame is not None else getattr(model, "frame", None)
         model = inner
     if hand is not None:
         if not (hasattr(hand, "geometry") and hasattr(hand, "forward") and hasattr(hand, "configuration")):
@@ -214,7 +217,14 @@ def _resolve(
             raise InvalidInputError("q", "drawing a hand needs its configuration q (URDF joint values)")
     if obj is not None and not (hasattr(obj, "geometry") and hasattr(obj, "pose")):
         raise InvalidInputError("obj", f"expected a pinograsp RigidObject, got {type(obj).__name__}")
-    return model, hand, q, obj
+    from .objects import pose_matrix
+
+    T = pose_matrix(frame, "frame")
+    # hand-base coordinates -> the model's (analysis) frame: p_a = R^T (p - t)
+    to_model = np.eye(4)
+    to_model[:3, :3] = T[:3, :3].T
+    to_model[:3, 3] = -T[:3, :3].T @ T[:3, 3]
+    return model, hand, q, obj, to_model
 
 
 def _forces(model: GraspModel, response: object) -> tuple[np.ndarray | None, np.ndarray | None, str]:
@@ -267,13 +277,14 @@ def scene_elements(
     hand: Hand | None = None,
     q: object = None,
     obj: RigidObject | None = None,
+    frame: object = None,
     cone_scale: float | None = None,
     force_scale: float | None = None,
     show_cones: bool = True,
     show_forces: bool = True,
 ) -> SceneElements:
     """The meshes, segments and points a scene view draws (see :func:`scene_figure` for the arguments)."""
-    model, hand, q, obj = _resolve(model, hand, q, obj)
+    model, hand, q, obj, to_model = _resolve(model, hand, q, obj, frame)
     cone_scale = _positive_or_none("cone_scale", cone_scale)
     force_scale = _positive_or_none("force_scale", force_scale)
     forces, wrench, status = _forces(model, response)
@@ -288,7 +299,7 @@ def scene_elements(
             if m is None:
                 skipped.append(go.name)
                 continue
-            T = np.asarray(hand.geometry_data.oMg[k].homogeneous, dtype=float)
+            T = to_model @ np.asarray(hand.geometry_data.oMg[k].homogeneous, dtype=float)
             parts.append(
                 (
                     _transform(np.asarray(m.vertices, float), T),
@@ -304,7 +315,7 @@ def scene_elements(
         if m is None:
             skipped.append(str(obj.name))
         else:
-            v = _transform(np.asarray(m.vertices, float), np.asarray(obj.pose, float))
+            v = _transform(np.asarray(m.vertices, float), to_model @ np.asarray(obj.pose, float))
             meshes.append(
                 Mesh("object", v, np.asarray(m.faces, int), COLORS["object"], 0.45, [str(obj.name)] * len(v))
             )
@@ -406,6 +417,7 @@ def scene_figure(
     hand: Hand | None = None,
     q: object = None,
     obj: RigidObject | None = None,
+    frame: object = None,
     cone_scale: float | None = None,
     force_scale: float | None = None,
     show_cones: bool = True,
@@ -428,6 +440,10 @@ def scene_figure(
         hand: Hand whose collision geometry is drawn at ``q`` (required with ``hand``).
         q: Hand configuration (URDF joint values, see :meth:`~pinograsp.Hand.configuration`).
         obj: Object to draw at its pose.
+        frame: The model's frame in the hand base frame, 4×4 (a scene's ``.frame``, e.g. the
+            paper's analysis axes; default identity). Contacts, forces and wrenches are in the
+            model's frame; hand and object are re-expressed in it, so the view is drawn in the
+            axes the analysis uses.
         cone_scale: Friction-cone height [m] (default 0.3 × the scene size: the extent of the
             object and the contacts).
         force_scale: Arrow length per newton [m/N] (default: the largest force, contact or
@@ -447,6 +463,7 @@ def scene_figure(
         hand=hand,
         q=q,
         obj=obj,
+        frame=frame,
         cone_scale=cone_scale,
         force_scale=force_scale,
         show_cones=show_cones,
@@ -552,6 +569,7 @@ def scene_axes(
     hand: Hand | None = None,
     q: object = None,
     obj: RigidObject | None = None,
+    frame: object = None,
     cone_scale: float | None = None,
     force_scale: float | None = None,
     show_cones: bool = True,
@@ -575,6 +593,7 @@ def scene_axes(
         hand=hand,
         q=q,
         obj=obj,
+        frame=frame,
         cone_scale=cone_scale,
         force_scale=force_scale,
         show_cones=show_cones,

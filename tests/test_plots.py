@@ -395,3 +395,27 @@ def test_scene_view_bad_input(barrett_grasp, pinch, monkeypatch, tmp_path):
     with pytest.raises(pg.MissingDependencyError, match=r'pip install "pinograsp\[viz\]"') as exc:
         viewer.scene_figure(pinch)
     assert isinstance(exc.value, ImportError) and exc.value.extra == "viz"
+
+
+def test_scene_view_in_a_scene_analysis_frame(barrett_grasp):
+    """Hand and object are re-expressed in the model's frame (a scene's ``frame``)."""
+    g = barrett_grasp
+    T = np.eye(4)
+    T[:3, :3] = [[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]]  # paper axes: y_a = z_base
+    T[:3, 3] = [0.0, 0.0, 0.01]
+    scene = SimpleNamespace(model=g.model, hand=g.hand, q=g.q, object=g.object, frame=T)
+    el = viewer.scene_elements(scene)
+    (obj,) = [m for m in el.meshes if m.name == "object"]
+    # box (0.05, 0.06, 0.08) centred at z_base = 0.04 -> y_a in [-0.01, 0.07], z_a = -y_base
+    np.testing.assert_allclose(obj.vertices.min(axis=0), [-0.025, -0.01, -0.03], atol=1e-12)
+    np.testing.assert_allclose(obj.vertices.max(axis=0), [0.025, 0.07, 0.03], atol=1e-12)
+    with pytest.raises(pg.InvalidInputError, match="frame"):
+        viewer.scene_elements(g.model, frame=np.ones((4, 4)))
+    scenes = pytest.importorskip("pinograsp.scenes")
+    case1 = scenes.load_scene("case1")
+    el = viewer.scene_elements(case1)
+    (obj,) = [m for m in el.meshes if m.name == "object"]
+    lo, hi = obj.vertices.min(axis=0), obj.vertices.max(axis=0)
+    for p in case1.model.points:  # every contact lies on the drawn box's surface (1 mm tolerance)
+        assert np.all(p >= lo - 1e-3) and np.all(p <= hi + 1e-3)
+        assert np.min(np.minimum(np.abs(p - lo), np.abs(p - hi))) < 1e-3
