@@ -60,6 +60,10 @@ class Settings:
             QP of the previous solution's complementarity mode with ProxSuite, accept it when
             it is feasible and strongly stationary, else fall back to the exact MIQP.
             ``False`` solves every problem with the MIQP (the reference path).
+        certify: With ``fast``, certify every "stopped improving" verdict of the iterative
+            scheme reached on a guessed mode with one exact MIQP of that step (a locally optimal
+            mode can stall where another mode still improves). ``False`` trusts the guess:
+            faster, and measured in ``docs/error_vs_runtime.md``.
     """
 
     solver: str = "scip"
@@ -74,6 +78,7 @@ class Settings:
     variant: str | None = None
     tolerance: float = 1e-6
     fast: bool = True
+    certify: bool = True
 
     def validated(self) -> Settings:
         """Check every field; raise :class:`InvalidInputError` naming the bad one."""
@@ -235,7 +240,7 @@ class PassiveSolver:
             r = base.w + f.Gb @ raw.z[lay["beta"]]
             norm = float(np.linalg.norm(r) * base.F)
             stalls = prev is not None and prev - norm < s.improvement * prev
-            if raw.path == "guess" and norm > s.eps and stalls:
+            if raw.path == "guess" and norm > s.eps and stalls and s.certify:
                 # about to stop on a guessed mode: the stop must be certified by the exact
                 # solve (a locally optimal mode can stall where another mode still improves)
                 ex = self.solve_exact("move", data)
