@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import time
 from collections.abc import Callable, Sequence
 
@@ -147,6 +148,65 @@ def max_resistible_wrench(
     return result(lo, False, best)
 
 
+def _worker_count(workers: int | None, n: int) -> int:
+    if workers is None:
+        return 1
+    if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 0:
+        raise InvalidInputError("workers", f"must be an integer >= 0, got {workers!r}")
+    w = int(workers) or (os.cpu_count() or 1)
+    return max(1, min(w, n))
+
+
+def _directions_block(
+    args: tuple[GraspModel, object, np.ndarray, str, float, int, Settings],
+) -> list[MaxWrench]:
+    """Worker: max resistible wrench along each of a block of directions."""
+    model, command, dirs, method, upper, steps, settings = args
+    return [
+        max_resistible_wrench(
+            model, command, d, method, upper, steps, settings=settings, check_preload_first=False
+        )
+        for d in dirs
+    ]
+
+
+def _parallel_directions(
+    model: GraspModel,
+    command: object,
+    dirs: np.ndarray,
+    method: str,
+    upper: float,
+    steps: int,
+    settings: Settings,
+    workers: int,
+    progress: Callable[[int, int], None] | None,
+) -> list[MaxWrench]:
+    """Directions in a process pool, in contiguous blocks (warm starts within a block)."""
+    import multiprocessing as mp
+    from concurrent.futures import ProcessPoolExecutor
+
+    nblocks = min(len(dirs), 4 * workers)
+    blocks = [b for b in np.array_split(np.arange(len(dirs)), nblocks) if len(b)]
+    ctx = mp.get_context("fork" if "fork" in mp.get_all_start_methods() else "spawn")
+    out: list[MaxWrench | None] = [None] * len(dirs)
+    done = 0
+    with ProcessPoolExecutor(max_workers=workers, mp_context=ctx) as pool:
+        futures = {
+            pool.submit(_directions_block, (model, command, dirs[b], method, upper, steps, settings)): b
+            for b in blocks
+        }
+        from concurrent.futures import as_completed
+
+        for fut in as_completed(futures):
+            b = futures[fut]
+            for i, r in zip(b, fut.result()):
+                out[i] = r
+            done += len(b)
+            if progress is not None:
+                progress(done, len(dirs))
+    return out  # type: ignore[return-value]
+
+
 def _plane_basis(model: GraspModel, plane: Sequence[object]) -> tuple[np.ndarray, tuple[str, str]]:
     if len(plane) != 2:
         raise InvalidInputError("plane", f"expected two wrench axes or vectors, got {plane!r}")
@@ -170,6 +230,7 @@ def resistance_profile(
     normalize: bool | str | None = None,
     settings: Settings | None = None,
     progress: Callable[[int, int], None] | None = None,
+    workers: int | None = None,
     **overrides: object,
 ) -> ResistanceProfile:
     """Max resistible magnitude over ``n`` directions in a plane of wrench space.
@@ -182,7 +243,11 @@ def resistance_profile(
         normalize: Divide magnitudes by the value along a reference direction, as the paper
             does (``True``: along ``+b2``, i.e. ``+Y`` for the XY plane; or an axis name like
             ``"fy"``). A reference direction that is unbounded raises ``InvalidInputError``.
-        progress: Called as ``progress(done, total)`` after each direction.
+        progress: Called as ``progress(done, total)`` after each direction (after each chunk
+            of directions with ``workers``).
+        workers: Solve directions in a process pool of this many workers (``0``: one per CPU;
+            ``None``/``1``: in this process). Each worker takes a contiguous block of
+            directions, so neighbouring directions still warm-start each other.
         Other arguments: as :func:`max_resistible_wrench`.
     """
     t0 = time.perf_counter()
@@ -193,15 +258,28 @@ def resistance_profile(
     check_preload(solver, command, method) if method in METHODS else None
     angles = 2.0 * np.pi * np.arange(int(n)) / int(n)
     dirs = np.cos(angles)[:, None] * basis[0] + np.sin(angles)[:, None] * basis[1]
-    results = []
-    for i, d in enumerate(dirs):
-        results.append(
-            max_resistible_wrench(
-                model, command, d, method, upper, steps, settings=solver.settings, check_preload_first=False
-            )
+    nw = _worker_count(workers, len(dirs))
+    if nw > 1:
+        results = _parallel_directions(
+            model, command, dirs, method, upper, steps, solver.settings, nw, progress
         )
-        if progress is not None:
-            progress(i + 1, len(dirs))
+    else:
+        results = []
+        for i, d in enumerate(dirs):
+            results.append(
+                max_resistible_wrench(
+                    model,
+                    command,
+                    d,
+                    method,
+                    upper,
+                    steps,
+                    settings=solver.settings,
+                    check_preload_first=False,
+                )
+            )
+            if progress is not None:
+                progress(i + 1, len(dirs))
     mags = np.array([r.magnitude for r in results])
     unb = np.array([r.unbounded for r in results])
     norm_by = None
