@@ -81,13 +81,15 @@ class ModeGuessSolver:
         spent [s]."""
         st = self.stats
         st.guesses += 1
-        sol = self.qp.solve(data, guess, max_iter=GUESS_MAX_ITER)
+        sol = self.qp.solve(data, guess, max_iter=GUESS_MAX_ITER, precondition=False)
         if sol.status != OPTIMAL:
             st.infeasible += 1
             return None, sol.solve_time
         spent = sol.solve_time
         for _ in range(DESCENT_ROUNDS):
-            ok, extra, better = self.qp.check_local_optimality(data, sol, dual_tol=STATIONARITY_TOL)
+            ok, extra, better = self.qp.check_local_optimality(
+                data, sol, dual_tol=STATIONARITY_TOL, precondition=False
+            )
             spent += extra
             if ok:
                 st.accepted += 1

@@ -140,7 +140,9 @@ class FixedModeQP:
         g[self.lay["beta"]] = f.Gb.T @ data.w
         return C, g
 
-    def solve(self, data: ScaledData, mode: Mode, max_iter: int = 1000) -> RawSolution:
+    def solve(
+        self, data: ScaledData, mode: Mode, max_iter: int = 1000, precondition: bool = True
+    ) -> RawSolution:
         """Solve the QP of ``mode``; ``status`` is ``"optimal"`` only if ProxSuite converged and
         the primal residual is below tolerance (ProxSuite rarely certifies infeasibility, so a
         non-converged solve is reported as ``"infeasible"`` when its primal residual is large).
@@ -151,12 +153,22 @@ class FixedModeQP:
             max_iter: ProxSuite iteration cap. A feasible mode converges in ~10–30 iterations;
                 an infeasible one runs to the cap (~20 µs per iteration), so the mode-guess path
                 uses a small cap and treats "not converged" as "guess failed".
+            precondition: Let ProxSuite equilibrate the problem. The formulation is already
+                scaled to force units, so the mode-guess path skips it (2–3x faster per solve);
+                a guess that does not converge without it falls back to the exact path.
         """
         b, lo, up = self.bounds(data, mode)
-        return self._solve(data, mode, b, lo, up, max_iter)
+        return self._solve(data, mode, b, lo, up, max_iter, precondition)
 
     def _solve(
-        self, data: ScaledData, mode: Mode, b: np.ndarray, lo: np.ndarray, up: np.ndarray, max_iter: int
+        self,
+        data: ScaledData,
+        mode: Mode,
+        b: np.ndarray,
+        lo: np.ndarray,
+        up: np.ndarray,
+        max_iter: int,
+        precondition: bool = True,
     ) -> RawSolution:
         f = self.form
         C, g = self._matrices(data)
@@ -169,7 +181,7 @@ class FixedModeQP:
         qp.settings.eps_primal_inf = 1e-10
         qp.settings.eps_dual_inf = 1e-10
         qp.settings.verbose = False
-        qp.init(self.H, g, self.A, b, C, lo, up)
+        qp.init(self.H, g, self.A, b, C, lo, up, compute_preconditioner=precondition)
         qp.solve()
         dt = time.perf_counter() - t0
         st = qp.results.info.status
@@ -208,6 +220,7 @@ class FixedModeQP:
         tol: float = 1e-9,
         dual_tol: float = 1e-7,
         max_branch_pairs: int = 3,
+        precondition: bool = True,
     ) -> tuple[bool, float, RawSolution | None]:
         """Whether a fixed-mode solution is a local optimum of the complementarity problem.
 
@@ -260,7 +273,7 @@ class FixedModeQP:
                         touching[i] = not touching[i]
                     else:
                         moving[i] = not moving[i]
-            other = self.solve(data, Mode(tuple(touching), tuple(moving)))
+            other = self.solve(data, Mode(tuple(touching), tuple(moving)), precondition=precondition)
             spent += other.solve_time
             if other.status == OPTIMAL and other.objective < limit:
                 return False, spent, other
