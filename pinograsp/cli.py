@@ -19,6 +19,7 @@ tracebacks). Errors are one line ``pinograsp: error: ...`` on stderr; bad input
 from __future__ import annotations
 
 import argparse
+import contextlib
 import inspect
 import json
 import math
@@ -26,7 +27,7 @@ import os
 import sys
 import time
 import warnings
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 from typing import Any, TextIO
 
@@ -419,6 +420,7 @@ class _Output:
     """stdout for humans, or nothing but JSON with ``--json``; files in ``--out``."""
 
     def __init__(self, args: argparse.Namespace) -> None:
+        self.args = args
         self.json = bool(getattr(args, "json", False))
         self.out = Path(args.out) if getattr(args, "out", None) else None
         self.written: list[Path] = []
@@ -451,8 +453,8 @@ class _Output:
             self.written.append(p)
 
     def finish(self, data: dict) -> None:
-        if self.json:
-            sys.stdout.write(json.dumps(_jsonable(data), indent=2) + "\n")
+        if self.json:  # printed by main() once the solvers' stdout is restored
+            self.args.json_text = json.dumps(_jsonable(data), indent=2) + "\n"
         elif self.written:
             print("\nwrote " + ", ".join(str(p) for p in self.written))
 
@@ -1130,6 +1132,29 @@ def _show_warning(message, category, filename, lineno, file=None, line=None) -> 
     print(f"pinograsp: warning: {text} ({category.__name__})", file=sys.stderr)
 
 
+@contextlib.contextmanager
+def _stdout_to_stderr(enabled: bool) -> Iterator[None]:
+    """Send everything written to file descriptor 1 (e.g. SCIP's C-level messages) to stderr,
+    so that ``--json`` leaves nothing but the JSON document on stdout."""
+    if not enabled:
+        yield
+        return
+    try:
+        sys.stdout.flush()
+        saved = os.dup(1)
+        os.dup2(2, 1)
+    except (OSError, ValueError, AttributeError):  # no real fd 1: nothing to protect
+        yield
+        return
+    try:
+        yield
+    finally:
+        with contextlib.suppress(OSError, ValueError, AttributeError):
+            sys.stdout.flush()
+        os.dup2(saved, 1)
+        os.close(saved)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the CLI; returns the exit code (0 ok, 2 bad input or usage, 1 unexpected failure)."""
     argv = list(sys.argv[1:] if argv is None else argv)
@@ -1147,7 +1172,13 @@ def main(argv: Sequence[str] | None = None) -> int:
         if not debug:
             warnings.showwarning = _show_warning  # type: ignore[assignment]
         try:
-            return int(args.func(args))
+            with _stdout_to_stderr(bool(getattr(args, "json", False))):
+                code = int(args.func(args))
+            text = getattr(args, "json_text", None)
+            if text is not None:
+                sys.stdout.write(text)
+                sys.stdout.flush()
+            return code
         except PinograspError as exc:
             if debug:
                 raise
