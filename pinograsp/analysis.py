@@ -68,6 +68,7 @@ def max_resistible_wrench(
     *,
     settings: Settings | None = None,
     check_preload_first: bool = True,
+    search: str = "bisection",
     **overrides: object,
 ) -> MaxWrench:
     """Largest wrench magnitude along ``direction`` that the preloaded grasp resists passively.
@@ -85,6 +86,10 @@ def max_resistible_wrench(
         method: ``"iterative"`` (default; no wedging artefact) or ``"prp"``.
         upper: Upper limit of the search [N or N·m along the unit direction].
         steps: Bisection steps; resolution ``upper / 2**steps``.
+        search: ``"bisection"`` (default) or ``"direct"`` (PRP only): one mixed-integer
+            program maximising the load factor (:mod:`pinograsp.solvers.load_factor`), exact
+            up to the MILP tolerance instead of ``upper / 2**steps``; the response at the limit
+            is then solved at ``magnitude * (1 - 1e-6)``.
         settings, overrides: Solver settings (see :class:`pinograsp.response.Settings`).
 
     Raises:
@@ -117,7 +122,10 @@ def max_resistible_wrench(
         evidence.append((mag, ok))
         return ok, resp
 
-    ok, resp = test(float(upper))
+    if search not in ("bisection", "direct"):
+        raise InvalidInputError("search", f"must be 'bisection' or 'direct', got {search!r}")
+    if search == "direct" and method != "prp":
+        raise InvalidInputError("search", "'direct' exists for method='prp' only (Alg. 3 is a trajectory)")
 
     def result(magnitude: float, unbounded: bool, response: PassiveResponse | None) -> MaxWrench:
         return MaxWrench(
@@ -133,8 +141,33 @@ def max_resistible_wrench(
             n_solves=n_solves,
             response=response,
             n_miqp=n_miqp,
+            search=search,
         )
 
+    if search == "direct":
+        status, mag, dt = solver.max_load_factor(command, d, float(upper))
+        solve_time += dt
+        n_solves += 1
+        n_miqp += 1
+        if status in ("timeout", "failed"):
+            cls = SolverTimeoutError if status == "timeout" else SolverError
+            raise cls(f"load-factor MILP: {status}", solver=solver.settings.solver, status=status)
+        if status != "optimal":
+            raise PreloadNotInEquilibriumError(
+                model.command_vector(command).tolist(), "load-factor MILP infeasible"
+            )
+        at = float(upper) if np.isinf(mag) else mag * (1.0 - 1e-6)
+        ok, resp = test(at)
+        evidence[:] = [(at, ok)]
+        if not ok:
+            raise SolverError(
+                f"load-factor MILP found magnitude {mag:.9g} but the PRP at {at:.9g} is not resisted",
+                solver=solver.settings.solver,
+                status="failed",
+            )
+        return result(mag, bool(np.isinf(mag)), resp)
+
+    ok, resp = test(float(upper))
     if ok:
         return result(float("inf"), True, resp)
     lo, hi, best = 0.0, float(upper), None

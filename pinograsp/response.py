@@ -286,6 +286,47 @@ class PassiveSolver:
             self._preload[key] = (st, method)
         return self._preload[key][0]
 
+    # ------------------------------------------------------- direct search
+    def max_load_factor(
+        self, command: object, direction: np.ndarray, upper: float
+    ) -> tuple[str, float, float]:
+        """Alg. 1's largest resistible magnitude along a unit ``direction`` in one MILP
+        (:mod:`pinograsp.solvers.load_factor`).
+
+        Returns:
+            ``(status, magnitude, solve_time)``: status ``"optimal"`` (magnitude in [N] or
+            [N·m] along the direction; ``inf`` when ``upper`` is reached), ``"infeasible"``
+            (not even ``w = 0``), ``"timeout"`` or ``"failed"``.
+        """
+        from .solvers.load_factor import LoadFactorMIQP
+
+        m, f, s = self.model, self.form, self.settings
+        fc = m.command_vector(command)
+        p = np.zeros(m.nc)
+        pre_time = 0.0
+        if s.variant_for("prp") == "preload-first":
+            pre = self.preload_stage(fc, "prp")
+            pre_time = pre.solve_time
+            if not pre.converged:
+                return INFEASIBLE, float("nan"), pre_time
+            p = f.E @ pre.raw.z[f.layout("prp")["beta"]] * pre.data.F
+        data = f.scale_data(np.zeros(m.nw), fc, p)
+        F = data.F
+        d = m.reduce_wrench(np.asarray(direction, float)) * f.wscale
+        if "load" not in self._exact:
+            self._load = LoadFactorMIQP(f, solver=s.solver, time_limit=s.time_limit)
+            self._exact["load"] = self._load  # type: ignore[assignment]
+        tmax = float(upper) / F
+        M = s.bigm * max(1.0, 10.0 * tmax)
+        out = self._load.solve(data, d, tmax, M)
+        dt = out["solve_time"] + pre_time
+        if out["status"] != OPTIMAL:
+            return out["status"], float("nan"), dt
+        t = out["t"]
+        if t >= tmax * (1.0 - 1e-9):
+            return OPTIMAL, float("inf"), dt
+        return OPTIMAL, t * F, dt
+
     # ------------------------------------------------------------- response
     def response(self, command: object, wrench: object, method: str = "prp") -> PassiveResponse:
         """Passive response to ``wrench`` under ``command`` (see :func:`passive_response`)."""

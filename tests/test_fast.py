@@ -172,3 +172,43 @@ def test_check_local_optimality_finds_a_better_switched_mode():
     sol = qp.solve(data, exact.mode)
     ok, _, better = qp.check_local_optimality(data, sol)
     assert ok and better is None
+
+
+@pytest.mark.parametrize(
+    "case, direction, expected",
+    [
+        ("pinch", "fy", 10.0),
+        ("pinch", [1.0, 1.0, 0, 0, 0, 0], 10.0 * np.sqrt(2)),
+        ("pinch3d", "-fy", 10.0),
+        ("palm", "-fy", np.inf),
+        ("coupled", "fy", 2 * 0.5 / (0.1 + 0.04 / 3)),
+        ("wedge", "fy", np.inf),
+    ],
+)
+def test_direct_load_factor_matches_closed_form_and_bisection(case, direction, expected):
+    m = ANALYTIC[case]()
+    direct = pg.max_resistible_wrench(m, 1.0, direction, "prp", UPPER, search="direct")
+    bis = pg.max_resistible_wrench(m, 1.0, direction, "prp", UPPER, STEPS)
+    assert direct.search == "direct" and direct.unbounded == bis.unbounded == np.isinf(expected)
+    if not np.isinf(expected):
+        assert direct.magnitude == pytest.approx(expected, abs=1e-6)
+        assert bis.magnitude <= direct.magnitude <= bis.magnitude + RES
+        # preload check + load-factor MILP (+ at most one MIQP for the response at the limit)
+        assert direct.response.resistible and direct.n_miqp <= 3
+
+
+def test_direct_search_is_prp_only():
+    with pytest.raises(pg.InvalidInputError, match="prp"):
+        pg.max_resistible_wrench(analytic.pinch(), 1.0, "fy", "iterative", search="direct")
+    with pytest.raises(pg.InvalidInputError, match="search"):
+        pg.max_resistible_wrench(analytic.pinch(), 1.0, "fy", "prp", search="golden")
+
+
+def test_parallel_profile_equals_sequential():
+    m = analytic.pinch()
+    a = pg.resistance_profile(m, 1.0, n=8, method="prp", upper=UPPER, steps=10)
+    b = pg.resistance_profile(analytic.pinch(), 1.0, n=8, method="prp", upper=UPPER, steps=10, workers=2)
+    np.testing.assert_array_equal(a.unbounded, b.unbounded)
+    np.testing.assert_allclose(a.magnitudes, b.magnitudes)
+    with pytest.raises(pg.InvalidInputError, match="workers"):
+        pg.resistance_profile(m, 1.0, n=4, method="prp", workers=-1)
