@@ -72,7 +72,7 @@ _ANALYSIS_KEYS = (
     "wrenches",
     "preloads",
 ) + _SETTINGS_KEYS
-_COMMON_KEYS = ("name", "description", "preload", "analysis", "planar", "edges", "circumscribed")
+_COMMON_KEYS = ("name", "description", "preload", "analysis", "planar", "edges", "circumscribed", "extends")
 _URDF_KEYS = _COMMON_KEYS + (
     "hand",
     "configuration",
@@ -800,6 +800,23 @@ def _read(path: Path) -> dict[str, Any]:
     return dict(data)
 
 
+def _extended(f: _File, data: dict[str, Any], seen: list[Path]) -> dict[str, Any]:
+    """Apply ``extends: <scene name or file>``: the base's top-level keys, replaced by ours."""
+    if data.get("extends") is None:
+        data.pop("extends", None)
+        return data
+    ref = f.string(data.pop("extends"), "extends")
+    local = f.relpath(ref, "extends")
+    base = local if local.is_file() else SCENE_DIR / f"{ref}.yaml"
+    if not base.is_file():
+        raise f.error("extends", f"no scene file {local} and no built-in scene {ref!r}")
+    if base.resolve() in seen:
+        raise f.error("extends", f"circular 'extends' through {base.name}")
+    merged = _extended(_File(base), _read(base), [*seen, base.resolve()])
+    merged.update(data)
+    return merged
+
+
 def _resolve(name_or_path: str | Path) -> Path:
     if isinstance(name_or_path, Path):
         return name_or_path
@@ -830,7 +847,7 @@ def load_scene(name_or_path: str | Path, **overrides: object) -> Scene:
     """
     path = _resolve(name_or_path)
     f = _File(path)
-    data = _read(path)
+    data = _extended(f, _read(path), [path.resolve()])
     data.update(overrides)
     if "hand" in data and "contacts" in data:
         raise f.error("", "a scene has either 'hand' (URDF scene) or 'contacts' (explicit scene), not both")
