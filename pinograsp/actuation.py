@@ -17,10 +17,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .contact import check_name, finite_number
 from .errors import InvalidInputError
 
 #: Valid actuator kinds.
 ACTUATOR_KINDS = ("non-backdrivable", "backdrivable", "locked")
+
+
+def _joint_key(owner: str, joint: object) -> int | str:
+    if isinstance(joint, (bool, np.bool_)) or not isinstance(joint, (int, np.integer, str)):
+        raise InvalidInputError(owner, f"joint keys must be indices or names, got {joint!r}")
+    return joint if isinstance(joint, str) else int(joint)
 
 
 def _check_weights(owner: str, weights: Mapping[int | str, float]) -> dict[int | str, float]:
@@ -28,12 +35,9 @@ def _check_weights(owner: str, weights: Mapping[int | str, float]) -> dict[int |
         raise InvalidInputError(owner, f"expected a non-empty mapping joint -> value, got {weights!r}")
     out: dict[int | str, float] = {}
     for joint, value in weights.items():
-        if not isinstance(joint, (int, np.integer, str)) or isinstance(joint, bool):
-            raise InvalidInputError(owner, f"joint keys must be indices or names, got {joint!r}")
-        v = float(value)
-        if not np.isfinite(v):
-            raise InvalidInputError(owner, f"value for joint {joint!r} is not finite: {value!r}")
-        out[joint if isinstance(joint, str) else int(joint)] = v
+        key = _joint_key(owner, joint)
+        v = finite_number(f"{owner}[{joint!r}]", value)
+        out[key] = out.get(key, 0.0) + v
     return out
 
 
@@ -55,9 +59,10 @@ class Actuator:
     name: str | None = None
 
     def __post_init__(self) -> None:
+        check_name("actuator", self.name)
         label = f"actuator {self.name!r}" if self.name is not None else "actuator"
         object.__setattr__(self, "transmission", _check_weights(f"{label}.transmission", self.transmission))
-        if self.kind not in ACTUATOR_KINDS:
+        if not isinstance(self.kind, str) or self.kind not in ACTUATOR_KINDS:
             raise InvalidInputError(f"{label}.kind", f"must be one of {ACTUATOR_KINDS}, got {self.kind!r}")
 
 
@@ -74,12 +79,15 @@ class Coupling:
     name: str | None = None
 
     def __post_init__(self) -> None:
+        check_name("coupling", self.name)
         label = f"coupling {self.name!r}" if self.name is not None else "coupling"
         object.__setattr__(self, "weights", _check_weights(f"{label}.weights", self.weights))
 
     @staticmethod
     def follow(follower: int | str, leader: int | str, ratio: float, name: str | None = None) -> Coupling:
         """``q_follower = ratio * q_leader`` (e.g. a Barrett distal joint at 1/3 of proximal)."""
-        if follower == leader:
+        f = _joint_key("coupling follower", follower)
+        lead = _joint_key("coupling leader", leader)
+        if f == lead:
             raise InvalidInputError("coupling", f"joint {follower!r} cannot follow itself")
-        return Coupling({follower: 1.0, leader: -float(ratio)}, name=name)
+        return Coupling({f: 1.0, lead: -finite_number("coupling ratio", ratio)}, name=name)

@@ -7,6 +7,7 @@ direction in which the hand pushes); tangents ``t1, t2`` complete a right-handed
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -20,13 +21,33 @@ UNIT_TOL = 1e-6
 def _vector(name: str, value: object, size: int) -> np.ndarray:
     try:
         arr = np.asarray(value, dtype=float).reshape(-1)
-    except (TypeError, ValueError) as exc:
+    except (TypeError, ValueError, OverflowError) as exc:
         raise InvalidInputError(name, f"expected {size} numbers, got {value!r}") from exc
     if arr.shape != (size,):
         raise InvalidInputError(name, f"expected {size} numbers, got shape {arr.shape}", value)
     if not np.all(np.isfinite(arr)):
         raise InvalidInputError(name, "contains NaN or inf", value)
     return arr
+
+
+def finite_number(name: str, value: object) -> float:
+    """``float(value)`` if it is a finite real number, else :class:`InvalidInputError` naming ``name``."""
+    if isinstance(value, (str, bytes)):
+        raise InvalidInputError(name, f"expected a number, got {value!r}")
+    try:
+        v = float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError, OverflowError) as exc:
+        raise InvalidInputError(name, f"expected a number, got {value!r}") from exc
+    if not np.isfinite(v):
+        raise InvalidInputError(name, f"must be finite, got {value!r}")
+    return v
+
+
+def check_name(owner: str, name: object) -> str | None:
+    """A label: ``None`` or a string (anything else raises :class:`InvalidInputError`)."""
+    if name is not None and not isinstance(name, str):
+        raise InvalidInputError(f"{owner}.name", f"expected a string or None, got {name!r}")
+    return name
 
 
 def default_tangent(normal: np.ndarray) -> np.ndarray:
@@ -67,6 +88,7 @@ class Contact:
     t2: np.ndarray = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
+        check_name("contact", self.name)
         label = f"contact {self.name!r}" if self.name is not None else "contact"
         point = _vector(f"{label}.point", self.point, 3)
         normal = _vector(f"{label}.normal", self.normal, 3)
@@ -75,11 +97,11 @@ class Contact:
                 f"{label}.normal", f"must be a unit vector, |n| = {np.linalg.norm(normal):.9g}"
             )
         normal = normal / np.linalg.norm(normal)
-        mu = float(self.mu)
-        if not np.isfinite(mu) or mu < 0:
+        mu = finite_number(f"{label}.mu", self.mu)
+        if mu < 0:
             raise InvalidInputError(f"{label}.mu", f"must be finite and >= 0, got {self.mu}")
-        k = float(self.stiffness)
-        if not np.isfinite(k) or k <= 0:
+        k = finite_number(f"{label}.stiffness", self.stiffness)
+        if k <= 0:
             raise InvalidInputError(f"{label}.stiffness", f"must be finite and > 0, got {self.stiffness}")
         if self.tangent is None:
             t1 = default_tangent(normal)
@@ -93,7 +115,7 @@ class Contact:
         if self.jacobian is not None:
             try:
                 jac = np.array(self.jacobian, dtype=float, ndmin=2)
-            except (TypeError, ValueError) as exc:
+            except (TypeError, ValueError, OverflowError) as exc:
                 raise InvalidInputError(f"{label}.jacobian", "not a numeric array") from exc
             if jac.ndim != 2 or jac.shape[0] != 3:
                 raise InvalidInputError(f"{label}.jacobian", f"expected shape (3, nq), got {jac.shape}")
@@ -132,13 +154,35 @@ class Contact:
             **kwargs: Passed to :class:`Contact` (``mu``, ``stiffness``, ``name``, ...).
         """
         p = _vector("point", point, 3)
+        if isinstance(nq, (bool, np.bool_)) or not isinstance(nq, (int, np.integer)) or nq < 0:
+            raise InvalidInputError("nq", f"expected a number of joints >= 0, got {nq!r}")
+        nq = int(nq)
+        if pivots is None:
+            pivots = {}
+        if not isinstance(pivots, Mapping):
+            raise InvalidInputError(
+                "pivots", f"expected a mapping joint index -> (pivot, axis), got {pivots!r}"
+            )
         jac = np.zeros((3, nq))
-        for j, (pivot, axis) in (pivots or {}).items():
-            if not 0 <= int(j) < nq:
-                raise InvalidInputError("pivots", f"joint index {j} outside 0..{nq - 1}")
+        for j, spec in pivots.items():
+            if isinstance(j, (bool, np.bool_)) or not isinstance(j, (int, np.integer)) or not 0 <= j < nq:
+                raise InvalidInputError("pivots", f"joint index {j!r} is not an integer in 0..{nq - 1}")
+            if (
+                isinstance(spec, (str, bytes))
+                or not isinstance(spec, (Sequence, np.ndarray))
+                or len(spec) != 2
+            ):
+                raise InvalidInputError(f"pivots[{j}]", f"expected (pivot_point, closing_axis), got {spec!r}")
+            pivot, axis = spec
             a = _vector(f"pivots[{j}].axis", axis, 3)
-            a = a / np.linalg.norm(a)
-            jac[:, int(j)] = np.cross(a, p - _vector(f"pivots[{j}].pivot", pivot, 3))
+            norm = np.linalg.norm(a)
+            if not norm > 0 or not np.isfinite(norm):
+                raise InvalidInputError(
+                    f"pivots[{j}].axis", f"must be a non-zero finite vector, got {axis!r}"
+                )
+            jac[:, int(j)] = np.cross(a / norm, p - _vector(f"pivots[{j}].pivot", pivot, 3))
+        if not np.all(np.isfinite(jac)):
+            raise InvalidInputError("pivots", "the Jacobian overflows (coordinates too large)")
         return Contact(point=p, normal=normal, jacobian=jac, **kwargs)  # type: ignore[arg-type]
 
 

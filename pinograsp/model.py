@@ -12,13 +12,13 @@ wrench components (6, or 3 when planar: ``fx, fy, mz``), ``nb`` pyramid edge wei
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from .actuation import Actuator, Coupling
-from .contact import Contact, friction_edges
+from .contact import Contact, finite_number, friction_edges
 from .errors import InvalidInputError, ModelError, UnknownNameError
 
 #: Wrench component names, world axes, torques about the object reference point.
@@ -42,6 +42,27 @@ class PruneRecord:
 
     def __bool__(self) -> bool:
         return any((self.joints, self.actuators, self.couplings, self.tangential))
+
+
+#: Largest number of friction pyramid edges accepted (32 edges already approximate the cone
+#: to 1 - cos(pi/32) = 0.5 %).
+MAX_EDGES = 256
+
+
+def _sequence(name: str, value: object) -> list:
+    """``list(value)`` for a list-like argument; strings, mappings and scalars are refused."""
+    if isinstance(value, (str, bytes, Mapping)) or not isinstance(value, Iterable):
+        raise InvalidInputError(name, f"expected a sequence, got {value!r}")
+    if isinstance(value, np.ndarray) and value.ndim == 0:
+        raise InvalidInputError(name, f"expected a sequence, got {value!r}")
+    return list(value)
+
+
+def _flag(name: str, value: object) -> bool:
+    """A boolean argument (``bool``, ``numpy.bool_`` or the integers 0/1)."""
+    if isinstance(value, (bool, np.bool_)) or (isinstance(value, (int, np.integer)) and value in (0, 1)):
+        return bool(value)
+    raise InvalidInputError(name, f"expected True or False, got {value!r}")
 
 
 def _readonly(a: np.ndarray) -> np.ndarray:
@@ -162,9 +183,11 @@ class GraspModel:
         Planar models also accept ``(fx, fy, mz)``; a 6-vector with out-of-plane components
         is rejected for them.
         """
+        if isinstance(wrench, (str, bytes, Mapping)):
+            raise InvalidInputError(name, f"expected 6 numbers, got {wrench!r}")
         try:
             w = np.asarray(wrench, dtype=float).reshape(-1)
-        except (TypeError, ValueError) as exc:
+        except (TypeError, ValueError, OverflowError) as exc:
             raise InvalidInputError(name, f"expected 6 numbers, got {wrench!r}") from exc
         if self.planar and w.shape == (3,):
             full = np.zeros(6)
@@ -213,15 +236,17 @@ class GraspModel:
         if isinstance(command, Mapping):
             vals = dict.fromkeys(names_all, 0.0)
             for key, value in command.items():
-                if key not in vals:
+                if not isinstance(key, str) or key not in vals:
                     raise UnknownNameError("actuator", key, names_all)
-                vals[key] = value
+                vals[key] = finite_number(f"command[{key!r}]", value)
             raw = np.array([float(vals[n]) for n in names_all])
             full = True
         else:
+            if isinstance(command, (str, bytes)):
+                raise InvalidInputError("command", f"expected numbers, got {command!r}")
             try:
                 raw = np.asarray(command, dtype=float).reshape(-1)
-            except (TypeError, ValueError) as exc:
+            except (TypeError, ValueError, OverflowError) as exc:
                 raise InvalidInputError("command", f"expected numbers, got {command!r}") from exc
             if raw.size == 1:
                 raw = np.full(len(names_all), float(raw[0]))
@@ -300,7 +325,7 @@ class GraspModel:
             ModelError: Inconsistent sizes, a non-planar element in a planar model, ...
             UnknownNameError: A transmission or coupling names an unknown joint.
         """
-        contacts = list(contacts)
+        contacts = _sequence("contacts", contacts)
         if not contacts:
             raise ModelError("a grasp needs at least one contact")
         for i, c in enumerate(contacts):
@@ -316,6 +341,14 @@ class GraspModel:
                 if c.jacobian is not None
             )
             raise ModelError(f"contact Jacobians disagree on the number of joints ({detail})")
+        if joint_names is not None:
+            joint_names = _sequence("joint_names", joint_names)
+            for n in joint_names:
+                if not isinstance(n, str):
+                    raise InvalidInputError("joint_names", f"expected strings, got {n!r}")
+        planar = _flag("planar", planar)
+        circumscribed = _flag("circumscribed", circumscribed)
+        prune = _flag("prune", prune)
         nq = nqs.pop() if nqs else (len(joint_names) if joint_names is not None else 0)
         if joint_names is None:
             joint_names = tuple(f"q{j}" for j in range(nq))
@@ -331,15 +364,31 @@ class GraspModel:
         if len(set(names)) != len(names):
             names = [f"{n}#{i}" for i, n in enumerate(names)]
 
-        o = np.zeros(3) if reference_point is None else np.asarray(reference_point, dtype=float).reshape(-1)
+        try:
+            o = (
+                np.zeros(3)
+                if reference_point is None
+                else np.asarray(reference_point, dtype=float).reshape(-1)
+            )
+        except (TypeError, ValueError, OverflowError) as exc:
+            raise InvalidInputError(
+                "reference_point", f"expected 3 numbers, got {reference_point!r}"
+            ) from exc
         if o.shape != (3,) or not np.all(np.isfinite(o)):
             raise InvalidInputError("reference_point", f"expected 3 finite numbers, got {reference_point!r}")
 
-        m = 8 if edges is None else int(edges)
+        if edges is None:
+            m = 8
+        elif isinstance(edges, (bool, np.bool_)) or not isinstance(edges, (int, np.integer)):
+            raise InvalidInputError("edges", f"expected an integer number of pyramid edges, got {edges!r}")
+        else:
+            m = int(edges)
         if planar:
             m = 2
         elif m < 3:
             raise InvalidInputError("edges", f"a 3D friction pyramid needs at least 3 edges, got {m}")
+        elif m > MAX_EDGES:
+            raise InvalidInputError("edges", f"at most {MAX_EDGES} pyramid edges, got {m}")
 
         points = np.array([c.point for c in contacts])
         frames = np.array([c.frame for c in contacts])
@@ -374,7 +423,7 @@ class GraspModel:
 
         if actuators is None:
             actuators = [Actuator({j: 1.0}, name=joint_names[j]) for j in range(nq)]
-        actuators = list(actuators)
+        actuators = _sequence("actuators", actuators)
         act_names = []
         for a_i, a in enumerate(actuators):
             if not isinstance(a, Actuator):
@@ -393,16 +442,19 @@ class GraspModel:
             C = np.zeros((0, nq))
             cp_names: list[str] = []
         elif isinstance(couplings, np.ndarray):
-            C = np.array(couplings, dtype=float, ndmin=2)
+            try:
+                C = np.array(couplings, dtype=float, ndmin=2)
+            except (TypeError, ValueError, OverflowError) as exc:
+                raise InvalidInputError("couplings", f"expected a numeric (ncp, {nq}) array: {exc}") from exc
             if C.size == 0:
                 C = np.zeros((0, nq))
-            if C.shape[1] != nq or not np.all(np.isfinite(C)):
+            if C.ndim != 2 or C.shape[1] != nq or not np.all(np.isfinite(C)):
                 raise InvalidInputError(
                     "couplings", f"expected a finite (ncp, {nq}) array, got shape {C.shape}"
                 )
             cp_names = [f"k{r}" for r in range(C.shape[0])]
         else:
-            couplings = list(couplings)
+            couplings = _sequence("couplings", couplings)
             C = np.zeros((len(couplings), nq))
             cp_names = []
             for r, cp in enumerate(couplings):
@@ -476,10 +528,20 @@ class GraspModel:
             col += b.shape[1]
 
         if length_scale is None:
-            rms = float(np.sqrt(np.mean(np.sum((points - o) ** 2, axis=1))))
+            with np.errstate(over="ignore"):
+                rms = float(np.sqrt(np.mean(np.sum((points - o) ** 2, axis=1))))
             length_scale = rms if rms > 0 else 1.0
-        elif not (np.isfinite(length_scale) and length_scale > 0):
-            raise InvalidInputError("length_scale", f"must be finite and > 0, got {length_scale}")
+        else:
+            length_scale = finite_number("length_scale", length_scale)
+            if not length_scale > 0:
+                raise InvalidInputError("length_scale", f"must be finite and > 0, got {length_scale}")
+        for label, arr in (("grasp map", G), ("hand Jacobian", J), ("friction pyramid", D)):
+            if not np.all(np.isfinite(arr)):
+                raise InvalidInputError(
+                    "contacts", f"the {label} overflows: contact coordinates or Jacobians too large"
+                )
+        if not np.isfinite(length_scale):
+            raise InvalidInputError("contacts", "the contact points are too far from the reference point")
 
         return cls(
             G=_readonly(G),
