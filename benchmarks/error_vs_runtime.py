@@ -1,0 +1,280 @@
+"""Error against run time of the max-resistible-wrench query, per method and speed-up.
+
+For each model (analytic pinch and wedge with closed forms; a seeded random 3D grasp; the
+built-in paper scenes when they exist) and each configuration (method, variant, bisection
+steps, eps, gamma, exact MIQP vs mode-guess fast path, stop certification, direct search), it
+times the direction query on a few directions and compares the magnitudes with a reference
+(closed form where known, else a 30-step exact-path run of the same method). Then it times the
+issue's targets: one PRP solve, an iterative direction query, a 72-direction profile (in this
+process and with 2 workers) and 500 directions over the 6D wrench sphere.
+
+Writes ``docs/error_vs_runtime.md`` (tables) and ``docs/img/error_vs_runtime.png`` (Pareto
+plot), and prints the same tables. Usage::
+
+    python benchmarks/error_vs_runtime.py [--repeat 3] [--quick]
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import platform
+import statistics
+import time
+from importlib.metadata import version
+from pathlib import Path
+
+import numpy as np
+
+import pinograsp as pg
+from pinograsp import analytic
+from pinograsp.synthetic import random_grasp
+
+ROOT = Path(__file__).resolve().parents[1]
+UPPER = 1e3
+
+#: name -> (method, max_resistible_wrench keyword arguments)
+CONFIGS = {
+    "PRP exact, 20 steps": ("prp", dict(fast=False, steps=20)),
+    "PRP exact, 10 steps": ("prp", dict(fast=False, steps=10)),
+    "PRP fast, 15 steps": ("prp", dict(steps=15)),
+    "PRP fast, 20 steps": ("prp", dict(steps=20)),
+    "PRP fast, 30 steps": ("prp", dict(steps=30)),
+    "PRP direct (1 MILP)": ("prp", dict(search="direct")),
+    "iter. single-step exact, 20": ("iterative", dict(fast=False, steps=20, variant="single-step")),
+    "iter. preload-first exact, 20": ("iterative", dict(fast=False, steps=20)),
+    "iter. fast certified, 10": ("iterative", dict(steps=10)),
+    "iter. fast certified, 20": ("iterative", dict(steps=20)),
+    "iter. fast certified, 30": ("iterative", dict(steps=30)),
+    "iter. fast uncertified, 15": ("iterative", dict(steps=15, certify=False)),
+    "iter. fast uncertified, 20": ("iterative", dict(steps=20, certify=False)),
+    "iter. fast uncertified, eps 1e-2": ("iterative", dict(steps=20, certify=False, eps=1e-2)),
+    "iter. fast uncertified, gamma 2": ("iterative", dict(steps=20, certify=False, gamma=2.0)),
+    "iter. fast uncertified, gamma 0.5": ("iterative", dict(steps=20, certify=False, gamma=0.5)),
+}
+EXACT_SLOW = {k for k, (_, kw) in CONFIGS.items() if kw.get("fast") is False}
+
+
+def models(quick: bool) -> dict[str, tuple]:
+    """name -> (factory, command, directions, closed-form references {method: [values]} or None)."""
+    out = {
+        "pinch (2 contacts)": (
+            analytic.pinch,
+            1.0,
+            ["fy", [1.0, 1.0, 0, 0, 0, 0], [0.3, -1.0, 0, 0, 0, 0]],
+            {"prp": [10.0, 10 * np.sqrt(2), 10.0 / 1.0 * np.sqrt(1 + 0.09)], "iterative": None},
+        ),
+        "wedge (2 contacts)": (
+            lambda: analytic.pinch(h=0.01),
+            1.0,
+            ["fy"],
+            {"prp": [np.inf], "iterative": [6.0]},
+        ),
+        "random 3D (4 contacts)": (
+            lambda: random_grasp(3, n_pairs=2, planar=False),
+            1.0,
+            [[1.0, 0.3, -0.2, 0, 0, 0], [0, 0, 1.0, 0.01, 0, 0]],
+            None,
+        ),
+    }
+    if not quick:
+        try:
+            for name in ("case1", "case3"):
+                sc = pg.load_scene(name)
+                dirs = list(sc.analysis.get("directions", {}).values())[:2] or ["fy", "-fy"]
+                out[f"{name} ({sc.model.nc} contacts)"] = (lambda sc=sc: sc.model, sc.command, dirs, None)
+        except Exception as exc:  # scenes not available yet
+            print(f"(paper scenes skipped: {exc})")
+    return out
+
+
+def run(factory, command, d, method, kw, repeat):
+    """Median wall time per direction query and the magnitude (fresh model per repeat except
+    the first warm-up: warm starts inside one query only)."""
+    times, mag = [], None
+    for _ in range(repeat):
+        m = factory()
+        t0 = time.perf_counter()
+        r = pg.max_resistible_wrench(m, command, d, method, upper=UPPER, **kw)
+        times.append(time.perf_counter() - t0)
+        mag = r.magnitude
+    return statistics.median(times), mag
+
+
+def rel_err(a: float, ref: float) -> float:
+    if np.isinf(ref) or np.isinf(a):
+        return 0.0 if np.isinf(ref) and np.isinf(a) else float("inf")
+    return abs(a - ref) / max(abs(ref), 1e-12)
+
+
+def error_table(repeat: int, quick: bool) -> tuple[list[dict], str]:
+    rows = []
+    for mname, (factory, command, dirs, closed) in models(quick).items():
+        refs: dict[str, list[float]] = {}
+        for method in ("prp", "iterative"):
+            if closed is not None and closed.get(method) is not None:
+                refs[method] = list(closed[method])
+            else:  # tight exact run of the same method
+                refs[method] = [
+                    pg.max_resistible_wrench(
+                        factory(), command, d, method, upper=UPPER, steps=30, fast=method == "iterative"
+                    ).magnitude
+                    for d in dirs
+                ]
+        for cname, (method, kw) in CONFIGS.items():
+            reps = 1 if cname in EXACT_SLOW else repeat
+            ts, errs = [], []
+            for d, ref in zip(dirs, refs[method]):
+                t, mag = run(factory, command, d, method, kw, reps)
+                ts.append(t)
+                errs.append(rel_err(mag, ref))
+            rows.append(
+                dict(model=mname, config=cname, method=method, time=statistics.median(ts), err=max(errs))
+            )
+            print(f"  {mname:28s} {cname:34s} {1e3 * rows[-1]['time']:9.1f} ms  err {rows[-1]['err']:.2e}")
+    lines = [
+        "| model | configuration | median time per direction [ms] | max relative error |",
+        "|---|---|---|---|",
+    ]
+    for r in rows:
+        e = "∞ (classification differs)" if np.isinf(r["err"]) else f"{r['err']:.1e}"
+        lines.append(f"| {r['model']} | {r['config']} | {1e3 * r['time']:.1f} | {e} |")
+    return rows, "\n".join(lines)
+
+
+def targets(quick: bool) -> str:
+    out = ["| target (issue 4) | measured here | seed paper |", "|---|---|---|"]
+    m8 = random_grasp(0, n_pairs=2, contacts_per_finger=2)  # 8 contacts, Barrett-like fingers
+    rng = np.random.default_rng(0)
+    pg.passive_response(m8, 1.0, [0, 0, 0.5, 0, 0, 0])
+    ts = []
+    for _ in range(30):
+        w = rng.normal(size=6) * [1, 1, 1, 0.02, 0.02, 0.02]
+        ts.append(pg.passive_response(m8, 1.0, w).solve_time)
+    t_exact = [
+        pg.passive_response(m8, 1.0, rng.normal(size=6) * 0.5, fast=False).solve_time for _ in range(5)
+    ]
+    out.append(
+        f"| single PRP solve ≤ 5 ms (8 contacts × 8 edges) | {1e3 * statistics.median(ts):.2f} ms fast path "
+        f"(exact MIQP: {1e3 * statistics.median(t_exact):.0f} ms) | 10–100 ms per iteration (Gurobi) |"
+    )
+    # iterative direction query on the 8-contact grasp
+    dirs = [rng.normal(size=6) * [1, 1, 1, 0.02, 0.02, 0.02] for _ in range(3 if quick else 6)]
+    for cert in (True, False):
+        tq = []
+        for d in dirs:
+            r = pg.max_resistible_wrench(m8, 1.0, d, "iterative", upper=UPPER, steps=20, certify=cert)
+            tq.append(r.wall_time)
+        label = "certified" if cert else "uncertified"
+        out.append(
+            f"| iterative direction ≤ 50 ms (8 contacts), {label} "
+            f"| median {1e3 * statistics.median(tq):.0f} ms (range {1e3 * min(tq):.0f}–{1e3 * max(tq):.0f}) | tens of seconds |"
+        )
+    # profiles
+    try:
+        sc = pg.load_scene("case1")
+        pm, pc, label = sc.model, sc.command, f"case1 ({sc.model.nc} contacts)"
+    except Exception:
+        pm, pc, label = m8, 1.0, "random 8 contacts"
+    n = 24 if quick else 72
+    for method, kw in (("iterative", dict(certify=False)), ("prp", dict(search="direct"))):
+        for workers in (None, 2):
+            t0 = time.perf_counter()
+            prof = pg.resistance_profile(pm, pc, ("fx", "fy"), n=n, method=method, workers=workers, **kw)
+            dt = time.perf_counter() - t0
+            out.append(
+                f"| {n}-direction profile ≤ 5 s, {label}, {method} {kw}, workers={workers or 1} | {dt:.1f} s "
+                f'({int(prof.unbounded.sum())} unbounded) | "prohibitively time consuming" |'
+            )
+    # 500 directions over the 6D sphere
+    nd = 100 if quick else 500
+    D = rng.normal(size=(nd, 6))
+    D[:, 3:] *= 0.02
+    t0 = time.perf_counter()
+    mags = [pg.max_resistible_wrench(m8, 1.0, d, "prp", upper=UPPER, search="direct").magnitude for d in D]
+    dt = time.perf_counter() - t0
+    out.append(
+        f"| {nd} directions over the 6D sphere ≤ 60 s (8 contacts, PRP direct) | {dt:.1f} s "
+        f"({int(np.isinf(mags).sum())} unbounded) | — |"
+    )
+    t0 = time.perf_counter()
+    for d in D[: nd // 10]:
+        pg.max_resistible_wrench(m8, 1.0, d, "iterative", upper=UPPER, steps=15, certify=False)
+    dt = time.perf_counter() - t0
+    out.append(
+        f"| same, iterative uncertified 15 steps (timed on {nd // 10}, ×10) "
+        f"| {10 * dt:.0f} s (extrapolated) | — |"
+    )
+    return "\n".join(out)
+
+
+def plot(rows: list[dict], path: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(8, 5.5))
+    markers = dict(zip(sorted({r["model"] for r in rows}), "osD^v<>"))
+    cmap = plt.get_cmap("tab20")
+    cfgs = list(CONFIGS)
+    for r in rows:
+        e = r["err"] if np.isfinite(r["err"]) else 1.0
+        ax.scatter(
+            1e3 * r["time"],
+            max(e, 1e-9),
+            marker=markers[r["model"]],
+            color=cmap(cfgs.index(r["config"]) % 20),
+            s=40,
+        )
+    for c in cfgs:
+        ax.scatter([], [], color=cmap(cfgs.index(c) % 20), label=c, s=25)
+    for mname, mk in markers.items():
+        ax.scatter([], [], marker=mk, color="k", label=mname, s=25)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("median time per direction query [ms]")
+    ax.set_ylabel("max relative error vs reference (floor 1e-9; 1 = classification differs)")
+    ax.axvline(50, color="gray", ls=":", lw=1)
+    ax.legend(fontsize=6, loc="center left", bbox_to_anchor=(1.0, 0.5))
+    ax.set_title("pinograsp: error against run time (this machine)")
+    fig.tight_layout()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=110)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--quick", action="store_true", help="analytic models only, fewer directions")
+    ap.add_argument("--out", default=str(ROOT / "docs" / "error_vs_runtime.md"))
+    args = ap.parse_args()
+    t_start = time.perf_counter()
+    head = (
+        f"machine: {platform.machine()}, {os.cpu_count()} CPUs, Python {platform.python_version()}; "
+        + ", ".join(f"{p} {version(p)}" for p in ("pin", "cvxpy", "pyscipopt", "proxsuite", "numpy"))
+    )
+    print(head)
+    rows, table = error_table(args.repeat, args.quick)
+    print(table)
+    tg = targets(args.quick)
+    print(tg)
+    img = ROOT / "docs" / "img" / "error_vs_runtime.png"
+    plot(rows, img)
+    total = time.perf_counter() - t_start
+    Path(args.out).write_text(
+        "# Error against run time\n\n"
+        "Generated by `python benchmarks/error_vs_runtime.py` "
+        f"({'--quick, ' if args.quick else ''}repeat {args.repeat}; total {total:.0f} s). {head}.\n\n"
+        "Error: largest relative deviation of the max resistible magnitude over the model's "
+        "directions from the reference: the closed form (pinch PRP, wedge), else a 30-step run of "
+        "the same method (fast path, certified). Upper limit 1e3 N. Times are medians of fresh-model "
+        "queries (the mode guess warms up inside one query), including the preload check.\n\n"
+        "![error vs run time](img/error_vs_runtime.png)\n\n"
+        "## Per configuration\n\n" + table + "\n\n## Targets\n\n" + tg + "\n"
+    )
+    print(f"wrote {args.out} and {img} in {total:.0f} s")
+
+
+if __name__ == "__main__":
+    main()
