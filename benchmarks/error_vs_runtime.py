@@ -168,7 +168,8 @@ def targets(quick: bool) -> str:
         label = "certified" if cert else "uncertified"
         out.append(
             f"| iterative direction ≤ 50 ms (8 contacts), {label} "
-            f"| median {1e3 * statistics.median(tq):.0f} ms (range {1e3 * min(tq):.0f}–{1e3 * max(tq):.0f}) | tens of seconds |"
+            f"| median {1e3 * statistics.median(tq):.0f} ms "
+            f"(range {1e3 * min(tq):.0f}–{1e3 * max(tq):.0f}) | tens of seconds |"
         )
     # profiles
     try:
