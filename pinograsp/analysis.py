@@ -145,6 +145,10 @@ def max_resistible_wrench(
         )
 
     if search == "direct":
+        # the upper limit first: an unbounded direction costs one (fast-path) solve, not a MILP
+        ok, resp = test(float(upper))
+        if ok:
+            return result(float("inf"), True, resp)
         status, mag, dt = solver.max_load_factor(command, d, float(upper))
         solve_time += dt
         n_solves += 1
@@ -156,9 +160,14 @@ def max_resistible_wrench(
             raise PreloadNotInEquilibriumError(
                 model.command_vector(command).tolist(), "load-factor MILP infeasible"
             )
-        at = float(upper) if np.isinf(mag) else mag * (1.0 - 1e-6)
+        if np.isinf(mag):
+            raise SolverError(
+                f"load-factor MILP reached the upper limit {upper:g} that the PRP did not resist",
+                solver=solver.settings.solver,
+                status="failed",
+            )
+        at = mag * (1.0 - 1e-6)
         ok, resp = test(at)
-        evidence[:] = [(at, ok)]
         if not ok:
             raise SolverError(
                 f"load-factor MILP found magnitude {mag:.9g} but the PRP at {at:.9g} is not resisted",
