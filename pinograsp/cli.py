@@ -97,7 +97,7 @@ def _common(p: argparse.ArgumentParser, *, out_default: str | None = None) -> No
     g.add_argument("--debug", action="store_true", default=argparse.SUPPRESS, help="show full tracebacks")
 
 
-def _progress_options(p: argparse.ArgumentParser) -> None:
+def _progress_options(p: argparse.ArgumentParser, workers_default: int | None = None) -> None:
     p.add_argument(
         "--progress",
         action=argparse.BooleanOptionalAction,
@@ -107,8 +107,10 @@ def _progress_options(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--workers",
         type=int,
-        default=None,
-        help="processes for the profile's directions (if this pinograsp's resistance_profile supports it)",
+        default=workers_default,
+        help="processes for the profile's directions (0: one per CPU; 1: in this process; default "
+        + ("0" if workers_default == 0 else "1")
+        + ")",
     )
 
 
@@ -140,7 +142,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="divide by the +Y (second axis) value as the paper does (default: the scene's setting)",
     )
     _common(p, out_default="pinograsp-out")
-    _progress_options(p)
+    _progress_options(p, workers_default=0)
     p.set_defaults(func=cmd_demo, demo_steps=DEMO_STEPS)
 
     s = sub.add_parser("scenes", help="list the built-in scenes (or describe one)")
@@ -401,7 +403,9 @@ def _fmt(v: float, unbounded: bool = False, digits: int = 4) -> str:
 
 
 def _fmt_vec(v: Sequence[float]) -> str:
-    return "(" + ", ".join(f"{x:.4g}" for x in v) + ")"
+    a = np.asarray(v, dtype=float)
+    tiny = 1e-9 * max(1.0, float(np.abs(a).max(initial=0.0)))
+    return "(" + ", ".join(f"{0.0 if abs(x) < tiny else x:.4g}" for x in a) + ")"
 
 
 def _direction_text(d: np.ndarray) -> str:
@@ -520,8 +524,8 @@ def _profile_kwargs(args: argparse.Namespace) -> dict[str, Any]:
     workers = getattr(args, "workers", None)
     if workers is None:
         return {}
-    if workers < 1:
-        raise InvalidInputError("--workers", f"must be >= 1, got {workers}")
+    if workers < 0:
+        raise InvalidInputError("--workers", f"must be >= 0 (0: one per CPU), got {workers}")
     if "workers" in inspect.signature(resistance_profile).parameters:
         return {"workers": workers}
     if workers > 1:
