@@ -778,7 +778,10 @@ def _analysis(f: _File, model: GraspModel, value: object) -> tuple[dict[str, Any
         settings = make_settings(**overrides)
     except PinograspError as exc:
         bad = getattr(exc, "name", "")
-        raise f.error(f"analysis.{bad}" if bad in overrides else "analysis", str(exc)) from exc
+        if bad not in overrides and "solver" in overrides and "solver" in str(exc):
+            bad = "solver"
+        msg = str(exc).removeprefix(f"{bad}: ") if bad in overrides else str(exc)
+        raise f.error(f"analysis.{bad}" if bad in overrides else "analysis", msg) from exc
     return out, settings
 
 

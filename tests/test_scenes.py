@@ -279,7 +279,9 @@ def test_bad_yaml_and_missing_files(tmp_path):
     ("extra", "key", "fragment"),
     [
         ("analysis: {method: newton}", "analysis.method", "must be one of prp, iterative"),
-        ("analysis: {eps: -1}", "analysis.eps", "eps"),
+        ("analysis: {eps: -1}", "analysis.eps", "must be a finite number > 0"),
+        ("analysis: {variant: fast}", "analysis.variant", "must be one of"),
+        ("analysis: {solver: nosuch}", "analysis.solver", "nosuch"),
         ("analysis: {steps: 2.5}", "analysis.steps", "expected an integer"),
         ("analysis: {plane: [fx]}", "analysis.plane", "expected two wrench axes"),
         ("analysis: {plane: [fx, fx]}", "analysis.plane", "parallel"),
