@@ -36,6 +36,9 @@ GUESS_MAX_ITER = 60
 STATIONARITY_TOL = 1e-7
 #: Rounds of mode descent (move to a better switched mode and re-check) before falling back.
 DESCENT_ROUNDS = 3
+#: Recently accepted modes (distinct) tried after the guess before falling back: trajectories
+#: that cross a mode boundary often come back to a mode they had.
+RECENT_MODES = 3
 
 
 @dataclass
@@ -75,6 +78,7 @@ class ModeGuessSolver:
             raise ValueError("exact solver and fixed-mode QP must be of the same kind")
         self.exact, self.qp, self.kind = exact, qp, qp.kind
         self.stats = FastStats()
+        self.recent: list[Mode] = []
 
     def try_guess(self, data: ScaledData, guess: Mode) -> tuple[RawSolution | None, float]:
         """The guessed mode's QP solution if it passes both checks (else None), and the time
@@ -104,9 +108,20 @@ class ModeGuessSolver:
         """Solve with ``guess`` first (if given), else / on failure exactly."""
         tried, spent = guess is not None, 0.0
         if tried:
-            sol, spent = self.try_guess(data, guess)
-            if sol is not None:
-                return sol
+            for g in [guess] + [m for m in self.recent if m != guess][:RECENT_MODES]:
+                sol, dt = self.try_guess(data, g)
+                spent += dt
+                if sol is not None:
+                    self._remember(sol.mode)
+                    return replace(sol, solve_time=spent)
         self.stats.exact += 1
         raw = self.exact.solve(data)
+        if raw.status == OPTIMAL and raw.mode is not None:
+            self._remember(raw.mode)
         return replace(raw, path="fallback" if tried else "miqp", solve_time=raw.solve_time + spent)
+
+    def _remember(self, mode: Mode) -> None:
+        if mode in self.recent:
+            self.recent.remove(mode)
+        self.recent.insert(0, mode)
+        del self.recent[RECENT_MODES + 1 :]
