@@ -86,7 +86,7 @@ def models(quick: bool) -> dict[str, tuple]:
     }
     if not quick:
         try:
-            for name, dirs in (("case1", ["fy", "fx"]), ("case3", ["fy", "-fy"])):
+            for name, dirs in (("case1", ["fy"]), ("case3", ["-fy"])):
                 sc = pg.load_scene(name)
                 out[f"{name} ({sc.model.nc} contacts)"] = (
                     lambda sc=sc: sc.model,
@@ -120,12 +120,13 @@ def rel_err(a: float, ref: float) -> float:
 
 
 def reference(factory, command, dirs, method, variant) -> list[float]:
-    """Tight run of the same method and variant: the PRP's exact direct search; the iterative
-    scheme's certified fast path with 30 bisection steps."""
+    """Exact run of the same method and variant: the PRP's direct search (exact to the MILP
+    tolerance); the iterative scheme's exact MIQP path (every step a global MIQP optimum), 20
+    bisection steps (resolution 1e3 / 2^20 = 1e-3)."""
     if method == "prp":
         kw = dict(search="direct", variant=variant)
     else:
-        kw = dict(steps=30, variant=variant)
+        kw = dict(steps=20, variant=variant, fast=False)
     return [
         pg.max_resistible_wrench(factory(), command, d, method, upper=UPPER, **kw).magnitude for d in dirs
     ]

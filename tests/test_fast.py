@@ -134,6 +134,7 @@ def test_infeasible_guess_falls_back_and_is_counted():
     # a guess with both contacts separated cannot carry the load: the MIQP answers
     data = s.form.scale_data(np.array([0, 3.0, 0]), m.command_vector(1.0))
     before = s.stats["prp"].infeasible
+    s.fast("prp").recent.clear()  # no other recently accepted mode to try either
     raw = s.solve("prp", data, guess=Mode((False, False), (True, True)))
     assert raw.path == "fallback" and raw.status == "optimal"
     assert s.stats["prp"].infeasible == before + 1
