@@ -176,17 +176,52 @@ def max_resistible_wrench(
             )
         return result(mag, bool(np.isinf(mag)), resp)
 
+    verify = method == "iterative" and solver.settings.fast and solver.settings.verify
+    exact = solver_for(model, solver.settings, fast=False) if verify else None
+
+    def exact_test(mag: float) -> tuple[bool, PassiveResponse]:
+        """The exact MIQP path's verdict (every step a global optimum)."""
+        nonlocal solve_time, n_solves, n_miqp
+        resp = exact.response(command, mag * d, method)
+        solve_time += resp.solve_time
+        n_solves += resp.n_solves
+        n_miqp += resp.n_miqp
+        ok = _check(resp, mag)
+        evidence.append((mag, ok))
+        return ok, resp
+
+    def bisect(lo: float, hi: float, best: PassiveResponse | None, fn, n: int):
+        for _ in range(n):
+            mid = 0.5 * (lo + hi)
+            ok, resp = fn(mid)
+            if ok:
+                lo, best = mid, resp
+            else:
+                hi = mid
+        return lo, hi, best
+
     ok, resp = test(float(upper))
-    if ok:
+    if ok and not verify:
         return result(float("inf"), True, resp)
-    lo, hi, best = 0.0, float(upper), None
-    for _ in range(int(steps)):
-        mid = 0.5 * (lo + hi)
-        ok, resp = test(mid)
+    if ok:  # verify the unbounded verdict with the exact path
+        ok, resp = exact_test(float(upper))
         if ok:
-            lo, best = mid, resp
-        else:
-            hi = mid
+            return result(float("inf"), True, resp)
+        lo, hi, best = bisect(0.0, float(upper), None, exact_test, int(steps))
+        return result(lo, False, best)
+    lo, hi, best = bisect(0.0, float(upper), None, test, int(steps))
+    if not verify:
+        return result(lo, False, best)
+    # the fast path's bracket [lo, hi], confirmed (or corrected) by the exact path: the answer is
+    # the exact path's, the fast path only saved the bisection steps that the bracket confirms
+    lo_ok, lo_resp = exact_test(lo) if lo > 0 else (True, best)
+    hi_ok, hi_resp = exact_test(hi)
+    if lo_ok and not hi_ok:
+        return result(lo, False, lo_resp)
+    if not lo_ok:
+        lo, hi, best = bisect(0.0, lo, None, exact_test, int(steps))
+    else:
+        lo, hi, best = bisect(hi, float(upper), hi_resp, exact_test, int(steps))
     return result(lo, False, best)
 
 

@@ -64,6 +64,12 @@ class Settings:
             scheme reached on a guessed mode with one exact MIQP of that step (a locally optimal
             mode can stall where another mode still improves). ``False`` trusts the guess:
             faster, and measured in ``docs/error_vs_runtime.md``.
+        verify: With ``fast``, confirm the final bracket ``[magnitude, magnitude + resolution]``
+            of every iterative max-wrench bisection (and every "unbounded" verdict) with the
+            exact MIQP path, and continue the bisection with the exact path where it disagrees:
+            the magnitude is then the exact path's; the fast path only saved the steps the
+            bracket confirms. ``False`` returns the fast path's bracket (error in
+            ``docs/error_vs_runtime.md``).
     """
 
     solver: str = "scip"
@@ -79,6 +85,7 @@ class Settings:
     tolerance: float = 1e-6
     fast: bool = True
     certify: bool = True
+    verify: bool = False
 
     def validated(self) -> Settings:
         """Check every field; raise :class:`InvalidInputError` naming the bad one."""

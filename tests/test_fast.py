@@ -213,3 +213,15 @@ def test_parallel_profile_equals_sequential():
     np.testing.assert_allclose(a.magnitudes, b.magnitudes)
     with pytest.raises(pg.InvalidInputError, match="workers"):
         pg.resistance_profile(m, 1.0, n=4, method="prp", workers=-1)
+
+
+def test_verified_bisection_returns_the_exact_paths_bracket():
+    for d in ("fy", [1.0, 1.0, 0, 0, 0, 0], "fx"):
+        ex = pg.max_resistible_wrench(analytic.pinch(), 1.0, d, "iterative", UPPER, STEPS, fast=False)
+        ve = pg.max_resistible_wrench(analytic.pinch(), 1.0, d, "iterative", UPPER, STEPS, verify=True)
+        assert ve.unbounded == ex.unbounded
+        if not ex.unbounded:
+            assert ve.magnitude == pytest.approx(ex.magnitude, abs=1e-12)
+            # the bracket's two ends were re-tested by the exact path: last two evidence entries
+            (m1, ok1), (m2, ok2) = ve.evidence[-2:]
+            assert ok1 and not ok2 and m2 - m1 == pytest.approx(RES)
