@@ -46,6 +46,7 @@ CONFIGS = {
     "iter. fast certified, 10": ("iterative", dict(steps=10)),
     "iter. fast certified, 20": ("iterative", dict(steps=20)),
     "iter. fast certified, 30": ("iterative", dict(steps=30)),
+    "iter. fast verified bracket, 20": ("iterative", dict(steps=20, verify=True)),
     "iter. fast uncertified, 15": ("iterative", dict(steps=15, certify=False)),
     "iter. fast uncertified, 20": ("iterative", dict(steps=20, certify=False)),
     "iter. fast uncertified, eps 1e-2": ("iterative", dict(steps=20, certify=False, eps=1e-2)),
