@@ -93,7 +93,9 @@ def test_differential_pinch(method):
     # any x component: the fingers shift together, F_max = 0 (iterative: below eps)
     for d in ([1, 0, 0], [-1, 1, 0]):
         r = check_max(m, TAU, d, method, 0.0)
-        assert r.magnitude <= (0.0 if method == "prp" else EPS)
+        # iterative: a net wrench below eps + eps_rel * F (F ~ the 10 N preload forces) counts as
+        # resisted, and along (-1, 1) that admits |w| up to ~sqrt(2) times the tolerance
+        assert r.magnitude <= (0.0 if method == "prp" else 2 * EPS)
 
 
 # -------------------------------------------------------------------------- wedge
