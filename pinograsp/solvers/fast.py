@@ -108,7 +108,10 @@ class ModeGuessSolver:
         """Solve with ``guess`` first (if given), else / on failure exactly."""
         tried, spent = guess is not None, 0.0
         if tried:
-            for g in [guess] + [m for m in self.recent if m != guess][:RECENT_MODES]:
+            # Alg. 1 beyond its limit has no feasible mode at all: recent modes would only add
+            # failing QPs before the MIQP, so they are tried for movement steps only
+            others = [m for m in self.recent if m != guess][:RECENT_MODES] if self.kind == "move" else []
+            for g in [guess] + others:
                 sol, dt = self.try_guess(data, g)
                 spent += dt
                 if sol is not None:
