@@ -191,16 +191,21 @@ def detect_contacts(
             BVH pair overlaps without a usable normal.
         UnknownNameError: ``links`` names a link without contact geometry.
     """
+    from .contact import finite_number
     from .errors import InvalidInputError, UnknownNameError
 
-    if not (np.isfinite(tolerance) and tolerance >= 0):
+    tolerance = finite_number("tolerance", tolerance)
+    if tolerance < 0:
         raise InvalidInputError("tolerance", f"must be finite and >= 0, got {tolerance}")
-    if not (np.isfinite(max_penetration) and max_penetration >= 0):
+    max_penetration = finite_number("max_penetration", max_penetration)
+    if max_penetration < 0:
         raise InvalidInputError("max_penetration", f"must be finite and >= 0, got {max_penetration}")
     if links is not None:
+        if isinstance(links, (str, bytes)) or not isinstance(links, (list, tuple)):
+            raise InvalidInputError("links", f"expected a list of link names, got {links!r}")
         valid = hand.contact_link_names
         for ln in links:
-            if ln not in valid:
+            if not isinstance(ln, str) or ln not in valid:
                 raise UnknownNameError("link", ln, valid)
     pairs = pair_distances(hand, q, obj)
     if links is not None:

@@ -31,6 +31,7 @@ import numpy as np
 import pinocchio as pin
 
 from .actuation import ACTUATOR_KINDS, Actuator, Coupling
+from .contact import finite_number
 from .errors import InvalidInputError, ModelError, ModelFileError, UnknownNameError, UrdfError
 
 if TYPE_CHECKING:
@@ -81,6 +82,13 @@ def example_robot_data_dir() -> Path:
 _KINDS_HELP = ", ".join(ACTUATOR_KINDS)
 
 
+def _items(owner: str, value: object) -> list:
+    """The entries of a list-valued description key (a mapping or a scalar is refused)."""
+    if isinstance(value, (str, bytes, Mapping)) or not isinstance(value, (Sequence, np.ndarray)):
+        raise InvalidInputError(owner, f"expected a list, got {value!r}")
+    return list(value)
+
+
 def _name_map(owner: str, value: object) -> dict[str, float]:
     if value is None:
         return {}
@@ -88,9 +96,11 @@ def _name_map(owner: str, value: object) -> dict[str, float]:
         raise InvalidInputError(owner, f"expected a mapping name -> number, got {value!r}")
     out = {}
     for k, v in value.items():
+        if isinstance(v, (str, bytes)):
+            raise InvalidInputError(owner, f"value of {k!r} is not a number: {v!r}")
         try:
             fv = float(v)
-        except (TypeError, ValueError) as exc:
+        except (TypeError, ValueError, OverflowError) as exc:
             raise InvalidInputError(owner, f"value of {k!r} is not a number: {v!r}") from exc
         if not np.isfinite(fv):
             raise InvalidInputError(owner, f"value of {k!r} is not finite")
@@ -138,10 +148,22 @@ class HandDescription:
     source: str | None = None
 
     def __post_init__(self) -> None:
-        if self.joints is not None:
-            object.__setattr__(self, "joints", tuple(str(j) for j in self.joints))
-        if self.contact_links is not None:
-            object.__setattr__(self, "contact_links", tuple(str(j) for j in self.contact_links))
+        for key in ("name", "base_link", "source"):
+            v = getattr(self, key)
+            if v is not None and not isinstance(v, str):
+                raise InvalidInputError(key, f"expected a string, got {v!r}")
+        for key in ("joints", "contact_links"):
+            v = getattr(self, key)
+            if v is None:
+                continue
+            if isinstance(v, (str, bytes)) or not isinstance(v, (Sequence, np.ndarray)):
+                raise InvalidInputError(key, f"expected a list of names, got {v!r}")
+            for n in v:
+                if not isinstance(n, str):
+                    raise InvalidInputError(key, f"expected names (strings), got {n!r}")
+            object.__setattr__(self, key, tuple(str(n) for n in v))
+        if not isinstance(self.use_mimic, (bool, np.bool_)):
+            raise InvalidInputError("use_mimic", f"expected true or false, got {self.use_mimic!r}")
         for key in ("reference_configuration", "closing", "open_configuration", "commands"):
             object.__setattr__(self, key, _name_map(key, getattr(self, key)))
         for j, s in self.closing.items():
@@ -180,7 +202,7 @@ class HandDescription:
         kw: dict[str, object] = {k: v for k, v in data.items() if k not in ("actuators", "couplings", "urdf")}
         if "actuators" in data and data["actuators"] is not None:
             acts = []
-            for i, a in enumerate(data["actuators"]):  # type: ignore[union-attr]
+            for i, a in enumerate(_items("actuators", data["actuators"])):
                 if not isinstance(a, Mapping) or "transmission" not in a:
                     raise InvalidInputError(
                         f"actuators[{i}]", "expected a mapping with 'transmission' (and 'name', 'kind')"
@@ -190,23 +212,26 @@ class HandDescription:
                     raise UnknownNameError("actuator key", sorted(extra)[0], ["name", "kind", "transmission"])
                 acts.append(
                     Actuator(
-                        transmission=dict(a["transmission"]),
-                        kind=str(a.get("kind", "non-backdrivable")),
+                        transmission=a["transmission"],
+                        kind=a.get("kind", "non-backdrivable"),
                         name=a.get("name", f"a{i}"),
                     )
                 )
             kw["actuators"] = tuple(acts)
         cps = []
-        for i, c in enumerate(data.get("couplings") or ()):  # type: ignore[union-attr]
+        for i, c in enumerate(_items("couplings", data.get("couplings") or ())):
             if not isinstance(c, Mapping):
                 raise InvalidInputError(f"couplings[{i}]", f"expected a mapping, got {c!r}")
             name = c.get("name", f"coupling{i}")
             if "weights" in c:
-                cps.append(Coupling(dict(c["weights"]), name=name))
+                cps.append(Coupling(c["weights"], name=name))
             elif {"follower", "leader"} <= set(c):
                 cps.append(
                     Coupling.follow(
-                        str(c["follower"]), str(c["leader"]), float(c.get("ratio", 1.0)), name=name
+                        str(c["follower"]),
+                        str(c["leader"]),
+                        finite_number(f"couplings[{i}].ratio", c.get("ratio", 1.0)),
+                        name=name,
                     )
                 )
             else:
@@ -427,9 +452,17 @@ class Hand:
             ModelFileError: Missing or malformed description file.
             UnknownNameError: The description names a joint, link or actuator that does not exist.
         """
+        if not isinstance(urdf_path, (str, Path)):
+            raise InvalidInputError("urdf_path", f"expected a file path, got {urdf_path!r}")
         path = Path(urdf_path)
         if not path.is_file():
             raise UrdfError(path, "URDF file not found")
+        if description is not None and not isinstance(description, (HandDescription, Mapping, str, Path)):
+            raise InvalidInputError(
+                "description",
+                "expected a HandDescription, a mapping or a YAML file path, "
+                f"got {type(description).__name__}",
+            )
         if description is None:
             side = path.with_suffix(".yaml")
             desc = HandDescription.from_yaml(side) if side.is_file() else HandDescription()
@@ -449,8 +482,12 @@ class Hand:
                 pass
         elif isinstance(package_dirs, (str, Path)):
             dirs = [str(package_dirs)]
-        else:
+        elif isinstance(package_dirs, (Sequence, np.ndarray)) and all(
+            isinstance(d, (str, Path)) for d in package_dirs
+        ):
             dirs = [str(d) for d in package_dirs]
+        else:
+            raise InvalidInputError("package_dirs", f"expected folder paths, got {package_dirs!r}")
         try:
             model, geom = pin.buildModelsFromUrdf(
                 str(path), package_dirs=dirs, geometry_types=pin.GeometryType.COLLISION
@@ -608,12 +645,14 @@ class Hand:
         if isinstance(q, Mapping):
             out = np.array(self.q_open)
             for k, v in q.items():
-                out[self.joint_index(str(k))] = float(v)
+                out[self.joint_index(str(k))] = finite_number(f"{name}[{k!r}]", v)
             arr = out
         else:
+            if isinstance(q, (str, bytes)):
+                raise InvalidInputError(name, f"expected {self.nq} numbers, got {q!r}")
             try:
                 arr = np.asarray(q, dtype=float).reshape(-1)
-            except (TypeError, ValueError) as exc:
+            except (TypeError, ValueError, OverflowError) as exc:
                 raise InvalidInputError(name, f"expected {self.nq} numbers, got {q!r}") from exc
             if arr.shape != (self.nq,):
                 raise InvalidInputError(

@@ -383,12 +383,12 @@ class GraspModel:
             raise InvalidInputError("edges", f"expected an integer number of pyramid edges, got {edges!r}")
         else:
             m = int(edges)
+        if m > MAX_EDGES:
+            raise InvalidInputError("edges", f"at most {MAX_EDGES} pyramid edges, got {m}")
         if planar:
             m = 2
         elif m < 3:
             raise InvalidInputError("edges", f"a 3D friction pyramid needs at least 3 edges, got {m}")
-        elif m > MAX_EDGES:
-            raise InvalidInputError("edges", f"at most {MAX_EDGES} pyramid edges, got {m}")
 
         points = np.array([c.point for c in contacts])
         frames = np.array([c.frame for c in contacts])

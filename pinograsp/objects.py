@@ -46,9 +46,11 @@ def pose_matrix(pose: object, name: str = "pose") -> np.ndarray:
         return np.eye(4)
     if hasattr(pose, "homogeneous"):  # pinocchio.SE3
         return np.array(pose.homogeneous, dtype=float)
+    if isinstance(pose, (str, bytes)):
+        raise InvalidInputError(name, f"expected a 4x4 matrix or a pinocchio.SE3, got {pose!r}")
     try:
         arr = np.asarray(pose, dtype=float)
-    except (TypeError, ValueError) as exc:
+    except (TypeError, ValueError, OverflowError) as exc:
         raise InvalidInputError(name, f"expected a 4x4 matrix or a pinocchio.SE3, got {pose!r}") from exc
     if arr.shape == (3,):
         out = np.eye(4)
@@ -75,13 +77,28 @@ def coal_transform(T: np.ndarray) -> coal.Transform3s:
 
 
 def _positive(name: str, value: object) -> float:
+    if isinstance(value, (str, bytes)):
+        raise InvalidInputError(name, f"expected a positive number, got {value!r}")
     try:
         v = float(value)  # type: ignore[arg-type]
-    except (TypeError, ValueError) as exc:
+    except (TypeError, ValueError, OverflowError) as exc:
         raise InvalidInputError(name, f"expected a positive number, got {value!r}") from exc
     if not np.isfinite(v) or v <= 0:
         raise InvalidInputError(name, f"must be finite and > 0, got {value!r}")
     return v
+
+
+def _vector3(name: str, value: object) -> np.ndarray:
+    """Three numbers (not necessarily finite) or :class:`InvalidInputError`."""
+    if isinstance(value, (str, bytes)):
+        raise InvalidInputError(name, f"expected 3 numbers, got {value!r}")
+    try:
+        arr = np.asarray(value, dtype=float).reshape(-1)
+    except (TypeError, ValueError, OverflowError) as exc:
+        raise InvalidInputError(name, f"expected 3 numbers, got {value!r}") from exc
+    if arr.shape != (3,):
+        raise InvalidInputError(name, f"expected 3 numbers, got {value!r}")
+    return arr
 
 
 def _vertices(points: np.ndarray) -> coal.StdVec_Vec3s:
@@ -115,8 +132,8 @@ class RigidObject:
         T = pose_matrix(self.pose)
         T.setflags(write=False)
         object.__setattr__(self, "pose", T)
-        com = np.asarray(self.com_local, dtype=float).reshape(-1)
-        if com.shape != (3,) or not np.all(np.isfinite(com)):
+        com = _vector3("com_local", self.com_local)
+        if not np.all(np.isfinite(com)):
             raise InvalidInputError("com_local", f"expected 3 finite numbers, got {self.com_local!r}")
         com.setflags(write=False)
         object.__setattr__(self, "com_local", com)
@@ -131,11 +148,14 @@ class RigidObject:
             pose: Box frame in the hand base frame (4×4 or ``pinocchio.SE3``).
             name: Label.
         """
-        s = (
-            np.broadcast_to(np.asarray(size, dtype=float), (3,))
-            if np.ndim(size) == 0
-            else np.asarray(size, dtype=float)
-        )
+        if isinstance(size, (str, bytes)):
+            raise InvalidInputError("size", f"expected 3 edge lengths, got {size!r}")
+        try:
+            s = np.asarray(size, dtype=float)
+        except (TypeError, ValueError, OverflowError) as exc:
+            raise InvalidInputError("size", f"expected 3 edge lengths, got {size!r}") from exc
+        if s.ndim == 0:
+            s = np.full(3, float(s))
         if s.shape != (3,):
             raise InvalidInputError("size", f"expected 3 edge lengths, got {size!r}")
         sx, sy, sz = (_positive(f"size[{i}]", v) for i, v in enumerate(s))
@@ -257,9 +277,17 @@ class RigidObject:
         """
         T = np.eye(4)
         if rotation is not None:
-            T[:3, :3] = np.asarray(rotation, dtype=float)
-        T[:3, 3] = np.asarray(translation, dtype=float)
-        return self.with_pose(T @ self.pose)
+            try:
+                R = np.asarray(rotation, dtype=float)
+            except (TypeError, ValueError, OverflowError) as exc:
+                raise InvalidInputError(
+                    "rotation", f"expected a 3x3 rotation matrix, got {rotation!r}"
+                ) from exc
+            if R.shape != (3, 3):
+                raise InvalidInputError("rotation", f"expected a 3x3 rotation matrix, got shape {R.shape}")
+            T[:3, :3] = R
+        T[:3, 3] = _vector3("translation", translation)
+        return self.with_pose(pose_matrix(T, "rotation") @ self.pose)
 
     def __repr__(self) -> str:
         pos = np.round(self.pose[:3, 3], 6).tolist()

@@ -429,3 +429,230 @@ def test_fuzz_scene_loader(tmp_path_factory, scene_docs, data):
         text = yaml.safe_dump(doc)
     path.write_text(text)
     expect_pinograsp_error(load_scene, path)
+
+
+# ------------------------------------------------------------------------------ URDF side
+@pytest.fixture(scope="module")
+def small_hand():
+    return pg.Hand.builtin("underactuated_2f")
+
+
+description_keys = st.sampled_from(
+    [
+        "name",
+        "joints",
+        "base_link",
+        "reference_configuration",
+        "closing",
+        "open_configuration",
+        "actuators",
+        "couplings",
+        "commands",
+        "contact_links",
+        "use_mimic",
+        "urdf",
+        "bogus",
+    ]
+)
+description_values = st.one_of(
+    yaml_values,
+    st.just([{"name": "t", "transmission": {"uf_j11": 1.0}}]),
+    st.just([{"name": "t", "transmission": "uf_j11"}]),
+    st.just([{"name": "t", "kind": "springy", "transmission": {"uf_j11": 1.0}}]),
+    st.just([{"follower": "uf_j12", "leader": "uf_j11", "ratio": "half"}]),
+    st.just([{"follower": "uf_j12", "leader": "uf_j11"}]),
+    st.just([{"weights": {"uf_j11": 1.0, "uf_j12": -1.0}}]),
+    st.just({"uf_j11": -1}),
+    st.just(["uf_j11", "uf_j12"]),
+)
+
+
+@FUZZ
+@given(doc=st.dictionaries(description_keys, description_values, max_size=4))
+def test_fuzz_hand_description(doc):
+    from pinograsp.hand import DATA_DIR
+
+    desc = expect_pinograsp_error(pg.HandDescription.from_dict, doc)
+    if desc is not None:
+        expect_pinograsp_error(pg.Hand.from_urdf, DATA_DIR / "urdf" / "underactuated_2f.urdf", desc)
+
+
+@FUZZ
+@given(
+    size=st.one_of(vec(3), scalars),
+    radius=scalars,
+    length=scalars,
+    pose=st.one_of(st.none(), vec(3), st.just(np.eye(4)), st.lists(vec(4), min_size=4, max_size=4), junk),
+    com=vec(3),
+    translation=vec(3),
+)
+def test_fuzz_rigid_objects(size, radius, length, pose, com, translation):
+    objs = [
+        expect_pinograsp_error(pg.RigidObject.box, size, pose=pose),
+        expect_pinograsp_error(pg.RigidObject.sphere, radius, pose=pose),
+        expect_pinograsp_error(pg.RigidObject.cylinder, radius, length, pose=pose),
+    ]
+    base = pg.RigidObject.sphere(0.02)
+    expect_pinograsp_error(pg.RigidObject, base.geometry, pose, com_local=com)
+    expect_pinograsp_error(base.moved, translation)
+    expect_pinograsp_error(base.with_pose, pose)
+    for o in objs:
+        if o is not None:
+            assert np.all(np.isfinite(o.pose)) and np.all(np.isfinite(o.center_of_mass))
+
+
+@FUZZ
+@given(
+    q=st.one_of(
+        vec(4),
+        st.dictionaries(
+            st.sampled_from(["uf_j11", "uf_j12", "nope"]), st.one_of(finite, scalars), max_size=3
+        ),
+    ),
+    tolerance=st.one_of(st.floats(0, 0.01), scalars),
+    links=st.one_of(st.none(), st.just(["uf_distal_1"]), st.just(["nope"]), st.just("uf_distal_1"), junk),
+    mu=st.one_of(
+        st.floats(0, 1),
+        st.floats(allow_nan=True, allow_infinity=True),
+        st.lists(st.floats(-1, 1), max_size=3),
+        st.dictionaries(st.text(max_size=3), st.floats(allow_nan=True), max_size=2),
+    ),
+)
+def test_fuzz_scene_contacts(small_hand, q, tolerance, links, mu):
+    from pinograsp.collision import detect_contacts
+
+    obj = pg.RigidObject.box((0.05, 0.05, 0.02), pose=[0.0, 0.07, 0.0])
+    expect_pinograsp_error(small_hand.configuration, q)
+    expect_pinograsp_error(detect_contacts, small_hand, q, obj, tolerance=tolerance, links=links)
+    expect_pinograsp_error(pg.GraspModel.from_scene, small_hand, q, obj, mu=mu)
+
+
+@pytest.mark.xfail(
+    reason="pinograsp/scene.py per_contact converts mu/stiffness with a bare float(): proposed fix in the "
+    "issue-6 report",
+    strict=False,
+)
+@pytest.mark.parametrize("mu", ["abc", object(), {"uf_distal_1": "high"}])
+def test_scene_friction_of_the_wrong_type(small_hand, mu):
+    obj = pg.RigidObject.box((0.05, 0.05, 0.02), pose=[0.0, 0.07, 0.0])
+    q = small_hand.close_on(obj)
+    with pytest.raises(pg.PinograspError):
+        pg.GraspModel.from_scene(small_hand, q, obj, mu=mu)
+
+
+# ------------------------------------------------------------------------------ named culprits
+def _hand():
+    return pg.Hand.builtin("underactuated_2f")
+
+
+@pytest.mark.parametrize(
+    "call, err, match",
+    [
+        (lambda: pg.Contact([0, 0, 0], [1, 0, 0], mu="high", name="tip"), pg.InvalidInputError, "'tip'.mu"),
+        (
+            lambda: pg.Contact([0, 0, 0], [1, 0, 0], stiffness=None, name="tip"),
+            pg.InvalidInputError,
+            "stiffness",
+        ),
+        (lambda: pg.Contact([0, 0, 0], [1, 0, 0], name=3), pg.InvalidInputError, "name"),
+        (
+            lambda: pg.Contact.revolute([0, 0, 0], [1, 0, 0], {0: ([0, -1, 0], [0, 0, 0])}, nq=1),
+            pg.InvalidInputError,
+            r"pivots\[0\].axis",
+        ),
+        (
+            lambda: pg.Contact.revolute([0, 0, 0], [1, 0, 0], {3: ([0, -1, 0], [0, 0, 1])}, nq=1),
+            pg.InvalidInputError,
+            "joint index 3",
+        ),
+        (lambda: pg.Contact.revolute([0, 0, 0], [1, 0, 0], nq=-1), pg.InvalidInputError, "nq"),
+        (lambda: pg.Actuator({0: "one"}, name="motor"), pg.InvalidInputError, "'motor'.transmission"),
+        (lambda: pg.Actuator({0: 1.0}, kind=np.array(["locked"])), pg.InvalidInputError, "kind"),
+        (lambda: pg.Coupling.follow("distal", "proximal", "1/3"), pg.InvalidInputError, "ratio"),
+        (lambda: pg.Coupling.follow(["distal"], "proximal", 0.3), pg.InvalidInputError, "follower"),
+        (
+            lambda: pg.GraspModel.from_contacts(good_contacts(), planar=True, edges=1000),
+            pg.InvalidInputError,
+            "edges",
+        ),
+        (
+            lambda: pg.GraspModel.from_contacts(good_contacts(), edges=1000),
+            pg.InvalidInputError,
+            "at most 256",
+        ),
+        (
+            lambda: pg.GraspModel.from_contacts(good_contacts(), reference_point="origin"),
+            pg.InvalidInputError,
+            "reference_point",
+        ),
+        (
+            lambda: pg.GraspModel.from_contacts(good_contacts(), joint_names="lr"),
+            pg.InvalidInputError,
+            "joint_names",
+        ),
+        (lambda: pg.GraspModel.from_contacts(good_contacts(), planar="yes"), pg.InvalidInputError, "planar"),
+        (
+            lambda: pg.GraspModel.from_contacts(good_contacts(), length_scale="1 m"),
+            pg.InvalidInputError,
+            "length_scale",
+        ),
+        (lambda: pg.GraspModel.from_contacts(5), pg.InvalidInputError, "contacts"),
+        (
+            lambda: pg.GraspModel.from_contacts(
+                [pg.Contact([1e200, 0, 0], [1, 0, 0], jacobian=[[1e200], [0], [0]])]
+            ),
+            pg.InvalidInputError,
+            "overflows|too far",
+        ),
+        (lambda: analytic.pinch().wrench_vector([10**400, 0, 0]), pg.InvalidInputError, "wrench"),
+        (
+            lambda: analytic.pinch().command_vector({"left": "max"}),
+            pg.InvalidInputError,
+            r"command\['left'\]",
+        ),
+        (lambda: analytic.pinch().command_vector({3: 1.0}), pg.UnknownNameError, "actuator"),
+        (lambda: pg.RigidObject.box("big"), pg.InvalidInputError, "size"),
+        (lambda: pg.RigidObject.sphere(0.02).moved([0, "up", 0]), pg.InvalidInputError, "translation"),
+        (lambda: pg.RigidObject.sphere(0.02).moved(rotation=2 * np.eye(3)), pg.InvalidInputError, "rotation"),
+        (lambda: _hand().configuration({"uf_j11": "open"}), pg.InvalidInputError, r"q\['uf_j11'\]"),
+        (lambda: pg.Hand.from_urdf(42), pg.InvalidInputError, "urdf_path"),
+        (lambda: pg.HandDescription.from_dict({"actuators": {"a": 1}}), pg.InvalidInputError, "actuators"),
+        (
+            lambda: pg.HandDescription.from_dict(
+                {"couplings": [{"follower": "a", "leader": "b", "ratio": "x"}]}
+            ),
+            pg.InvalidInputError,
+            "ratio",
+        ),
+        (lambda: pg.HandDescription.from_dict({"base_link": 3}), pg.InvalidInputError, "base_link"),
+        (lambda: pg.HandDescription.from_dict({"use_mimic": "no"}), pg.InvalidInputError, "use_mimic"),
+    ],
+)
+def test_bad_input_names_the_culprit(call, err, match):
+    with pytest.raises(err, match=match):
+        call()
+
+
+def test_detect_contacts_arguments(small_hand):
+    from pinograsp.collision import detect_contacts
+
+    obj = pg.RigidObject.box((0.05, 0.05, 0.02), pose=[0.0, 0.07, 0.0])
+    q = small_hand.close_on(obj)
+    with pytest.raises(pg.InvalidInputError, match="links"):
+        detect_contacts(small_hand, q, obj, links="uf_distal_1")
+    with pytest.raises(pg.InvalidInputError, match="tolerance"):
+        detect_contacts(small_hand, q, obj, tolerance="1 mm")
+    with pytest.raises(pg.UnknownNameError, match="link"):
+        detect_contacts(small_hand, q, obj, links=[3])
+
+
+def test_malformed_description_file_names_the_file(tmp_path):
+    from pinograsp.hand import DATA_DIR
+
+    bad = tmp_path / "hand.yaml"
+    bad.write_text("actuators: 5\n")
+    with pytest.raises(pg.ModelFileError, match="hand.yaml"):
+        pg.Hand.from_urdf(DATA_DIR / "urdf" / "underactuated_2f.urdf", bad)
+    bad.write_text("couplings:\n  - {follower: uf_j12, leader: uf_j11, ratio: [1]}\n")
+    with pytest.raises(pg.ModelFileError, match="ratio"):
+        pg.Hand.from_urdf(DATA_DIR / "urdf" / "underactuated_2f.urdf", bad)
