@@ -235,13 +235,21 @@ def _worker_count(workers: int | None, n: int) -> int:
 
 
 def _directions_block(
-    args: tuple[GraspModel, object, np.ndarray, str, float, int, Settings],
+    args: tuple[GraspModel, object, np.ndarray, str, float, int, Settings, str],
 ) -> list[MaxWrench]:
     """Worker: max resistible wrench along each of a block of directions."""
-    model, command, dirs, method, upper, steps, settings = args
+    model, command, dirs, method, upper, steps, settings, search = args
     return [
         max_resistible_wrench(
-            model, command, d, method, upper, steps, settings=settings, check_preload_first=False
+            model,
+            command,
+            d,
+            method,
+            upper,
+            steps,
+            settings=settings,
+            check_preload_first=False,
+            search=search,
         )
         for d in dirs
     ]
@@ -257,6 +265,7 @@ def _parallel_directions(
     settings: Settings,
     workers: int,
     progress: Callable[[int, int], None] | None,
+    search: str = "bisection",
 ) -> list[MaxWrench]:
     """Directions in a process pool, in contiguous blocks (warm starts within a block)."""
     import multiprocessing as mp
@@ -269,7 +278,9 @@ def _parallel_directions(
     done = 0
     with ProcessPoolExecutor(max_workers=workers, mp_context=ctx) as pool:
         futures = {
-            pool.submit(_directions_block, (model, command, dirs[b], method, upper, steps, settings)): b
+            pool.submit(
+                _directions_block, (model, command, dirs[b], method, upper, steps, settings, search)
+            ): b
             for b in blocks
         }
         from concurrent.futures import as_completed
@@ -308,6 +319,7 @@ def resistance_profile(
     settings: Settings | None = None,
     progress: Callable[[int, int], None] | None = None,
     workers: int | None = None,
+    search: str = "bisection",
     **overrides: object,
 ) -> ResistanceProfile:
     """Max resistible magnitude over ``n`` directions in a plane of wrench space.
@@ -338,7 +350,7 @@ def resistance_profile(
     nw = _worker_count(workers, len(dirs))
     if nw > 1:
         results = _parallel_directions(
-            model, command, dirs, method, upper, steps, solver.settings, nw, progress
+            model, command, dirs, method, upper, steps, solver.settings, nw, progress, search
         )
     else:
         results = []
@@ -353,6 +365,7 @@ def resistance_profile(
                     steps,
                     settings=solver.settings,
                     check_preload_first=False,
+                    search=search,
                 )
             )
             if progress is not None:
