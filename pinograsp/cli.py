@@ -1001,7 +1001,12 @@ def _profile_report(
     out.write_json("profile.json", data)
 
     def draw(path: Path) -> None:
-        title = f"{scene.name}: {method}" + (f" ({preload_name})" if preload_name else "")
+        title = f"{scene.name} ({method}" + (f", preload {preload_name})" if preload_name else ")")
+        title += (
+            f": max resistible {unit}"
+            if norm is None
+            else f"\nnormalised by the {b2} value {norm:.3g} {unit}"
+        )
         ax = plot_profile(p, normalize=norm, title=title, labels=[method])
         save_figure(ax, path, close=True)
 
