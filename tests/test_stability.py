@@ -241,18 +241,24 @@ def test_miqp_options_are_validated():
 
 
 def test_scip_gmp_line_is_dropped_and_other_output_kept(capfd):
+    gmp = b"Cannot set feasibility tolerance to small value 1e-11 without GMP - using 1e-10.\n"
     with quiet_stdout():
-        os.write(1, b"Cannot set feasibility tolerance to small value 1e-11 without GMP - using 1e-10.\n")
+        os.write(2, gmp)
+        os.write(1, gmp)
         os.write(1, b"a line that matters\n")
-    out = capfd.readouterr().out
-    assert "without GMP" not in out and "a line that matters" in out
+        os.write(2, b"an error that matters\n")
+    cap = capfd.readouterr()
+    assert "without GMP" not in cap.out + cap.err
+    assert "a line that matters" in cap.out and "an error that matters" in cap.err
     with quiet_stdout(False):
         os.write(1, b"verbatim\n")
     assert "verbatim" in capfd.readouterr().out
 
 
 def test_solves_print_nothing(capfd):
-    """The double pinch at offset 1e-4 made SCIP print its GMP line during iterative solves."""
-    m = stability.quad(1e-4)
-    pg.max_resistible_wrench(m, 1.0, "fy", method="iterative", upper=100, steps=6)
-    assert capfd.readouterr().out == ""
+    """The double pinch at offset 1e-4 and a mu = 1e-3 pinch made SCIP (SoPlex) print its GMP
+    line on stderr during iterative solves."""
+    pg.max_resistible_wrench(stability.quad(1e-4), 1.0, "fy", method="iterative", upper=100, steps=6)
+    pg.max_resistible_wrench(stability.pinch(mu=1e-3), 1.0, "fy", method="iterative", upper=0.2, steps=12)
+    cap = capfd.readouterr()
+    assert cap.out == "" and "GMP" not in cap.err

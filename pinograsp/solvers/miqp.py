@@ -39,9 +39,10 @@ complementarity — seen on a rotated 3D pinch 0.1 % above its limit) and the ve
 "infeasible".
 
 **Quiet.** SCIP's LP solver prints ``Cannot set feasibility tolerance to small value ...
-without GMP`` straight to the process's stdout when it tightens its tolerance on hard
-problems. With ``quiet=True`` (default) the solve runs with file descriptor 1 redirected; that
-line is dropped and any other output is forwarded to ``sys.stdout``.
+without GMP`` straight to the process's stderr when it tightens its tolerance on hard
+problems. With ``quiet=True`` (default) the solve runs with file descriptors 1 and 2
+redirected; that line is dropped and any other output is forwarded to ``sys.stdout`` /
+``sys.stderr``.
 """
 
 from __future__ import annotations
@@ -122,40 +123,54 @@ _FD_LOCK = threading.Lock()
 
 @contextmanager
 def quiet_stdout(enabled: bool = True):
-    """Redirect file descriptor 1 around a backend call; drop :data:`NOISE` lines, forward the rest.
+    """Redirect file descriptors 1 and 2 around a backend call; drop :data:`NOISE` lines and
+    forward the rest to ``sys.stdout`` / ``sys.stderr``.
 
-    Solver libraries write to the C-level stdout, which ``contextlib.redirect_stdout`` cannot
-    catch. A lock makes concurrent threads take turns (the redirection is process-wide).
+    Solver libraries write to the C-level streams (SoPlex's "without GMP" line goes to stderr),
+    which ``contextlib.redirect_stdout`` cannot catch. A lock makes concurrent threads take turns
+    (the redirection is process-wide).
     """
     if not enabled:
         yield
         return
+    streams = ((1, sys.stdout), (2, sys.stderr))
     with _FD_LOCK:
-        try:
-            sys.stdout.flush()
-        except Exception:  # pragma: no cover - a closed or exotic sys.stdout
-            pass
-        try:
-            saved = os.dup(1)
-        except OSError:  # pragma: no cover - no fd 1 (embedded interpreters)
-            yield
-            return
-        with tempfile.TemporaryFile(mode="w+b") as tmp:
+        for _, stream in streams:
             try:
-                os.dup2(tmp.fileno(), 1)
-                yield
-            finally:
+                stream.flush()
+            except Exception:  # pragma: no cover - a closed or exotic stream
+                pass
+        saved: list[tuple[int, int, object, object]] = []
+        try:
+            for fd, stream in streams:
                 try:
-                    sys.stdout.flush()
+                    keep = os.dup(fd)
+                except OSError:  # pragma: no cover - no such descriptor (embedded interpreters)
+                    continue
+                tmp = tempfile.TemporaryFile(mode="w+b")
+                os.dup2(tmp.fileno(), fd)
+                saved.append((fd, keep, tmp, stream))
+            yield
+        finally:
+            texts = []
+            for fd, keep, tmp, stream in saved:
+                try:
+                    stream.flush()  # type: ignore[attr-defined]
                 except Exception:  # pragma: no cover
                     pass
-                os.dup2(saved, 1)
-                os.close(saved)
-                tmp.seek(0)
-                text = tmp.read().decode(errors="replace")
-        kept = [ln for ln in text.splitlines(keepends=True) if not any(n in ln for n in NOISE)]
-        if kept:
-            sys.stdout.write("".join(kept))
+                os.dup2(keep, fd)
+                os.close(keep)
+                tmp.seek(0)  # type: ignore[attr-defined]
+                texts.append((tmp.read().decode(errors="replace"), stream))  # type: ignore[attr-defined]
+                tmp.close()  # type: ignore[attr-defined]
+            for text, stream in texts:
+                kept = [ln for ln in text.splitlines(keepends=True) if not any(n in ln for n in NOISE)]
+                if kept:
+                    stream.write("".join(kept))  # type: ignore[attr-defined]
+
+
+#: The same context manager under a name that says what it covers.
+quiet_output = quiet_stdout
 
 
 def _bigm_factors(form: Formulation) -> tuple[np.ndarray, np.ndarray]:
@@ -188,7 +203,7 @@ class CvxpyMIQP:
             no big-M; needs ``solver="scip"``).
         verify_infeasible: Re-solve an infeasible big-M MIQP once with ``M × VERIFY_FACTOR``
             before reporting infeasibility.
-        quiet: Drop SCIP's "without GMP" stdout line (see the module docstring).
+        quiet: Drop SCIP's "without GMP" line (see the module docstring).
     """
 
     def __init__(
