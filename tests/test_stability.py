@@ -262,3 +262,10 @@ def test_solves_print_nothing(capfd):
     pg.max_resistible_wrench(stability.pinch(mu=1e-3), 1.0, "fy", method="iterative", upper=0.2, steps=12)
     cap = capfd.readouterr()
     assert cap.out == "" and "GMP" not in cap.err
+
+
+def test_indicator_time_out_is_reported():
+    m = _random_model(7, nc=6)
+    f = Formulation(m)
+    mi = CvxpyMIQP(f, "prp", complementarity="indicator", time_limit=1e-6)
+    assert mi.solve(f.scale_data(np.array([1.0, 2.0, 0.01]), np.ones(m.na)), 1e3).status == "timeout"
