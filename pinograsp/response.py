@@ -78,6 +78,11 @@ class Settings:
             the magnitude is then the exact path's; the fast path only saved the steps the
             bracket confirms. ``False`` returns the fast path's bracket (error in
             ``docs/error_vs_runtime.md``).
+        complementarity: ``"bigm"`` (default) or ``"indicator"`` (SCIP indicator constraints,
+            no big-M constant; SCIP only).
+        verify_infeasible: Re-solve an infeasible big-M MIQP once with ``M x 100`` before
+            trusting the infeasibility (an ``M`` that cuts off every solution is otherwise
+            indistinguishable from a load that is not resisted).
     """
 
     solver: str = "scip"
@@ -95,6 +100,8 @@ class Settings:
     fast: bool = True
     certify: bool = True
     verify: bool = False
+    complementarity: str = "bigm"
+    verify_infeasible: bool = True
 
     def validated(self) -> Settings:
         """Check every field; raise :class:`InvalidInputError` naming the bad one."""
@@ -103,6 +110,12 @@ class Settings:
             v = getattr(self, name)
             if not (isinstance(v, (int, float)) and np.isfinite(v) and v > 0):
                 raise InvalidInputError(name, f"must be a finite number > 0, got {v!r}")
+        if self.complementarity not in ("bigm", "indicator"):
+            raise InvalidInputError(
+                "complementarity", f"must be 'bigm' or 'indicator', got {self.complementarity!r}"
+            )
+        if self.complementarity == "indicator" and resolve_solver(self.solver) != "SCIP":
+            raise InvalidInputError("complementarity", "indicator constraints need solver='scip'")
         if not (isinstance(self.eps_rel, (int, float)) and 0 <= self.eps_rel < 1):
             raise InvalidInputError("eps_rel", f"must be a number in [0, 1), got {self.eps_rel!r}")
         if not 0 <= self.improvement < 1:
@@ -180,6 +193,7 @@ class PassiveSolver:
                 bigm_retries=s.bigm_retries,
                 time_limit=s.time_limit,
                 polish=s.polish,
+                options={"complementarity": s.complementarity, "verify_infeasible": s.verify_infeasible},
             )
         return self._exact[kind]
 

@@ -59,6 +59,12 @@ _SETTINGS_KEYS = (
     "max_iterations",
     "variant",
     "tolerance",
+    "eps_rel",
+    "fast",
+    "certify",
+    "verify",
+    "complementarity",
+    "verify_infeasible",
 )
 _ANALYSIS_KEYS = (
     "method",
