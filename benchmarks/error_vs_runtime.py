@@ -291,6 +291,23 @@ def main() -> None:
     print(f"wrote {args.out} and {img} in {total:.0f} s")
 
 
+READING = """## Reading it
+
+* PRP: every fast configuration has the exact path's verdicts (error = bisection resolution
+  only); the direct load-factor MILP is exact and the fastest on every model.
+* Iterative, analytic and random models: the fast path matches the exact MIQP path to the
+  bisection resolution at 20+ steps, certified or not.
+* Iterative, case 3 (push towards the palm, `-fy`): *every* configuration disagrees with the
+  exact-path reference on unbounded vs finite. There the exact path's own verdicts are not
+  monotone in the magnitude (in one exact run resisted at 250 N, not at 375 N; in another
+  resisted at 375–388 N and not at 389 N): the net wrench creeps down at about the 1 % stop rate
+  and any different, equally optimal step flips the verdict. This is a property of the
+  iterative scheme on this grasp, not of the fast path; `MaxWrench.monotone` and
+  `docs/accuracy.md` cover it.
+
+"""
+
+
 def write(args: argparse.Namespace, head: str, table: str, tg: str, total: float) -> None:
     Path(args.out).write_text(
         "# Error against run time\n\n"
@@ -306,7 +323,12 @@ def write(args: argparse.Namespace, head: str, table: str, tg: str, total: float
         "same 2 cores during the run, so absolute times are pessimistic; ratios within a row hold."
         "\n\n"
         "![error vs run time](img/error_vs_runtime.png)\n\n"
-        "## Per configuration\n\n" + table + "\n\n## Targets\n\n" + tg + "\n"
+        + READING
+        + "## Per configuration\n\n"
+        + table
+        + "\n\n## Targets\n\n"
+        + tg
+        + "\n"
     )
 
 
