@@ -288,7 +288,8 @@ def main() -> None:
     print(tg)
     total = time.perf_counter() - t_start
     write(args, head, table, tg, total)
-    print(f"wrote {args.out} and {img} in {total:.0f} s")
+    fill_readme(Path(args.out))
+    print(f"wrote {args.out}, {img} and the README block in {total:.0f} s")
 
 
 READING = """## Reading it
@@ -330,6 +331,40 @@ def write(args: argparse.Namespace, head: str, table: str, tg: str, total: float
         + tg
         + "\n"
     )
+
+
+README_CONFIGS = (
+    "PRP exact, 20 steps",
+    "PRP fast, 20 steps",
+    "PRP direct (1 MILP)",
+    "iter. preload-first exact, 20",
+    "iter. fast certified, 20",
+    "iter. fast uncertified, 20",
+)
+
+
+def fill_readme(
+    report: Path = ROOT / "docs" / "error_vs_runtime.md", readme: Path = ROOT / "README.md"
+) -> None:
+    """Copy the key rows of the generated report into README.md between the perf markers."""
+    rows: dict[str, dict[str, str]] = {}
+    for line in report.read_text().splitlines():
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if len(cells) == 4 and cells[1] in README_CONFIGS:
+            rows.setdefault(cells[0], {})[cells[1]] = f"{cells[2]} ms, err {cells[3]}"
+    head = "| model | " + " | ".join(README_CONFIGS) + " |"
+    out = [head, "|---" * (len(README_CONFIGS) + 1) + "|"]
+    for model, r in rows.items():
+        out.append(f"| {model} | " + " | ".join(r.get(c, "—") for c in README_CONFIGS) + " |")
+    block = (
+        "Median time per direction query and max relative error against the exact path / closed form "
+        "(generated from `docs/error_vs_runtime.md` by `benchmarks/error_vs_runtime.py`):\n\n"
+        + "\n".join(out)
+    )
+    text = readme.read_text()
+    a, b = "<!-- perf:start -->", "<!-- perf:end -->"
+    i, j = text.index(a) + len(a), text.index(b)
+    readme.write_text(text[:i] + "\n" + block + "\n" + text[j:])
 
 
 if __name__ == "__main__":
