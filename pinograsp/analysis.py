@@ -112,9 +112,10 @@ def max_resistible_wrench(
         n_miqp += pre.n_miqp
     evidence: list[tuple[float, bool]] = []
 
-    def test(mag: float) -> tuple[bool, PassiveResponse]:
+    def test(mag: float, by: PassiveSolver | None = None) -> tuple[bool, PassiveResponse]:
+        """Verdict at ``mag`` (by this query's solver, or ``by`` another one), recorded."""
         nonlocal solve_time, n_solves, n_miqp
-        resp = solver.response(command, mag * d, method)
+        resp = (by or solver).response(command, mag * d, method)
         solve_time += resp.solve_time
         n_solves += resp.n_solves
         n_miqp += resp.n_miqp
@@ -181,14 +182,7 @@ def max_resistible_wrench(
 
     def exact_test(mag: float) -> tuple[bool, PassiveResponse]:
         """The exact MIQP path's verdict (every step a global optimum)."""
-        nonlocal solve_time, n_solves, n_miqp
-        resp = exact.response(command, mag * d, method)
-        solve_time += resp.solve_time
-        n_solves += resp.n_solves
-        n_miqp += resp.n_miqp
-        ok = _check(resp, mag)
-        evidence.append((mag, ok))
-        return ok, resp
+        return test(mag, exact)
 
     def bisect(lo: float, hi: float, best: PassiveResponse | None, fn, n: int):
         for _ in range(n):
