@@ -175,6 +175,11 @@ class PassiveSolver:
         self.model = model
         self.settings = (settings or Settings()).validated()
         self.form = Formulation(model)
+        #: Step bound in scaled units. ``gamma`` is relative to the stiffest contact; with a
+        #: stiffness spread a soft contact would otherwise gain only ``k_min / k_max`` of the
+        #: net wrench per step and the 1 % rule would stop the iteration early ("not
+        #: resisted"), so the bound is widened by ``k_max / k_min`` (1 for uniform stiffness).
+        self.gamma_eff = float(self.settings.gamma * self.form.kx / model.k.min())
         self._exact: dict[str, ExactSolver] = {}
         self._fast: dict[str, ModeGuessSolver] = {}
         self._guess: dict[str, Mode] = {}
@@ -188,7 +193,7 @@ class PassiveSolver:
                 self.form,
                 kind,
                 solver=s.solver,
-                gamma=s.gamma,
+                gamma=self.gamma_eff,
                 bigm=s.bigm,
                 bigm_retries=s.bigm_retries,
                 time_limit=s.time_limit,
@@ -201,7 +206,7 @@ class PassiveSolver:
         """The mode-guess fast path of problem ``kind``, built once."""
         if kind not in self._fast:
             ex = self.exact(kind)
-            qp = ex.qp if ex.qp is not None else FixedModeQP(self.form, kind, gamma=self.settings.gamma)
+            qp = ex.qp if ex.qp is not None else FixedModeQP(self.form, kind, gamma=self.gamma_eff)
             self._fast[kind] = ModeGuessSolver(ex, qp)
         return self._fast[kind]
 
