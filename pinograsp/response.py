@@ -14,6 +14,13 @@ Two variants (DESIGN §4.2):
   ``w`` on top, with the preload normal forces as spring pre-compression and displacements
   counted from the preloaded state — so a finger that closed during preloading may hold still
   afterwards. Default for ``"iterative"``; the paper's single-step is the default for ``"prp"``.
+  In the iterative method the object cannot move while the preload is applied (the first
+  step has no movement direction and ``w = 0`` leaves no net wrench to follow).
+* ``"settled-preload"``: as ``"preload-first"``, but the preload stage is Alg. 1 at ``w = 0``
+  for both methods, so the object is free to settle into the least-spring-energy equilibrium
+  of the preload before the load is applied (a hand closing on a free object). It differs from
+  ``"preload-first"`` only when the held-still preload leaves some contacts unloaded that a
+  settling object would load (seed case 3 with the distal tendon alone, see docs/results.md).
 """
 
 from __future__ import annotations
@@ -31,7 +38,10 @@ from .solvers.base import INFEASIBLE, Mode, RawSolution
 from .solvers.fast import FastStats, ModeGuessSolver
 
 METHODS = ("prp", "iterative")
-VARIANTS = ("single-step", "preload-first")
+VARIANTS = ("single-step", "preload-first", "settled-preload")
+#: Relative gap (on the squared net wrench) at which a certificate MIQP may stop: the optimum's
+#: net wrench is then at least ``1 / sqrt(1 + CERTIFY_GAP)`` (0.99995) of the point found.
+CERTIFY_GAP = 1e-4
 
 
 @dataclass(frozen=True)
@@ -61,7 +71,8 @@ class Settings:
             less than this fraction in one step (authors' code: 1 %).
         max_iterations: Iteration cap (authors' code: 100); hitting it gives
             ``"not_converged"``.
-        variant: ``"single-step"`` or ``"preload-first"``; ``None`` picks the method's default.
+        variant: ``"single-step"``, ``"preload-first"`` or ``"settled-preload"`` (see the
+            module docstring); ``None`` picks the method's default.
         tolerance: Audit tolerance on hand/complementarity/friction residuals, relative to the
             data scale.
         fast: Use the mode-guess fast path (:mod:`pinograsp.solvers.fast`): solve the convex
@@ -202,6 +213,30 @@ class PassiveSolver:
             )
         return self._exact[kind]
 
+    def certifier(self) -> ExactSolver:
+        """The exact movement-step solver used to certify stalls, built once: the same MIQP as
+        :meth:`exact` ``("move")`` but allowed to stop at a relative gap of
+        :data:`CERTIFY_GAP` (a stall only needs to know whether some mode improves the net
+        wrench by the ``improvement`` fraction, not the optimum to solver precision)."""
+        if "certify" not in self._exact:
+            s = self.settings
+            self._exact["certify"] = ExactSolver(
+                self.form,
+                "move",
+                solver=s.solver,
+                gamma=self.gamma_eff,
+                bigm=s.bigm,
+                bigm_retries=s.bigm_retries,
+                time_limit=s.time_limit,
+                polish=s.polish,
+                options={
+                    "complementarity": s.complementarity,
+                    "verify_infeasible": s.verify_infeasible,
+                    "rel_gap": CERTIFY_GAP,
+                },
+            )
+        return self._exact["certify"]
+
     def fast(self, kind: str) -> ModeGuessSolver:
         """The mode-guess fast path of problem ``kind``, built once."""
         if kind not in self._fast:
@@ -281,15 +316,31 @@ class PassiveSolver:
             if raw.path == "guess" and norm > tol and stalls and s.certify:
                 # about to stop on a guessed mode: the stop must be certified by the exact
                 # solve (a locally optimal mode can stall where another mode still improves)
-                ex = self.solve_exact("move", data)
-                total += ex.solve_time
-                dn, dm = self._count(ex)
-                n, nm = n + dn, nm + dm
-                if ex.status == OPTIMAL:
+                threshold = (1.0 - s.improvement) * prev
+                for solver in (self.certifier(), self.exact("move")):
+                    ex = solver.solve(data)
+                    if s.fast:
+                        self.fast("move").stats.exact += 1
+                    total += ex.solve_time
+                    dn, dm = self._count(ex)
+                    n, nm = n + dn, nm + dm
+                    if ex.status != OPTIMAL:
+                        break
+                    self._guess["move"] = ex.mode
                     r_ex = base.w + f.Gb @ ex.z[lay["beta"]]
                     norm_ex = float(np.linalg.norm(r_ex) * base.F)
+                    gap = CERTIFY_GAP if "gaplimit" in ex.message else 0.0
+                    lower = norm_ex / np.sqrt(1.0 + gap)  # no mode reaches below this
                     if norm_ex < norm:
                         raw, r, norm = ex, r_ex, norm_ex
+                    if lower >= threshold or norm_ex <= threshold:
+                        break  # decided: a certified stall, or an improving step
+                    # undecided within the gap: solve to optimality
+                if ex.status not in (OPTIMAL, INFEASIBLE):
+                    # the certificate itself failed (time-out, solver error): so does the stop
+                    history.append(norm)
+                    status = ex.status
+                    break
             history.append(norm)
             xh_next = xh + raw.z[lay["obj"]][0] * direction
             raw_best = (raw, xh_next, data)
@@ -342,7 +393,7 @@ class PassiveSolver:
         fc = m.command_vector(command)
         p = np.zeros(m.nc)
         pre_time = 0.0
-        if s.variant_for("prp") == "preload-first":
+        if s.variant_for("prp") != "single-step":
             pre = self.preload_stage(fc, "prp")
             pre_time = pre.solve_time
             if not pre.converged:
@@ -378,18 +429,22 @@ class PassiveSolver:
         stage_fn = self._prp_stage if method == "prp" else self._iterative_stage
         pre, fresh = None, True
         p = np.zeros(m.nc)
-        if variant == "preload-first":
-            fresh = self._preload_key(fc, method) not in self._preload
-            pre = self.preload_stage(fc, method)
+        if variant != "single-step":
+            pre_method = "prp" if variant == "settled-preload" else method
+            fresh = self._preload_key(fc, pre_method) not in self._preload
+            pre = self.preload_stage(fc, pre_method)
             if not pre.converged:
-                return self._build(method, variant, w6, fc, pre, pre=None, note="preload not in equilibrium")
-            p = (
-                self.form.E
-                @ pre.raw.z[self.form.layout("prp" if method == "prp" else "move")["beta"]]
-                * pre.data.F
-            )
+                failed = pre if pre_method == method else replace(pre, raw=None)
+                note = "preload not in equilibrium"
+                return self._build(method, variant, w6, fc, failed, pre=None, note=note)
+            p = self.form.E @ pre.raw.z[self._layout_of(pre_method)["beta"]] * pre.data.F
+            st = stage_fn(w, fc, p)
+            return self._build(method, variant, w6, fc, st, pre=pre, pre_fresh=fresh, pre_kind=pre_method)
         st = stage_fn(w, fc, p)
         return self._build(method, variant, w6, fc, st, pre=pre, pre_fresh=fresh)
+
+    def _layout_of(self, method: str) -> dict:
+        return self.form.layout("prp" if method == "prp" else "move")
 
     def _build(
         self,
@@ -401,6 +456,7 @@ class PassiveSolver:
         pre: _Stage | None,
         note: str = "",
         pre_fresh: bool = True,
+        pre_kind: str | None = None,
     ) -> PassiveResponse:
         m, f = self.model, self.form
         kind = "prp" if method == "prp" else "move"
@@ -465,7 +521,7 @@ class PassiveSolver:
         q = qh * F / f.qscale if nq else np.zeros(0)
         x = f.unscale_x(st.xh, F)
         if pre is not None and pre.raw is not None and pre.raw.z is not None:
-            play = f.layout("prp" if method == "prp" else "move")
+            play = self._layout_of(pre_kind or method)
             q = q + pre.raw.z[play["qh"]] * pre.data.F / f.qscale
             x = x + f.unscale_x(pre.xh, pre.data.F)
         u = m.R.T @ q

@@ -59,7 +59,7 @@ class PassiveResponse:
         status: ``"resisted"``, ``"not_resisted"`` (infeasible / converged above ``eps``),
             ``"not_converged"`` (iteration cap), ``"timeout"`` or ``"failed"``.
         method: ``"prp"`` or ``"iterative"``.
-        variant: ``"single-step"`` or ``"preload-first"``.
+        variant: ``"single-step"``, ``"preload-first"`` or ``"settled-preload"``.
         wrench: Applied wrench ``(fx, fy, fz, mx, my, mz)`` about the object reference point.
         command: Actuator commands of the kept actuators (na,).
         contact_forces: Contact-frame forces ``(c_n, c_t1, c_t2)`` on the object, (nc, 3).

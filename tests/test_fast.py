@@ -225,3 +225,35 @@ def test_verified_bisection_returns_the_exact_paths_bracket():
             # the bracket's two ends were re-tested by the exact path: last two evidence entries
             (m1, ok1), (m2, ok2) = ve.evidence[-2:]
             assert ok1 and not ok2 and m2 - m1 == pytest.approx(RES)
+
+
+def test_a_failed_certificate_fails_the_stop(monkeypatch):
+    """A certificate MIQP that times out must not leave the guessed "not resisted" standing."""
+    from pinograsp.solvers.base import TIMEOUT, RawSolution
+
+    m = analytic.pinch()
+    kw = dict(variant="single-step", certify=True)
+    pg.max_resistible_wrench(m, 1.0, "fy", "iterative", UPPER, STEPS, **kw)  # leaves the +y mode
+    solver = pg.solver_for(m, **kw)
+
+    class TimesOut:
+        def solve(self, data):
+            return RawSolution(status=TIMEOUT, solve_time=1.0, message="timelimit")
+
+    monkeypatch.setattr(type(solver), "certifier", lambda self: TimesOut())
+    r = pg.passive_response(m, 1.0, [5.0, 0, 0], "iterative", **kw)
+    assert r.status == "timeout" and not r.resistible
+    with pytest.raises(pg.SolverTimeoutError):
+        pg.max_resistible_wrench(m, 1.0, "fx", "iterative", UPPER, STEPS, **kw)
+
+
+def test_gap_limited_certificate_gives_the_exact_verdicts():
+    """The certificate may stop at CERTIFY_GAP; verdicts equal the exact path on random grasps."""
+    from pinograsp.response import CERTIFY_GAP
+
+    assert 0 < CERTIFY_GAP <= 1e-3
+    for seed in range(3):
+        ex = pg.max_resistible_wrench(random_grasp(seed), 1.0, "fx", "iterative", 20.0, 8, fast=False)
+        fa = pg.max_resistible_wrench(random_grasp(seed), 1.0, "fx", "iterative", 20.0, 8, fast=True)
+        assert ex.unbounded == fa.unbounded
+        assert fa.magnitude == pytest.approx(ex.magnitude, abs=20.0 / 2**8)

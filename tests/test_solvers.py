@@ -132,3 +132,44 @@ def test_iterative_reports_history_and_cap(pinch):
         pinch, TAU, [400.0, 0, 0], method="iterative", gamma=0.05, max_iterations=2, variant="single-step"
     )
     assert capped.status == "not_converged" and not capped.resistible and capped.iterations == 2
+
+
+def _pinch_miqp(pinch):
+    from pinograsp.solvers.miqp import CvxpyMIQP
+
+    s = pg.solver_for(pinch)
+    data = s.form.scale_data(np.array([0.0, 5.0, 0.0]), pinch.command_vector(TAU))
+    return CvxpyMIQP(s.form, "prp", time_limit=10.0), data
+
+
+@pytest.mark.skipif("SCIP" not in [s.upper() for s in available_miqp_solvers()], reason="SCIP missing")
+def test_backend_status_is_read_from_cvxpy(pinch):
+    """cvxpy 1.9 keeps SCIP's status in a dict: reading it is what tells a time-out from an optimum."""
+    from pinograsp.solvers.miqp import _backend_status
+
+    miqp, data = _pinch_miqp(pinch)
+    sol = miqp.solve(data, 1e3)
+    assert sol.status == "optimal" and _backend_status(miqp.problem) == "optimal"
+
+
+@pytest.mark.skipif("SCIP" not in [s.upper() for s in available_miqp_solvers()], reason="SCIP missing")
+def test_scip_time_limit_with_incumbent_is_a_timeout_then_retried(pinch, monkeypatch):
+    """SCIP stopping at its time limit with an incumbent (cvxpy: "optimal_inaccurate") is a
+    time-out; the big-M solve re-runs once with SCIP_RETRY and reports both attempts."""
+    import pinograsp.solvers.miqp as mq
+
+    miqp, data = _pinch_miqp(pinch)
+    good = miqp.solve(data, 1e3)
+    calls = []
+
+    def fake(problem):
+        calls.append(1)
+        return "timelimit" if len(calls) == 1 else "optimal"
+
+    monkeypatch.setattr(mq, "_backend_status", fake)
+    sol = miqp.solve(data, 1e3)
+    assert sol.status == "optimal" and miqp.n_retries == 1 and "re-run" in sol.message
+    np.testing.assert_allclose(sol.z, good.z, atol=1e-6)
+    monkeypatch.setattr(mq, "_backend_status", lambda problem: "timelimit")
+    sol = miqp.solve(data, 1e3)
+    assert sol.status == "timeout" and sol.z is None and miqp.n_retries == 2

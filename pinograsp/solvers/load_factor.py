@@ -16,13 +16,14 @@ This module never imports Pinocchio or Coal.
 from __future__ import annotations
 
 import time
+import warnings
 
 import cvxpy as cp
 import numpy as np
 
 from .base import FAILED, INFEASIBLE, OPTIMAL, TIMEOUT
 from .formulation import Formulation, ScaledData
-from .miqp import CvxpyMIQP, quiet_stdout
+from .miqp import CvxpyMIQP, _backend_status, quiet_stdout
 
 
 class LoadFactorMIQP:
@@ -74,7 +75,8 @@ class LoadFactorMIQP:
         self.tmax.value = float(tmax)
         t0 = time.perf_counter()
         try:
-            with quiet_stdout(b.quiet):
+            with quiet_stdout(b.quiet), warnings.catch_warnings():
+                warnings.filterwarnings("ignore", message="Solution may be inaccurate")
                 self.problem.solve(solver=b.solver, **b._solver_kwargs())
         except cp.error.SolverError as exc:
             dt = time.perf_counter() - t0
@@ -84,8 +86,11 @@ class LoadFactorMIQP:
         st = self.problem.status
         if st in (cp.INFEASIBLE, cp.settings.INFEASIBLE_OR_UNBOUNDED):
             return {"status": INFEASIBLE, "t": float("nan"), "solve_time": dt}
+        raw = _backend_status(self.problem)
+        if raw == "timelimit" or (st == cp.OPTIMAL_INACCURATE and dt >= 0.99 * b.time_limit):
+            return {"status": TIMEOUT, "t": float("nan"), "solve_time": dt, "message": raw or str(st)}
         if st != cp.OPTIMAL or self.t.value is None:
-            return {"status": FAILED, "t": float("nan"), "solve_time": dt, "message": str(st)}
+            return {"status": FAILED, "t": float("nan"), "solve_time": dt, "message": f"{st} {raw}".strip()}
         ratio = max(
             float(np.max(np.abs(b.cn_expr.value), initial=0.0)) / M,
             float(np.max(np.abs(b.gap_expr.value) / b.m_gap, initial=0.0)) / M,

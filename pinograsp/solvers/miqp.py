@@ -52,6 +52,7 @@ import sys
 import tempfile
 import threading
 import time
+import warnings
 from contextlib import contextmanager
 from typing import Any
 
@@ -79,6 +80,16 @@ SCIP_DEFAULTS: dict[str, Any] = {
     "separating/aggregation/freq": -1,
     "numerics/feastol": 1e-8,
 }
+
+#: Share of ``time_limit`` given to the first SCIP attempt of a big-M solve.
+SCIP_FIRST_TRY = 0.1
+
+#: SCIP settings of the second attempt after a time-out. With ``feastol = 1e-8`` SCIP's
+#: spatial branching on the quadratic objective occasionally stalls on movement steps whose
+#: load is far beyond the limit (seed case 3, torque about X: > 60 s, where SCIP's default
+#: 1e-6 solves in 0.1 s). The point is polished by the exact fixed-mode QP afterwards, so the
+#: looser tolerance changes only which mode is found, never the accuracy of the forces.
+SCIP_RETRY: dict[str, Any] = {"numerics/feastol": 1e-6, "randomization/randomseedshift": 1}
 
 #: Extra SCIP settings of the indicator model: with strong dual reductions SCIP 10 declared
 #: feasible indicator models "infeasible" (a pinch movement step whose feasible point it accepts
@@ -186,6 +197,24 @@ def _bigm_factors(form: Formulation) -> tuple[np.ndarray, np.ndarray]:
     return gap, u
 
 
+def _backend_status(problem: cp.Problem) -> str:
+    """The backend's own status string after a cvxpy solve (``""`` when not exposed).
+
+    cvxpy 1.9 keeps SCIP's result as a dict in ``solver_stats.extra_stats`` (``scip_status``);
+    older versions stored the PySCIPOpt model itself.
+    """
+    stats = problem.solver_stats
+    extra = getattr(stats, "extra_stats", None) if stats is not None else None
+    if isinstance(extra, dict):
+        if "scip_status" in extra:
+            return str(extra["scip_status"])
+        model = extra.get("model")
+        return str(model.getStatus()) if hasattr(model, "getStatus") else ""
+    if hasattr(extra, "getStatus"):
+        return str(extra.getStatus())
+    return ""
+
+
 class CvxpyMIQP:
     """The MIQP of one problem kind, built once and re-solved with new data.
 
@@ -204,6 +233,11 @@ class CvxpyMIQP:
         verify_infeasible: Re-solve an infeasible big-M MIQP once with ``M × VERIFY_FACTOR``
             before reporting infeasibility.
         quiet: Drop SCIP's "without GMP" line (see the module docstring).
+        rel_gap: Relative optimality gap at which the backend may stop (SCIP ``limits/gap``,
+            Gurobi ``MIPGap``); 0 (default) asks for a proven optimum. A solve stopped by this
+            gap is returned as optimal with ``message="gaplimit"``: its objective is then within
+            a factor ``1 + rel_gap`` of the optimum (used to certify stalls, where only a 1 %
+            improvement matters).
     """
 
     def __init__(
@@ -218,6 +252,7 @@ class CvxpyMIQP:
         complementarity: str = "bigm",
         verify_infeasible: bool = True,
         quiet: bool = True,
+        rel_gap: float = 0.0,
     ) -> None:
         if kind not in ("prp", "move"):
             raise InvalidInputError("kind", f"must be 'prp' or 'move', got {kind!r}")
@@ -229,6 +264,9 @@ class CvxpyMIQP:
         complementarity = str(opts.pop("complementarity", complementarity))
         self.verify_infeasible = bool(opts.pop("verify_infeasible", verify_infeasible))
         self.quiet = bool(opts.pop("quiet", quiet))
+        self.rel_gap = float(opts.pop("rel_gap", rel_gap))
+        if not (0.0 <= self.rel_gap < 1.0):
+            raise InvalidInputError("rel_gap", f"must be in [0, 1), got {self.rel_gap!r}")
         self.options = opts
         if complementarity not in COMPLEMENTARITY:
             raise InvalidInputError(
@@ -251,6 +289,7 @@ class CvxpyMIQP:
         )
         self.compile_time = 0.0
         self.n_solves = 0
+        self.n_retries = 0  # SCIP time-outs re-run with SCIP_RETRY
         self.last_M = float("nan")
         if complementarity == "indicator":
             self.problem = None
@@ -313,15 +352,22 @@ class CvxpyMIQP:
         self.problem = cp.Problem(cp.Minimize(objective), cons)
 
     # ------------------------------------------------------------------ options
-    def _solver_kwargs(self) -> dict[str, Any]:
+    def _solver_kwargs(self, time_limit: float | None = None, retry: bool = False) -> dict[str, Any]:
         opts = dict(self.options)
+        time_limit = self.time_limit if time_limit is None else float(time_limit)
         if self.solver == "SCIP":
             params = dict(SCIP_DEFAULTS)
-            params["limits/time"] = self.time_limit
+            if retry:
+                params.update(SCIP_RETRY)
+            params["limits/time"] = time_limit
+            if self.rel_gap > 0:
+                params["limits/gap"] = self.rel_gap
             params.update(opts.pop("scip_params", {}))
             opts["scip_params"] = params
         elif self.solver == "GUROBI":
-            opts.setdefault("TimeLimit", self.time_limit)
+            opts.setdefault("TimeLimit", time_limit)
+            if self.rel_gap > 0:
+                opts.setdefault("MIPGap", self.rel_gap)
             opts.setdefault("IntFeasTol", 1e-9)
             opts.setdefault("FeasibilityTol", 1e-9)
             opts.setdefault("OutputFlag", 0)
@@ -384,6 +430,26 @@ class CvxpyMIQP:
         return names[r]
 
     def _solve_bigm(self, data: ScaledData, M: float) -> RawSolution:
+        """One big-M solve. SCIP gets :data:`SCIP_FIRST_TRY` of the time limit with the tight
+        default tolerances; on a time-out it is re-run for the rest of the limit with
+        :data:`SCIP_RETRY` (see there). The solution is polished by the caller either way."""
+        if self.solver != "SCIP" or "numerics/feastol" in self.options.get("scip_params", {}):
+            return self._solve_bigm_once(data, M, self.time_limit, False)
+        first = self._solve_bigm_once(data, M, SCIP_FIRST_TRY * self.time_limit, False)
+        if first.status != TIMEOUT:
+            return first
+        again = self._solve_bigm_once(data, M, (1.0 - SCIP_FIRST_TRY) * self.time_limit, True)
+        self.n_retries += 1
+        note = f"timed out after {first.solve_time:.3g} s with feastol 1e-8; re-run with {SCIP_RETRY}"
+        return RawSolution(
+            **{
+                **again.__dict__,
+                "solve_time": first.solve_time + again.solve_time,
+                "message": f"{note}; {again.message}".strip("; "),
+            }
+        )
+
+    def _solve_bigm_once(self, data: ScaledData, M: float, time_limit: float, retry: bool) -> RawSolution:
         f = self.form
         backend = self.solver.lower()
         self.w.value = data.w
@@ -397,27 +463,31 @@ class CvxpyMIQP:
             self.kxd.value = f.Kx @ data.direction
         t0 = time.perf_counter()
         try:
-            with quiet_stdout(self.quiet):
-                self.problem.solve(solver=self.solver, **self._solver_kwargs())
+            with quiet_stdout(self.quiet), warnings.catch_warnings():
+                # cvxpy warns "Solution may be inaccurate" on SCIP's time/gap limits: the
+                # status is read and reported below instead
+                warnings.filterwarnings("ignore", message="Solution may be inaccurate")
+                self.problem.solve(solver=self.solver, **self._solver_kwargs(time_limit, retry))
         except cp.error.SolverError as exc:
             # cvxpy raises when the backend stops without a solution, e.g. at its time limit
             dt = time.perf_counter() - t0
-            status = TIMEOUT if dt >= 0.99 * self.time_limit else FAILED
+            status = TIMEOUT if dt >= 0.99 * time_limit else FAILED
             return RawSolution(status=status, solve_time=dt, backend=backend, message=str(exc))
         except Exception as exc:  # backend crashed (licence, memory, ...)
             raise SolverError(f"{self.solver} raised {type(exc).__name__}: {exc}", solver=backend) from exc
         dt = time.perf_counter() - t0
         self.n_solves += 1
         st = self.problem.status
-        raw_status = ""
-        stats = self.problem.solver_stats
-        if stats is not None and stats.extra_stats is not None and hasattr(stats.extra_stats, "getStatus"):
-            raw_status = str(stats.extra_stats.getStatus())
+        raw_status = _backend_status(self.problem)
         if st in (cp.INFEASIBLE, cp.settings.INFEASIBLE_OR_UNBOUNDED):
             return RawSolution(status=INFEASIBLE, solve_time=dt, backend=backend, message=raw_status)
-        if raw_status == "timelimit":
+        if raw_status == "timelimit" or (st == cp.OPTIMAL_INACCURATE and dt >= 0.99 * time_limit):
             # cvxpy maps SCIP's time limit to OPTIMAL_INACCURATE: a time-out, not an answer
-            return RawSolution(status=TIMEOUT, solve_time=dt, backend=backend, message=raw_status)
+            return RawSolution(status=TIMEOUT, solve_time=dt, backend=backend, message=raw_status or str(st))
+        gap_stop = raw_status == "gaplimit" and self.rel_gap > 0
+        if st == cp.OPTIMAL_INACCURATE and raw_status not in ("", "optimal") and not gap_stop:
+            # gap/node limits and the like: the point is not proven optimal
+            return RawSolution(status=FAILED, solve_time=dt, backend=backend, message=f"{st} {raw_status}")
         if st not in (cp.OPTIMAL, cp.OPTIMAL_INACCURATE) or self.beta.value is None:
             return RawSolution(status=FAILED, solve_time=dt, backend=backend, message=f"{st} {raw_status}")
         lay = f.layout(self.kind)
@@ -539,6 +609,8 @@ class CvxpyMIQP:
         params = dict(SCIP_DEFAULTS)
         params.update(INDICATOR_PARAMS)
         params["limits/time"] = self.time_limit
+        if self.rel_gap > 0:
+            params["limits/gap"] = self.rel_gap
         params.update(self.options.get("scip_params", {}))
         mdl.setParams(params)
         try:
@@ -554,7 +626,8 @@ class CvxpyMIQP:
             return RawSolution(status=INFEASIBLE, solve_time=dt, backend=backend, message=status)
         if status == "timelimit":
             return RawSolution(status=TIMEOUT, solve_time=dt, backend=backend, message=status)
-        if status != "optimal" or mdl.getNSols() == 0:
+        gap_stop = status == "gaplimit" and self.rel_gap > 0
+        if (status != "optimal" and not gap_stop) or mdl.getNSols() == 0:
             return RawSolution(status=FAILED, solve_time=dt, backend=backend, message=status)
         sol = mdl.getBestSol()
         zv = np.array([sol[v] for v in z])
