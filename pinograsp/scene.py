@@ -72,10 +72,23 @@ def scene_contacts(
     hand.forward(qv)
     nc = len(report.contacts)
 
+    def number(name: str, value: object) -> float:
+        try:
+            return float(value)  # type: ignore[arg-type]
+        except (TypeError, ValueError):
+            raise InvalidInputError(
+                name, f"must be a number [or a {{link: number}} mapping], got {value!r}"
+            ) from None
+
     def per_contact(name: str, value: object, default: float) -> list[float]:
         if isinstance(value, dict):
-            return [float(value.get(c.link, default)) for c in report.contacts]
-        arr = np.asarray(value, dtype=float).reshape(-1)
+            return [number(f"{name}[{c.link!r}]", value.get(c.link, default)) for c in report.contacts]
+        try:
+            arr = np.asarray(value, dtype=float).reshape(-1)
+        except (TypeError, ValueError):
+            raise InvalidInputError(
+                name, f"expected a number, a {{link: number}} mapping or {nc} numbers, got {value!r}"
+            ) from None
         if arr.size == 1:
             return [float(arr[0])] * nc
         if arr.size != nc:

@@ -527,17 +527,14 @@ def test_fuzz_scene_contacts(small_hand, q, tolerance, links, mu):
     expect_pinograsp_error(pg.GraspModel.from_scene, small_hand, q, obj, mu=mu)
 
 
-@pytest.mark.xfail(
-    reason="pinograsp/scene.py per_contact converts mu/stiffness with a bare float(): proposed fix in the "
-    "issue-6 report",
-    strict=False,
-)
 @pytest.mark.parametrize("mu", ["abc", object(), {"uf_distal_1": "high"}])
 def test_scene_friction_of_the_wrong_type(small_hand, mu):
     obj = pg.RigidObject.box((0.05, 0.05, 0.02), pose=[0.0, 0.07, 0.0])
     q = small_hand.close_on(obj)
-    with pytest.raises(pg.PinograspError):
+    with pytest.raises(pg.InvalidInputError, match="mu"):
         pg.GraspModel.from_scene(small_hand, q, obj, mu=mu)
+    with pytest.raises(pg.InvalidInputError, match="stiffness"):
+        pg.GraspModel.from_scene(small_hand, q, obj, stiffness=mu)
 
 
 # ------------------------------------------------------------------------------ named culprits
