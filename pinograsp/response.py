@@ -196,21 +196,25 @@ class PassiveSolver:
         self._guess: dict[str, Mode] = {}
         self._preload: dict[tuple, tuple[_Stage, str]] = {}
 
+    def _new_exact(self, kind: str, **options: object) -> ExactSolver:
+        s = self.settings
+        opts = {"complementarity": s.complementarity, "verify_infeasible": s.verify_infeasible, **options}
+        return ExactSolver(
+            self.form,
+            kind,
+            solver=s.solver,
+            gamma=self.gamma_eff,
+            bigm=s.bigm,
+            bigm_retries=s.bigm_retries,
+            time_limit=s.time_limit,
+            polish=s.polish,
+            options=opts,
+        )
+
     def exact(self, kind: str) -> ExactSolver:
         """The exact (MIQP + polish) solver of problem ``kind`` (``"prp"``/``"move"``), built once."""
         if kind not in self._exact:
-            s = self.settings
-            self._exact[kind] = ExactSolver(
-                self.form,
-                kind,
-                solver=s.solver,
-                gamma=self.gamma_eff,
-                bigm=s.bigm,
-                bigm_retries=s.bigm_retries,
-                time_limit=s.time_limit,
-                polish=s.polish,
-                options={"complementarity": s.complementarity, "verify_infeasible": s.verify_infeasible},
-            )
+            self._exact[kind] = self._new_exact(kind)
         return self._exact[kind]
 
     def certifier(self) -> ExactSolver:
@@ -219,22 +223,7 @@ class PassiveSolver:
         :data:`CERTIFY_GAP` (a stall only needs to know whether some mode improves the net
         wrench by the ``improvement`` fraction, not the optimum to solver precision)."""
         if "certify" not in self._exact:
-            s = self.settings
-            self._exact["certify"] = ExactSolver(
-                self.form,
-                "move",
-                solver=s.solver,
-                gamma=self.gamma_eff,
-                bigm=s.bigm,
-                bigm_retries=s.bigm_retries,
-                time_limit=s.time_limit,
-                polish=s.polish,
-                options={
-                    "complementarity": s.complementarity,
-                    "verify_infeasible": s.verify_infeasible,
-                    "rel_gap": CERTIFY_GAP,
-                },
-            )
+            self._exact["certify"] = self._new_exact("move", rel_gap=CERTIFY_GAP)
         return self._exact["certify"]
 
     def fast(self, kind: str) -> ModeGuessSolver:
