@@ -349,19 +349,8 @@ def resistance_profile(
     else:
         results = []
         for i, d in enumerate(dirs):
-            results.append(
-                max_resistible_wrench(
-                    model,
-                    command,
-                    d,
-                    method,
-                    upper,
-                    steps,
-                    settings=solver.settings,
-                    check_preload_first=False,
-                    search=search,
-                )
-            )
+            block = (model, command, d[None, :], method, upper, steps, solver.settings, search)
+            results += _directions_block(block)
             if progress is not None:
                 progress(i + 1, len(dirs))
     mags = np.array([r.magnitude for r in results])

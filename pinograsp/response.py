@@ -249,9 +249,11 @@ class PassiveSolver:
             self._guess[kind] = raw.mode
         return raw
 
-    def solve_exact(self, kind: str, data: ScaledData) -> RawSolution:
-        """Solve one scaled problem with the exact MIQP path (updates the mode guess)."""
-        raw = self.exact(kind).solve(data)
+    def solve_exact(self, kind: str, data: ScaledData, solver: ExactSolver | None = None) -> RawSolution:
+        """Solve one scaled problem with the exact MIQP path (updates the mode guess).
+
+        ``solver`` replaces :meth:`exact` ``(kind)``, e.g. with :meth:`certifier`."""
+        raw = (solver or self.exact(kind)).solve(data)
         if self.settings.fast:
             self.fast(kind).stats.exact += 1
         if raw.status == OPTIMAL and raw.mode is not None:
@@ -307,15 +309,12 @@ class PassiveSolver:
                 # solve (a locally optimal mode can stall where another mode still improves)
                 threshold = (1.0 - s.improvement) * prev
                 for solver in (self.certifier(), self.exact("move")):
-                    ex = solver.solve(data)
-                    if s.fast:
-                        self.fast("move").stats.exact += 1
+                    ex = self.solve_exact("move", data, solver)
                     total += ex.solve_time
                     dn, dm = self._count(ex)
                     n, nm = n + dn, nm + dm
                     if ex.status != OPTIMAL:
                         break
-                    self._guess["move"] = ex.mode
                     r_ex = base.w + f.Gb @ ex.z[lay["beta"]]
                     norm_ex = float(np.linalg.norm(r_ex) * base.F)
                     gap = CERTIFY_GAP if "gaplimit" in ex.message else 0.0

@@ -331,12 +331,9 @@ def test_fuzz_passive_response(models, command, wrench, method):
 
 
 # ------------------------------------------------------------------------------ scene files
-try:  # the YAML scene loader (another issue); fuzzed when present
-    from pinograsp import scenes as _scenes
+from pinograsp import scenes as _scenes  # noqa: E402
 
-    load_scene = _scenes.load_scene
-except (ImportError, AttributeError):  # pragma: no cover - scene files not merged yet
-    load_scene = None
+load_scene = _scenes.load_scene
 
 yaml_scalars = st.one_of(
     st.none(), st.booleans(), st.integers(-5, 5), st.floats(allow_nan=True), st.text(max_size=6)
@@ -348,30 +345,7 @@ yaml_values = st.recursive(
     ),
     max_leaves=12,
 )
-SCENE_KEYS = [
-    "name",
-    "description",
-    "preload",
-    "analysis",
-    "planar",
-    "edges",
-    "circumscribed",
-    "extends",
-    "hand",
-    "configuration",
-    "object",
-    "frame",
-    "friction",
-    "stiffness",
-    "tolerance",
-    "max_penetration",
-    "expect_contacts",
-    "joints",
-    "contacts",
-    "actuators",
-    "couplings",
-    "reference_point",
-]
+SCENE_KEYS = sorted(set(_scenes._URDF_KEYS + _scenes._EXPLICIT_KEYS))
 CONTACT = {
     "name": "left",
     "point": [-0.05, 0, 0],
@@ -394,16 +368,9 @@ def _mutate(base: dict, data) -> dict:
 @pytest.fixture(scope="module")
 def scene_docs():
     """Valid scene documents (the built-in explicit ones) to mutate."""
-    docs = []
-    if load_scene is not None:
-        for name in ("pinch", "wedge"):
-            path = _scenes.SCENE_DIR / f"{name}.yaml"
-            if path.is_file():
-                docs.append(yaml.safe_load(path.read_text()))
-    return docs
+    return [yaml.safe_load((_scenes.SCENE_DIR / f"{name}.yaml").read_text()) for name in ("pinch", "wedge")]
 
 
-@pytest.mark.skipif(load_scene is None, reason="pinograsp.scenes (YAML scene loader) not available")
 @FUZZ
 @given(data=st.data())
 def test_fuzz_scene_loader(tmp_path_factory, scene_docs, data):

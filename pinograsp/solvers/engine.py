@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import warnings
+from dataclasses import replace
 from typing import Any
 
 from ..errors import BigMWarning
@@ -58,7 +59,7 @@ class ExactSolver:
             M *= 100.0
             retries += 1
         if sol.status != OPTIMAL:
-            return RawSolution(**{**sol.__dict__, "solve_time": total, "bigm_retries": retries})
+            return replace(sol, solve_time=total, bigm_retries=retries)
         if sol.bigm_ratio >= BIGM_TRIGGER:
             warnings.warn(
                 f"MIQP solution uses {sol.bigm_ratio:.0%} of the big-M bound after {retries} enlargements "
@@ -82,4 +83,4 @@ class ExactSolver:
                     bigm_retries=retries,
                     polished=True,
                 )
-        return RawSolution(**{**sol.__dict__, "solve_time": total, "bigm_retries": retries})
+        return replace(sol, solve_time=total, bigm_retries=retries)

@@ -54,6 +54,7 @@ import threading
 import time
 import warnings
 from contextlib import contextmanager
+from dataclasses import replace
 from typing import Any
 
 import cvxpy as cp
@@ -195,6 +196,14 @@ def _bigm_factors(form: Formulation) -> tuple[np.ndarray, np.ndarray]:
     else:
         u = np.zeros(0)
     return gap, u
+
+
+def _second_attempt(first: RawSolution, again: RawSolution, note: str) -> RawSolution:
+    """``again`` as the answer of a solve that needed a second attempt: both attempts' time, and
+    ``note`` (why) before its message."""
+    return replace(
+        again, solve_time=first.solve_time + again.solve_time, message=f"{note}; {again.message}".strip("; ")
+    )
 
 
 def _backend_status(problem: cp.Problem) -> str:
@@ -419,10 +428,7 @@ class CvxpyMIQP:
                         "an integrality artefact"
                     ),
                 )
-            note = f"infeasible with M = {M:.3g}, solved with M = {M2:.3g}"
-            return RawSolution(
-                **{**again.__dict__, "solve_time": total, "message": f"{note}; {again.message}".strip("; ")}
-            )
+            return _second_attempt(sol, again, f"infeasible with M = {M:.3g}, solved with M = {M2:.3g}")
         return sol
 
     def _row_name(self, r: int) -> str:
@@ -441,13 +447,7 @@ class CvxpyMIQP:
         again = self._solve_bigm_once(data, M, (1.0 - SCIP_FIRST_TRY) * self.time_limit, True)
         self.n_retries += 1
         note = f"timed out after {first.solve_time:.3g} s with feastol 1e-8; re-run with {SCIP_RETRY}"
-        return RawSolution(
-            **{
-                **again.__dict__,
-                "solve_time": first.solve_time + again.solve_time,
-                "message": f"{note}; {again.message}".strip("; "),
-            }
-        )
+        return _second_attempt(first, again, note)
 
     def _solve_bigm_once(self, data: ScaledData, M: float, time_limit: float, retry: bool) -> RawSolution:
         f = self.form
