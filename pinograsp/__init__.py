@@ -18,7 +18,7 @@ from .errors import (
     UnknownNameError,
 )
 from .model import WRENCH_AXES, GraspModel, PruneRecord
-from .response import PassiveSolver, Settings, passive_response, solver_for
+from .response import PassiveSolver, Session, Settings, passive_response, solver_for
 from .results import Audit, MaxWrench, PassiveResponse, ResistanceProfile
 from .solvers import available_miqp_solvers
 
@@ -31,6 +31,7 @@ __all__ = [
     "PassiveResponse",
     "PassiveSolver",
     "ResistanceProfile",
+    "Session",
     "Settings",
     "available_miqp_solvers",
     "linear_compliance",

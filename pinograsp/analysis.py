@@ -11,6 +11,7 @@ import numpy as np
 from .errors import InvalidInputError, PreloadNotInEquilibriumError, SolverError, SolverTimeoutError
 from .model import GraspModel, axis_index
 from .response import METHODS, PassiveSolver, Settings, solver_for
+from .solvers.base import SolveStatus
 from .results import MaxWrench, PassiveResponse, ResistanceProfile
 
 
@@ -33,6 +34,12 @@ def wrench_direction(model: GraspModel, direction: object, name: str = "directio
 
 
 def _check(resp: PassiveResponse, magnitude: float) -> bool:
+    if resp.status == "node_limit":
+        raise SolverError(
+            f"branch-and-bound node limit reached at magnitude {magnitude:.6g} (raise Settings.max_nodes)",
+            solver=resp.solver,
+            status="node_limit",
+        )
     if resp.status == "timeout":
         raise SolverTimeoutError(
             f"solver timed out at magnitude {magnitude:.6g}", solver=resp.solver, status="timeout"
@@ -150,72 +157,45 @@ def max_resistible_wrench(
         ok, resp = test(float(upper))
         if ok:
             return result(float("inf"), True, resp)
-        status, mag, dt = solver.max_load_factor(command, d, float(upper))
-        solve_time += dt
+        lf = solver.max_load_factor(command, d, float(upper))
+        status, mag = lf.status, lf.magnitude
+        solve_time += lf.solve_time
         n_solves += 1
         n_miqp += 1
-        if status in ("timeout", "failed"):
-            cls = SolverTimeoutError if status == "timeout" else SolverError
-            raise cls(f"load-factor MILP: {status}", solver=solver.settings.solver, status=status)
-        if status != "optimal":
+        if status in (SolveStatus.TIMEOUT, SolveStatus.FAILED, SolveStatus.NODE_LIMIT):
+            cls = SolverTimeoutError if status is SolveStatus.TIMEOUT else SolverError
+            raise cls(f"load-factor problem: {status.value}", solver=solver.settings.backend, status=status.value)
+        if status is not SolveStatus.OPTIMAL:
             raise PreloadNotInEquilibriumError(
-                model.command_vector(command).tolist(), "load-factor MILP infeasible"
+                model.command_vector(command).tolist(), "load-factor problem infeasible"
             )
         if np.isinf(mag):
             raise SolverError(
-                f"load-factor MILP reached the upper limit {upper:g} that the PRP did not resist",
-                solver=solver.settings.solver,
+                f"load-factor problem reached the upper limit {upper:g} that the PRP did not resist",
+                solver=solver.settings.backend,
                 status="failed",
             )
         at = mag * (1.0 - 1e-6)
         ok, resp = test(at)
         if not ok:
             raise SolverError(
-                f"load-factor MILP found magnitude {mag:.9g} but the PRP at {at:.9g} is not resisted",
-                solver=solver.settings.solver,
+                f"load-factor problem found magnitude {mag:.9g} but the PRP at {at:.9g} is not resisted",
+                solver=solver.settings.backend,
                 status="failed",
             )
         return result(mag, bool(np.isinf(mag)), resp)
 
-    verify = method == "iterative" and solver.settings.fast and solver.settings.verify
-    exact = solver_for(model, solver.settings, fast=False) if verify else None
-
-    def exact_test(mag: float) -> tuple[bool, PassiveResponse]:
-        """The exact MIQP path's verdict (every step a global optimum)."""
-        return test(mag, exact)
-
-    def bisect(lo: float, hi: float, best: PassiveResponse | None, fn, n: int):
-        for _ in range(n):
-            mid = 0.5 * (lo + hi)
-            ok, resp = fn(mid)
-            if ok:
-                lo, best = mid, resp
-            else:
-                hi = mid
-        return lo, hi, best
-
     ok, resp = test(float(upper))
-    if ok and not verify:
+    if ok:
         return result(float("inf"), True, resp)
-    if ok:  # verify the unbounded verdict with the exact path
-        ok, resp = exact_test(float(upper))
+    lo, hi, best = 0.0, float(upper), None
+    for _ in range(int(steps)):
+        mid = 0.5 * (lo + hi)
+        ok, resp = test(mid)
         if ok:
-            return result(float("inf"), True, resp)
-        lo, hi, best = bisect(0.0, float(upper), None, exact_test, int(steps))
-        return result(lo, False, best)
-    lo, hi, best = bisect(0.0, float(upper), None, test, int(steps))
-    if not verify:
-        return result(lo, False, best)
-    # the fast path's bracket [lo, hi], confirmed (or corrected) by the exact path: the answer is
-    # the exact path's, the fast path only saved the bisection steps that the bracket confirms
-    lo_ok, lo_resp = exact_test(lo) if lo > 0 else (True, best)
-    hi_ok, hi_resp = exact_test(hi)
-    if lo_ok and not hi_ok:
-        return result(lo, False, lo_resp)
-    if not lo_ok:
-        lo, hi, best = bisect(0.0, lo, None, exact_test, int(steps))
-    else:
-        lo, hi, best = bisect(hi, float(upper), hi_resp, exact_test, int(steps))
+            lo, best = mid, resp
+        else:
+            hi = mid
     return result(lo, False, best)
 
 

@@ -25,6 +25,7 @@ Two variants (DESIGN §4.2):
 
 from __future__ import annotations
 
+import time
 import weakref
 from dataclasses import dataclass, replace
 
@@ -33,15 +34,21 @@ import numpy as np
 from .errors import InvalidInputError
 from .model import GraspModel
 from .results import Audit, PassiveResponse
-from .solvers import OPTIMAL, ExactSolver, FixedModeQP, Formulation, ScaledData, resolve_solver
-from .solvers.base import INFEASIBLE, Mode, RawSolution
-from .solvers.fast import FastStats, ModeGuessSolver
+from .solvers import OPTIMAL, Formulation, ScaledData, resolve_solver
+from .solvers.base import INFEASIBLE, Mode, RawSolution, SolveStatus
+from .solvers.bnb import MAX_NODES
+from .solvers.engine import Backend, BackendOptions
+from .solvers.engine import solve as solve_problem
+from .solvers.problem import ProblemKind
 
 METHODS = ("prp", "iterative")
 VARIANTS = ("single-step", "preload-first", "settled-preload")
-#: Relative gap (on the squared net wrench) at which a certificate MIQP may stop: the optimum's
-#: net wrench is then at least ``1 / sqrt(1 + CERTIFY_GAP)`` (0.99995) of the point found.
-CERTIFY_GAP = 1e-4
+#: Subspace jump of the iterative scheme: tried after this many real steps in one mode ...
+JUMP_AFTER = 3
+#: ... when the last step shrank the net wrench by less than this factor (slow convergence).
+JUMP_RATIO = 0.5
+#: Backends by name (``Settings.backend``).
+BACKENDS = tuple(b.value for b in Backend)
 
 
 @dataclass(frozen=True)
@@ -49,12 +56,17 @@ class Settings:
     """Solver and iteration settings (all analyses accept them as keyword overrides).
 
     Attributes:
-        solver: MIQP backend: ``"scip"`` (default, open source) or any installed cvxpy MIQP
-            solver (``"gurobi"`` with ``pinograsp[gurobi]``).
-        time_limit: Per-MIQP time limit [s]; hitting it gives status ``"timeout"``.
-        bigm: Initial big-M constant in scaled force units (multiples of the data scale).
-        bigm_retries: Enlargements (x100 each) when a solution reaches 10 % of big-M.
-        polish: Polish every MIQP solution with the exact fixed-mode QP (ProxSuite).
+        backend: ``"bnb"`` (default): pinograsp's exact, deterministic branch-and-bound over
+            the complementarity pairs (``docs/solvers.md``); ``"miqp"``: the reference
+            mixed-integer QP through cvxpy with the solver named by ``solver``.
+        max_nodes: Node limit of one branch-and-bound search (a count, never a time); hitting
+            it gives status ``"node_limit"``.
+        solver: MIQP solver of the reference backend: ``"scip"`` (open source) or any installed
+            cvxpy MIQP solver (``"gurobi"`` with ``pinograsp[gurobi]``).
+        time_limit: Per-MIQP time limit [s] of the reference backend; hitting it gives status
+            ``"timeout"``.
+        bigm: Initial big-M constant of the reference backend in scaled force units.
+        bigm_retries: Enlargements (x100 each) when a MIQP solution reaches 10 % of big-M.
         gamma: Step bound of Alg. 2, dimensionless: one step changes the spring force of the
             stiffest contact by at most ``gamma`` times the current net wrench.
         eps: Equilibrium tolerance of the iterative scheme [N] on the net wrench norm
@@ -75,20 +87,11 @@ class Settings:
             module docstring); ``None`` picks the method's default.
         tolerance: Audit tolerance on hand/complementarity/friction residuals, relative to the
             data scale.
-        fast: Use the mode-guess fast path (:mod:`pinograsp.solvers.fast`): solve the convex
-            QP of the previous solution's complementarity mode with ProxSuite, accept it when
-            it is feasible and strongly stationary, else fall back to the exact MIQP.
-            ``False`` solves every problem with the MIQP (the reference path).
-        certify: With ``fast``, certify every "stopped improving" verdict of the iterative
-            scheme reached on a guessed mode with one exact MIQP of that step (a locally optimal
-            mode can stall where another mode still improves). ``False`` trusts the guess:
-            faster, and measured in ``docs/error_vs_runtime.md``.
-        verify: With ``fast``, confirm the final bracket ``[magnitude, magnitude + resolution]``
-            of every iterative max-wrench bisection (and every "unbounded" verdict) with the
-            exact MIQP path, and continue the bisection with the exact path where it disagrees:
-            the magnitude is then the exact path's; the fast path only saved the steps the
-            bracket confirms. ``False`` returns the fast path's bracket (error in
-            ``docs/error_vs_runtime.md``).
+        accelerate: Let the iterative scheme jump ahead in a mode that has held for
+            :data:`JUMP_AFTER` slow steps: the object moves to the best point of the cone of
+            that mode's recent net wrenches (``docs/solvers.md``); the stop rules apply to real
+            steps only. ``False``: the paper's scheme step by step (it can stall under the 1 %
+            rule in narrow valleys where the net wrench still decreases).
         complementarity: ``"bigm"`` (default) or ``"indicator"`` (SCIP indicator constraints,
             no big-M constant; SCIP only).
         verify_infeasible: Re-solve an infeasible big-M MIQP once with ``M x 100`` before
@@ -96,11 +99,12 @@ class Settings:
             indistinguishable from a load that is not resisted).
     """
 
+    backend: str = "bnb"
+    max_nodes: int = MAX_NODES
     solver: str = "scip"
     time_limit: float = 60.0
     bigm: float = 1e3
     bigm_retries: int = 2
-    polish: bool = True
     gamma: float = 1.0
     eps: float = 1e-3
     eps_rel: float = 1e-5
@@ -108,15 +112,20 @@ class Settings:
     max_iterations: int = 100
     variant: str | None = None
     tolerance: float = 1e-6
-    fast: bool = True
-    certify: bool = True
-    verify: bool = False
+    accelerate: bool = True
     complementarity: str = "bigm"
     verify_infeasible: bool = True
 
     def validated(self) -> Settings:
         """Check every field; raise :class:`InvalidInputError` naming the bad one."""
-        resolve_solver(self.solver)
+        if self.backend not in BACKENDS:
+            raise InvalidInputError("backend", f"must be one of {BACKENDS}, got {self.backend!r}")
+        if isinstance(self.max_nodes, bool) or not isinstance(self.max_nodes, (int, np.integer)):
+            raise InvalidInputError("max_nodes", f"must be an integer >= 1, got {self.max_nodes!r}")
+        if self.max_nodes < 1:
+            raise InvalidInputError("max_nodes", f"must be an integer >= 1, got {self.max_nodes!r}")
+        if self.backend == Backend.MIQP.value:
+            resolve_solver(self.solver)
         for name in ("time_limit", "bigm", "gamma", "eps", "tolerance"):
             v = getattr(self, name)
             if not (isinstance(v, (int, float)) and np.isfinite(v) and v > 0):
@@ -125,7 +134,11 @@ class Settings:
             raise InvalidInputError(
                 "complementarity", f"must be 'bigm' or 'indicator', got {self.complementarity!r}"
             )
-        if self.complementarity == "indicator" and resolve_solver(self.solver) != "SCIP":
+        if (
+            self.backend == Backend.MIQP.value
+            and self.complementarity == "indicator"
+            and resolve_solver(self.solver) != "SCIP"
+        ):
             raise InvalidInputError("complementarity", "indicator constraints need solver='scip'")
         if not (isinstance(self.eps_rel, (int, float)) and 0 <= self.eps_rel < 1):
             raise InvalidInputError("eps_rel", f"must be a number in [0, 1), got {self.eps_rel!r}")
@@ -143,6 +156,20 @@ class Settings:
             return self.variant
         return "single-step" if method == "prp" else "preload-first"
 
+    def backend_options(self, gamma: float) -> BackendOptions:
+        """What the solver layer needs of these settings (``gamma`` already scaled)."""
+        opts = (("complementarity", self.complementarity), ("verify_infeasible", self.verify_infeasible))
+        return BackendOptions(
+            backend=Backend(self.backend),
+            gamma=gamma,
+            max_nodes=int(self.max_nodes),
+            solver=self.solver,
+            time_limit=self.time_limit,
+            bigm=self.bigm,
+            bigm_retries=self.bigm_retries,
+            miqp_options=opts,
+        )
+
 
 def make_settings(settings: Settings | None = None, **overrides: object) -> Settings:
     """A validated :class:`Settings` from a base and keyword overrides."""
@@ -155,6 +182,21 @@ def make_settings(settings: Settings | None = None, **overrides: object) -> Sett
             raise UnknownNameError("setting", sorted(unknown)[0], list(Settings.__dataclass_fields__))
         base = replace(base, **overrides)  # type: ignore[arg-type]
     return base.validated()
+
+
+@dataclass(frozen=True)
+class LoadFactor:
+    """Answer of :meth:`PassiveSolver.max_load_factor`.
+
+    Attributes:
+        status: :class:`~pinograsp.solvers.base.SolveStatus`.
+        magnitude: Largest resistible magnitude [N or N·m] (``inf``: the search limit).
+        solve_time: Wall time [s].
+    """
+
+    status: SolveStatus
+    magnitude: float
+    solve_time: float
 
 
 @dataclass(frozen=True, eq=False)
@@ -173,11 +215,26 @@ class _Stage:
     n_miqp: int = 0
 
 
-class PassiveSolver:
-    """Passive-response solver of one model: builds each optimisation problem once and
-    re-solves it with new data (bisections and profiles call it thousands of times).
+_FORMS: weakref.WeakKeyDictionary[GraspModel, Formulation] = weakref.WeakKeyDictionary()
 
-    Use :func:`solver_for` to get the cached instance of a model and settings.
+
+def formulation_of(model: GraspModel) -> Formulation:
+    """The scaled formulation of ``model`` (a pure function of the immutable model, kept per
+    model so that it is built once)."""
+    if model not in _FORMS:
+        _FORMS[model] = Formulation(model)
+    return _FORMS[model]
+
+
+class PassiveSolver:
+    """Passive-response solver of one model and settings: a session the caller owns.
+
+    It carries no state that changes answers: each solve is a function of its inputs. What it
+    keeps between calls — the preload stage per command (a pure function of the command) and
+    the reference backend's cvxpy objects — only saves time. Warm starts live inside one query
+    (the previous step's mode within one iteration trajectory). :func:`solver_for` builds a
+    new one for every public query; create one yourself (``pg.Session(model, settings)``) to
+    share the preload stages across queries.
     """
 
     def __init__(self, model: GraspModel, settings: Settings | None = None) -> None:
@@ -185,98 +242,29 @@ class PassiveSolver:
             raise InvalidInputError("model", f"expected pinograsp.GraspModel, got {type(model).__name__}")
         self.model = model
         self.settings = (settings or Settings()).validated()
-        self.form = Formulation(model)
+        self.form = formulation_of(model)
         #: Step bound in scaled units. ``gamma`` is relative to the stiffest contact; with a
         #: stiffness spread a soft contact would otherwise gain only ``k_min / k_max`` of the
         #: net wrench per step and the 1 % rule would stop the iteration early ("not
         #: resisted"), so the bound is widened by ``k_max / k_min`` (1 for uniform stiffness).
         self.gamma_eff = float(self.settings.gamma * self.form.kx / model.k.min())
-        self._exact: dict[str, ExactSolver] = {}
-        self._fast: dict[str, ModeGuessSolver] = {}
-        self._guess: dict[str, Mode] = {}
+        self.options = self.settings.backend_options(self.gamma_eff)
         self._preload: dict[tuple, tuple[_Stage, str]] = {}
+        self._backend_cache: dict = {}
 
-    def _new_exact(self, kind: str, **options: object) -> ExactSolver:
-        s = self.settings
-        opts = {"complementarity": s.complementarity, "verify_infeasible": s.verify_infeasible, **options}
-        return ExactSolver(
-            self.form,
-            kind,
-            solver=s.solver,
-            gamma=self.gamma_eff,
-            bigm=s.bigm,
-            bigm_retries=s.bigm_retries,
-            time_limit=s.time_limit,
-            polish=s.polish,
-            options=opts,
-        )
-
-    def exact(self, kind: str) -> ExactSolver:
-        """The exact (MIQP + polish) solver of problem ``kind`` (``"prp"``/``"move"``), built once."""
-        if kind not in self._exact:
-            self._exact[kind] = self._new_exact(kind)
-        return self._exact[kind]
-
-    def certifier(self) -> ExactSolver:
-        """The exact movement-step solver used to certify stalls, built once: the same MIQP as
-        :meth:`exact` ``("move")`` but allowed to stop at a relative gap of
-        :data:`CERTIFY_GAP` (a stall only needs to know whether some mode improves the net
-        wrench by the ``improvement`` fraction, not the optimum to solver precision)."""
-        if "certify" not in self._exact:
-            self._exact["certify"] = self._new_exact("move", rel_gap=CERTIFY_GAP)
-        return self._exact["certify"]
-
-    def fast(self, kind: str) -> ModeGuessSolver:
-        """The mode-guess fast path of problem ``kind``, built once."""
-        if kind not in self._fast:
-            ex = self.exact(kind)
-            qp = ex.qp if ex.qp is not None else FixedModeQP(self.form, kind, gamma=self.gamma_eff)
-            self._fast[kind] = ModeGuessSolver(ex, qp)
-        return self._fast[kind]
-
-    @property
-    def stats(self) -> dict[str, FastStats]:
-        """Fast-path counters per problem kind (``"prp"``, ``"move"``)."""
-        return {k: v.stats for k, v in self._fast.items()}
-
-    def solve(self, kind: str, data: ScaledData, guess: Mode | None = None) -> RawSolution:
-        """Solve one scaled problem: fast path with ``guess`` (default: the mode of this
-        solver's last solution of ``kind``) when ``settings.fast``, else exactly."""
-        if not self.settings.fast:
-            return self.exact(kind).solve(data)
-        raw = self.fast(kind).solve(data, guess if guess is not None else self._guess.get(kind))
-        if raw.status == OPTIMAL and raw.mode is not None:
-            self._guess[kind] = raw.mode
-        return raw
-
-    def solve_exact(self, kind: str, data: ScaledData, solver: ExactSolver | None = None) -> RawSolution:
-        """Solve one scaled problem with the exact MIQP path (updates the mode guess).
-
-        ``solver`` replaces :meth:`exact` ``(kind)``, e.g. with :meth:`certifier`."""
-        raw = (solver or self.exact(kind)).solve(data)
-        if self.settings.fast:
-            self.fast(kind).stats.exact += 1
-        if raw.status == OPTIMAL and raw.mode is not None:
-            self._guess[kind] = raw.mode
-        return raw
-
-    @staticmethod
-    def _count(raw: RawSolution) -> tuple[int, int]:
-        """(problems solved, MIQPs solved) by one :meth:`solve` call."""
-        if raw.path == "guess":
-            return 1, 0
-        nm = 1 + raw.bigm_retries
-        return nm + (1 if raw.path == "fallback" else 0), nm
+    def solve(self, kind: str | ProblemKind, data: ScaledData, guess: Mode | None = None) -> RawSolution:
+        """Solve one scaled problem with the settings' backend; ``guess`` is an incumbent mode
+        (speed only)."""
+        return solve_problem(self.form, ProblemKind(kind), data, self.options, guess, self._backend_cache)
 
     # --------------------------------------------------------------- stages
     def _prp_stage(self, w: np.ndarray, fc: np.ndarray, p: np.ndarray, F: float | None = None) -> _Stage:
         data = self.form.scale_data(w, fc, p, F=F)
-        raw = self.solve("prp", data)
+        raw = self.solve(ProblemKind.PRP, data)
         ok = raw.status == OPTIMAL
         xh = raw.z[self.form.layout("prp")["obj"]] if ok else np.zeros(self.form.nx)
-        status = "resisted" if ok else ("not_resisted" if raw.status == INFEASIBLE else raw.status)
-        n, nm = self._count(raw)
-        return _Stage(raw, data, xh, status, ok, 1, (), raw.solve_time, n, nm)
+        status = "resisted" if ok else ("not_resisted" if raw.status == INFEASIBLE else raw.status.value)
+        return _Stage(raw, data, xh, status, ok, 1, (), raw.solve_time, 1, 1)
 
     def _iterative_stage(
         self, w: np.ndarray, fc: np.ndarray, p: np.ndarray, F: float | None = None
@@ -289,46 +277,23 @@ class PassiveSolver:
         xh = np.zeros(f.nx)
         direction = np.zeros(f.nx)
         history: list[float] = []
-        total, n, nm = 0.0, 0, 0
+        total, n = 0.0, 0
         status, converged, raw_best = "not_converged", False, None
-        prev = None
+        prev, guess = None, None
+        streak: list[np.ndarray] = []  # net wrenches of the current mode's real steps
         for _ in range(int(s.max_iterations)):
             data = ScaledData(base.F, base.w, base.fc, base.p, xh, direction)
-            raw = self.solve("move", data)
+            raw = self.solve(ProblemKind.MOVE, data, guess)
             total += raw.solve_time
-            dn, dm = self._count(raw)
-            n, nm = n + dn, nm + dm
+            n += 1
             if raw.status != OPTIMAL:
-                status = "not_resisted" if raw.status == INFEASIBLE else raw.status
+                status = "not_resisted" if raw.status == INFEASIBLE else raw.status.value
                 break
+            if raw.mode != guess:
+                streak = []
+            guess = raw.mode
             r = base.w + f.Gb @ raw.z[lay["beta"]]
             norm = float(np.linalg.norm(r) * base.F)
-            stalls = prev is not None and prev - norm < s.improvement * prev
-            if raw.path == "guess" and norm > tol and stalls and s.certify:
-                # about to stop on a guessed mode: the stop must be certified by the exact
-                # solve (a locally optimal mode can stall where another mode still improves)
-                threshold = (1.0 - s.improvement) * prev
-                for solver in (self.certifier(), self.exact("move")):
-                    ex = self.solve_exact("move", data, solver)
-                    total += ex.solve_time
-                    dn, dm = self._count(ex)
-                    n, nm = n + dn, nm + dm
-                    if ex.status != OPTIMAL:
-                        break
-                    r_ex = base.w + f.Gb @ ex.z[lay["beta"]]
-                    norm_ex = float(np.linalg.norm(r_ex) * base.F)
-                    gap = CERTIFY_GAP if "gaplimit" in ex.message else 0.0
-                    lower = norm_ex / np.sqrt(1.0 + gap)  # no mode reaches below this
-                    if norm_ex < norm:
-                        raw, r, norm = ex, r_ex, norm_ex
-                    if lower >= threshold or norm_ex <= threshold:
-                        break  # decided: a certified stall, or an improving step
-                    # undecided within the gap: solve to optimality
-                if ex.status not in (OPTIMAL, INFEASIBLE):
-                    # the certificate itself failed (time-out, solver error): so does the stop
-                    history.append(norm)
-                    status = ex.status
-                    break
             history.append(norm)
             xh_next = xh + raw.z[lay["obj"]][0] * direction
             raw_best = (raw, xh_next, data)
@@ -338,19 +303,54 @@ class PassiveSolver:
             if prev is not None and prev - norm < s.improvement * prev:
                 status = "not_resisted"
                 break
+            streak.append(r)
+            if s.accelerate and prev is not None and norm > JUMP_RATIO * prev and len(streak) >= JUMP_AFTER:
+                jump = self._jump(base, xh_next, streak, raw.mode)
+                total += jump[2]
+                n += 1
+                if jump[0] is not None and np.linalg.norm(jump[1]) * base.F < (1.0 - s.improvement) * norm:
+                    xh_next, r = jump[0], jump[1]
+                    streak = []
             prev = norm
             xh, direction = xh_next, r
         if raw_best is None:
-            return _Stage(None, base, xh, status, False, n, tuple(history), total, n, nm)
+            return _Stage(None, base, xh, status, False, n, tuple(history), total, n, n)
         raw, xh_sol, data = raw_best
-        return _Stage(raw, data, xh_sol, status, converged, len(history), tuple(history), total, n, nm)
+        return _Stage(raw, data, xh_sol, status, converged, len(history), tuple(history), total, n, n)
+
+    def _jump(
+        self, base: ScaledData, xh: np.ndarray, streak: list[np.ndarray], mode: Mode
+    ) -> tuple[np.ndarray | None, np.ndarray, float]:
+        """Subspace jump of the iterative scheme (``Settings.accelerate``, docs/solvers.md).
+
+        In a mode that has held for several slow steps, the object moves to the best point of
+        ``x + D a`` (``a >= 0``, ``D`` the mode's recent net wrenches, unit length): where the
+        step-by-step scheme would creep along a narrow valley. Returns the new displacement,
+        the net wrench there (None, ... when the mode admits no such point) and the time [s].
+        """
+        from .solvers.bnb import BranchAndBound
+        from .solvers.problem import INF, build_problem
+
+        f = self.form
+        recent = streak[-min(len(streak), f.nx) :]
+        D = np.column_stack([v / np.linalg.norm(v) for v in recent])
+        data = ScaledData(base.F, base.w, base.fc, base.p, xh, D)
+        t0 = time.perf_counter()
+        problem = build_problem(f, ProblemKind.MOVE, data, INF)
+        sol = BranchAndBound(problem, self.options.max_nodes).solve_mode(mode)
+        dt = time.perf_counter() - t0
+        if sol.status != OPTIMAL:
+            return None, np.zeros(f.nx), dt
+        a = problem.step_lengths(sol.z)
+        r = base.w + f.Gb @ sol.z[f.layout("move")["beta"]]
+        return xh + D @ a, r, dt
 
     @staticmethod
     def _preload_key(command: np.ndarray, method: str) -> tuple:
-        return (method, tuple(np.round(command, 15)))
+        return (method, tuple(np.asarray(command, float).tolist()))
 
     def preload_stage(self, command: np.ndarray, method: str) -> _Stage:
-        """The preload alone (``w = 0``), cached per command."""
+        """The preload alone (``w = 0``), kept per command (a pure function of it)."""
         key = self._preload_key(command, method)
         if key not in self._preload:
             zero = np.zeros(self.model.nw)
@@ -364,19 +364,15 @@ class PassiveSolver:
         return self._preload[key][0]
 
     # ------------------------------------------------------- direct search
-    def max_load_factor(
-        self, command: object, direction: np.ndarray, upper: float
-    ) -> tuple[str, float, float]:
-        """Alg. 1's largest resistible magnitude along a unit ``direction`` in one MILP
-        (:mod:`pinograsp.solvers.load_factor`).
+    def max_load_factor(self, command: object, direction: np.ndarray, upper: float) -> LoadFactor:
+        """Alg. 1's largest resistible magnitude along a unit ``direction`` in one
+        complementarity solve (:attr:`ProblemKind.LOAD`, by the settings' backend).
 
         Returns:
-            ``(status, magnitude, solve_time)``: status ``"optimal"`` (magnitude in [N] or
-            [N·m] along the direction; ``inf`` when ``upper`` is reached), ``"infeasible"``
-            (not even ``w = 0``), ``"timeout"`` or ``"failed"``.
+            A :class:`LoadFactor`: status ``"optimal"`` (magnitude in [N] or [N·m] along the
+            direction; ``inf`` when ``upper`` is reached), ``"infeasible"`` (not even
+            ``w = 0``), ``"node_limit"``, ``"timeout"`` or ``"failed"``.
         """
-        from .solvers.load_factor import LoadFactorMIQP
-
         m, f, s = self.model, self.form, self.settings
         fc = m.command_vector(command)
         p = np.zeros(m.nc)
@@ -385,24 +381,33 @@ class PassiveSolver:
             pre = self.preload_stage(fc, "prp")
             pre_time = pre.solve_time
             if not pre.converged:
-                return INFEASIBLE, float("nan"), pre_time
+                return LoadFactor(INFEASIBLE, float("nan"), pre_time)
             p = f.E @ pre.raw.z[f.layout("prp")["beta"]] * pre.data.F
-        data = f.scale_data(np.zeros(m.nw), fc, p)
-        F = data.F
         d = m.reduce_wrench(np.asarray(direction, float)) * f.wscale
-        if "load" not in self._exact:
-            self._load = LoadFactorMIQP(f, solver=s.solver, time_limit=s.time_limit)
-            self._exact["load"] = self._load  # type: ignore[assignment]
-        tmax = float(upper) / F
-        M = s.bigm * max(1.0, 10.0 * tmax)
-        out = self._load.solve(data, d, tmax, M)
-        dt = out["solve_time"] + pre_time
-        if out["status"] != OPTIMAL:
-            return out["status"], float("nan"), dt
-        t = out["t"]
+        data = f.scale_data(np.zeros(m.nw), fc, p)
+        data = ScaledData(data.F, data.w, data.fc, data.p, data.x0, d)
+        tmax = float(upper) / data.F
+        raw = self._load_factor(data, tmax)
+        dt = raw.solve_time + pre_time
+        if raw.status != OPTIMAL:
+            return LoadFactor(raw.status, float("nan"), dt)
+        t = float(raw.z[-1])
         if t >= tmax * (1.0 - 1e-9):
-            return OPTIMAL, float("inf"), dt
-        return OPTIMAL, t * F, dt
+            return LoadFactor(OPTIMAL, float("inf"), dt)
+        return LoadFactor(OPTIMAL, t * data.F, dt)
+
+    def _load_factor(self, data: ScaledData, tmax: float) -> RawSolution:
+        from .solvers.bnb import BranchAndBound
+        from .solvers.problem import build_problem
+
+        if self.options.backend is Backend.BNB:
+            problem = build_problem(self.form, ProblemKind.LOAD, data, t_max=tmax)
+            return BranchAndBound(problem, self.options.max_nodes).solve()
+        from .solvers.miqp import CvxpyMIQP
+
+        s = self.settings
+        miqp = CvxpyMIQP(self.form, "load", solver=s.solver, time_limit=s.time_limit)
+        return miqp.solve(data, s.bigm * max(1.0, 10.0 * tmax), t_max=tmax)
 
     # ------------------------------------------------------------- response
     def response(self, command: object, wrench: object, method: str = "prp") -> PassiveResponse:
@@ -494,7 +499,7 @@ class PassiveSolver:
                 net_wrench=nan(6),
                 audit=None,
                 converged=False,
-                solver=self.settings.solver,
+                solver=self.settings.backend,
                 **common,
             )
         z, F = raw.z, st.data.F
@@ -566,18 +571,16 @@ class PassiveSolver:
         )
 
 
-_CACHE: weakref.WeakKeyDictionary[GraspModel, dict[Settings, PassiveSolver]] = weakref.WeakKeyDictionary()
-
-
 def solver_for(model: GraspModel, settings: Settings | None = None, **overrides: object) -> PassiveSolver:
-    """The cached :class:`PassiveSolver` of ``model`` with these settings (built on first use)."""
+    """A new :class:`PassiveSolver` of ``model`` with these settings (no shared state)."""
     if not isinstance(model, GraspModel):
         raise InvalidInputError("model", f"expected pinograsp.GraspModel, got {type(model).__name__}")
-    s = make_settings(settings, **overrides)
-    per_model = _CACHE.setdefault(model, {})
-    if s not in per_model:
-        per_model[s] = PassiveSolver(model, s)
-    return per_model[s]
+    return PassiveSolver(model, make_settings(settings, **overrides))
+
+
+#: The caller-owned session of one model and settings (the public name of
+#: :class:`PassiveSolver`).
+Session = PassiveSolver
 
 
 def passive_response(
@@ -613,7 +616,9 @@ def passive_response(
 __all__ = [
     "METHODS",
     "VARIANTS",
+    "LoadFactor",
     "PassiveSolver",
+    "Session",
     "Settings",
     "make_settings",
     "passive_response",

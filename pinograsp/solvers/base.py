@@ -3,11 +3,32 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from enum import Enum
 
 import numpy as np
 
-#: Solver status strings used throughout pinograsp.
-OPTIMAL, INFEASIBLE, TIMEOUT, FAILED = "optimal", "infeasible", "timeout", "failed"
+class SolveStatus(str, Enum):
+    """Outcome of one solve at the solver boundary (a ``str`` enum: members equal their value)."""
+
+    #: A proven optimum (within the backend's relative tolerance).
+    OPTIMAL = "optimal"
+    #: No point satisfies the constraints.
+    INFEASIBLE = "infeasible"
+    #: The backend's time limit (reference MIQP backends only) stopped it.
+    TIMEOUT = "timeout"
+    #: The node limit (a count) stopped the branch-and-bound: not proven optimal.
+    NODE_LIMIT = "node_limit"
+    #: The backend failed (numerical trouble, crash): no trustworthy answer.
+    FAILED = "failed"
+
+
+OPTIMAL, INFEASIBLE, TIMEOUT, FAILED = (
+    SolveStatus.OPTIMAL,
+    SolveStatus.INFEASIBLE,
+    SolveStatus.TIMEOUT,
+    SolveStatus.FAILED,
+)
+NODE_LIMIT = SolveStatus.NODE_LIMIT
 
 
 @dataclass(frozen=True)
@@ -46,7 +67,7 @@ class RawSolution:
             and the exact MIQP answered).
     """
 
-    status: str
+    status: SolveStatus
     z: np.ndarray | None = None
     mode: Mode | None = None
     objective: float = float("nan")

@@ -1,86 +1,127 @@
-"""The exact solve of one scaled problem: MIQP, big-M audit and retry, fixed-mode polish."""
+"""One entry point for solving a passive-response problem with the chosen backend.
+
+* ``Backend.BNB`` (default): pinograsp's exact branch-and-bound (:mod:`.bnb`), deterministic,
+  no time limits, canonical (least-norm) optimum.
+* ``Backend.MIQP``: the reference mixed-integer QP through cvxpy (:mod:`.miqp`; SCIP, or Gurobi
+  when installed), with big-M audit and enlargement; its mode is then re-solved exactly by the
+  same fixed-mode QP as the branch-and-bound, so both backends report points of the same kind.
+"""
 
 from __future__ import annotations
 
+import time
 import warnings
-from dataclasses import replace
+from dataclasses import dataclass, replace
+from enum import Enum
 from typing import Any
 
 from ..errors import BigMWarning
-from .base import OPTIMAL, RawSolution
-from .fixed_mode import FixedModeQP
+from .base import OPTIMAL, Mode, RawSolution
+from .bnb import MAX_NODES, BranchAndBound
 from .formulation import Formulation, ScaledData
-from .miqp import CvxpyMIQP
+from .problem import ProblemKind, build_problem
 
 #: A solution whose big-M-bounded quantities reach this fraction of M is re-solved with a
-#: larger M (the bound may be cutting off the true optimum, SOLVER_NOTES).
+#: larger M (the bound may be cutting off the true optimum).
 BIGM_TRIGGER = 0.1
 
 
-class ExactSolver:
-    """Solve Alg. 1 / Alg. 2 problems of one model exactly (up to MIQP optimality).
+class Backend(str, Enum):
+    """Which solver answers the complementarity problems."""
 
-    Each call: solve the big-M MIQP with ``M = bigm``; if any bounded quantity exceeds
-    ``BIGM_TRIGGER * M`` re-solve with ``M`` enlarged 100x (at most ``bigm_retries`` times,
-    then warn with :class:`BigMWarning` and flag the result); finally polish the solution with
-    the fixed-mode QP of its mode so that complementarity holds exactly.
+    #: pinograsp's exact branch-and-bound over the complementarity pairs (DAQP node QPs).
+    BNB = "bnb"
+    #: The reference cvxpy MIQP (``Settings.solver`` names the MIQP solver).
+    MIQP = "miqp"
+
+
+@dataclass(frozen=True)
+class BackendOptions:
+    """What a backend needs besides the data.
+
+    Attributes:
+        backend: :class:`Backend`.
+        gamma: Step bound of Alg. 2 (scaled).
+        max_nodes: Node limit of the branch-and-bound (a count).
+        solver: cvxpy MIQP solver of the reference backend.
+        time_limit: Per-MIQP time limit [s] (reference backend only).
+        bigm: Initial big-M constant (scaled force units, reference backend only).
+        bigm_retries: Enlargements (x100 each) of big-M when a solution reaches 10 % of it.
+        miqp_options: Extra options of :class:`~.miqp.CvxpyMIQP`.
     """
 
-    def __init__(
-        self,
-        form: Formulation,
-        kind: str,
-        solver: str = "scip",
-        gamma: float = 1.0,
-        bigm: float = 1e3,
-        bigm_retries: int = 2,
-        time_limit: float = 60.0,
-        polish: bool = True,
-        options: dict[str, Any] | None = None,
-    ) -> None:
-        self.form, self.kind = form, kind
-        self.miqp = CvxpyMIQP(form, kind, solver=solver, gamma=gamma, time_limit=time_limit, options=options)
-        self.qp = FixedModeQP(form, kind, gamma=gamma) if polish else None
-        self.bigm, self.bigm_retries = float(bigm), int(bigm_retries)
-        self.n_miqp = 0
-        self.n_qp = 0
+    backend: Backend = Backend.BNB
+    gamma: float = 1.0
+    max_nodes: int = MAX_NODES
+    solver: str = "scip"
+    time_limit: float = 60.0
+    bigm: float = 1e3
+    bigm_retries: int = 2
+    miqp_options: tuple[tuple[str, Any], ...] = ()
 
-    def solve(self, data: ScaledData) -> RawSolution:
-        """Exact solve of one problem; see the class docstring."""
-        M = self.bigm
-        retries = 0
-        total = 0.0
-        while True:
-            sol = self.miqp.solve(data, M)
-            self.n_miqp += 1
-            total += sol.solve_time
-            if sol.status != OPTIMAL or sol.bigm_ratio < BIGM_TRIGGER or retries >= self.bigm_retries:
-                break
-            M *= 100.0
-            retries += 1
-        if sol.status != OPTIMAL:
-            return replace(sol, solve_time=total, bigm_retries=retries)
-        if sol.bigm_ratio >= BIGM_TRIGGER:
-            warnings.warn(
-                f"MIQP solution uses {sol.bigm_ratio:.0%} of the big-M bound after {retries} enlargements "
-                f"(M = {M:.3g} in scaled force units): the answer may be cut off by the bound",
-                BigMWarning,
-                stacklevel=3,
-            )
-        if self.qp is not None:
-            pol = self.qp.solve(data, sol.mode)
-            self.n_qp += 1
-            total += pol.solve_time
-            if pol.status == OPTIMAL:
-                return RawSolution(
-                    status=OPTIMAL,
-                    z=pol.z,
-                    mode=sol.mode,
-                    objective=pol.objective,
-                    solve_time=total,
-                    backend=f"{sol.backend}+proxsuite",
-                    bigm_ratio=sol.bigm_ratio,
-                    bigm_retries=retries,
-                    polished=True,
-                )
-        return replace(sol, solve_time=total, bigm_retries=retries)
+
+def solve(
+    form: Formulation,
+    kind: ProblemKind,
+    data: ScaledData,
+    options: BackendOptions,
+    guess: Mode | None = None,
+    cache: dict | None = None,
+) -> RawSolution:
+    """Solve one problem; ``guess`` is an incumbent mode (speed only).
+
+    ``cache`` (owned by the caller) keeps the reference backend's cvxpy objects between calls.
+    """
+    t0 = time.perf_counter()
+    if options.backend is Backend.BNB:
+        problem = build_problem(form, kind, data, options.gamma)
+        raw = BranchAndBound(problem, options.max_nodes).solve(guess)
+    else:
+        raw = _solve_miqp(form, kind, data, options, cache if cache is not None else {})
+    return replace(raw, solve_time=time.perf_counter() - t0)
+
+
+def _solve_miqp(
+    form: Formulation, kind: ProblemKind, data: ScaledData, options: BackendOptions, cache: dict
+) -> RawSolution:
+    from .miqp import CvxpyMIQP
+
+    key = ("miqp", kind)
+    if key not in cache:
+        cache[key] = CvxpyMIQP(
+            form,
+            kind.value,
+            solver=options.solver,
+            gamma=options.gamma,
+            time_limit=options.time_limit,
+            options=dict(options.miqp_options),
+        )
+    miqp = cache[key]
+    M, retries = options.bigm, 0
+    while True:
+        sol = miqp.solve(data, M)
+        if sol.status != OPTIMAL or sol.bigm_ratio < BIGM_TRIGGER or retries >= options.bigm_retries:
+            break
+        M *= 100.0
+        retries += 1
+    if sol.status != OPTIMAL:
+        return replace(sol, bigm_retries=retries)
+    if sol.bigm_ratio >= BIGM_TRIGGER:
+        warnings.warn(
+            f"MIQP solution uses {sol.bigm_ratio:.0%} of the big-M bound after {retries} enlargements "
+            f"(M = {M:.3g} in scaled force units): the answer may be cut off by the bound",
+            BigMWarning,
+            stacklevel=4,
+        )
+    problem = build_problem(form, kind, data, options.gamma)
+    pol = BranchAndBound(problem).solve_mode(sol.mode)
+    if pol.status != OPTIMAL:
+        return replace(sol, bigm_retries=retries)
+    return replace(
+        pol,
+        backend=f"{sol.backend}+polish",
+        bigm_ratio=sol.bigm_ratio,
+        bigm_retries=retries,
+        message=sol.message,
+        path="miqp",
+    )

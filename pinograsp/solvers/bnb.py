@@ -1,0 +1,218 @@
+"""pinograsp's exact solver: branch-and-bound over the complementarity pairs of a
+:class:`~.problem.Problem`.
+
+A node fixes some pairs to a side (that side's row at its lower bound) and leaves the others
+*free* (both rows only bounded below): its convex QP (:class:`~.node_qp.NodeQP`) is a relaxation
+of every mode below it, so its optimum is a lower bound. The search is depth first:
+
+1. **incumbent** — the caller's guess (e.g. the previous iteration step's mode) is solved
+   first as a fixed-mode QP; a feasible guess bounds the search from the start;
+2. at a node whose optimum violates complementarity the **repair** QP fixes every free pair at
+   the side its relaxed optimum sits closest to; a feasible repair is a new incumbent and very
+   often the optimum, which then prunes the rest of the tree;
+3. the node branches on one violated pair — actuators first (their choice decides which
+   contacts can carry load), then the most violated pair — and visits the child on the natural
+   side first.
+
+A node is pruned when its bound is not better than the incumbent by more than the relative
+tolerance :data:`REL_GAP` (the objective is a squared net wrench or spring energy that shrinks
+towards zero, so only a relative test is meaningful). Node counts are limited by a count, never
+by time; hitting the limit returns status ``node_limit`` with the best point found.
+
+The search is a pure function of its inputs: the same problem and guess give the same bits.
+
+This module never imports Pinocchio or Coal.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .base import FAILED, INFEASIBLE, NODE_LIMIT, OPTIMAL, Mode, RawSolution
+from .node_qp import NodeQP, QPResult, QPStatus
+from .problem import INF, PairKind, Problem, ProblemKind
+
+#: Relative optimality tolerance on the objective (a squared force): a node whose bound is within
+#: this fraction of the incumbent cannot improve it enough to matter (|r| within 5e-10).
+REL_GAP = 1e-9
+#: Absolute floor of the pruning tolerance (scaled force units squared).
+ABS_GAP = 1e-24
+#: Complementarity violation (scaled force units) below which a pair counts as satisfied.
+COMP_TOL = 1e-9
+#: Default node limit of one search.
+MAX_NODES = 20000
+
+
+@dataclass(frozen=True)
+class SearchStats:
+    """Counters of one branch-and-bound search.
+
+    Attributes:
+        nodes: Nodes whose relaxation was solved.
+        qps: Convex QPs solved (nodes, repairs, guess, final least-norm).
+        attempts: DAQP calls (retries included).
+    """
+
+    nodes: int = 0
+    qps: int = 0
+    attempts: int = 0
+
+
+class BranchAndBound:
+    """Exact solver of one :class:`Problem`.
+
+    Args:
+        problem: The problem.
+        max_nodes: Node limit (a count).
+    """
+
+    def __init__(self, problem: Problem, max_nodes: int = MAX_NODES) -> None:
+        self.p = problem
+        self.qp = NodeQP(problem)
+        self.max_nodes = int(max_nodes)
+        self._nodes = self._qps = self._attempts = 0
+        npair = len(problem.pairs)
+        # branching priority: actuator pairs first, then contacts, each in index order
+        self._actuator = np.array([k is PairKind.ACTUATOR for k in problem.pair_kind], bool).reshape(npair)
+
+    # ---------------------------------------------------------------- helpers
+    def _qp(self, fixed: np.ndarray, polish: bool = False) -> QPResult:
+        _, up = self.p.bounds(fixed)
+        res = self.qp.solve(up, polish=polish)
+        self._qps += 1
+        self._attempts += res.attempts
+        return res
+
+    def _violation(self, z: np.ndarray, fixed: np.ndarray) -> np.ndarray:
+        comp = self.p.complementarity(z)
+        comp[fixed >= 0] = 0.0
+        return comp
+
+    def _branch_pair(self, viol: np.ndarray) -> int:
+        bad = viol > COMP_TOL
+        act = bad & self._actuator
+        cand = act if act.any() else bad
+        idx = np.flatnonzero(cand)
+        return int(idx[np.argmax(viol[idx])])
+
+    def stats(self) -> SearchStats:
+        """Counters of the last :meth:`solve`."""
+        return SearchStats(self._nodes, self._qps, self._attempts)
+
+    # ------------------------------------------------------------------ solve
+    def solve(self, guess: Mode | None = None) -> RawSolution:
+        """The global optimum (least-norm point of the optimal mode), or infeasibility.
+
+        Args:
+            guess: A mode tried first as incumbent (speed only: the answer does not depend on
+                it except among exactly tied optima).
+        """
+        P = self.p
+        self._nodes = self._qps = self._attempts = 0
+        bad = P.empty_rows()
+        if bad:
+            msg = f"no contact force can produce the wrench component(s) {', '.join(bad)}"
+            return RawSolution(status=INFEASIBLE, backend="bnb", message=msg)
+        npair = len(P.pairs)
+        best_obj, best_sides = INF, None
+        if guess is not None:
+            sides = P.sides_of(guess)
+            res = self._qp(sides.astype(np.int8))
+            if res.status is QPStatus.OPTIMAL:
+                best_obj, best_sides = res.objective, sides
+        stack = [np.full(npair, -1, np.int8)]
+        limited = False
+        while stack:
+            if self._nodes >= self.max_nodes:
+                limited = True
+                break
+            fixed = stack.pop()
+            res = self._qp(fixed)
+            self._nodes += 1
+            if res.status is QPStatus.FAILED:
+                return self._failed(f"node QP failed after {res.attempts} DAQP attempts")
+            if res.status is QPStatus.INFEASIBLE or self._pruned(res.objective, best_obj):
+                continue
+            viol = self._violation(res.z, fixed)
+            natural = np.where(fixed >= 0, fixed, P.natural_sides(res.z)).astype(np.int8)
+            if not np.any(viol > COMP_TOL):
+                best_obj, best_sides = res.objective, natural
+                continue
+            rep = self._qp(natural)
+            if rep.status is QPStatus.OPTIMAL and rep.objective < best_obj:
+                best_obj, best_sides = rep.objective, natural
+            if self._pruned(res.objective, best_obj):
+                continue
+            k = self._branch_pair(viol)
+            first = natural[k]
+            for side in (1 - first, first):  # natural side pushed last: explored first
+                child = fixed.copy()
+                child[k] = side
+                stack.append(child)
+        if best_sides is None:
+            if limited:
+                return RawSolution(
+                    status=NODE_LIMIT, backend="bnb", message=f"node limit {self.max_nodes} reached"
+                )
+            return RawSolution(status=INFEASIBLE, backend="bnb", message=self._count_message())
+        return self._final(best_sides, limited)
+
+    def _pruned(self, bound: float, best: float) -> bool:
+        return best < INF and bound >= best * (1.0 - REL_GAP) - ABS_GAP
+
+    def _count_message(self) -> str:
+        return f"{self._nodes} nodes, {self._qps} QPs, {self._attempts} DAQP calls"
+
+    def _failed(self, why: str) -> RawSolution:
+        return RawSolution(status=FAILED, backend="bnb", message=f"{why} ({self._count_message()})")
+
+    def solve_mode(self, mode: Mode) -> RawSolution:
+        """The canonical optimum of one fixed mode (``infeasible`` if the mode has no point).
+
+        Used to polish a reference backend's answer: its mode is re-solved exactly here."""
+        self._nodes = self._qps = self._attempts = 0
+        return self._final(self.p.sides_of(mode), False)
+
+    def _final(self, sides: np.ndarray, limited: bool) -> RawSolution:
+        """Polished least-norm point of the optimal mode."""
+        P = self.p
+        res = self._qp(sides.astype(np.int8), polish=True)
+        if res.status is QPStatus.INFEASIBLE:
+            return RawSolution(status=INFEASIBLE, backend="bnb", message="the mode has no feasible point")
+        if res.status is not QPStatus.OPTIMAL:
+            return self._failed("the optimal mode's QP could not be re-solved")
+        z = self._canonical(res.z, sides)
+        mode = P.mode_of(sides)
+        status = NODE_LIMIT if limited else OPTIMAL
+        return RawSolution(
+            status=status,
+            z=z,
+            mode=mode,
+            objective=P.objective(z),
+            backend="bnb",
+            polished=True,
+            message=self._count_message(),
+            path="bnb",
+        )
+
+    def _canonical(self, z: np.ndarray, sides: np.ndarray) -> np.ndarray:
+        """Least-norm point of the optimal mode with the optimal objective value.
+
+        The optimal net wrench (or normal-force vector) ``L z + l`` is unique within a mode, but
+        the point is not: the canonical one has, among the mode's points with ``L z = L z*``,
+        the **largest step length** (movement step: the object moves as far along the net
+        wrench as it can without increasing it — several step lengths often give the same
+        optimal net wrench, and the smallest makes the scheme creep and stall under the 1 %
+        rule), then the **least norm** (a strictly convex QP, so ties between friction edges or
+        joint null spaces are broken alike for mirror-symmetric grasps). Where those QPs fail
+        the polished point is kept.
+        """
+        P = self.p
+        _, up = P.bounds(sides.astype(np.int8))
+        single = P.kind is ProblemKind.MOVE and P.rows.step.stop - P.rows.step.start == 1
+        first = P.step_index if single else None
+        cand = self.qp.least_norm(z, up, first)
+        self._qps += 1
+        return z if cand is None else cand

@@ -1,0 +1,232 @@
+"""Deterministic convex QPs of one :class:`~.problem.Problem` with some pairs fixed (DAQP).
+
+Each node of the branch-and-bound, each fixed-mode solve and each polish is the convex QP::
+
+    minimise |L z + l|^2   subject to   A z = b,   lo <= C z <= up'
+
+where ``up'`` holds a fixed pair's side at its lower bound. It is solved by DAQP, a dual
+active-set method in C: single-threaded, no randomisation, so the same input gives the same
+bits in every process. The objective is rank deficient (only the contact forces enter it), so
+DAQP runs in its proximal mode.
+
+Two refinements make the answer exact and canonical:
+
+* **polish** — the rows that are tight at DAQP's point are taken as equalities and the
+  equality-constrained least-squares problem on that face is solved directly (null-space
+  method, SVD), which removes the proximal iteration's residual error; the polished point is
+  kept only if it satisfies every row and is no worse;
+* **least norm** — among the points of the face with the optimal objective the one of least
+  Euclidean norm is returned, so that ties (friction edges, joint null spaces) are broken the
+  same way for mirror-symmetric grasps.
+
+DAQP occasionally reports a feasible node "infeasible" or stops at its iteration limit on these
+degenerate problems; such a status is re-tried with other proximal settings before it is
+believed (:data:`RETRIES`).
+
+This module never imports Pinocchio or Coal.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from enum import Enum
+
+import daqp
+import numpy as np
+
+from .problem import INF, Problem
+
+#: DAQP's exit flag for a solved problem (2: solved with soft constraints violated).
+_SOLVED = (1, 2)
+#: DAQP's exit flag for a primal-infeasible problem.
+_INFEASIBLE = -1
+#: Primal feasibility tolerance used to accept a point (scaled force units).
+FEAS_TOL = 1e-9
+#: Slack below which a row counts as tight when polishing (scaled force units).
+TIGHT_TOL = 1e-9
+#: DAQP settings tried in turn: the first that reports "solved" answers; a node is infeasible
+#: only if every attempt says so.
+RETRIES: tuple[dict[str, float], ...] = (
+    {"eps_prox": 1e-6},
+    {"eps_prox": 1e-2},
+    {"eps_prox": -1.0},
+)
+#: Attempts that must agree before an "infeasible" is believed (DAQP's false infeasibility on
+#: feasible degenerate nodes is rare; one second opinion with other proximal weights).
+INFEASIBLE_ATTEMPTS = 2
+
+
+class QPStatus(str, Enum):
+    """Outcome of one convex QP."""
+
+    OPTIMAL = "optimal"
+    INFEASIBLE = "infeasible"
+    FAILED = "failed"
+
+
+@dataclass(frozen=True, eq=False)
+class QPResult:
+    """A convex QP's answer.
+
+    Attributes:
+        status: :class:`QPStatus`.
+        z: The point (scaled variables), or None.
+        objective: ``|L z + l|^2`` at ``z`` (``inf`` without a point).
+        iterations: DAQP iterations over every attempt.
+        attempts: DAQP solves made (retries included).
+    """
+
+    status: QPStatus
+    z: np.ndarray | None
+    objective: float
+    iterations: int
+    attempts: int
+
+
+class NodeQP:
+    """The convex QPs of one :class:`Problem` (matrices stacked once, bounds per call)."""
+
+    def __init__(self, problem: Problem) -> None:
+        self.p = problem
+        P = problem
+        self.H = 2.0 * (P.L.T @ P.L)
+        self.g = 2.0 * (P.L.T @ P.l)
+        #: the friction-edge rows ``beta >= 0`` are passed to DAQP as simple variable bounds
+        self.nb = P.rows.beta.stop
+        self.vlo = np.full(P.n, -INF)
+        self.vup = np.full(P.n, INF)
+        self.vlo[: self.nb] = 0.0
+        self.M = np.ascontiguousarray(np.vstack([P.A, P.C[self.nb :]]))
+        self.me = P.A.shape[0]
+
+    def feasible(self, z: np.ndarray, up: np.ndarray, tol: float = FEAS_TOL) -> bool:
+        """Whether ``z`` satisfies every row with upper bounds ``up`` (scaled tolerance)."""
+        P = self.p
+        if P.A.shape[0] and np.abs(P.A @ z - P.b).max() > tol:
+            return False
+        v = P.C @ z
+        return bool(np.all(v >= P.lo - tol) and np.all(v <= up + tol))
+
+    def solve(self, up: np.ndarray, polish: bool = True) -> QPResult:
+        """Solve with the problem's lower bounds and the upper bounds ``up`` (mi,)."""
+        P = self.p
+        nb = self.nb
+        lo = P.lo
+        bu = np.concatenate([self.vup, P.b, up[nb:]])
+        bl = np.concatenate([self.vlo, P.b, lo[nb:]])
+        sense = np.zeros(len(bu), dtype=np.int32)
+        sense[P.n : P.n + self.me] = 5
+        sense[P.n + self.me :][up[nb:] <= lo[nb:]] = 5
+        sense[:nb][up[:nb] <= lo[:nb]] = 5
+        bu[:nb] = up[:nb]
+        iters = 0
+        z = None
+        for k, opts in enumerate(RETRIES):
+            x, _, flag, info = daqp.solve(self.H, self.g, self.M, bu, bl, sense, **opts)
+            iters += int(info["iterations"])
+            if flag in _SOLVED and self.feasible(np.asarray(x), up, 1e3 * FEAS_TOL):
+                z = np.array(x, float)
+                break
+            if flag == _INFEASIBLE and k + 1 >= INFEASIBLE_ATTEMPTS:
+                break
+        if z is None:
+            status = QPStatus.INFEASIBLE if flag == _INFEASIBLE else QPStatus.FAILED
+            return QPResult(status, None, float("inf"), iters, k + 1)
+        if polish:
+            z = self.polish(z, up)
+        return QPResult(QPStatus.OPTIMAL, z, P.objective(z), iters, k + 1)
+
+    def polish(self, z: np.ndarray, up: np.ndarray) -> np.ndarray:
+        """The least-norm optimum on the face of rows tight at ``z`` (else ``z`` itself)."""
+        P = self.p
+        v = P.C @ z
+        at_lo = (np.abs(v - P.lo) <= TIGHT_TOL) & (P.lo > -INF)
+        at_up = (np.abs(v - up) <= TIGHT_TOL) & (up < INF) & ~at_lo
+        Aa = np.vstack([P.A, P.C[at_lo], P.C[at_up]])
+        ba = np.concatenate([P.b, P.lo[at_lo], up[at_up]])
+        cand = least_norm_lsq(P.L, P.l, Aa, ba)
+        if cand is None or not self.feasible(cand, up):
+            return z
+        if P.objective(cand) > P.objective(z) * (1.0 + 1e-12) + 1e-30:
+            return z
+        return cand
+
+    def least_norm(self, z: np.ndarray, up: np.ndarray, first: int | None = None) -> np.ndarray | None:
+        """Canonical point with the same objective residual ``L z + l`` as ``z`` (a feasible
+        optimum), subject to every row with upper bounds ``up``: the largest value of variable
+        ``first`` (if given; the iterative scheme's step length), then the least norm.
+
+        Returns None if DAQP fails or the point would be worse than ``z``.
+        """
+        P = self.p
+        _, s, Vt = np.linalg.svd(P.L, full_matrices=False)
+        r = int(np.sum(s > 1e-12 * max(s[0], 1e-300))) if len(s) else 0
+        rows = [P.A, Vt[:r]]
+        rhs = [P.b, Vt[:r] @ z]
+        if first is not None:
+            top = self._largest(z, up, np.vstack(rows), np.concatenate(rhs), first)
+            if top is None:
+                return None
+            e = np.zeros((1, P.n))
+            e[0, first] = 1.0
+            rows.append(e)
+            rhs.append(np.array([top]))
+        cand = self._min_norm(np.vstack(rows), np.concatenate(rhs), up)
+        if cand is None or not self.feasible(cand, up):
+            return None
+        if P.objective(cand) > P.objective(z) * (1.0 + 1e-9) + 1e-24:
+            return None
+        return cand
+
+    def _daqp(self, H: np.ndarray, g: np.ndarray, E: np.ndarray, e: np.ndarray, up: np.ndarray, **opt):
+        """DAQP on ``min ½ z'Hz + g'z`` s.t. ``E z = e`` and the problem's rows with ``up``."""
+        P = self.p
+        M = np.ascontiguousarray(np.vstack([E, P.C]))
+        bu = np.concatenate([e, up])
+        bl = np.concatenate([e, P.lo])
+        sense = np.zeros(len(bu), dtype=np.int32)
+        sense[: len(e)] = 5
+        sense[len(e) :][up <= P.lo] = 5
+        x, _, flag, _ = daqp.solve(H, g, M, bu, bl, sense, **opt)
+        return (np.array(x, float) if flag in _SOLVED else None)
+
+    def _largest(self, z: np.ndarray, up: np.ndarray, E: np.ndarray, e: np.ndarray, j: int) -> float | None:
+        """Largest value of variable ``j`` on ``{E z = e} ∩ rows`` (``z`` is a feasible point)."""
+        n = self.p.n
+        H = np.zeros((n, n))
+        H[j, j] = 1.0
+        g = np.zeros(n)
+        g[j] = -(float(np.max(np.abs(z))) + 1e3)  # pull towards a value beyond any bound
+        x = self._daqp(H, g, E, e, up, eps_prox=1e-6)
+        if x is None or not self.feasible(x, up):
+            return float(z[j])
+        return max(float(x[j]), float(z[j]))
+
+    def _min_norm(self, E: np.ndarray, e: np.ndarray, up: np.ndarray) -> np.ndarray | None:
+        n = self.p.n
+        return self._daqp(np.eye(n), np.zeros(n), E, e, up, primal_tol=1e-10, iter_limit=5000)
+
+
+def least_norm_lsq(L: np.ndarray, l: np.ndarray, A: np.ndarray, b: np.ndarray) -> np.ndarray | None:
+    """Least-norm minimiser of ``|L z + l|^2`` subject to ``A z = b`` (None if inconsistent).
+
+    Null-space method: ``z = z0 + N y`` with ``z0`` the least-norm solution of ``A z = b``
+    (orthogonal to the null space ``N`` of ``A``) and ``y`` the least-norm minimiser of
+    ``|L N y + L z0 + l|`` — so ``z`` has the least norm among all minimisers.
+    """
+    n = L.shape[1]
+    if A.shape[0]:
+        U, s, Vt = np.linalg.svd(A, full_matrices=True)
+        tol = max(A.shape) * np.finfo(float).eps * (s[0] if len(s) else 0.0)
+        r = int(np.sum(s > max(tol, 1e-12)))
+        z0 = Vt[:r].T @ ((U[:, :r].T @ b) / s[:r])
+        if np.abs(A @ z0 - b).max(initial=0.0) > 1e-9 * max(1.0, np.abs(b).max(initial=0.0)):
+            return None
+        N = Vt[r:].T
+    else:
+        z0 = np.zeros(n)
+        N = np.eye(n)
+    if N.shape[1] == 0:
+        return z0
+    y, *_ = np.linalg.lstsq(L @ N, -(L @ z0 + l), rcond=None)
+    return z0 + N @ y

@@ -1,0 +1,338 @@
+"""One description of a passive-response problem that every backend reads.
+
+A problem is a *linear-complementarity-constrained least-squares program* over the scaled
+variables of :mod:`pinograsp.solvers.formulation` (``z = [beta, obj, qh, fh, lam]``)::
+
+    minimise    |L z + l|^2
+    subject to  A z = b
+                lo <= C z <= up
+                (C[i] z - lo[i]) * (C[j] z - lo[j]) = 0     for every pair (i, j)
+
+The complementarity pairs are the contact pairs (normal force ``c_n`` / spring gap) and the
+non-backdrivable actuator pairs (actuator displacement ``u`` / over-force ``f - f_c``). Fixing a
+pair's *side* (which of its two rows sits at its lower bound) gives a convex QP; a
+:class:`~pinograsp.solvers.base.Mode` fixes every pair.
+
+The problem is built from the numbers of one solve (:class:`~.formulation.ScaledData`), so a
+backend never writes constraint rows of its own: the branch-and-bound reads the rows directly,
+the cvxpy reference backend turns the pairs into big-M or indicator constraints, and the result
+audit reads the same rows. Every row is in scaled force units.
+
+This module never imports a solver library.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from enum import Enum
+
+import numpy as np
+
+from .base import Mode
+from .formulation import Formulation, ScaledData
+
+#: Stand-in for an infinite bound (every backend reads it as "no bound").
+INF = 1e30
+#: An equality row without any variable whose right-hand side exceeds this (scaled force units)
+#: makes the problem infeasible (e.g. a wrench component that no contact force can produce).
+EMPTY_ROW_TOL = 1e-9
+
+
+class ProblemKind(str, Enum):
+    """Which algorithm's optimisation problem."""
+
+    #: Seed Alg. 1: minimise the spring energy ``|c_n|^2`` subject to equilibrium.
+    PRP = "prp"
+    #: Seed Alg. 2: the object moves along the previous net wrench by ``s in [0, gamma]``;
+    #: minimise the net wrench ``|w + G c|^2``.
+    MOVE = "move"
+    #: Alg. 1's largest load factor along a direction ``d``: the PRP's constraints with the load
+    #: ``t d`` and ``0 <= t <= t_max``; minimise ``(t_max - t)^2`` (i.e. maximise ``t``). The
+    #: load factor ``t`` is the last variable.
+    LOAD = "load"
+
+
+class PairKind(str, Enum):
+    """What a complementarity pair models."""
+
+    CONTACT = "contact"
+    ACTUATOR = "actuator"
+
+
+@dataclass(frozen=True, eq=False)
+class Rows:
+    """Row offsets of the inequality block ``C`` (the same for every solve of a kind)."""
+
+    beta: slice
+    cn: slice
+    gap: slice
+    u: slice
+    f: slice
+    step: slice
+
+
+def layout_rows(form: Formulation, kind: ProblemKind, n_steps: int = 1) -> Rows:
+    """Row slices of the inequality block of ``kind`` (``n_steps`` step rows for ``MOVE``)."""
+    o = 0
+    sl = []
+    nstep = {ProblemKind.PRP: 0, ProblemKind.MOVE: n_steps, ProblemKind.LOAD: 1}[kind]
+    for size in (form.nb, form.nc, form.nc, form.na, form.na, nstep):
+        sl.append(slice(o, o + size))
+        o += size
+    return Rows(*sl)
+
+
+@dataclass(frozen=True, eq=False)
+class Problem:
+    """Numbers of one complementarity-constrained least-squares problem (see module docstring).
+
+    Attributes:
+        kind: :class:`ProblemKind`.
+        L: Objective matrix, (m, n).
+        l: Objective offset, (m,).
+        A: Equality rows, (me, n).
+        b: Equality right-hand side, (me,).
+        C: Inequality rows, (mi, n).
+        lo: Lower bounds of ``C z``, (mi,) (``-INF``: none).
+        up: Upper bounds of ``C z``, (mi,) (``INF``: none).
+        pairs: Complementarity pairs as inequality-row indices, (npair, 2): side 0 is the
+            contact force / actuator displacement, side 1 the spring gap / over-force.
+        pair_kind: :class:`PairKind` of each pair.
+        pair_owner: Index of the contact or actuator each pair belongs to, (npair,).
+        bigm_factor: Scale of each pair side relative to the force scale, (npair, 2), for
+            big-M backends (a separated contact's gap grows with the stiffness ratio).
+        rows: Row offsets of the inequality block.
+        nc, na: Contacts and actuators of the model (for :class:`Mode` conversion).
+        eq_names: Name of each equality row (wrench axis, ``hand[j]``, ``coupling[r]``).
+    """
+
+    kind: ProblemKind
+    L: np.ndarray
+    l: np.ndarray
+    A: np.ndarray
+    b: np.ndarray
+    C: np.ndarray
+    lo: np.ndarray
+    up: np.ndarray
+    pairs: np.ndarray
+    pair_kind: tuple[PairKind, ...]
+    pair_owner: np.ndarray
+    bigm_factor: np.ndarray
+    rows: Rows
+    nc: int
+    na: int
+    eq_names: tuple[str, ...] = ()
+
+    def empty_rows(self) -> list[str]:
+        """Names of equality rows ``0 = b`` with ``b != 0``: nothing can satisfy them."""
+        empty = ~np.any(self.A != 0, axis=1) & (np.abs(self.b) > EMPTY_ROW_TOL)
+        return [self.eq_names[i] if i < len(self.eq_names) else f"row {i}" for i in np.flatnonzero(empty)]
+
+    @property
+    def step_index(self) -> int:
+        """Index of the (first) step length ``s`` (``MOVE``) among the variables."""
+        return self.rows.beta.stop
+
+    def step_lengths(self, z: np.ndarray) -> np.ndarray:
+        """Every step variable of a ``MOVE`` point (the coefficients of the directions), (m,)."""
+        return self.C[self.rows.step] @ z
+
+    @property
+    def n(self) -> int:
+        """Number of variables."""
+        return self.C.shape[1]
+
+    def objective(self, z: np.ndarray) -> float:
+        """``|L z + l|^2`` (scaled)."""
+        r = self.L @ z + self.l
+        return float(r @ r)
+
+    # ------------------------------------------------------------------ modes
+    def sides_of(self, mode: Mode) -> np.ndarray:
+        """Pair sides fixed by ``mode``, (npair,) of 0/1: the side held at its lower bound.
+
+        A touching contact holds its gap (side 1) at zero, a separated one its force (side 0);
+        a moving actuator holds its over-force (side 1), a holding one its displacement (side 0).
+        """
+        out = np.zeros(len(self.pairs), np.int8)
+        for k, (pk, i) in enumerate(zip(self.pair_kind, self.pair_owner)):
+            on = mode.touching[i] if pk is PairKind.CONTACT else mode.moving[i]
+            out[k] = 1 if on else 0
+        return out
+
+    def mode_of(self, sides: np.ndarray) -> Mode:
+        """The :class:`Mode` whose pairs are fixed at ``sides`` (inverse of :meth:`sides_of`)."""
+        touching = [False] * self.nc
+        moving = [False] * self.na
+        for k, (pk, i) in enumerate(zip(self.pair_kind, self.pair_owner)):
+            if pk is PairKind.CONTACT:
+                touching[i] = bool(sides[k])
+            else:
+                moving[i] = bool(sides[k])
+        return Mode(tuple(touching), tuple(moving))
+
+    def natural_sides(self, z: np.ndarray) -> np.ndarray:
+        """For each pair, the side closer to its bound at ``z`` (ties: side 1), (npair,)."""
+        v = self.C @ z - self.lo
+        a, b = v[self.pairs[:, 0]], v[self.pairs[:, 1]]
+        return (b <= a).astype(np.int8)
+
+    def bounds(self, fixed: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Bounds with pairs fixed: ``fixed`` (npair,) holds -1 (free), 0 or 1 (side held)."""
+        up = self.up.copy()
+        for k in np.flatnonzero(fixed >= 0):
+            row = self.pairs[k, fixed[k]]
+            up[row] = self.lo[row]
+        return self.lo, up
+
+    def complementarity(self, z: np.ndarray) -> np.ndarray:
+        """``min(a, b)`` of every pair at ``z`` (scaled force units), (npair,)."""
+        v = self.C @ z - self.lo
+        return np.minimum(np.abs(v[self.pairs[:, 0]]), np.abs(v[self.pairs[:, 1]]))
+
+
+def build_problem(
+    form: Formulation,
+    kind: ProblemKind | str,
+    data: ScaledData,
+    gamma: float = 1.0,
+    t_max: float = 1.0,
+) -> Problem:
+    """The :class:`Problem` of one solve.
+
+    Args:
+        form: Scaled formulation of the model.
+        kind: :class:`ProblemKind` (or its value).
+        data: Scaled data of the solve (for ``LOAD``, ``data.direction`` is the scaled unit load
+            direction and ``data.w`` is ignored). For ``MOVE``, ``data.direction`` (nx,) is the
+            movement direction; an (nx, m) matrix lets the object move by any combination
+            ``D a`` with ``0 <= a <= gamma`` (the extra step variables ``a[1:]`` are appended
+            after every other variable).
+        gamma: Step bound of Alg. 2 (scaled; ``MOVE`` only; ``INF`` for no bound).
+        t_max: Search limit of the load factor (scaled; ``LOAD`` only).
+    """
+    kind = ProblemKind(kind)
+    f = form
+    move, load = kind is ProblemKind.MOVE, kind is ProblemKind.LOAD
+    lay = f.layout("move" if move else "prp")
+    D = np.asarray(data.direction, float)
+    D = D.reshape(len(D), -1) if move else D
+    extra = D.shape[1] - 1 if move else (1 if load else 0)
+    n = lay["n"].stop + extra
+    sb, so, sq, sf, sl = lay["beta"], lay["obj"], lay["qh"], lay["fh"], lay["lam"]
+    nb, nq, na, ncp, nc = f.nb, f.nq, f.na, f.ncp, f.nc
+    # objective
+    if move:
+        L = np.zeros((f.nw, n))
+        L[:, sb] = f.Gb
+        l_vec = np.asarray(data.w, float).copy()
+    elif load:
+        L = np.zeros((1, n))
+        L[0, -1] = 1.0
+        l_vec = np.array([-float(t_max)])
+    else:
+        L = np.zeros((nc, n))
+        L[:, sb] = f.E
+        l_vec = np.zeros(nc)
+    # equalities: [equilibrium (prp, load)] | hand | couplings
+    eq, rhs = [], []
+    axes = ("fx", "fy", "mz") if f.model.planar else ("fx", "fy", "fz", "mx", "my", "mz")
+    names = [] if move else list(axes)
+    names += [f"hand[{j}]" for j in range(nq)] + [f"coupling[{r}]" for r in range(ncp)]
+    if not move:
+        Aeq = np.zeros((f.nw, n))
+        Aeq[:, sb] = f.Gb
+        if load:
+            Aeq[:, -1] = np.asarray(data.direction, float)
+        eq.append(Aeq)
+        rhs.append(np.zeros(f.nw) if load else -np.asarray(data.w, float))
+    Ah = np.zeros((nq, n))
+    Ah[:, sb] = f.T
+    Ah[:, sf] = -f.Rf
+    Ah[:, sl] = -f.Cl
+    Ac = np.zeros((ncp, n))
+    Ac[:, sq] = f.Cq
+    eq += [Ah, Ac]
+    rhs += [np.zeros(nq), np.zeros(ncp)]
+    # inequalities: beta | c_n | gap | u | f | step (move: s in [0, gamma]; load: t in [0, t_max])
+    rows = layout_rows(f, kind, D.shape[1] if move else 1)
+    mi = rows.step.stop
+    C = np.zeros((mi, n))
+    lo = np.full(mi, -INF)
+    up = np.full(mi, INF)
+    C[rows.beta, sb] = np.eye(nb)
+    lo[rows.beta] = 0.0
+    C[rows.cn, sb] = f.E
+    lo[rows.cn] = 0.0
+    C[rows.gap, sb] = f.E
+    C[rows.gap, sq] = -f.Kq
+    p = np.asarray(data.p, float)
+    if move:
+        cols = [so.start] + list(range(lay["n"].stop, n))
+        KD = f.Kx @ D
+        lo[rows.gap] = p - f.Kx @ data.x0
+        for k, c in enumerate(cols):
+            C[rows.gap, c] = KD[:, k]
+            C[rows.step.start + k, c] = 1.0
+        lo[rows.step], up[rows.step] = 0.0, float(gamma)
+    else:
+        C[rows.gap, so] = f.Kx
+        lo[rows.gap] = p
+    if load:
+        C[rows.step, -1] = 1.0
+        lo[rows.step], up[rows.step] = 0.0, float(t_max)
+    C[rows.u, sq] = f.Ru
+    C[rows.f, sf] = np.eye(na)
+    fc = np.asarray(data.fc, float)
+    # actuator kinds: backdrivable f = f_c, u free; locked u = 0, f free; non-backdrivable
+    # u >= 0, f >= f_c, complementary
+    lo[rows.u] = np.where(f.bdr, -INF, 0.0)
+    up[rows.u] = np.where(f.lck, 0.0, INF)
+    lo[rows.f] = np.where(f.lck, -INF, fc)
+    up[rows.f] = np.where(f.bdr, fc, INF)
+    # complementarity pairs: contacts, then non-backdrivable actuators
+    gap_m, u_m = _bigm_factors(f)
+    nbd = np.flatnonzero(f.nbd)
+    pairs = [(rows.cn.start + i, rows.gap.start + i) for i in range(nc)]
+    pairs += [(rows.u.start + a, rows.f.start + a) for a in nbd]
+    kinds = (PairKind.CONTACT,) * nc + (PairKind.ACTUATOR,) * len(nbd)
+    owner = np.concatenate([np.arange(nc), nbd]).astype(int)
+    factor = np.vstack(
+        [np.column_stack([np.ones(nc), gap_m]), np.column_stack([u_m[nbd], np.ones(len(nbd))])]
+    )
+    return Problem(
+        kind=kind,
+        L=L,
+        l=l_vec,
+        A=np.vstack(eq) if eq else np.zeros((0, n)),
+        b=np.concatenate(rhs) if rhs else np.zeros(0),
+        C=C,
+        lo=lo,
+        up=up,
+        pairs=np.array(pairs, int).reshape(-1, 2),
+        pair_kind=kinds,
+        pair_owner=owner,
+        bigm_factor=factor.reshape(-1, 2),
+        rows=rows,
+        nc=nc,
+        na=na,
+        eq_names=tuple(names),
+    )
+
+
+def _bigm_factors(form: Formulation) -> tuple[np.ndarray, np.ndarray]:
+    """Per-row big-M factors (>= 1) of the spring gaps (nc,) and actuator displacements (na,).
+
+    Every bounded quantity is in scaled force units, but a separated contact of stiffness
+    ``k_i`` has a gap of order ``(k_i / k_min) F`` and an actuator's displacement is measured in
+    the stiffness of its stiffest joint (docs/stability.md).
+    """
+    m = form.model
+    kmin = float(m.k.min())
+    gap = np.maximum(m.k / kmin, 1.0)
+    if form.na:
+        reach = np.abs(m.R) > 0  # (nq, na)
+        u = np.array([max(float(form.kq[reach[:, a]].max(initial=kmin)) / kmin, 1.0) for a in range(form.na)])
+    else:
+        u = np.zeros(0)
+    return gap, u
