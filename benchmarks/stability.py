@@ -214,6 +214,8 @@ GAMMA = "iterative step bound gamma is set by the stiffest contact"
 UNPOLISHED = "an MIQP point the exact polish rejects is accepted"
 BEYOND_UPPER = "bisection calls a limit beyond `upper` unbounded"
 BELOW_EPS = "iterative verdicts below eps; bisection calls it unbounded"
+CONDITIONING = "a stiffness ratio of 1e6 is beyond the branch-and-bound's node QPs (ConditioningWarning)"
+ABSURD_WEDGE = "the PRP's answer needs an object rotation of ~2e9 rad; the branch-and-bound calls it infeasible"
 
 
 @dataclass
@@ -485,6 +487,7 @@ def catalogue() -> list[Case]:
         for kl, kr, label in ((ratio, 1.0, "left stiff"), (1.0, ratio, "right stiff")):
             par = f"k_left/k_right = {kl / kr:g}"
             quick = ratio == 1e6
+            cond = CONDITIONING if ratio >= 1e6 and kl > kr else ""
             add(
                 Case(
                     "stiffness ratio",
@@ -496,6 +499,7 @@ def catalogue() -> list[Case]:
                     [3.0, 4.0, 0.0],
                     (True, [10.0, 13.0]),
                     quick=quick,
+                    known=cond,
                 )
             )
             add(
@@ -523,7 +527,7 @@ def catalogue() -> list[Case]:
                     10.0,
                 )
             )
-            known = ""  # was GAMMA: fixed by widening the step bound by k_max / k_min
+            known = cond  # was GAMMA: fixed by widening the step bound by k_max / k_min
             add(
                 Case(
                     "stiffness ratio",
@@ -984,6 +988,7 @@ def catalogue() -> list[Case]:
                     10.0 if meth == "iterative" else math.inf,
                     mag_tol=50 * eps_t * 10,
                     quick=eps_t == 1e-6,
+                    known=ABSURD_WEDGE if meth == "prp" and eps_t <= 1e-6 else "",
                 )
             )
             add(
@@ -1297,6 +1302,20 @@ def write_report(
 
 
 KNOWN_FIXES = {
+    CONDITIONING: (
+        "The branch-and-bound's node QPs (DAQP, Clarabel as fallback) lose the pinch's solution when "
+        "one contact is 1e6 times stiffer than the other: the object displacement that the soft "
+        "contact needs is 1e6 times larger than the stiff one's rows can resolve. pinograsp warns "
+        "(`ConditioningWarning`) for a stiffness ratio above 1e5 with the default backend; the "
+        "reference backend (`backend='miqp'`, big-M rows scaled by the stiffness ratio) answers these."
+    ),
+    ABSURD_WEDGE: (
+        "With the left normal tilted by 1e-6 rad, Alg. 1 'resists' any load along y by rotating the "
+        "object ~2e9 rad (scaled) so that the tilt compresses the holding finger: the reference "
+        "MIQP returns that point, the branch-and-bound's feasibility tolerance (relative to the row "
+        "terms) does not reach it and reports the physical-looking 9.985 N. Neither is a physical "
+        "answer; the energy audit of PRP answers (issue 12) is the place to flag such points."
+    ),
     UNPOLISHED: (
         "When the fixed-mode polish of a MIQP solution fails (its mode's exact QP is infeasible), "
         "`engine.py` returns the raw SCIP point, feasible only to SCIP's tolerance (1e-8 of the data "

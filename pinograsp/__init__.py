@@ -6,6 +6,7 @@ from .baseline import LinearComplianceResult, linear_compliance
 from .contact import Contact, friction_edges
 from .errors import (
     BigMWarning,
+    ConditioningWarning,
     ConvergenceWarning,
     InvalidInputError,
     ModelError,
@@ -43,6 +44,7 @@ __all__ = [
     "ACTUATOR_KINDS",
     "Actuator",
     "BigMWarning",
+    "ConditioningWarning",
     "Contact",
     "ConvergenceWarning",
     "Coupling",

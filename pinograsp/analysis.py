@@ -11,6 +11,7 @@ import numpy as np
 from .errors import InvalidInputError, PreloadNotInEquilibriumError, SolverError, SolverTimeoutError
 from .model import GraspModel, axis_index
 from .response import METHODS, PassiveSolver, Settings, solver_for
+from .search import Search, bisection, secant
 from .solvers.base import SolveStatus
 from .results import MaxWrench, PassiveResponse, ResistanceProfile
 
@@ -75,7 +76,7 @@ def max_resistible_wrench(
     *,
     settings: Settings | None = None,
     check_preload_first: bool = True,
-    search: str = "bisection",
+    search: str = "auto",
     **overrides: object,
 ) -> MaxWrench:
     """Largest wrench magnitude along ``direction`` that the preloaded grasp resists passively.
@@ -93,10 +94,12 @@ def max_resistible_wrench(
         method: ``"iterative"`` (default; no wedging artefact) or ``"prp"``.
         upper: Upper limit of the search [N or N·m along the unit direction].
         steps: Bisection steps; resolution ``upper / 2**steps``.
-        search: ``"bisection"`` (default) or ``"direct"`` (PRP only): one mixed-integer
-            program maximising the load factor (:mod:`pinograsp.solvers.load_factor`), exact
-            up to the MILP tolerance instead of ``upper / 2**steps``; the response at the limit
-            is then solved at ``magnitude * (1 - 1e-6)``.
+        search: ``"auto"`` (default: ``"secant"`` for the iterative method, ``"bisection"``
+            for the PRP), ``"bisection"`` (the paper's), ``"secant"`` (iterative only: the same
+            grid cell as the bisection when resistibility is monotone along the ray, in fewer
+            stages; :mod:`pinograsp.search`) or ``"direct"`` (PRP only): one complementarity
+            problem maximising the load factor, exact instead of ``upper / 2**steps``; the
+            response at the limit is then solved at ``magnitude * (1 - 1e-6)``.
         settings, overrides: Solver settings (see :class:`pinograsp.response.Settings`).
 
     Raises:
@@ -130,10 +133,16 @@ def max_resistible_wrench(
         evidence.append((mag, ok))
         return ok, resp
 
-    if search not in ("bisection", "direct"):
-        raise InvalidInputError("search", f"must be 'bisection' or 'direct', got {search!r}")
-    if search == "direct" and method != "prp":
+    valid = [x.value for x in Search]
+    if search not in valid:
+        raise InvalidInputError("search", f"must be one of {valid}, got {search!r}")
+    search = Search(search)
+    if search is Search.AUTO:
+        search = Search.SECANT if method == "iterative" else Search.BISECTION
+    if search is Search.DIRECT and method != "prp":
         raise InvalidInputError("search", "'direct' exists for method='prp' only (Alg. 3 is a trajectory)")
+    if search is Search.SECANT and method != "iterative":
+        raise InvalidInputError("search", "'secant' exists for method='iterative' only (PRP stages carry no residual)")
 
     def result(magnitude: float, unbounded: bool, response: PassiveResponse | None) -> MaxWrench:
         return MaxWrench(
@@ -149,10 +158,10 @@ def max_resistible_wrench(
             n_solves=n_solves,
             response=response,
             n_miqp=n_miqp,
-            search=search,
+            search=search.value,
         )
 
-    if search == "direct":
+    if search is Search.DIRECT:
         # the upper limit first: an unbounded direction costs one (fast-path) solve, not a MILP
         ok, resp = test(float(upper))
         if ok:
@@ -188,14 +197,11 @@ def max_resistible_wrench(
     ok, resp = test(float(upper))
     if ok:
         return result(float("inf"), True, resp)
-    lo, hi, best = 0.0, float(upper), None
-    for _ in range(int(steps)):
-        mid = 0.5 * (lo + hi)
-        ok, resp = test(mid)
-        if ok:
-            lo, best = mid, resp
-        else:
-            hi = mid
+    if search is Search.SECANT:
+        st = solver.settings
+        lo, best = secant(test, float(upper), int(steps), resp, lambda m: st.eps + st.eps_rel * m)
+    else:
+        lo, best = bisection(test, float(upper), int(steps))
     return result(lo, False, best)
 
 
@@ -293,7 +299,7 @@ def resistance_profile(
     settings: Settings | None = None,
     progress: Callable[[int, int], None] | None = None,
     workers: int | None = None,
-    search: str = "bisection",
+    search: str = "auto",
     **overrides: object,
 ) -> ResistanceProfile:
     """Max resistible magnitude over ``n`` directions in a plane of wrench space.

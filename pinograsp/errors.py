@@ -101,6 +101,11 @@ class BigMWarning(PinograspWarning):
     """A mixed-integer solution touched (or came close to) a big-M bound."""
 
 
+class ConditioningWarning(PinograspWarning):
+    """The model is scaled beyond what the default solver resolves reliably (e.g. a stiffness
+    ratio above 1e5 between contacts): use the reference backend (``backend="miqp"``)."""
+
+
 class ConvergenceWarning(PinograspWarning):
     """An iterative computation stopped without meeting its tolerance."""
 

@@ -26,15 +26,16 @@ Two variants (DESIGN §4.2):
 from __future__ import annotations
 
 import time
+import warnings
 import weakref
 from dataclasses import dataclass, replace
 
 import numpy as np
 
-from .errors import InvalidInputError
+from .errors import ConditioningWarning, InvalidInputError
 from .model import GraspModel
 from .results import Audit, PassiveResponse
-from .solvers import OPTIMAL, Formulation, ScaledData, resolve_solver
+from .solvers import MIQP_SOLVERS, OPTIMAL, Formulation, ScaledData, resolve_solver
 from .solvers.base import INFEASIBLE, Mode, RawSolution, SolveStatus
 from .solvers.bnb import MAX_NODES
 from .solvers.engine import Backend, BackendOptions
@@ -47,6 +48,8 @@ VARIANTS = ("single-step", "preload-first", "settled-preload")
 JUMP_AFTER = 3
 #: ... when the last step shrank the net wrench by less than this factor (slow convergence).
 JUMP_RATIO = 0.5
+#: Contact stiffness ratio above which the branch-and-bound warns (docs/solvers.md).
+MAX_STIFFNESS_RATIO = 1e5
 #: Backends by name (``Settings.backend``).
 BACKENDS = tuple(b.value for b in Backend)
 
@@ -124,8 +127,8 @@ class Settings:
             raise InvalidInputError("max_nodes", f"must be an integer >= 1, got {self.max_nodes!r}")
         if self.max_nodes < 1:
             raise InvalidInputError("max_nodes", f"must be an integer >= 1, got {self.max_nodes!r}")
-        if self.backend == Backend.MIQP.value:
-            resolve_solver(self.solver)
+        if str(self.solver).upper() not in MIQP_SOLVERS or self.backend == Backend.MIQP.value:
+            resolve_solver(self.solver)  # a name it does not know, or not installed where used
         for name in ("time_limit", "bigm", "gamma", "eps", "tolerance"):
             v = getattr(self, name)
             if not (isinstance(v, (int, float)) and np.isfinite(v) and v > 0):
@@ -249,6 +252,14 @@ class PassiveSolver:
         #: resisted"), so the bound is widened by ``k_max / k_min`` (1 for uniform stiffness).
         self.gamma_eff = float(self.settings.gamma * self.form.kx / model.k.min())
         self.options = self.settings.backend_options(self.gamma_eff)
+        ratio = float(model.k.max() / model.k.min())
+        if ratio > MAX_STIFFNESS_RATIO and self.options.backend is Backend.BNB:
+            warnings.warn(
+                f"contact stiffness ratio {ratio:.3g} exceeds {MAX_STIFFNESS_RATIO:g}: the default "
+                "branch-and-bound may lose solutions of such models; use backend='miqp'",
+                ConditioningWarning,
+                stacklevel=3,
+            )
         self._preload: dict[tuple, tuple[_Stage, str]] = {}
         self._backend_cache: dict = {}
 

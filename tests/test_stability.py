@@ -24,7 +24,7 @@ import pytest
 import pinograsp as pg
 from pinograsp import analytic
 from pinograsp.solvers import Formulation, Mode, ScaledData
-from pinograsp.solvers.fixed_mode import FixedModeQP
+from pinograsp.solvers import BranchAndBound, build_problem
 from pinograsp.solvers.miqp import CvxpyMIQP, quiet_stdout
 
 _PATH = Path(__file__).resolve().parents[1] / "benchmarks" / "stability.py"
@@ -80,15 +80,16 @@ def _stiff_pinch(kl, kr):
 def test_bigm_rows_scale_with_the_stiffness_spread():
     m = _stiff_pinch(1e4, 1.0)
     f = Formulation(m)
-    mi = CvxpyMIQP(f, "prp")
-    np.testing.assert_allclose(mi.m_gap, [1e4, 1.0])
-    np.testing.assert_allclose(mi.m_u, [1e4, 1.0])
-    uniform = CvxpyMIQP(Formulation(analytic.pinch(k=1e3)), "prp")
-    np.testing.assert_allclose(uniform.m_gap, 1.0)
-    np.testing.assert_allclose(uniform.m_u, 1.0)
+    data = f.scale_data(np.zeros(3), np.ones(2))
+    factor = build_problem(f, "prp", data).bigm_factor  # (pair, side): contacts, then actuators
+    np.testing.assert_allclose(factor[:2, 1], [1e4, 1.0])  # spring gaps
+    np.testing.assert_allclose(factor[2:, 0], [1e4, 1.0])  # actuator displacements
+    f1 = Formulation(analytic.pinch(k=1e3))
+    np.testing.assert_allclose(build_problem(f1, "prp", f1.scale_data(np.zeros(3), np.ones(2))).bigm_factor, 1.0)
 
 
 @pytest.mark.parametrize("ratio", [1e4, 1e6])
+@pytest.mark.filterwarnings("ignore::pinograsp.ConditioningWarning")
 def test_stiff_left_contact_without_verification(ratio):
     """Before issue 6 the MIQP said 'infeasible' here: every solution moved the stiff finger's
     actuator beyond M = 1e3 (scaled). The per-row M alone (no verification) fixes it."""
@@ -98,8 +99,14 @@ def test_stiff_left_contact_without_verification(ratio):
     data = f.scale_data(np.array([3.0, 4.0, 0.0]), np.ones(2))
     sol = mi.solve(data, 1e3)
     assert sol.status == "optimal" and sol.bigm_ratio < 0.1
-    r = pg.passive_response(m, 1.0, [3.0, 4.0, 0.0], method="prp")
+    r = pg.passive_response(m, 1.0, [3.0, 4.0, 0.0], method="prp", backend="miqp")
     np.testing.assert_allclose(r.normal_forces, [10.0, 13.0], atol=1e-5)
+    if ratio > 1e5:  # beyond the branch-and-bound's node QPs: it says so
+        with pytest.warns(pg.ConditioningWarning, match="backend='miqp'"):
+            pg.solver_for(m)
+    else:
+        r = pg.passive_response(m, 1.0, [3.0, 4.0, 0.0], method="prp")
+        np.testing.assert_allclose(r.normal_forces, [10.0, 13.0], atol=1e-5)
 
 
 def test_infeasible_verdict_is_verified_with_a_larger_m():
@@ -200,18 +207,20 @@ def test_indicator_constraints_match_brute_force():
     m = stability.pinch((1e3, 1.0), h=0.01)  # the wedge with a stiffness ratio
     f = Formulation(m)
     ind = CvxpyMIQP(f, "prp", complementarity="indicator")
-    qp = FixedModeQP(f, "prp")
     for w in ([3.0, -4.0, 0.02], [-1.5, 12.0, -0.3]):
         data = f.scale_data(np.array(w), np.ones(m.na))
+        bb = BranchAndBound(build_problem(f, "prp", data))
         best = np.inf
         for bits in itertools.product([False, True], repeat=m.nc + m.na):
-            sol = qp.solve(data, Mode(bits[: m.nc], bits[m.nc :]))
+            sol = bb.solve_mode(Mode(bits[: m.nc], bits[m.nc :]))
             if sol.status == "optimal":
                 best = min(best, sol.objective)
         b = ind.solve(data, 1e3)
-        assert b.status == ("optimal" if np.isfinite(best) else "infeasible")
+        own = bb.solve()
+        assert b.status == own.status == ("optimal" if np.isfinite(best) else "infeasible")
         if np.isfinite(best):
             assert b.objective == pytest.approx(best, rel=1e-5, abs=1e-8)
+            assert own.objective == pytest.approx(best, rel=1e-9, abs=1e-12)
 
 
 def test_indicator_movement_step_matches_bigm():

@@ -19,9 +19,11 @@ Two refinements make the answer exact and canonical:
   Euclidean norm is returned, so that ties (friction edges, joint null spaces) are broken the
   same way for mirror-symmetric grasps.
 
-DAQP occasionally reports a feasible node "infeasible" or stops at its iteration limit on these
-degenerate problems; such a status is re-tried with other proximal settings before it is
-believed (:data:`RETRIES`).
+DAQP occasionally reports a feasible node "infeasible" or "unbounded", or cycles, on these
+degenerate problems. Its "infeasible" is checked by the least violation of the rows (a problem
+that is always feasible, so DAQP solves it reliably); anything DAQP does not settle is decided by
+Clarabel (interior point, single-threaded, with infeasibility certificates), which is slower but
+robust on ill-conditioned nodes (tiny friction, stiffness ratios of 1e6).
 
 This module never imports Pinocchio or Coal.
 """
@@ -40,20 +42,20 @@ from .problem import INF, Problem
 _SOLVED = (1, 2)
 #: DAQP's exit flag for a primal-infeasible problem.
 _INFEASIBLE = -1
-#: Primal feasibility tolerance used to accept a point (scaled force units).
+#: Bound on every variable (scaled force units: multiples of the data's force scale). It keeps
+#: DAQP's proximal iterations away from directions of zero cost that the rows leave unbounded
+#: (DAQP then reported "unbounded" for a convex QP bounded below); no physical answer is near it.
+BOX = INF
+#: Primal feasibility tolerance (scaled force units): a point is accepted within it, and a node
+#: whose rows cannot all hold within it is infeasible.
 FEAS_TOL = 1e-9
+#: Relative rounding allowed on each row's terms when checking a point (DAQP's accumulated
+#: error on points with large displacements, e.g. a stiffness ratio of 1e6).
+ROUNDING = 1e-12
 #: Slack below which a row counts as tight when polishing (scaled force units).
 TIGHT_TOL = 1e-9
-#: DAQP settings tried in turn: the first that reports "solved" answers; a node is infeasible
-#: only if every attempt says so.
-RETRIES: tuple[dict[str, float], ...] = (
-    {"eps_prox": 1e-6},
-    {"eps_prox": 1e-2},
-    {"eps_prox": -1.0},
-)
-#: Attempts that must agree before an "infeasible" is believed (DAQP's false infeasibility on
-#: feasible degenerate nodes is rare; one second opinion with other proximal weights).
-INFEASIBLE_ATTEMPTS = 2
+#: DAQP settings of a node QP (proximal mode: the objective is rank deficient).
+DAQP_SETTINGS: dict[str, float] = {"eps_prox": 1e-6, "primal_tol": 1e-9}
 
 
 class QPStatus(str, Enum):
@@ -93,19 +95,21 @@ class NodeQP:
         self.g = 2.0 * (P.L.T @ P.l)
         #: the friction-edge rows ``beta >= 0`` are passed to DAQP as simple variable bounds
         self.nb = P.rows.beta.stop
-        self.vlo = np.full(P.n, -INF)
-        self.vup = np.full(P.n, INF)
+        self.vlo = np.full(P.n, -BOX)
+        self.vup = np.full(P.n, BOX)
         self.vlo[: self.nb] = 0.0
         self.M = np.ascontiguousarray(np.vstack([P.A, P.C[self.nb :]]))
         self.me = P.A.shape[0]
 
     def feasible(self, z: np.ndarray, up: np.ndarray, tol: float = FEAS_TOL) -> bool:
-        """Whether ``z`` satisfies every row with upper bounds ``up`` (scaled tolerance)."""
+        """Whether ``z`` satisfies every row with upper bounds ``up`` within ``tol`` relative to
+        plus the rounding of each row's terms (:data:`ROUNDING` times ``|C_i| |z|``)."""
         P = self.p
-        if P.A.shape[0] and np.abs(P.A @ z - P.b).max() > tol:
+        tol_rows = tol + ROUNDING * (np.abs(P.C) @ np.abs(z))
+        if P.A.shape[0] and np.any(np.abs(P.A @ z - P.b) > tol + ROUNDING * (np.abs(P.A) @ np.abs(z))):
             return False
         v = P.C @ z
-        return bool(np.all(v >= P.lo - tol) and np.all(v <= up + tol))
+        return bool(np.all(v >= P.lo - tol_rows) and np.all(v <= up + tol_rows))
 
     def solve(self, up: np.ndarray, polish: bool = True) -> QPResult:
         """Solve with the problem's lower bounds and the upper bounds ``up`` (mi,)."""
@@ -116,25 +120,80 @@ class NodeQP:
         bl = np.concatenate([self.vlo, P.b, lo[nb:]])
         sense = np.zeros(len(bu), dtype=np.int32)
         sense[P.n : P.n + self.me] = 5
-        sense[P.n + self.me :][up[nb:] <= lo[nb:]] = 5
-        sense[:nb][up[:nb] <= lo[:nb]] = 5
         bu[:nb] = up[:nb]
-        iters = 0
-        z = None
-        for k, opts in enumerate(RETRIES):
-            x, _, flag, info = daqp.solve(self.H, self.g, self.M, bu, bl, sense, **opts)
-            iters += int(info["iterations"])
-            if flag in _SOLVED and self.feasible(np.asarray(x), up, 1e3 * FEAS_TOL):
-                z = np.array(x, float)
-                break
-            if flag == _INFEASIBLE and k + 1 >= INFEASIBLE_ATTEMPTS:
-                break
+        x, _, flag, info = daqp.solve(self.H, self.g, self.M, bu, bl, sense, **DAQP_SETTINGS)
+        iters, attempts = int(info["iterations"]), 1
+        z = np.array(x, float) if flag in _SOLVED and self.feasible(np.asarray(x), up) else None
+        if z is None and flag == _INFEASIBLE:
+            # DAQP's infeasibility is checked by the least violation of the rows (an always
+            # feasible problem): beyond the tolerance the node is infeasible for certain
+            attempts += 1
+            violation = self.least_violation(up)
+            if violation is not None and violation[0] > FEAS_TOL + ROUNDING * violation[1]:
+                return QPResult(QPStatus.INFEASIBLE, None, float("inf"), iters, attempts)
         if z is None:
-            status = QPStatus.INFEASIBLE if flag == _INFEASIBLE else QPStatus.FAILED
-            return QPResult(status, None, float("inf"), iters, k + 1)
+            # DAQP did not settle it (cycling, false "unbounded" or "infeasible" on a degenerate
+            # node): the interior-point solver decides, with an infeasibility certificate
+            attempts += 1
+            status, z = self.interior_point(up)
+            if status is not QPStatus.OPTIMAL:
+                return QPResult(status, None, float("inf"), iters, attempts)
         if polish:
             z = self.polish(z, up)
-        return QPResult(QPStatus.OPTIMAL, z, P.objective(z), iters, k + 1)
+        return QPResult(QPStatus.OPTIMAL, z, P.objective(z), iters, attempts)
+
+    def least_violation(self, up: np.ndarray) -> tuple[float, float] | None:
+        """Smallest ``t >= 0`` such that every row holds within ``t`` (scaled force units), by
+        DAQP on ``min t^2 + |A z - b|^2``, and the largest row term ``|C_i| |z|`` at the point
+        that reaches it (None if DAQP fails on it too)."""
+        P = self.p
+        n, me = P.n, self.me
+        nn = n + 1 + me  # z, t, equality slacks
+        H = np.zeros((nn, nn))
+        H[n:, n:] = 2.0 * np.eye(1 + me)
+        rows_eq = np.hstack([P.A, np.zeros((me, 1)), -np.eye(me)])  # A z - e = b
+        Ci = np.hstack([P.C, np.zeros((P.C.shape[0], 1 + me))])
+        lo_rows = np.hstack([Ci, np.zeros((len(Ci), 0))])
+        lo_rows[:, n] = 1.0  # C z + t >= lo
+        up_rows = Ci.copy()
+        up_rows[:, n] = -1.0  # C z - t <= up
+        M = np.ascontiguousarray(np.vstack([rows_eq, lo_rows, up_rows]))
+        vlo = np.concatenate([np.full(n, -BOX), [0.0], np.full(me, -BOX)])
+        vup = np.concatenate([np.full(n, BOX), [BOX], np.full(me, BOX)])
+        bu = np.concatenate([vup, P.b, np.full(len(Ci), INF), up])
+        bl = np.concatenate([vlo, P.b, P.lo, np.full(len(Ci), -INF)])
+        sense = np.zeros(len(bu), dtype=np.int32)
+        sense[nn : nn + me] = 5
+        x, _, flag, _ = daqp.solve(H, np.zeros(nn), M, bu, bl, sense, eps_prox=1e-6)
+        if flag not in _SOLVED:
+            return None
+        x = np.asarray(x)
+        size = float(max((np.abs(P.C) @ np.abs(x[:n])).max(initial=0.0), (np.abs(P.A) @ np.abs(x[:n])).max(initial=0.0)))
+        return float(max(x[n], np.abs(x[n + 1 :]).max(initial=0.0))), size
+
+    def interior_point(self, up: np.ndarray) -> tuple[QPStatus, np.ndarray | None]:
+        """The node QP by Clarabel (interior point, infeasibility certificates)."""
+        import clarabel
+        import scipy.sparse as sp
+
+        P = self.p
+        fl, fu = P.lo > -INF, up < INF
+        G = np.vstack([P.A, -P.C[fl], P.C[fu]])
+        h = np.concatenate([P.b, -P.lo[fl], up[fu]])
+        cones = [clarabel.ZeroConeT(self.me), clarabel.NonnegativeConeT(int(fl.sum() + fu.sum()))]
+        st = clarabel.DefaultSettings()
+        st.verbose = False
+        st.tol_gap_abs = st.tol_gap_rel = st.tol_feas = 1e-12
+        st.max_iter = 400
+        sol = clarabel.DefaultSolver(sp.csc_matrix(self.H), self.g, sp.csc_matrix(G), h, cones, st).solve()
+        name = str(sol.status)
+        if name in ("Solved", "AlmostSolved"):
+            z = np.array(sol.x, float)
+            if self.feasible(z, up, 1e3 * FEAS_TOL):
+                return QPStatus.OPTIMAL, z
+        if name in ("PrimalInfeasible", "AlmostPrimalInfeasible"):
+            return QPStatus.INFEASIBLE, None
+        return QPStatus.FAILED, None
 
     def polish(self, z: np.ndarray, up: np.ndarray) -> np.ndarray:
         """The least-norm optimum on the face of rows tight at ``z`` (else ``z`` itself)."""
