@@ -90,3 +90,25 @@ def coupled_finger(
         planar=True,
         joint_names=("proximal", "distal"),
     )
+
+
+def wedge(
+    a: float = 0.03, angle: float = np.radians(20.0), L: float = 0.1, mu: float = 0.5, planar: bool = True
+) -> GraspModel:
+    """Two single-link fingers pressing on a wedge-shaped object from below the sides.
+
+    Contacts at ``(-a, 0)`` and ``(a, 0)`` with normals ``(cos angle, sin angle)`` and
+    ``(-cos angle, sin angle)`` (both push inwards and up); each finger's revolute joint sits
+    ``L`` from its contact, perpendicular to the normal, so closing moves the contact along its
+    normal with moment arm ``L`` [m]. Mirror-symmetric about the y axis.
+    """
+    cs = []
+    for i, (sx, name) in enumerate(((-1.0, "left"), (1.0, "right"))):
+        p = np.array([sx * a, 0.0, 0.0])
+        n = np.array([-sx * np.cos(angle), np.sin(angle), 0.0])
+        t = np.array([n[1], -n[0], 0.0]) * -sx  # in-plane, perpendicular to n, pointing down
+        pivot = p + L * t
+        axis = EZ if np.cross(EZ, p - pivot) @ n > 0 else -EZ
+        cs.append(Contact.revolute(p, n, {i: (pivot, axis)}, nq=2, mu=mu, name=name))
+    acts = [Actuator({0: 1.0}, name="left"), Actuator({1: 1.0}, name="right")]
+    return GraspModel.from_contacts(cs, actuators=acts, planar=planar, joint_names=("left", "right"))

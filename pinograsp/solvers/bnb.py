@@ -116,12 +116,12 @@ class BranchAndBound:
             msg = f"no contact force can produce the wrench component(s) {', '.join(bad)}"
             return RawSolution(status=INFEASIBLE, backend="bnb", message=msg)
         npair = len(P.pairs)
-        best_obj, best_sides = INF, None
+        best_obj, best_sides, best_z = INF, None, None
         if guess is not None:
             sides = P.sides_of(guess)
             res = self._qp(sides.astype(np.int8))
             if res.status is QPStatus.OPTIMAL:
-                best_obj, best_sides = res.objective, sides
+                best_obj, best_sides, best_z = res.objective, sides, res.z
         stack = [np.full(npair, -1, np.int8)]
         limited = False
         while stack:
@@ -138,11 +138,11 @@ class BranchAndBound:
             viol = self._violation(res.z, fixed)
             natural = np.where(fixed >= 0, fixed, P.natural_sides(res.z)).astype(np.int8)
             if not np.any(viol > COMP_TOL):
-                best_obj, best_sides = res.objective, natural
+                best_obj, best_sides, best_z = res.objective, natural, res.z
                 continue
             rep = self._qp(natural)
             if rep.status is QPStatus.OPTIMAL and rep.objective < best_obj:
-                best_obj, best_sides = rep.objective, natural
+                best_obj, best_sides, best_z = rep.objective, natural, rep.z
             if self._pruned(res.objective, best_obj):
                 continue
             k = self._branch_pair(viol)
@@ -157,7 +157,7 @@ class BranchAndBound:
                     status=NODE_LIMIT, backend="bnb", message=f"node limit {self.max_nodes} reached"
                 )
             return RawSolution(status=INFEASIBLE, backend="bnb", message=self._count_message())
-        return self._final(best_sides, limited)
+        return self._final(best_sides, limited, best_z)
 
     def _pruned(self, bound: float, best: float) -> bool:
         return best < INF and bound >= best * (1.0 - REL_GAP) - ABS_GAP
@@ -173,17 +173,22 @@ class BranchAndBound:
 
         Used to polish a reference backend's answer: its mode is re-solved exactly here."""
         self._nodes = self._qps = self._attempts = 0
-        return self._final(self.p.sides_of(mode), False)
+        return self._final(self.p.sides_of(mode), False, None)
 
-    def _final(self, sides: np.ndarray, limited: bool) -> RawSolution:
-        """Polished least-norm point of the optimal mode."""
+    def _final(self, sides: np.ndarray, limited: bool, z_found: np.ndarray | None) -> RawSolution:
+        """Canonical point of the optimal mode (``z_found``: the point the search found in it)."""
         P = self.p
-        res = self._qp(sides.astype(np.int8), polish=True)
-        if res.status is QPStatus.INFEASIBLE:
-            return RawSolution(status=INFEASIBLE, backend="bnb", message="the mode has no feasible point")
-        if res.status is not QPStatus.OPTIMAL:
-            return self._failed("the optimal mode's QP could not be re-solved")
-        z = self._canonical(res.z, sides)
+        if z_found is None:
+            res = self._qp(sides.astype(np.int8), polish=True)
+            if res.status is QPStatus.INFEASIBLE:
+                return RawSolution(status=INFEASIBLE, backend="bnb", message="the mode has no feasible point")
+            if res.status is not QPStatus.OPTIMAL:
+                return self._failed("the optimal mode's QP could not be re-solved")
+            z_found = res.z
+        else:
+            _, up = P.bounds(sides.astype(np.int8))
+            z_found = self.qp.polish(z_found, up)
+        z = self._canonical(z_found, sides)
         mode = P.mode_of(sides)
         status = NODE_LIMIT if limited else OPTIMAL
         return RawSolution(

@@ -19,11 +19,12 @@ Two refinements make the answer exact and canonical:
   Euclidean norm is returned, so that ties (friction edges, joint null spaces) are broken the
   same way for mirror-symmetric grasps.
 
-DAQP occasionally reports a feasible node "infeasible" or "unbounded", or cycles, on these
-degenerate problems. Its "infeasible" is checked by the least violation of the rows (a problem
-that is always feasible, so DAQP solves it reliably); anything DAQP does not settle is decided by
-Clarabel (interior point, single-threaded, with infeasibility certificates), which is slower but
-robust on ill-conditioned nodes (tiny friction, stiffness ratios of 1e6).
+DAQP's proximal iterations occasionally report a feasible node "infeasible" or "unbounded", or
+cycle, on these degenerate problems (a case-1 mode QP was called infeasible that has a point).
+So DAQP's answer is taken only when it is a point that passes the feasibility check; its
+"infeasible" is confirmed on the strictly convex projection problem (no proximal iterations);
+every other outcome is decided by Clarabel (interior point, single-threaded, deterministic),
+whose points are accepted only within :data:`MAX_POINT`.
 
 This module never imports Pinocchio or Coal.
 """
@@ -46,6 +47,9 @@ _INFEASIBLE = -1
 #: DAQP's proximal iterations away from directions of zero cost that the rows leave unbounded
 #: (DAQP then reported "unbounded" for a convex QP bounded below); no physical answer is near it.
 BOX = INF
+#: Largest accepted variable (scaled force units): an interior-point "solution" beyond it is a
+#: march towards infinity on an infeasible node, not an answer.
+MAX_POINT = 1e9
 #: Primal feasibility tolerance (scaled force units): a point is accepted within it, and a node
 #: whose rows cannot all hold within it is infeasible.
 FEAS_TOL = 1e-9
@@ -125,15 +129,15 @@ class NodeQP:
         iters, attempts = int(info["iterations"]), 1
         z = np.array(x, float) if flag in _SOLVED and self.feasible(np.asarray(x), up) else None
         if z is None and flag == _INFEASIBLE:
-            # DAQP's infeasibility is checked by the least violation of the rows (an always
-            # feasible problem): beyond the tolerance the node is infeasible for certain
+            # the proximal iteration's "infeasible" is checked on the strictly convex projection
+            # problem (min |z|^2 over the same rows), where DAQP's dual test is reliable
             attempts += 1
-            violation = self.least_violation(up)
-            if violation is not None and violation[0] > FEAS_TOL + ROUNDING * violation[1]:
+            if self.project(up) is None:
                 return QPResult(QPStatus.INFEASIBLE, None, float("inf"), iters, attempts)
         if z is None:
-            # DAQP did not settle it (cycling, false "unbounded" or "infeasible" on a degenerate
-            # node): the interior-point solver decides, with an infeasibility certificate
+            # DAQP did not find a point ("infeasible" — sometimes falsely on degenerate nodes —,
+            # "unbounded", cycling): the interior-point solver decides, with an infeasibility
+            # certificate
             attempts += 1
             status, z = self.interior_point(up)
             if status is not QPStatus.OPTIMAL:
@@ -142,34 +146,19 @@ class NodeQP:
             z = self.polish(z, up)
         return QPResult(QPStatus.OPTIMAL, z, P.objective(z), iters, attempts)
 
-    def least_violation(self, up: np.ndarray) -> tuple[float, float] | None:
-        """Smallest ``t >= 0`` such that every row holds within ``t`` (scaled force units), by
-        DAQP on ``min t^2 + |A z - b|^2``, and the largest row term ``|C_i| |z|`` at the point
-        that reaches it (None if DAQP fails on it too)."""
+    def project(self, up: np.ndarray) -> np.ndarray | None:
+        """The least-norm point of the rows with upper bounds ``up`` (None: DAQP proves there is
+        none; a strictly convex QP, so its infeasibility verdict does not rest on proximal
+        iterations)."""
         P = self.p
-        n, me = P.n, self.me
-        nn = n + 1 + me  # z, t, equality slacks
-        H = np.zeros((nn, nn))
-        H[n:, n:] = 2.0 * np.eye(1 + me)
-        rows_eq = np.hstack([P.A, np.zeros((me, 1)), -np.eye(me)])  # A z - e = b
-        Ci = np.hstack([P.C, np.zeros((P.C.shape[0], 1 + me))])
-        lo_rows = np.hstack([Ci, np.zeros((len(Ci), 0))])
-        lo_rows[:, n] = 1.0  # C z + t >= lo
-        up_rows = Ci.copy()
-        up_rows[:, n] = -1.0  # C z - t <= up
-        M = np.ascontiguousarray(np.vstack([rows_eq, lo_rows, up_rows]))
-        vlo = np.concatenate([np.full(n, -BOX), [0.0], np.full(me, -BOX)])
-        vup = np.concatenate([np.full(n, BOX), [BOX], np.full(me, BOX)])
-        bu = np.concatenate([vup, P.b, np.full(len(Ci), INF), up])
-        bl = np.concatenate([vlo, P.b, P.lo, np.full(len(Ci), -INF)])
+        nb = self.nb
+        bu = np.concatenate([self.vup, P.b, up[nb:]])
+        bl = np.concatenate([self.vlo, P.b, P.lo[nb:]])
+        bu[:nb] = up[:nb]
         sense = np.zeros(len(bu), dtype=np.int32)
-        sense[nn : nn + me] = 5
-        x, _, flag, _ = daqp.solve(H, np.zeros(nn), M, bu, bl, sense, eps_prox=1e-6)
-        if flag not in _SOLVED:
-            return None
-        x = np.asarray(x)
-        size = float(max((np.abs(P.C) @ np.abs(x[:n])).max(initial=0.0), (np.abs(P.A) @ np.abs(x[:n])).max(initial=0.0)))
-        return float(max(x[n], np.abs(x[n + 1 :]).max(initial=0.0))), size
+        sense[P.n : P.n + self.me] = 5
+        x, _, flag, _ = daqp.solve(np.eye(P.n), np.zeros(P.n), self.M, bu, bl, sense)
+        return None if flag == _INFEASIBLE else np.asarray(x, float)
 
     def interior_point(self, up: np.ndarray) -> tuple[QPStatus, np.ndarray | None]:
         """The node QP by Clarabel (interior point, infeasibility certificates)."""
@@ -189,7 +178,7 @@ class NodeQP:
         name = str(sol.status)
         if name in ("Solved", "AlmostSolved"):
             z = np.array(sol.x, float)
-            if self.feasible(z, up, 1e3 * FEAS_TOL):
+            if np.abs(z).max(initial=0.0) <= MAX_POINT and self.feasible(z, up, 1e3 * FEAS_TOL):
                 return QPStatus.OPTIMAL, z
         if name in ("PrimalInfeasible", "AlmostPrimalInfeasible"):
             return QPStatus.INFEASIBLE, None
