@@ -278,8 +278,10 @@ class PassiveSolver:
         return _Stage(raw, data, xh, status, ok, 1, (), raw.solve_time, 1, 1)
 
     def _iterative_stage(
-        self, w: np.ndarray, fc: np.ndarray, p: np.ndarray, F: float | None = None
+        self, w: np.ndarray, fc: np.ndarray, p: np.ndarray, F: float | None = None, start: Mode | None = None
     ) -> _Stage:
+        """Alg. 3 from the (pre)loaded state; ``start`` is the mode the grasp is in before the
+        first step (the preload's), the first step's incumbent."""
         s = self.settings
         f = self.form
         lay = f.layout("move")
@@ -290,7 +292,7 @@ class PassiveSolver:
         history: list[float] = []
         total, n = 0.0, 0
         status, converged, raw_best = "not_converged", False, None
-        prev, guess = None, None
+        prev, guess = None, start
         streak: list[np.ndarray] = []  # net wrenches of the current mode's real steps
         for _ in range(int(s.max_iterations)):
             data = ScaledData(base.F, base.w, base.fc, base.p, xh, direction)
@@ -442,7 +444,7 @@ class PassiveSolver:
                 note = "preload not in equilibrium"
                 return self._build(method, variant, w6, fc, failed, pre=None, note=note)
             p = self.form.E @ pre.raw.z[self._layout_of(pre_method)["beta"]] * pre.data.F
-            st = stage_fn(w, fc, p)
+            st = stage_fn(w, fc, p) if method == "prp" else stage_fn(w, fc, p, start=pre.raw.mode)
             return self._build(method, variant, w6, fc, st, pre=pre, pre_fresh=fresh, pre_kind=pre_method)
         st = stage_fn(w, fc, p)
         return self._build(method, variant, w6, fc, st, pre=pre, pre_fresh=fresh)

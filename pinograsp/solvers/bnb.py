@@ -218,6 +218,6 @@ class BranchAndBound:
         _, up = P.bounds(sides.astype(np.int8))
         single = P.kind is ProblemKind.MOVE and P.rows.step.stop - P.rows.step.start == 1
         first = P.step_index if single else None
-        cand = self.qp.least_norm(z, up, first)
+        cand = self.qp.least_norm(z, up, first, energy=P.kind is ProblemKind.MOVE)
         self._qps += 1
         return z if cand is None else cand

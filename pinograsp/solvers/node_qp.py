@@ -53,6 +53,9 @@ MAX_POINT = 1e9
 #: Primal feasibility tolerance (scaled force units): a point is accepted within it, and a node
 #: whose rows cannot all hold within it is infeasible.
 FEAS_TOL = 1e-9
+#: Objective values (squared scaled forces) below this are equal: a net wrench of 1e-9 of the
+#: force scale is the feasibility tolerance.
+OBJ_FLOOR = FEAS_TOL**2
 #: Relative rounding allowed on each row's terms when checking a point (DAQP's accumulated
 #: error on points with large displacements, e.g. a stiffness ratio of 1e6).
 ROUNDING = 1e-12
@@ -60,6 +63,11 @@ ROUNDING = 1e-12
 TIGHT_TOL = 1e-9
 #: DAQP settings of a node QP (proximal mode: the objective is rank deficient).
 DAQP_SETTINGS: dict[str, float] = {"eps_prox": 1e-6, "primal_tol": 1e-9}
+#: Further DAQP settings tried, in order, when the first gives no acceptable point.
+DAQP_RETRIES: tuple[dict[str, float], ...] = (
+    {"eps_prox": -1.0, "primal_tol": 1e-10},
+    {"eps_prox": 1e-4, "primal_tol": 1e-10},
+)
 
 
 class QPStatus(str, Enum):
@@ -128,12 +136,21 @@ class NodeQP:
         x, _, flag, info = daqp.solve(self.H, self.g, self.M, bu, bl, sense, **DAQP_SETTINGS)
         iters, attempts = int(info["iterations"]), 1
         z = np.array(x, float) if flag in _SOLVED and self.feasible(np.asarray(x), up) else None
-        if z is None and flag == _INFEASIBLE:
-            # the proximal iteration's "infeasible" is checked on the strictly convex projection
-            # problem (min |z|^2 over the same rows), where DAQP's dual test is reliable
+        if z is None:
+            # without a point, feasibility is decided on the strictly convex projection problem
+            # (min |z|^2 over the same rows), where DAQP's dual test does not rest on proximal
+            # iterations (they report false "infeasible" and cycle on degenerate nodes)
             attempts += 1
             if self.project(up) is None:
                 return QPResult(QPStatus.INFEASIBLE, None, float("inf"), iters, attempts)
+        for opts in DAQP_RETRIES if z is None else ():
+            # other proximal weights: a point slightly off its rows (1e-8) or a cycle is often
+            # settled by them
+            x, _, flag, info = daqp.solve(self.H, self.g, self.M, bu, bl, sense, **opts)
+            iters, attempts = iters + int(info["iterations"]), attempts + 1
+            if flag in _SOLVED and self.feasible(np.asarray(x), up):
+                z = np.array(x, float)
+                break
         if z is None:
             # DAQP did not find a point ("infeasible" — sometimes falsely on degenerate nodes —,
             # "unbounded", cycling): the interior-point solver decides, with an infeasibility
@@ -195,14 +212,17 @@ class NodeQP:
         cand = least_norm_lsq(P.L, P.l, Aa, ba)
         if cand is None or not self.feasible(cand, up):
             return z
-        if P.objective(cand) > P.objective(z) * (1.0 + 1e-12) + 1e-30:
+        if P.objective(cand) > P.objective(z) * (1.0 + 1e-12) + OBJ_FLOOR:
             return z
         return cand
 
-    def least_norm(self, z: np.ndarray, up: np.ndarray, first: int | None = None) -> np.ndarray | None:
+    def least_norm(
+        self, z: np.ndarray, up: np.ndarray, first: int | None = None, energy: bool = False
+    ) -> np.ndarray | None:
         """Canonical point with the same objective residual ``L z + l`` as ``z`` (a feasible
         optimum), subject to every row with upper bounds ``up``: the largest value of variable
-        ``first`` (if given; the iterative scheme's step length), then the least norm.
+        ``first`` (if given; the iterative scheme's step length), then (``energy``) the least
+        spring energy ``|c_n|^2``, then the least norm.
 
         Returns None if DAQP fails or the point would be worse than ``z``.
         """
@@ -219,16 +239,25 @@ class NodeQP:
             e[0, first] = 1.0
             rows.append(e)
             rhs.append(np.array([top]))
+        if energy:
+            cn = self._least_energy(z, up, np.vstack(rows), np.concatenate(rhs))
+            if cn is not None:
+                rows.append(P.C[P.rows.cn])
+                rhs.append(cn)
         cand = self._min_norm(np.vstack(rows), np.concatenate(rhs), up)
         if cand is None or not self.feasible(cand, up):
             return None
-        if P.objective(cand) > P.objective(z) * (1.0 + 1e-9) + 1e-24:
+        if P.objective(cand) > P.objective(z) * (1.0 + 1e-9) + OBJ_FLOOR:
             return None
         return cand
 
     def _daqp(self, H: np.ndarray, g: np.ndarray, E: np.ndarray, e: np.ndarray, up: np.ndarray, **opt):
-        """DAQP on ``min ½ z'Hz + g'z`` s.t. ``E z = e`` and the problem's rows with ``up``."""
+        """DAQP on ``min ½ z'Hz + g'z`` s.t. ``E z = e`` and the problem's rows with ``up``.
+
+        ``E z = e`` is first reduced to independent rows (SVD): DAQP refuses dependent equality
+        rows (its "overdetermined active set")."""
         P = self.p
+        E, e = _independent(E, e)
         M = np.ascontiguousarray(np.vstack([E, P.C]))
         bu = np.concatenate([e, up])
         bl = np.concatenate([e, P.lo])
@@ -250,9 +279,36 @@ class NodeQP:
             return float(z[j])
         return max(float(x[j]), float(z[j]))
 
+    def _least_energy(self, z: np.ndarray, up: np.ndarray, E: np.ndarray, e: np.ndarray) -> np.ndarray | None:
+        """Normal forces ``c_n`` (scaled, (nc,)) of least ``|c_n|^2`` on ``{E z = e} ∩ rows``,
+        refined on the face of rows tight at DAQP's point (None: keep ``z``'s)."""
+        P = self.p
+        Cn = P.C[P.rows.cn]
+        x = self._daqp(2.0 * Cn.T @ Cn, np.zeros(P.n), E, e, up, eps_prox=1e-6)
+        if x is None or not self.feasible(x, up):
+            return None
+        v = P.C @ x
+        tight = ((np.abs(v - P.lo) <= TIGHT_TOL) & (P.lo > -INF)) | ((np.abs(v - up) <= TIGHT_TOL) & (up < INF))
+        bound = np.where(np.abs(v - P.lo) <= TIGHT_TOL, P.lo, up)
+        exact = least_norm_lsq(Cn, np.zeros(len(Cn)), np.vstack([E, P.C[tight]]), np.concatenate([e, bound[tight]]))
+        if exact is not None and self.feasible(exact, up) and np.sum((Cn @ exact) ** 2) <= np.sum((Cn @ x) ** 2):
+            x = exact
+        if np.sum((Cn @ x) ** 2) > np.sum((Cn @ z) ** 2):
+            return None
+        return Cn @ x
+
     def _min_norm(self, E: np.ndarray, e: np.ndarray, up: np.ndarray) -> np.ndarray | None:
         n = self.p.n
         return self._daqp(np.eye(n), np.zeros(n), E, e, up, primal_tol=1e-10, iter_limit=5000)
+
+
+def _independent(E: np.ndarray, e: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """An equivalent system of independent rows (the range of ``E`` by SVD)."""
+    if not E.shape[0]:
+        return E, e
+    U, s, Vt = np.linalg.svd(E, full_matrices=False)
+    r = int(np.sum(s > 1e-12 * max(s[0], 1e-300)))
+    return s[:r, None] * Vt[:r], U[:, :r].T @ e
 
 
 def least_norm_lsq(L: np.ndarray, l: np.ndarray, A: np.ndarray, b: np.ndarray) -> np.ndarray | None:
