@@ -215,7 +215,9 @@ UNPOLISHED = "an MIQP point the exact polish rejects is accepted"
 BEYOND_UPPER = "bisection calls a limit beyond `upper` unbounded"
 BELOW_EPS = "iterative verdicts below eps; bisection calls it unbounded"
 CONDITIONING = "a stiffness ratio of 1e6 is beyond the branch-and-bound's node QPs (ConditioningWarning)"
-ABSURD_WEDGE = "the PRP's answer needs an object rotation of ~2e9 rad; the branch-and-bound calls it infeasible"
+ABSURD_WEDGE = (
+    "the PRP's answer needs an object rotation of ~2e9 rad; the branch-and-bound calls it infeasible"
+)
 
 
 @dataclass

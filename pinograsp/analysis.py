@@ -11,9 +11,9 @@ import numpy as np
 from .errors import InvalidInputError, PreloadNotInEquilibriumError, SolverError, SolverTimeoutError
 from .model import GraspModel, axis_index
 from .response import METHODS, PassiveSolver, Settings, solver_for
+from .results import MaxWrench, PassiveResponse, ResistanceProfile
 from .search import Search, bisection, secant
 from .solvers.base import SolveStatus
-from .results import MaxWrench, PassiveResponse, ResistanceProfile
 
 
 def wrench_direction(model: GraspModel, direction: object, name: str = "direction") -> np.ndarray:
@@ -114,21 +114,19 @@ def max_resistible_wrench(
         raise InvalidInputError("steps", f"must be >= 1, got {steps!r}")
     solver = solver_for(model, settings, **overrides)
     d = wrench_direction(model, direction)
-    solve_time, n_solves, n_miqp = 0.0, 0, 0
+    solve_time, n_solves = 0.0, 0
     if check_preload_first:
         pre = check_preload(solver, command, method)
         solve_time += pre.solve_time
         n_solves += pre.n_solves
-        n_miqp += pre.n_miqp
     evidence: list[tuple[float, bool]] = []
 
     def test(mag: float, by: PassiveSolver | None = None) -> tuple[bool, PassiveResponse]:
         """Verdict at ``mag`` (by this query's solver, or ``by`` another one), recorded."""
-        nonlocal solve_time, n_solves, n_miqp
+        nonlocal solve_time, n_solves
         resp = (by or solver).response(command, mag * d, method)
         solve_time += resp.solve_time
         n_solves += resp.n_solves
-        n_miqp += resp.n_miqp
         ok = _check(resp, mag)
         evidence.append((mag, ok))
         return ok, resp
@@ -142,7 +140,9 @@ def max_resistible_wrench(
     if search is Search.DIRECT and method != "prp":
         raise InvalidInputError("search", "'direct' exists for method='prp' only (Alg. 3 is a trajectory)")
     if search is Search.SECANT and method != "iterative":
-        raise InvalidInputError("search", "'secant' exists for method='iterative' only (PRP stages carry no residual)")
+        raise InvalidInputError(
+            "search", "'secant' exists for method='iterative' only (PRP stages carry no residual)"
+        )
 
     def result(magnitude: float, unbounded: bool, response: PassiveResponse | None) -> MaxWrench:
         return MaxWrench(
@@ -157,7 +157,6 @@ def max_resistible_wrench(
             wall_time=time.perf_counter() - t0,
             n_solves=n_solves,
             response=response,
-            n_miqp=n_miqp,
             search=search.value,
         )
 
@@ -170,10 +169,11 @@ def max_resistible_wrench(
         status, mag = lf.status, lf.magnitude
         solve_time += lf.solve_time
         n_solves += 1
-        n_miqp += 1
         if status in (SolveStatus.TIMEOUT, SolveStatus.FAILED, SolveStatus.NODE_LIMIT):
             cls = SolverTimeoutError if status is SolveStatus.TIMEOUT else SolverError
-            raise cls(f"load-factor problem: {status.value}", solver=solver.settings.backend, status=status.value)
+            raise cls(
+                f"load-factor problem: {status.value}", solver=solver.settings.backend, status=status.value
+            )
         if status is not SolveStatus.OPTIMAL:
             raise PreloadNotInEquilibriumError(
                 model.command_vector(command).tolist(), "load-factor problem infeasible"

@@ -604,7 +604,6 @@ def response_dict(model: Any, r: Any) -> dict[str, Any]:
         "solver": r.solver,
         "solve_time": r.solve_time,
         "n_solves": r.n_solves,
-        "n_miqp": r.n_miqp,
     }
 
 
@@ -622,7 +621,6 @@ def max_wrench_dict(mw: Any, label: str | None = None, model: Any = None) -> dic
         "monotone": mw.monotone,
         "evidence": [[m, ok] for m, ok in mw.evidence],
         "n_solves": mw.n_solves,
-        "n_miqp": mw.n_miqp,
         "solve_time": mw.solve_time,
         "wall_time": mw.wall_time,
     }
@@ -762,7 +760,7 @@ def _audit_line(r: Any) -> str:
     return (
         f"audit: {'ok' if a.ok else 'NOT OK'} (equilibrium {a.equilibrium:.2e} N, hand {a.hand:.2e} N, "
         f"complementarity {a.complementarity:.2e} N, friction {a.friction:.2e} N, "
-        f"big-M use {a.bigm_ratio:.1%}{', polished' if a.polished else ''})"
+        f"big-M use {a.bigm_ratio:.1%})"
     )
 
 
@@ -791,7 +789,7 @@ def cmd_analyze(args: argparse.Namespace) -> int:
         f"method: {r.method} ({r.variant})",
         "",
         f"status: {r.status} -> {'RESISTED' if r.resistible else 'NOT RESISTED'} "
-        f"({r.iterations} iteration(s), {r.n_solves} solve(s), {r.n_miqp} MIQP, "
+        f"({r.iterations} iteration(s), {r.n_solves} solve(s), "
         f"{r.solve_time:.2f} s, {r.solver})",
         "",
         "contact forces on the object (contact frame: normal, tangents):",
@@ -849,8 +847,8 @@ def cmd_max_wrench(args: argparse.Namespace) -> int:
         f"direction: {label} = {_fmt_vec(mw.direction)}; method {method}, upper {upper:g}, {steps} steps",
         "",
         f"max resistible magnitude: {verdict}",
-        f"bisection: {len(mw.evidence)} magnitudes tried, monotone: {'yes' if mw.monotone else 'NO'}; "
-        f"{mw.n_solves} solves ({mw.n_miqp} MIQP), {mw.wall_time:.2f} s",
+        f"{mw.search}: {len(mw.evidence)} magnitudes tried, monotone: {'yes' if mw.monotone else 'NO'}; "
+        f"{mw.n_solves} solves, {mw.wall_time:.2f} s",
     ]
     if mw.response is not None:
         at = "at the upper limit" if mw.unbounded else "at the limit"

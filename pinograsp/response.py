@@ -215,7 +215,6 @@ class _Stage:
     history: tuple[float, ...]
     solve_time: float
     n_solves: int
-    n_miqp: int = 0
 
 
 _FORMS: weakref.WeakKeyDictionary[GraspModel, Formulation] = weakref.WeakKeyDictionary()
@@ -275,7 +274,7 @@ class PassiveSolver:
         ok = raw.status == OPTIMAL
         xh = raw.z[self.form.layout("prp")["obj"]] if ok else np.zeros(self.form.nx)
         status = "resisted" if ok else ("not_resisted" if raw.status == INFEASIBLE else raw.status.value)
-        return _Stage(raw, data, xh, status, ok, 1, (), raw.solve_time, 1, 1)
+        return _Stage(raw, data, xh, status, ok, 1, (), raw.solve_time, 1)
 
     def _iterative_stage(
         self, w: np.ndarray, fc: np.ndarray, p: np.ndarray, F: float | None = None, start: Mode | None = None
@@ -327,9 +326,9 @@ class PassiveSolver:
             prev = norm
             xh, direction = xh_next, r
         if raw_best is None:
-            return _Stage(None, base, xh, status, False, n, tuple(history), total, n, n)
+            return _Stage(None, base, xh, status, False, n, tuple(history), total, n)
         raw, xh_sol, data = raw_best
-        return _Stage(raw, data, xh_sol, status, converged, len(history), tuple(history), total, n, n)
+        return _Stage(raw, data, xh_sol, status, converged, len(history), tuple(history), total, n)
 
     def _jump(
         self, base: ScaledData, xh: np.ndarray, streak: list[np.ndarray], mode: Mode
@@ -475,7 +474,6 @@ class PassiveSolver:
         # a cached preload stage costs nothing: count it only where it was solved
         counted = pre if (pre is not None and pre_fresh) else None
         n_solves = st.n_solves + (counted.n_solves if counted is not None else 0)
-        n_miqp = st.n_miqp + (counted.n_miqp if counted is not None else 0)
         solve_time = st.solve_time + (counted.solve_time if counted is not None else 0.0)
         common = dict(
             method=method,
@@ -486,7 +484,6 @@ class PassiveSolver:
             residual_history=st.history,
             solve_time=solve_time,
             n_solves=n_solves,
-            n_miqp=n_miqp,
             contact_names=m.contact_names,
             joint_names=m.joint_names,
             actuator_names=m.actuator_names,

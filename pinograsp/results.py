@@ -80,9 +80,8 @@ class PassiveResponse:
         converged: The iteration met ``eps`` (PRP: same as ``resistible``).
         solver: Backend(s) used.
         solve_time: Wall time of the solver calls [s].
-        n_solves: Number of optimisation problems solved (fixed-mode QPs and MIQPs).
-        n_miqp: How many of them were mixed-integer solves (first solves and fast-path
-            fallbacks); 0 when every solve was answered by an accepted mode guess.
+        n_solves: Complementarity problems solved (branch-and-bound searches or reference
+            MIQPs; one per PRP, one per iteration step, plus the subspace jumps).
         contact_names, joint_names, actuator_names: Labels of the rows above.
     """
 
@@ -110,7 +109,6 @@ class PassiveResponse:
     solver: str = ""
     solve_time: float = 0.0
     n_solves: int = 0
-    n_miqp: int = 0
     contact_names: tuple[str, ...] = ()
     joint_names: tuple[str, ...] = ()
     actuator_names: tuple[str, ...] = ()
@@ -138,10 +136,10 @@ class MaxWrench:
         method: ``"prp"`` or ``"iterative"``.
         solve_time: Total solver wall time [s] (including the preload check).
         wall_time: Total wall time of the query [s].
-        n_solves: Optimisation problems solved.
-        n_miqp: How many of them were mixed-integer solves.
+        n_solves: Complementarity problems solved.
         response: The passive response at ``magnitude`` (or at ``upper`` when unbounded).
-        search: ``"bisection"`` or ``"direct"`` (one load-factor MIQP, PRP only).
+        search: ``"bisection"``, ``"secant"`` (iterative) or ``"direct"`` (one load-factor
+            complementarity problem, PRP only).
     """
 
     direction: np.ndarray
@@ -155,7 +153,6 @@ class MaxWrench:
     wall_time: float
     n_solves: int
     response: PassiveResponse | None = field(default=None, repr=False)
-    n_miqp: int = 0
     search: str = "bisection"
 
     @property

@@ -100,7 +100,9 @@ def test_case1_unbounded_where_the_paper_says_passively_resisted(theta):
 @pytest.mark.slow
 def test_case1_full_circle_mirror_and_unbounded():
     s = pg.load_scene("case1")
-    res = {t: pg.max_resistible_wrench(s.model, s.command, _angle_dir(t), upper=1e3) for t in range(0, 360, 5)}
+    res = {
+        t: pg.max_resistible_wrench(s.model, s.command, _angle_dir(t), upper=1e3) for t in range(0, 360, 5)
+    }
     for t in range(0, 91, 5):
         assert res[t].magnitude == res[(180 - t) % 360].magnitude
     for t in list(range(185, 360, 5)) + [0, 180]:
@@ -112,7 +114,9 @@ def test_known_answers_of_the_core():
     s = pg.load_scene("case1")
     # case1 +Y (the same under ±1e-6° turns of the direction; the preload's least-energy
     # friction state); 30°: the give-way load of the independent simulation (35.7 N)
-    assert pg.max_resistible_wrench(s.model, s.command, "fy", upper=1e3).magnitude == pytest.approx(4.2982, abs=1e-3)
+    assert pg.max_resistible_wrench(s.model, s.command, "fy", upper=1e3).magnitude == pytest.approx(
+        4.2982, abs=1e-3
+    )
     assert pg.max_resistible_wrench(s.model, s.command, _angle_dir(30), upper=1e3).magnitude == pytest.approx(
         35.73, abs=0.01
     )
@@ -153,7 +157,10 @@ def _random_step_problems(seed: int):
     movement-step data of random loads."""
     rng = np.random.default_rng(seed)
     g = random_grasp(
-        seed, n_pairs=int(rng.integers(1, 3)), contacts_per_finger=int(rng.integers(1, 3)), planar=bool(seed % 3 == 0)
+        seed,
+        n_pairs=int(rng.integers(1, 3)),
+        contacts_per_finger=int(rng.integers(1, 3)),
+        planar=bool(seed % 3 == 0),
     )
     f = Formulation(g)
     out = []

@@ -124,7 +124,9 @@ def test_no_hidden_state_between_queries(pinch):
     assert np.array_equal(again.contact_forces, first.contact_forces)
     # a caller-owned session shares only pure preload stages: the same bits again
     session = pg.Session(pinch)
-    assert np.array_equal(session.response(TAU, [3.0, 4.0, 0], "iterative").contact_forces, first.contact_forces)
+    assert np.array_equal(
+        session.response(TAU, [3.0, 4.0, 0], "iterative").contact_forces, first.contact_forces
+    )
 
 
 def test_iterative_reports_history_and_cap(pinch):

@@ -23,8 +23,7 @@ import pytest
 
 import pinograsp as pg
 from pinograsp import analytic
-from pinograsp.solvers import Formulation, Mode, ScaledData
-from pinograsp.solvers import BranchAndBound, build_problem
+from pinograsp.solvers import BranchAndBound, Formulation, Mode, ScaledData, build_problem
 from pinograsp.solvers.miqp import CvxpyMIQP, quiet_stdout
 
 _PATH = Path(__file__).resolve().parents[1] / "benchmarks" / "stability.py"
@@ -85,7 +84,9 @@ def test_bigm_rows_scale_with_the_stiffness_spread():
     np.testing.assert_allclose(factor[:2, 1], [1e4, 1.0])  # spring gaps
     np.testing.assert_allclose(factor[2:, 0], [1e4, 1.0])  # actuator displacements
     f1 = Formulation(analytic.pinch(k=1e3))
-    np.testing.assert_allclose(build_problem(f1, "prp", f1.scale_data(np.zeros(3), np.ones(2))).bigm_factor, 1.0)
+    np.testing.assert_allclose(
+        build_problem(f1, "prp", f1.scale_data(np.zeros(3), np.ones(2))).bigm_factor, 1.0
+    )
 
 
 @pytest.mark.parametrize("ratio", [1e4, 1e6])

@@ -7,6 +7,7 @@ from enum import Enum
 
 import numpy as np
 
+
 class SolveStatus(str, Enum):
     """Outcome of one solve at the solver boundary (a ``str`` enum: members equal their value)."""
 

@@ -132,7 +132,18 @@ class BranchAndBound:
             res = self._qp(fixed)
             self._nodes += 1
             if res.status is QPStatus.FAILED:
-                return self._failed(f"node QP failed after {res.attempts} DAQP attempts")
+                # no verdict on this relaxation: its children cover every complementary point
+                # of it, and fixing more pairs often makes the QP tractable; a leaf is a failure
+                free = np.flatnonzero(fixed < 0)
+                if not len(free):
+                    return self._failed(f"a fixed-mode QP failed after {res.attempts} attempts")
+                act = free[self._actuator[free]]
+                k = int(act[0] if len(act) else free[0])
+                for side in (0, 1):
+                    child = fixed.copy()
+                    child[k] = side
+                    stack.append(child)
+                continue
             if res.status is QPStatus.INFEASIBLE or self._pruned(res.objective, best_obj):
                 continue
             viol = self._violation(res.z, fixed)

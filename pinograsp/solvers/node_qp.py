@@ -47,6 +47,8 @@ _INFEASIBLE = -1
 #: DAQP's proximal iterations away from directions of zero cost that the rows leave unbounded
 #: (DAQP then reported "unbounded" for a convex QP bounded below); no physical answer is near it.
 BOX = INF
+#: Clarabel's tolerances, tried in turn (the tight one stalls on some 16-contact hands).
+CLARABEL_TOLERANCES = (1e-12, 1e-8)
 #: Largest accepted variable (scaled force units): an interior-point "solution" beyond it is a
 #: march towards infinity on an infeasible node, not an answer.
 MAX_POINT = 1e9
@@ -187,18 +189,21 @@ class NodeQP:
         G = np.vstack([P.A, -P.C[fl], P.C[fu]])
         h = np.concatenate([P.b, -P.lo[fl], up[fu]])
         cones = [clarabel.ZeroConeT(self.me), clarabel.NonnegativeConeT(int(fl.sum() + fu.sum()))]
-        st = clarabel.DefaultSettings()
-        st.verbose = False
-        st.tol_gap_abs = st.tol_gap_rel = st.tol_feas = 1e-12
-        st.max_iter = 400
-        sol = clarabel.DefaultSolver(sp.csc_matrix(self.H), self.g, sp.csc_matrix(G), h, cones, st).solve()
-        name = str(sol.status)
-        if name in ("Solved", "AlmostSolved"):
-            z = np.array(sol.x, float)
-            if np.abs(z).max(initial=0.0) <= MAX_POINT and self.feasible(z, up, 1e3 * FEAS_TOL):
-                return QPStatus.OPTIMAL, z
-        if name in ("PrimalInfeasible", "AlmostPrimalInfeasible"):
-            return QPStatus.INFEASIBLE, None
+        Hs, Gs = sp.csc_matrix(self.H), sp.csc_matrix(G)
+        name = ""
+        for tol in CLARABEL_TOLERANCES:
+            st = clarabel.DefaultSettings()
+            st.verbose = False
+            st.tol_gap_abs = st.tol_gap_rel = st.tol_feas = tol
+            st.max_iter = 400
+            sol = clarabel.DefaultSolver(Hs, self.g, Gs, h, cones, st).solve()
+            name = str(sol.status)
+            if name in ("Solved", "AlmostSolved"):
+                z = np.array(sol.x, float)
+                if np.abs(z).max(initial=0.0) <= MAX_POINT and self.feasible(z, up, 1e3 * FEAS_TOL):
+                    return QPStatus.OPTIMAL, z
+            if name in ("PrimalInfeasible", "AlmostPrimalInfeasible"):
+                return QPStatus.INFEASIBLE, None
         return QPStatus.FAILED, None
 
     def polish(self, z: np.ndarray, up: np.ndarray) -> np.ndarray:
@@ -265,7 +270,7 @@ class NodeQP:
         sense[: len(e)] = 5
         sense[len(e) :][up <= P.lo] = 5
         x, _, flag, _ = daqp.solve(H, g, M, bu, bl, sense, **opt)
-        return (np.array(x, float) if flag in _SOLVED else None)
+        return np.array(x, float) if flag in _SOLVED else None
 
     def _largest(self, z: np.ndarray, up: np.ndarray, E: np.ndarray, e: np.ndarray, j: int) -> float | None:
         """Largest value of variable ``j`` on ``{E z = e} ∩ rows`` (``z`` is a feasible point)."""
@@ -288,10 +293,18 @@ class NodeQP:
         if x is None or not self.feasible(x, up):
             return None
         v = P.C @ x
-        tight = ((np.abs(v - P.lo) <= TIGHT_TOL) & (P.lo > -INF)) | ((np.abs(v - up) <= TIGHT_TOL) & (up < INF))
+        tight = ((np.abs(v - P.lo) <= TIGHT_TOL) & (P.lo > -INF)) | (
+            (np.abs(v - up) <= TIGHT_TOL) & (up < INF)
+        )
         bound = np.where(np.abs(v - P.lo) <= TIGHT_TOL, P.lo, up)
-        exact = least_norm_lsq(Cn, np.zeros(len(Cn)), np.vstack([E, P.C[tight]]), np.concatenate([e, bound[tight]]))
-        if exact is not None and self.feasible(exact, up) and np.sum((Cn @ exact) ** 2) <= np.sum((Cn @ x) ** 2):
+        exact = least_norm_lsq(
+            Cn, np.zeros(len(Cn)), np.vstack([E, P.C[tight]]), np.concatenate([e, bound[tight]])
+        )
+        if (
+            exact is not None
+            and self.feasible(exact, up)
+            and np.sum((Cn @ exact) ** 2) <= np.sum((Cn @ x) ** 2)
+        ):
             x = exact
         if np.sum((Cn @ x) ** 2) > np.sum((Cn @ z) ** 2):
             return None
