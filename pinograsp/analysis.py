@@ -14,6 +14,7 @@ from .response import METHODS, PassiveSolver, Settings, solver_for
 from .results import MaxWrench, PassiveResponse, ResistanceProfile
 from .search import Search, bisection, secant
 from .solvers.base import SolveStatus
+from .solvers.engine import single_threaded
 
 
 def wrench_direction(model: GraspModel, direction: object, name: str = "direction") -> np.ndarray:
@@ -66,6 +67,7 @@ def check_preload(solver: PassiveSolver, command: object, method: str) -> Passiv
     return resp
 
 
+@single_threaded
 def max_resistible_wrench(
     model: GraspModel,
     command: object,
@@ -286,6 +288,7 @@ def _plane_basis(model: GraspModel, plane: Sequence[object]) -> tuple[np.ndarray
     return np.vstack([b[0], b2 / np.linalg.norm(b2)]), labels  # type: ignore[return-value]
 
 
+@single_threaded
 def resistance_profile(
     model: GraspModel,
     command: object,

@@ -38,7 +38,7 @@ from .results import Audit, PassiveResponse
 from .solvers import MIQP_SOLVERS, OPTIMAL, Formulation, ScaledData, resolve_solver
 from .solvers.base import INFEASIBLE, Mode, RawSolution, SolveStatus
 from .solvers.bnb import MAX_NODES
-from .solvers.engine import Backend, BackendOptions
+from .solvers.engine import Backend, BackendOptions, single_threaded
 from .solvers.engine import solve as solve_problem
 from .solvers.problem import ProblemKind
 
@@ -422,6 +422,7 @@ class PassiveSolver:
         return miqp.solve(data, s.bigm * max(1.0, 10.0 * tmax), t_max=tmax)
 
     # ------------------------------------------------------------- response
+    @single_threaded
     def response(self, command: object, wrench: object, method: str = "prp") -> PassiveResponse:
         """Passive response to ``wrench`` under ``command`` (see :func:`passive_response`)."""
         if method not in METHODS:
