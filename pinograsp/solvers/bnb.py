@@ -103,7 +103,7 @@ class BranchAndBound:
 
     # ------------------------------------------------------------------ solve
     def solve(self, guess: Mode | None = None) -> RawSolution:
-        """The global optimum (least-norm point of the optimal mode), or infeasibility.
+        """The global optimum (canonical point of the optimal mode), or infeasibility.
 
         Args:
             guess: A mode tried first as incumbent (speed only: the answer does not depend on
@@ -214,16 +214,16 @@ class BranchAndBound:
         )
 
     def _canonical(self, z: np.ndarray, sides: np.ndarray) -> np.ndarray:
-        """Least-norm point of the optimal mode with the optimal objective value.
+        """The canonical point of the optimal mode (docs/solvers.md, *The canonical optimum*).
 
         The optimal net wrench (or normal-force vector) ``L z + l`` is unique within a mode, but
-        the point is not: the canonical one has, among the mode's points with ``L z = L z*``,
-        the **largest step length** (movement step: the object moves as far along the net
-        wrench as it can without increasing it — several step lengths often give the same
-        optimal net wrench, and the smallest makes the scheme creep and stall under the 1 %
-        rule), then the **least norm** (a strictly convex QP, so ties between friction edges or
-        joint null spaces are broken alike for mirror-symmetric grasps). Where those QPs fail
-        the polished point is kept.
+        the point is not. Among the mode's points with ``L z = L z*`` the canonical one has the
+        **largest step length** (single-direction movement steps: several step lengths often give
+        the same optimal net wrench, and the smallest makes the scheme creep and stall under the
+        1 % rule), then the **least spring energy** ``|c_n|^2`` (movement steps), then the
+        **least norm** (a strictly convex QP, so ties between friction edges or joint null
+        spaces are broken alike for mirror-symmetric grasps). Where those QPs fail the polished
+        point is kept.
         """
         P = self.p
         _, up = P.bounds(sides.astype(np.int8))
