@@ -146,16 +146,33 @@ def max_resistible_wrench(
             "search", "'secant' exists for method='iterative' only (PRP stages carry no residual)"
         )
 
+    floor = float(upper) / 2**steps  # smallest magnitude distinguishable from zero
+    if method == "iterative":  # ... and the scheme's equilibrium tolerance along d
+        floor = max(
+            floor, solver.settings.eps / float(np.linalg.norm(model.reduce_wrench(d) * solver.form.wscale))
+        )
+
     def result(magnitude: float, unbounded: bool, response: PassiveResponse | None) -> MaxWrench:
+        if unbounded:  # resisted at upper: unbounded only if the model says so in the limit
+            limit = _resisted_without_preload(solver, command, d, method)
+            solve_time_add = limit.solve_time
+            status = "unbounded" if limit.resistible else "above_limit"
+            magnitude = float("inf") if limit.resistible else float(upper)
+            unbounded = limit.resistible
+        else:
+            solve_time_add = 0.0
+            status = "finite" if magnitude >= floor and magnitude > 0 else "below_resolution"
         return MaxWrench(
             direction=d,
             magnitude=magnitude,
             unbounded=unbounded,
+            status=status,
+            floor=floor,
             upper=float(upper),
             resolution=float(upper) / 2**steps,
             evidence=tuple(evidence),
             method=method,
-            solve_time=solve_time,
+            solve_time=solve_time + solve_time_add,
             wall_time=time.perf_counter() - t0,
             n_solves=n_solves,
             response=response,
@@ -205,6 +222,18 @@ def max_resistible_wrench(
     else:
         lo, best = bisection(test, float(upper), int(steps))
     return result(lo, False, best)
+
+
+def _resisted_without_preload(
+    solver: PassiveSolver, command: object, d: np.ndarray, method: str
+) -> PassiveResponse:
+    """The load ``d`` (unit) under a zero preload: the limit of ``t d`` under ``command`` as
+    ``t -> inf`` (the model is positively homogeneous: ``t d`` under ``f_c`` is ``d`` under
+    ``f_c / t``). Resisted means passively resisted without bound (docs/accuracy.md)."""
+    zero = np.zeros(solver.model.na)
+    resp = solver.response(zero, d, method)
+    _check(resp, float("inf"))
+    return resp
 
 
 def _worker_count(workers: int | None, n: int) -> int:

@@ -402,6 +402,25 @@ def _fmt(v: float, unbounded: bool = False, digits: int = 4) -> str:
     return f"{v:.{digits}f}"
 
 
+def _decimals(resolution: float) -> int:
+    """Decimals that show a magnitude to its resolution (0–6)."""
+    if not resolution > 0:
+        return 4
+    return int(min(6, max(0, math.ceil(-math.log10(resolution)))))
+
+
+def fmt_max_wrench(mw: Any, scale: float = 1.0) -> str:
+    """A max-wrench result as text, by its status: ``unbounded``, ``>= upper``, ``< resolution``
+    or the magnitude to its resolution (all divided by ``scale``)."""
+    if mw.status == "unbounded":
+        return "unbounded"
+    if mw.status == "above_limit":
+        return f">= {mw.upper / scale:.4g}"
+    if mw.status == "below_resolution":
+        return f"< {mw.floor / scale:.2g}"
+    return f"{mw.magnitude / scale:.{_decimals(mw.resolution / scale)}f}"
+
+
 def _fmt_vec(v: Sequence[float]) -> str:
     a = np.asarray(v, dtype=float)
     tiny = 1e-9 * max(1.0, float(np.abs(a).max(initial=0.0)))
@@ -614,6 +633,7 @@ def max_wrench_dict(mw: Any, label: str | None = None, model: Any = None) -> dic
         "label": label or _direction_text(mw.direction),
         "magnitude": None if mw.unbounded else mw.magnitude,
         "unbounded": mw.unbounded,
+        "status": mw.status,
         "unit": _unit(mw.direction),
         "upper": mw.upper,
         "resolution": mw.resolution,
@@ -833,13 +853,23 @@ def cmd_max_wrench(args: argparse.Namespace) -> int:
         "steps": steps,
         **max_wrench_dict(mw, label, scene.model),
     }
-    if mw.unbounded:
+    if mw.status == "unbounded":
         verdict = (
-            f"UNBOUNDED: the upper limit {upper:g} {unit} is resisted (passively resisted "
-            "without bound under this model)"
+            f"UNBOUNDED: resisted at the upper limit {upper:g} {unit} and without preload, i.e. "
+            "passively resisted without bound under this model"
+        )
+    elif mw.status == "above_limit":
+        verdict = (
+            f">= {upper:g} {unit}: the upper limit is resisted, but the direction is not passively "
+            "resisted without bound (raise --upper to find the limit)"
+        )
+    elif mw.status == "below_resolution":
+        verdict = (
+            f"< {mw.floor:.2g} {unit} (below the resolution and the scheme's tolerance: "
+            "not distinguishable from zero)"
         )
     else:
-        verdict = f"{mw.magnitude:.6g} {unit} (bisection resolution {mw.resolution:.2g} {unit})"
+        verdict = f"{fmt_max_wrench(mw)} {unit} (resolution {mw.resolution:.2g} {unit})"
     lines = [
         f"scene {scene.name!r}: {scene.description}",
         f"preload: {', '.join(f'{k}={v:g}' for k, v in command.items())}"
@@ -977,9 +1007,10 @@ def _profile_report(
         c = np.cos(p.angles[i])
         s = np.sin(p.angles[i])
         dtxt = f"{c:+.3f} {b1.lstrip('+')} {s:+.3f} {b2.lstrip('+')}"
-        row = f"{a:11.1f}  {dtxt:>22s}  {_fmt(p.magnitudes[i], p.unbounded[i]):>12s}"
+        mw = p.results[i]
+        row = f"{a:11.1f}  {dtxt:>22s}  {fmt_max_wrench(mw):>12s}"
         if norm is not None:
-            row += f"  {_fmt(p.magnitudes[i] / norm, p.unbounded[i], 3):>10s}"
+            row += f"  {fmt_max_wrench(mw, norm):>10s}"
         lines.append(row)
     runs = data["unbounded_runs_deg"]
     lines.append("")
@@ -1071,8 +1102,8 @@ def cmd_compare_preloads(args: argparse.Namespace) -> int:
             )
         results[label] = per
         a, b = per[names[0]], per[names[1]]
-        if a.unbounded or b.unbounded or not b.magnitude > 0:
-            ratio = None
+        if a.status != "finite" or b.status != "finite":
+            ratio = None  # a ratio of bounds (unbounded, >= upper, < resolution) is undefined
         else:
             ratio = a.magnitude / b.magnitude
         rows.append((label, per, ratio))
@@ -1107,7 +1138,7 @@ def cmd_compare_preloads(args: argparse.Namespace) -> int:
         head,
     ]
     for label, per, ratio in rows:
-        cells = "  ".join(f"{_fmt(per[nm].magnitude, per[nm].unbounded):>14s}" for nm in names)
+        cells = "  ".join(f"{fmt_max_wrench(per[nm]):>14s}" for nm in names)
         rtxt = "-" if ratio is None else f"{ratio:.3f}"
         lines.append(f"  {label:{w}s}  {cells}  {rtxt:>8s}")
     out.print(*lines)

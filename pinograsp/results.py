@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Literal
 
 import numpy as np
 
@@ -119,6 +120,10 @@ class PassiveResponse:
         return self.contact_forces[:, 0]
 
 
+#: How a max-wrench search ended (see :class:`MaxWrench`).
+MaxWrenchStatus = Literal["finite", "unbounded", "above_limit", "below_resolution"]
+
+
 @dataclass(frozen=True)
 class MaxWrench:
     """Largest resistible wrench magnitude along one direction (bisection).
@@ -126,9 +131,16 @@ class MaxWrench:
     Attributes:
         direction: Unit direction in wrench space, (6,) (torques in [N·m] per unit).
         magnitude: Largest magnitude verified resistible [N or N·m along ``direction``];
-            ``inf`` when ``unbounded``.
-        unbounded: The grasp resisted the upper limit: passively resisted without bound under
-            this model. ``magnitude`` is then ``inf``, never the limit itself.
+            ``inf`` when ``unbounded``; ``upper`` (a lower bound) when ``"above_limit"``; ``0``
+            when ``"below_resolution"`` (the limit is below ``resolution``).
+        unbounded: Passively resisted without bound under this model: resisted at ``upper``
+            *and* in the limit of an infinite load (the load under a zero preload, by the
+            model's homogeneity; docs/accuracy.md). ``magnitude`` is then ``inf``.
+        status: ``"finite"``, ``"unbounded"``, ``"above_limit"`` (resisted at ``upper`` but
+            not without bound: the limit is ``>= upper``) or ``"below_resolution"`` (the
+            magnitude is below ``floor``: indistinguishable from zero).
+        floor: Smallest magnitude distinguishable from zero [N or N·m]: the resolution, and for
+            the iterative method at least its equilibrium tolerance ``eps`` along the direction.
         upper: Upper limit of the search.
         resolution: Bisection resolution ``upper / 2**steps`` (the true limit lies in
             ``[magnitude, magnitude + resolution]`` if resistibility is monotone along the ray).
@@ -145,6 +157,8 @@ class MaxWrench:
     direction: np.ndarray
     magnitude: float
     unbounded: bool
+    status: MaxWrenchStatus
+    floor: float
     upper: float
     resolution: float
     evidence: tuple[tuple[float, bool], ...]
