@@ -423,7 +423,7 @@ class PassiveSolver:
 
     # ------------------------------------------------------------- response
     @single_threaded
-    def response(self, command: object, wrench: object, method: str = "prp") -> PassiveResponse:
+    def response(self, command: object, wrench: object, method: str = "iterative") -> PassiveResponse:
         """Passive response to ``wrench`` under ``command`` (see :func:`passive_response`)."""
         if method not in METHODS:
             raise InvalidInputError("method", f"must be one of {METHODS}, got {method!r}")
@@ -598,7 +598,7 @@ def passive_response(
     model: GraspModel,
     command: object,
     wrench: object,
-    method: str = "prp",
+    method: str = "iterative",
     *,
     settings: Settings | None = None,
     **overrides: object,
@@ -611,7 +611,9 @@ def passive_response(
             [N·m for direct drive, N for tendons].
         wrench: External wrench on the object ``(fx, fy, fz, mx, my, mz)`` [N, N·m] about the
             object reference point (planar models also take ``(fx, fy, mz)``).
-        method: ``"prp"`` (Alg. 1) or ``"iterative"`` (Alg. 2 + 3).
+        method: ``"iterative"`` (default: Alg. 2 + 3, the physically validated scheme, as in
+            every analysis, the CLI and the scenes) or ``"prp"`` (Alg. 1, by explicit choice:
+            it admits the wedging artefact).
         settings: Base :class:`Settings`; keyword ``overrides`` replace single fields
             (e.g. ``solver="gurobi"``, ``gamma=2.0``, ``variant="single-step"``).
 

@@ -48,11 +48,13 @@ SCENE_DIR = Path(__file__).resolve().parent / "data" / "scenes"
 _METHODS = ("prp", "iterative")
 #: ``analysis`` keys that become :class:`pinograsp.response.Settings` fields.
 _SETTINGS_KEYS = (
+    "backend",
+    "max_nodes",
+    "accelerate",
     "solver",
     "time_limit",
     "bigm",
     "bigm_retries",
-    "polish",
     "gamma",
     "eps",
     "improvement",
@@ -60,9 +62,6 @@ _SETTINGS_KEYS = (
     "variant",
     "tolerance",
     "eps_rel",
-    "fast",
-    "certify",
-    "verify",
     "complementarity",
     "verify_infeasible",
 )
@@ -156,6 +155,49 @@ class Scene:
         if name not in self.analysis["directions"]:
             raise UnknownNameError("direction", name, list(self.analysis["directions"]))
         return np.array(self.analysis["directions"][name])
+
+    def _query_args(self, overrides: dict[str, Any]) -> dict[str, Any]:
+        """The scene's analysis block (method, upper, steps, settings) with ``overrides``."""
+        kw = {k: overrides.pop(k, self.analysis[k]) for k in ("method", "upper", "steps")}
+        kw["settings"] = overrides.pop("settings", self.settings)
+        return kw
+
+    def passive_response(self, wrench: object, command: object = None, **overrides: Any) -> Any:
+        """:func:`pinograsp.passive_response` with the scene's method and settings
+        (``command``: the scene preload by default, or a named preload)."""
+        from .response import passive_response
+
+        kw = self._query_args(overrides)
+        cmd = self.preload(command) if command is None or isinstance(command, str) else command
+        return passive_response(self.model, cmd, wrench, kw["method"], settings=kw["settings"], **overrides)
+
+    def max_resistible_wrench(self, direction: object, command: object = None, **overrides: Any) -> Any:
+        """:func:`pinograsp.max_resistible_wrench` with the scene's method, ``upper``, ``steps``
+        and settings; ``direction`` may name one of ``analysis.directions``."""
+        from .analysis import max_resistible_wrench
+
+        kw = self._query_args(overrides)
+        if isinstance(direction, str) and direction in self.analysis["directions"]:
+            direction = self.direction(direction)
+        cmd = self.preload(command) if command is None or isinstance(command, str) else command
+        return max_resistible_wrench(self.model, cmd, direction, **kw, **overrides)
+
+    def profile(self, plane: object = None, command: object = None, **overrides: Any) -> Any:
+        """:func:`pinograsp.resistance_profile` with the scene's method, ``upper``, ``steps``,
+        ``n``, ``normalize`` and settings; ``plane`` may name one of ``analysis.planes``."""
+        from .analysis import resistance_profile
+
+        kw = self._query_args(overrides)
+        if plane is None:
+            plane = self.analysis["plane"]
+        elif isinstance(plane, str):
+            if plane not in self.analysis["planes"]:
+                raise UnknownNameError("plane", plane, list(self.analysis["planes"]))
+            plane = self.analysis["planes"][plane]
+        kw["n"] = overrides.pop("n", self.analysis["n"])
+        kw["normalize"] = overrides.pop("normalize", self.analysis["normalize"])
+        cmd = self.preload(command) if command is None or isinstance(command, str) else command
+        return resistance_profile(self.model, cmd, plane, **kw, **overrides)
 
     def summary(self) -> str:
         """A short human-readable description of the scene."""
@@ -771,12 +813,12 @@ def _analysis(f: _File, model: GraspModel, value: object) -> tuple[dict[str, Any
     out["preloads"] = {str(k): _command(f, model, v, f"analysis.preloads.{k}") for k, v in pre.items()}
     overrides = {k: a[k] for k in _SETTINGS_KEYS if k in a}
     for k, v in overrides.items():
-        if k in ("solver", "variant"):
+        if k in ("solver", "variant", "backend", "complementarity"):
             if v is not None and not isinstance(v, str):
                 raise f.error(f"analysis.{k}", f"expected a string, got {_show(v)}")
-        elif k == "polish":
-            f.boolean(v, "analysis.polish")
-        elif k in ("bigm_retries", "max_iterations"):
+        elif k in ("accelerate", "verify_infeasible"):
+            f.boolean(v, f"analysis.{k}")
+        elif k in ("bigm_retries", "max_iterations", "max_nodes"):
             f.integer(v, f"analysis.{k}", minimum=0)
         else:
             overrides[k] = f.number(v, f"analysis.{k}")

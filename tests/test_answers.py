@@ -71,3 +71,23 @@ def test_cli_reports_statuses_and_undefined_ratios(capsys):
     data = _cli_json(capsys, "compare-preloads", "case3", "-d", "torque_x")
     row = data["directions"][0]
     assert row["ratio"] is None and row["results"]["distal_only"]["status"] == "below_resolution"
+
+
+def test_one_default_method_and_scenes_apply_their_analysis_block(case1):
+    """The API, the CLI and the scenes default to the iterative scheme; a scene's own upper,
+    steps and method apply through ``scene.max_resistible_wrench`` / ``scene.profile``."""
+    s = case1
+    w = [0.0, -20.0, 0.0, 0.0, 0.0, 0.0]
+    default = pg.passive_response(s.model, s.command, w)
+    explicit = pg.passive_response(s.model, s.command, w, "iterative")
+    assert default.method == "iterative" and np.array_equal(default.contact_forces, explicit.contact_forces)
+    assert s.passive_response(w).method == s.analysis["method"] == "iterative"
+    mw = s.max_resistible_wrench("fy")
+    assert mw.upper == s.analysis["upper"] == 50.0
+    assert mw.resolution == 50.0 / 2 ** s.analysis["steps"]
+    ref = pg.max_resistible_wrench(s.model, s.command, "fy", upper=50.0, steps=s.analysis["steps"])
+    assert mw.magnitude == ref.magnitude
+    prp = s.max_resistible_wrench("fy", method="prp", steps=8)
+    assert prp.method == "prp" and prp.resolution == 50.0 / 2**8
+    p = s.profile(n=4, steps=4)
+    assert p.plane == ("fx", "fy") and len(p.magnitudes) == 4 and p.results[0].upper == 50.0
