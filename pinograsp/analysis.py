@@ -8,6 +8,7 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
+from .contact import positive_number, whole_number
 from .errors import InvalidInputError, PreloadNotInEquilibriumError, SolverError, SolverTimeoutError
 from .model import GraspModel, axis_index
 from .response import METHODS, PassiveSolver, Settings, solver_for
@@ -110,10 +111,8 @@ def max_resistible_wrench(
     t0 = time.perf_counter()
     if method not in METHODS:
         raise InvalidInputError("method", f"must be one of {METHODS}, got {method!r}")
-    if not (np.isfinite(upper) and upper > 0):
-        raise InvalidInputError("upper", f"must be finite and > 0, got {upper!r}")
-    if int(steps) < 1:
-        raise InvalidInputError("steps", f"must be >= 1, got {steps!r}")
+    upper = positive_number("upper", upper)
+    steps = whole_number("steps", steps)
     solver = solver_for(model, settings, **overrides)
     d = wrench_direction(model, direction)
     solve_time, n_solves = 0.0, 0
@@ -352,8 +351,7 @@ def resistance_profile(
         Other arguments: as :func:`max_resistible_wrench`.
     """
     t0 = time.perf_counter()
-    if int(n) < 1:
-        raise InvalidInputError("n", f"must be >= 1, got {n!r}")
+    n = whole_number("n", n)
     basis, labels = _plane_basis(model, plane)
     solver = solver_for(model, settings, **overrides)
     check_preload(solver, command, method) if method in METHODS else None

@@ -43,6 +43,26 @@ def finite_number(name: str, value: object) -> float:
     return v
 
 
+def whole_number(name: str, value: object, minimum: int = 1) -> int:
+    """``int(value)`` if it is an integer ``>= minimum`` (``bool``, ``2.5`` and ``"20"`` are
+    not), else :class:`InvalidInputError` naming ``name``."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise InvalidInputError(name, f"expected an integer >= {minimum}, got {value!r}")
+    if value < minimum:
+        raise InvalidInputError(name, f"must be an integer >= {minimum}, got {value!r}")
+    return int(value)
+
+
+def positive_number(name: str, value: object) -> float:
+    """A finite real number ``> 0`` (not a string or bool), else :class:`InvalidInputError`."""
+    if isinstance(value, bool):
+        raise InvalidInputError(name, f"expected a number, got {value!r}")
+    v = finite_number(name, value)
+    if not v > 0:
+        raise InvalidInputError(name, f"must be a finite number > 0, got {value!r}")
+    return v
+
+
 def check_name(owner: str, name: object) -> str | None:
     """A label: ``None`` or a string (anything else raises :class:`InvalidInputError`)."""
     if name is not None and not isinstance(name, str):

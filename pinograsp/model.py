@@ -230,7 +230,9 @@ class GraspModel:
 
         Accepts a scalar (same command on every actuator), a sequence over all actuators given
         to the constructor (pruned ones are dropped) or over the kept ones, or a mapping
-        ``{actuator_name: value}`` (missing actuators get 0).
+        ``{actuator_name: value}`` (missing actuators get 0). Commands are closing forces or
+        torques ``>= 0`` [N·m or N]; a sequence of the wrong length (a 1-element list for a
+        2-actuator model included) or a negative value is an :class:`InvalidInputError`.
         """
         names_all = self.all_actuator_names
         if isinstance(command, Mapping):
@@ -248,7 +250,8 @@ class GraspModel:
                 raw = np.asarray(command, dtype=float).reshape(-1)
             except (TypeError, ValueError, OverflowError) as exc:
                 raise InvalidInputError("command", f"expected numbers, got {command!r}") from exc
-            if raw.size == 1:
+            scalar = np.ndim(command) == 0
+            if raw.size == 1 and (scalar or len(names_all) == 1):
                 raw = np.full(len(names_all), float(raw[0]))
             if raw.size == len(names_all):
                 full = True
@@ -261,6 +264,14 @@ class GraspModel:
                 )
         if not np.all(np.isfinite(raw)):
             raise InvalidInputError("command", "contains NaN or inf", raw)
+        if np.any(raw < 0):
+            bad = [n for n, v in zip(names_all if full else self.actuator_names, raw) if v < 0]
+            raise InvalidInputError(
+                "command",
+                f"negative command for actuator(s) {bad}: a command is the closing force or torque "
+                "an actuator applies (>= 0; a finger that should open is not part of the grasp)",
+                raw,
+            )
         if full:
             keep = [names_all.index(n) for n in self.actuator_names]
             raw = raw[keep]

@@ -32,6 +32,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from .contact import positive_number, whole_number
 from .errors import ConditioningWarning, InvalidInputError
 from .model import GraspModel
 from .results import Audit, PassiveResponse
@@ -123,16 +124,16 @@ class Settings:
         """Check every field; raise :class:`InvalidInputError` naming the bad one."""
         if self.backend not in BACKENDS:
             raise InvalidInputError("backend", f"must be one of {BACKENDS}, got {self.backend!r}")
-        if isinstance(self.max_nodes, bool) or not isinstance(self.max_nodes, (int, np.integer)):
-            raise InvalidInputError("max_nodes", f"must be an integer >= 1, got {self.max_nodes!r}")
-        if self.max_nodes < 1:
-            raise InvalidInputError("max_nodes", f"must be an integer >= 1, got {self.max_nodes!r}")
         if str(self.solver).upper() not in MIQP_SOLVERS or self.backend == Backend.MIQP.value:
             resolve_solver(self.solver)  # a name it does not know, or not installed where used
         for name in ("time_limit", "bigm", "gamma", "eps", "tolerance"):
-            v = getattr(self, name)
-            if not (isinstance(v, (int, float)) and np.isfinite(v) and v > 0):
-                raise InvalidInputError(name, f"must be a finite number > 0, got {v!r}")
+            positive_number(name, getattr(self, name))
+        for name in ("max_iterations", "max_nodes"):
+            whole_number(name, getattr(self, name))
+        whole_number("bigm_retries", self.bigm_retries, minimum=0)
+        for name in ("accelerate", "verify_infeasible"):
+            if not isinstance(getattr(self, name), bool):
+                raise InvalidInputError(name, f"expected True or False, got {getattr(self, name)!r}")
         if self.complementarity not in ("bigm", "indicator"):
             raise InvalidInputError(
                 "complementarity", f"must be 'bigm' or 'indicator', got {self.complementarity!r}"
@@ -143,12 +144,14 @@ class Settings:
             and resolve_solver(self.solver) != "SCIP"
         ):
             raise InvalidInputError("complementarity", "indicator constraints need solver='scip'")
-        if not (isinstance(self.eps_rel, (int, float)) and 0 <= self.eps_rel < 1):
+        if isinstance(self.eps_rel, bool) or not (
+            isinstance(self.eps_rel, (int, float)) and 0 <= self.eps_rel < 1
+        ):
             raise InvalidInputError("eps_rel", f"must be a number in [0, 1), got {self.eps_rel!r}")
-        if not 0 <= self.improvement < 1:
+        if isinstance(self.improvement, bool) or not (
+            isinstance(self.improvement, (int, float)) and 0 <= self.improvement < 1
+        ):
             raise InvalidInputError("improvement", f"must be in [0, 1), got {self.improvement!r}")
-        if int(self.max_iterations) < 1:
-            raise InvalidInputError("max_iterations", f"must be >= 1, got {self.max_iterations!r}")
         if self.variant is not None and self.variant not in VARIANTS:
             raise InvalidInputError("variant", f"must be one of {VARIANTS}, got {self.variant!r}")
         return self
@@ -176,6 +179,12 @@ class Settings:
 
 def make_settings(settings: Settings | None = None, **overrides: object) -> Settings:
     """A validated :class:`Settings` from a base and keyword overrides."""
+    if settings is not None and not isinstance(settings, Settings):
+        raise InvalidInputError(
+            "settings",
+            f"expected pinograsp.Settings or None, got {type(settings).__name__}; "
+            "pass single fields as keywords (e.g. eps=1e-3) or build pg.Settings(...)",
+        )
     base = settings or Settings()
     if overrides:
         unknown = set(overrides) - set(Settings.__dataclass_fields__)

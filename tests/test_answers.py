@@ -91,3 +91,25 @@ def test_one_default_method_and_scenes_apply_their_analysis_block(case1):
     assert prp.method == "prp" and prp.resolution == 50.0 / 2**8
     p = s.profile(n=4, steps=4)
     assert p.plane == ("fx", "fy") and len(p.magnitudes) == 4 and p.results[0].upper == 50.0
+
+
+@pytest.mark.parametrize(
+    ("call", "name"),
+    [
+        (lambda m: pg.passive_response(m, [1.0], [0, 1, 0]), "command"),  # 1 value, 2 actuators
+        (lambda m: pg.passive_response(m, [-1.0, 1.0], [0, 1, 0]), "command"),
+        (lambda m: pg.passive_response(m, -1.0, [0, 1, 0]), "command"),
+        (lambda m: pg.max_resistible_wrench(m, 1.0, "fy", upper="100"), "upper"),
+        (lambda m: pg.max_resistible_wrench(m, 1.0, "fy", steps="20"), "steps"),
+        (lambda m: pg.max_resistible_wrench(m, 1.0, "fy", steps=2.5), "steps"),
+        (lambda m: pg.resistance_profile(m, 1.0, n=4.5), "n"),
+        (lambda m: pg.max_resistible_wrench(m, 1.0, "fy", settings={"eps": 1e-3}), "settings"),
+        (lambda m: pg.passive_response(m, 1.0, [0, 1, 0], max_iterations=2.5), "max_iterations"),
+        (lambda m: pg.passive_response(m, 1.0, [0, 1, 0], accelerate="yes"), "accelerate"),
+        (lambda m: pg.passive_response(m, 1.0, [0, 1, 0], eps=True), "eps"),
+    ],
+)
+def test_bad_input_names_the_culprit(call, name):
+    with pytest.raises(pg.InvalidInputError) as info:
+        call(analytic.pinch())
+    assert info.value.name == name
