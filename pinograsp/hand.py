@@ -751,6 +751,8 @@ class Hand:
 
         Raises:
             PenetrationError: ``q_open`` already penetrates the object.
+            NoContactError: every joint reached its limit and no link touches the object (the
+                error lists each link's closest distance [m]).
         """
         from .collision import DEFAULT_TOLERANCE, geometry_distances
 
@@ -837,6 +839,15 @@ class Hand:
                 stop_for(int(k))
             for j in np.flatnonzero(at_limit):
                 active[group == group[j]] = False
+        if not np.any(dist <= tol):
+            # every joint stopped at a limit without touching: say where the object is
+            from .errors import NoContactError
+
+            near: dict[str, float] = {}
+            for k, v in enumerate(dist):
+                link = self.link_of_geometry(k)
+                near[link] = min(float(v), near.get(link, np.inf))
+            raise NoContactError(near, tol)
         return q
 
     def __repr__(self) -> str:

@@ -404,6 +404,11 @@ class GraspModel:
         points = np.array([c.point for c in contacts])
         frames = np.array([c.frame for c in contacts])
         jw = np.array([c.jacobian if c.jacobian is not None else np.zeros((3, nq)) for c in contacts])
+        if nq == 0 or not np.any(jw):
+            raise ModelError(
+                "no contact moves with a joint (every contact is fixed): passive reaction needs at "
+                f"least one finger joint that reaches a contact; contacts: {[c.name for c in contacts]}"
+            )
         if planar:
             scale = max(np.abs(points - o).max(), 1e-300)
             for i, c in enumerate(contacts):

@@ -23,7 +23,7 @@ import pinocchio as pin
 from .actuation import Actuator, Coupling
 from .collision import DEFAULT_MAX_PENETRATION, DEFAULT_TOLERANCE, ContactReport, detect_contacts
 from .contact import Contact
-from .errors import InvalidInputError
+from .errors import InvalidInputError, UnknownNameError
 from .model import GraspModel
 
 if TYPE_CHECKING:
@@ -82,6 +82,9 @@ def scene_contacts(
 
     def per_contact(name: str, value: object, default: float) -> list[float]:
         if isinstance(value, dict):
+            for key in value:
+                if key not in hand.link_names:
+                    raise UnknownNameError(f"{name} link", key, list(hand.link_names))
             return [number(f"{name}[{c.link!r}]", value.get(c.link, default)) for c in report.contacts]
         try:
             arr = np.asarray(value, dtype=float).reshape(-1)

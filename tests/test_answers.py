@@ -113,3 +113,19 @@ def test_bad_input_names_the_culprit(call, name):
     with pytest.raises(pg.InvalidInputError) as info:
         call(analytic.pinch())
     assert info.value.name == name
+
+
+def test_model_side_errors_name_the_culprit(case1):
+    s = case1
+    with pytest.raises(pg.UnknownNameError, match="nolink"):
+        pg.GraspModel.from_scene(s.hand, s.q, s.object, mu={"nolink": 0.3})
+    far = pg.RigidObject.sphere(0.04, pose=[1.0, 1.0, 1.0])
+    with pytest.raises(pg.NoContactError) as info:
+        s.hand.close_on(far)
+    assert min(info.value.distances.values()) > 1.0  # [m]: the closest link is 1.6 m away
+    fixed = [
+        pg.Contact([x, 0, 0], [sgn, 0, 0], mu=0.5, jacobian=np.zeros((3, 0)))
+        for x, sgn in ((0, 1), (0.1, -1))
+    ]
+    with pytest.raises(pg.ModelError, match="no contact moves"):
+        pg.GraspModel.from_contacts(fixed, planar=True)
