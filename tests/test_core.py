@@ -152,6 +152,20 @@ def test_direct_load_factor_by_branch_and_bound_matches_closed_form():
     assert pg.max_resistible_wrench(m, 1.0, "fx", "prp", upper=100, search="direct").unbounded
 
 
+@pytest.mark.parametrize(
+    ("direction", "sin_theta"), [("fy", 1.0), ([1.0, 1.0, 0], np.sqrt(0.5)), ([0.3, -1.0, 0], 1 / np.sqrt(1.09))]
+)
+def test_fine_bisection_next_to_the_limit_gives_a_verdict(direction, sin_theta):
+    """30 halvings of [0, 1e3] test magnitudes ~1e-7 (relative) above the pinch's limit, where
+    the node QPs are nearly infeasible: the least row violation decides (no SolverError), and
+    the answer is the closed form 2 mu tau0 / (L |sin θ|) to one grid step."""
+    m = analytic.pinch()
+    exact = 10.0 / sin_theta
+    r = pg.max_resistible_wrench(m, 1.0, direction, "prp", upper=1e3, steps=30)
+    assert r.status == "finite"
+    assert abs(r.magnitude - exact) <= 1e3 / 2**30 * 1.0001
+
+
 def _random_step_problems(seed: int):
     """A random grasp (2-4 pairs of fingers, one- or two-link, 3D or planar) and PRP and
     movement-step data of random loads."""

@@ -24,7 +24,10 @@ cycle, on these degenerate problems (a case-1 mode QP was called infeasible that
 So DAQP's answer is taken only when it is a point that passes the feasibility check; its
 "infeasible" is confirmed on the strictly convex projection problem (no proximal iterations);
 every other outcome is decided by Clarabel (interior point, single-threaded, deterministic),
-whose points are accepted only within :data:`MAX_POINT`.
+whose points are accepted only within :data:`MAX_POINT`. Where Clarabel gives no verdict either
+(nodes a relative 1e-7 from infeasibility, met by a fine search next to the limit), the least
+uniform violation of the rows (an always-feasible LP) decides: above :data:`FEAS_TOL` the node is
+infeasible, as the feasibility check defines it.
 
 This module never imports Pinocchio or Coal.
 """
@@ -204,7 +207,46 @@ class NodeQP:
                     return QPStatus.OPTIMAL, z
             if name in ("PrimalInfeasible", "AlmostPrimalInfeasible"):
                 return QPStatus.INFEASIBLE, None
+        # no verdict (a node at a relative distance ~1e-7 from infeasibility makes the interior
+        # point diverge): the least uniform violation of the rows decides, as the feasibility
+        # check defines it
+        t = self.least_violation(up)
+        if t is not None and t > FEAS_TOL:
+            return QPStatus.INFEASIBLE, None
         return QPStatus.FAILED, None
+
+    def least_violation(self, up: np.ndarray) -> float | None:
+        """The least ``t >= 0`` (scaled force units) with ``|A z - b| <= t`` and
+        ``lo - t <= C z <= up + t`` for some ``z``: an always-feasible LP (Clarabel), None if it
+        fails. ``t > FEAS_TOL`` means no point passes the feasibility check."""
+        import clarabel
+        import scipy.sparse as sp
+
+        P = self.p
+        n = P.n
+        fl, fu = P.lo > -INF, up < INF
+        col = -np.ones((1, 1))
+        blocks = [
+            (np.hstack([P.A, np.repeat(col, self.me, 0)]), P.b),
+            (np.hstack([-P.A, np.repeat(col, self.me, 0)]), -P.b),
+            (np.hstack([-P.C[fl], np.repeat(col, int(fl.sum()), 0)]), -P.lo[fl]),
+            (np.hstack([P.C[fu], np.repeat(col, int(fu.sum()), 0)]), up[fu]),
+            (np.hstack([np.zeros((1, n)), col]), np.zeros(1)),
+        ]
+        G = np.vstack([b[0] for b in blocks])
+        h = np.concatenate([b[1] for b in blocks])
+        q = np.zeros(n + 1)
+        q[-1] = 1.0
+        st = clarabel.DefaultSettings()
+        st.verbose = False
+        st.tol_gap_abs = st.tol_gap_rel = st.tol_feas = 1e-12
+        st.max_iter = 400
+        sol = clarabel.DefaultSolver(
+            sp.csc_matrix((n + 1, n + 1)), q, sp.csc_matrix(G), h, [clarabel.NonnegativeConeT(len(h))], st
+        ).solve()
+        if str(sol.status) not in ("Solved", "AlmostSolved"):
+            return None
+        return max(float(sol.x[-1]), 0.0)
 
     def polish(self, z: np.ndarray, up: np.ndarray) -> np.ndarray:
         """The least-norm optimum on the face of rows tight at ``z`` (else ``z`` itself)."""
