@@ -5,6 +5,7 @@ from .analysis import max_resistible_wrench, resistance_profile, wrench_directio
 from .baseline import LinearComplianceResult, linear_compliance
 from .contact import Contact, friction_edges
 from .errors import (
+    AuditWarning,
     BigMWarning,
     ConditioningWarning,
     ConvergenceWarning,
@@ -43,6 +44,7 @@ __all__ = [
     "wrench_direction",
     "ACTUATOR_KINDS",
     "Actuator",
+    "AuditWarning",
     "BigMWarning",
     "ConditioningWarning",
     "Contact",

@@ -8,6 +8,10 @@ displacement ``u = R^T q``. Each actuator has one of three kinds:
   commanded force or holds still with any larger (passive) force;
 * ``"backdrivable"``: ``f = f_c``, ``u`` free;
 * ``"locked"``: ``u = 0``, ``f`` free (e.g. the Barrett spread joint, modelled rigid).
+
+Commands are closing forces ``f_c >= 0``. An actuator declared ``bidirectional`` also takes
+``f_c < 0``: it then drives the opposite way, i.e. it is the same actuator with its transmission
+column negated and the command ``|f_c|`` (docs/hands.md, "Bidirectional actuators").
 """
 
 from __future__ import annotations
@@ -17,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .contact import check_name, finite_number
+from .contact import check_name, choice, finite_number
 from .errors import InvalidInputError
 
 #: Valid actuator kinds.
@@ -52,18 +56,24 @@ class Actuator:
             joint it crosses (force in [N]).
         kind: ``"non-backdrivable"``, ``"backdrivable"`` or ``"locked"``.
         name: Label used in results, commands given as dicts, and error messages.
+        bidirectional: Whether a negative command (driving the other way) is valid; without it
+            a negative command is an :class:`InvalidInputError`.
     """
 
     transmission: Mapping[int | str, float]
     kind: str = "non-backdrivable"
     name: str | None = None
+    bidirectional: bool = False
 
     def __post_init__(self) -> None:
         check_name("actuator", self.name)
         label = f"actuator {self.name!r}" if self.name is not None else "actuator"
         object.__setattr__(self, "transmission", _check_weights(f"{label}.transmission", self.transmission))
-        if not isinstance(self.kind, str) or self.kind not in ACTUATOR_KINDS:
-            raise InvalidInputError(f"{label}.kind", f"must be one of {ACTUATOR_KINDS}, got {self.kind!r}")
+        choice(f"{label}.kind", self.kind, ACTUATOR_KINDS)
+        if not isinstance(self.bidirectional, (bool, np.bool_)):
+            raise InvalidInputError(
+                f"{label}.bidirectional", f"expected True or False, got {self.bidirectional!r}"
+            )
 
 
 @dataclass(frozen=True)

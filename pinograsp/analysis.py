@@ -4,12 +4,20 @@ from __future__ import annotations
 
 import os
 import time
+import warnings
 from collections.abc import Callable, Sequence
 
 import numpy as np
 
-from .contact import positive_number, whole_number
-from .errors import InvalidInputError, PreloadNotInEquilibriumError, SolverError, SolverTimeoutError
+from .audit import audit_message
+from .contact import choice, positive_number, whole_number
+from .errors import (
+    AuditWarning,
+    InvalidInputError,
+    PreloadNotInEquilibriumError,
+    SolverError,
+    SolverTimeoutError,
+)
 from .model import GraspModel, axis_index
 from .response import METHODS, PassiveSolver, Settings, solver_for
 from .results import MaxWrench, PassiveResponse, ResistanceProfile
@@ -29,10 +37,11 @@ def wrench_direction(model: GraspModel, direction: object, name: str = "directio
         d[axis_index(direction.lstrip("+-"))] = sign
     else:
         d = model.wrench_vector(direction, name)
-    norm = float(np.linalg.norm(d))
-    if not norm > 0:
+    big = float(np.abs(d).max())
+    if not big > 0:
         raise InvalidInputError(name, "zero-length direction", d)
-    d = d / norm
+    d = d / big  # first to the largest entry: no overflow (1e200) or underflow (1e-200) in the norm
+    d = d / float(np.linalg.norm(d))
     return model.wrench_vector(d, name)
 
 
@@ -109,8 +118,7 @@ def max_resistible_wrench(
         PreloadNotInEquilibriumError, SolverTimeoutError, SolverError, InvalidInputError.
     """
     t0 = time.perf_counter()
-    if method not in METHODS:
-        raise InvalidInputError("method", f"must be one of {METHODS}, got {method!r}")
+    choice("method", method, METHODS)
     upper = positive_number("upper", upper)
     steps = whole_number("steps", steps)
     solver = solver_for(model, settings, **overrides)
@@ -121,21 +129,23 @@ def max_resistible_wrench(
         solve_time += pre.solve_time
         n_solves += pre.n_solves
     evidence: list[tuple[float, bool]] = []
+    flagged: list[tuple[float, PassiveResponse]] = []  # resisted, but failing the audit
 
     def test(mag: float, by: PassiveSolver | None = None) -> tuple[bool, PassiveResponse]:
         """Verdict at ``mag`` (by this query's solver, or ``by`` another one), recorded."""
         nonlocal solve_time, n_solves
-        resp = (by or solver).response(command, mag * d, method)
+        with warnings.catch_warnings():  # summarised once, after the search
+            warnings.simplefilter("ignore", AuditWarning)
+            resp = (by or solver).response(command, mag * d, method)
         solve_time += resp.solve_time
         n_solves += resp.n_solves
         ok = _check(resp, mag)
         evidence.append((mag, ok))
+        if ok and resp.audit is not None and not resp.audit.ok:
+            flagged.append((mag, resp))
         return ok, resp
 
-    valid = [x.value for x in Search]
-    if search not in valid:
-        raise InvalidInputError("search", f"must be one of {valid}, got {search!r}")
-    search = Search(search)
+    search = Search(choice("search", search, [x.value for x in Search]))
     if search is Search.AUTO:
         search = Search.SECANT if method == "iterative" else Search.BISECTION
     if search is Search.DIRECT and method != "prp":
@@ -153,7 +163,11 @@ def max_resistible_wrench(
 
     def result(magnitude: float, unbounded: bool, response: PassiveResponse | None) -> MaxWrench:
         if unbounded:  # resisted at upper: unbounded only if the model says so in the limit
-            limit = _resisted_without_preload(solver, command, d, method)
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", AuditWarning)
+                limit = _resisted_without_preload(solver, command, d, method)
+            if limit.resistible and limit.audit is not None and not limit.audit.ok:
+                flagged.append((float("inf"), limit))
             solve_time_add = limit.solve_time
             status = "unbounded" if limit.resistible else "above_limit"
             magnitude = float("inf") if limit.resistible else float(upper)
@@ -161,6 +175,21 @@ def max_resistible_wrench(
         else:
             solve_time_add = 0.0
             status = "finite" if magnitude >= floor and magnitude > 0 else "below_resolution"
+        failures = tuple(sorted(m for m, _ in flagged))
+        if failures:
+            at, bad = min(flagged, key=lambda mr: mr[0])
+            e = bad.audit.energy
+            why = (
+                audit_message(method, e)
+                if e is not None and not (e.energy_ok and e.displacement_ok)
+                else "residuals above the audit tolerance"
+            )
+            warnings.warn(
+                f"{len(failures)} resisted magnitude(s) from {at:.6g} rest on solutions that fail "
+                f"the audit; at {at:.6g}: {why}",
+                AuditWarning,
+                stacklevel=4,
+            )
         return MaxWrench(
             direction=d,
             magnitude=magnitude,
@@ -176,6 +205,7 @@ def max_resistible_wrench(
             n_solves=n_solves,
             response=response,
             search=search.value,
+            audit_failures=failures,
         )
 
     if search is Search.DIRECT:
@@ -306,8 +336,16 @@ def _parallel_directions(
 
 
 def _plane_basis(model: GraspModel, plane: Sequence[object]) -> tuple[np.ndarray, tuple[str, str]]:
+    given = plane
+    try:  # a single name or vector is not a plane
+        flat = isinstance(plane, (str, bytes)) or (isinstance(plane, np.ndarray) and plane.ndim != 2)
+        plane = [] if flat else list(plane)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        plane = []
     if len(plane) != 2:
-        raise InvalidInputError("plane", f"expected two wrench axes or vectors, got {plane!r}")
+        raise InvalidInputError(
+            "plane", f"expected two wrench axes (e.g. ('fx', 'fy')) or two vectors, got {given!r}"
+        )
     b = [wrench_direction(model, p, f"plane[{i}]") for i, p in enumerate(plane)]
     b2 = b[1] - (b[1] @ b[0]) * b[0]
     if np.linalg.norm(b2) < 1e-9:
@@ -354,7 +392,7 @@ def resistance_profile(
     n = whole_number("n", n)
     basis, labels = _plane_basis(model, plane)
     solver = solver_for(model, settings, **overrides)
-    check_preload(solver, command, method) if method in METHODS else None
+    check_preload(solver, command, choice("method", method, METHODS))
     angles = 2.0 * np.pi * np.arange(int(n)) / int(n)
     dirs = np.cos(angles)[:, None] * basis[0] + np.sin(angles)[:, None] * basis[1]
     nw = _worker_count(workers, len(dirs))

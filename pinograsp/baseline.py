@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 import proxsuite
 
+from .contact import finite_array, finite_number, positive_number
 from .errors import InvalidInputError, SolverError
 from .model import GraspModel
 
@@ -67,7 +68,7 @@ def linear_compliance(
         wrench: External wrench on the object (6,) [N, N·m] (planar models: 3 also accepted).
         internal_forces: Preload contact forces ``c_0`` in contact frames, (nc, 3) [N]; e.g.
             ``passive_response(model, command, 0).contact_forces``. Default zero.
-        tangential_stiffness: Tangential spring stiffness per contact (nc,) [N/m]; default
+        tangential_stiffness: Tangential spring stiffness per contact (nc,) or one for all [N/m]; default
             ``mu * k``. Zero means that direction carries no force.
         tol: Tolerance [N] of the push and friction checks.
     """
@@ -75,11 +76,19 @@ def linear_compliance(
     w6 = m.wrench_vector(wrench)
     w = m.reduce_wrench(w6)
     nc, d = m.nc, m.d
-    c0 = np.zeros((nc, 3)) if internal_forces is None else np.array(internal_forces, dtype=float)
-    if c0.shape != (nc, 3) or not np.all(np.isfinite(c0)):
-        raise InvalidInputError("internal_forces", f"expected a finite ({nc}, 3) array, got shape {c0.shape}")
-    kt = m.mu * m.k if tangential_stiffness is None else np.asarray(tangential_stiffness, float).reshape(-1)
-    if kt.shape != (nc,) or np.any(kt < 0) or not np.all(np.isfinite(kt)):
+    tol = positive_number("tol", tol)
+    c0 = (
+        np.zeros((nc, 3))
+        if internal_forces is None
+        else finite_array("internal_forces", internal_forces, (nc, 3))
+    )
+    if tangential_stiffness is None:
+        kt = m.mu * m.k
+    elif np.ndim(tangential_stiffness) == 0 and not isinstance(tangential_stiffness, (str, bytes)):
+        kt = np.full(nc, finite_number("tangential_stiffness", tangential_stiffness))
+    else:
+        kt = finite_array("tangential_stiffness", tangential_stiffness, (nc,))
+    if np.any(kt < 0):
         raise InvalidInputError("tangential_stiffness", f"expected {nc} finite values >= 0")
     kdiag = np.column_stack([m.k] + [kt] * (d - 1)).reshape(-1)  # (nc*d,)
     free = kdiag > 0

@@ -559,12 +559,9 @@ def _profile_kwargs(args: argparse.Namespace) -> dict[str, Any]:
 def response_dict(model: Any, r: Any) -> dict[str, Any]:
     """A :class:`~pinograsp.results.PassiveResponse` as plain JSON-ready data."""
     mu = dict(zip(model.contact_names, model.mu))
-    ct = np.linalg.norm(r.contact_forces[:, 1:], axis=1)
     contacts = []
     for i, name in enumerate(r.contact_names):
-        cn = float(r.contact_forces[i, 0])
-        with np.errstate(divide="ignore", invalid="ignore"):
-            use = ct[i] / (mu.get(name, np.nan) * cn) if cn > 0 else (0.0 if ct[i] == 0 else np.inf)
+        use = None if r.friction_use is None or np.isnan(r.friction_use[i]) else float(r.friction_use[i])
         contacts.append(
             {
                 "name": name,
@@ -604,6 +601,17 @@ def response_dict(model: Any, r: Any) -> dict[str, Any]:
             "bigm_retries": a.bigm_retries,
             "polished": a.polished,
             "tolerance": a.tolerance,
+            "energy": None
+            if a.energy is None
+            else {
+                "spring_energy": a.energy.spring_energy,
+                "load_work": a.energy.load_work,
+                "actuator_work": a.energy.actuator_work,
+                "energy_ok": a.energy.energy_ok,
+                "displacement_ratio": a.energy.displacement_ratio,
+                "displacement_ok": a.energy.displacement_ok,
+                "contacts": list(a.energy.contacts),
+            },
         }
     return {
         "resistible": r.resistible,
@@ -639,6 +647,7 @@ def max_wrench_dict(mw: Any, label: str | None = None, model: Any = None) -> dic
         "resolution": mw.resolution,
         "method": mw.method,
         "monotone": mw.monotone,
+        "audit_failures": [None if np.isinf(m) else m for m in mw.audit_failures],
         "evidence": [[m, ok] for m, ok in mw.evidence],
         "n_solves": mw.n_solves,
         "solve_time": mw.solve_time,
@@ -754,7 +763,7 @@ def _contact_table(model: Any, r: Any) -> list[str]:
     for c in d["contacts"]:
         f = c["force"]
         use = c["friction_use"]
-        use_s = "inf" if not math.isfinite(use) else f"{use:.3f}"
+        use_s = "—" if use is None else f"{use:.3f}"
         lines.append(
             f"  {c['name']:{w}s}  {c['mode']:9s} {f[0]:10.4f} {f[1]:10.4f} {f[2]:10.4f} {use_s:>12s}"
             f"   {_fmt_vec(c['force_world'])}"
@@ -780,8 +789,19 @@ def _audit_line(r: Any) -> str:
     return (
         f"audit: {'ok' if a.ok else 'NOT OK'} (equilibrium {a.equilibrium:.2e} N, hand {a.hand:.2e} N, "
         f"complementarity {a.complementarity:.2e} N, friction {a.friction:.2e} N, "
-        f"big-M use {a.bigm_ratio:.1%})"
+        f"big-M use {a.bigm_ratio:.1%}{_energy_text(a.energy)})"
     )
+
+
+def _energy_text(e: Any) -> str:
+    if e is None:
+        return ""
+    text = f"; spring energy {e.spring_energy:.4g} J <= supplied {e.load_work + e.actuator_work:.4g} J"
+    if not e.energy_ok:
+        text = text.replace("<=", "> (WEDGING)") + f" at {', '.join(e.contacts)}"
+    if not e.displacement_ok:
+        text += f"; displacements {e.displacement_ratio:.3g}x the spring compressions (ABSURD)"
+    return text
 
 
 def cmd_analyze(args: argparse.Namespace) -> int:

@@ -7,8 +7,10 @@ direction in which the hand pushes); tangents ``t1, t2`` complete a right-handed
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+import os
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
@@ -30,6 +32,40 @@ def _vector(name: str, value: object, size: int) -> np.ndarray:
     return arr
 
 
+def finite_array(name: str, value: object, shape: tuple[int, ...]) -> np.ndarray:
+    """``value`` as a finite float array of ``shape`` (a flat sequence of the right size is
+    reshaped), else :class:`InvalidInputError` naming ``name``."""
+    if isinstance(value, (str, bytes)):
+        raise InvalidInputError(name, f"expected an array of shape {shape}, got {value!r}")
+    try:
+        arr = np.array(value, dtype=float)
+    except (TypeError, ValueError, OverflowError) as exc:
+        raise InvalidInputError(name, f"expected an array of shape {shape}, got {value!r}") from exc
+    if arr.size != int(np.prod(shape)):
+        raise InvalidInputError(name, f"expected an array of shape {shape}, got shape {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        raise InvalidInputError(name, "contains NaN or inf")
+    return arr.reshape(shape)
+
+
+def writing(path: object, write: Callable[[Path], object], *, name: str = "path") -> Path:
+    """Write a file through ``write(Path)``: the path must be a ``str`` or ``os.PathLike`` naming
+    a file (not a folder), its parent folders are created, and an ``OSError`` (permissions, a
+    full disk, a file where a folder should be) becomes an :class:`InvalidInputError` naming
+    ``name``. Returns the written path."""
+    if not isinstance(path, (str, os.PathLike)) or isinstance(path, bytes):
+        raise InvalidInputError(name, f"expected a file path (str or os.PathLike), got {path!r}")
+    p = Path(path)
+    if str(path) == "" or p.is_dir():
+        raise InvalidInputError(name, f"{str(path)!r} is a folder, not a file")
+    try:
+        p.parent.mkdir(parents=True, exist_ok=True)
+        write(p)
+    except OSError as exc:
+        raise InvalidInputError(name, f"cannot write {str(p)!r}: {exc.strerror or exc}") from exc
+    return p
+
+
 def finite_number(name: str, value: object) -> float:
     """``float(value)`` if it is a finite real number, else :class:`InvalidInputError` naming ``name``."""
     if isinstance(value, (str, bytes)):
@@ -41,6 +77,14 @@ def finite_number(name: str, value: object) -> float:
     if not np.isfinite(v):
         raise InvalidInputError(name, f"must be finite, got {value!r}")
     return v
+
+
+def choice(name: str, value: object, valid: tuple[str, ...] | list[str]) -> str:
+    """``value`` if it is one of the strings ``valid``, else :class:`InvalidInputError` naming
+    ``name`` and the valid choices (arrays, lists and other unhashable values included)."""
+    if not isinstance(value, str) or value not in valid:
+        raise InvalidInputError(name, f"must be one of {tuple(valid)}, got {value!r}")
+    return value
 
 
 def whole_number(name: str, value: object, minimum: int = 1) -> int:

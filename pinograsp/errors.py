@@ -106,6 +106,12 @@ class ConditioningWarning(PinograspWarning):
     ratio above 1e5 between contacts): use the reference backend (``backend="miqp"``)."""
 
 
+class AuditWarning(PinograspWarning):
+    """A solution fails a physical check the optimisation does not impose: its springs store
+    more energy than the load and the actuators supply (the wedging artefact of the PRP), or its
+    displacements are absurdly large (``PassiveResponse.audit.energy``; docs/accuracy.md)."""
+
+
 class ConvergenceWarning(PinograspWarning):
     """An iterative computation stopped without meeting its tolerance."""
 

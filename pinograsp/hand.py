@@ -31,7 +31,7 @@ import numpy as np
 import pinocchio as pin
 
 from .actuation import ACTUATOR_KINDS, Actuator, Coupling
-from .contact import finite_number
+from .contact import finite_number, positive_number, whole_number
 from .errors import InvalidInputError, ModelError, ModelFileError, UnknownNameError, UrdfError
 
 if TYPE_CHECKING:
@@ -207,14 +207,16 @@ class HandDescription:
                     raise InvalidInputError(
                         f"actuators[{i}]", "expected a mapping with 'transmission' (and 'name', 'kind')"
                     )
-                extra = set(a) - {"name", "kind", "transmission"}
+                valid = ["name", "kind", "transmission", "bidirectional"]
+                extra = set(a) - set(valid)
                 if extra:
-                    raise UnknownNameError("actuator key", sorted(extra)[0], ["name", "kind", "transmission"])
+                    raise UnknownNameError("actuator key", sorted(extra)[0], valid)
                 acts.append(
                     Actuator(
                         transmission=a["transmission"],
                         kind=a.get("kind", "non-backdrivable"),
                         name=a.get("name", f"a{i}"),
+                        bidirectional=a.get("bidirectional", False),
                     )
                 )
             kw["actuators"] = tuple(acts)
@@ -595,7 +597,7 @@ class Hand:
         Raises:
             UnknownNameError: Unknown hand name (the valid ones are listed).
         """
-        if name not in BUILTIN_HANDS:
+        if not isinstance(name, str) or name not in BUILTIN_HANDS:
             raise UnknownNameError("hand", name, sorted(BUILTIN_HANDS))
         urdf, desc = BUILTIN_HANDS[name]
         if urdf.startswith("example-robot-data:"):
@@ -756,7 +758,9 @@ class Hand:
         """
         from .collision import DEFAULT_TOLERANCE, geometry_distances
 
-        tol = DEFAULT_TOLERANCE if tolerance is None else float(tolerance)
+        tol = DEFAULT_TOLERANCE if tolerance is None else positive_number("tolerance", tolerance)
+        step = positive_number("step", step)
+        max_steps = whole_number("max_steps", max_steps)
         q = self.configuration(q_open, "q_open")
         q = np.clip(q, self.lower, self.upper)
         d = self.closing_direction() * self.closing_signs  # URDF-coordinate rates

@@ -13,7 +13,7 @@ wrench components (6, or 3 when planar: ``fx, fy, mz``), ``nb`` pyramid edge wei
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -104,6 +104,8 @@ class GraspModel:
         contact_names, joint_names, actuator_names, coupling_names: Labels.
         all_actuator_names: Actuators before pruning (commands may be given for all of them).
         pruned: What the constructor removed.
+        bidirectional: Names of the actuators (of ``all_actuator_names``) that take negative
+            commands.
     """
 
     G: np.ndarray
@@ -127,6 +129,7 @@ class GraspModel:
     coupling_names: tuple[str, ...]
     all_actuator_names: tuple[str, ...]
     pruned: PruneRecord = field(default_factory=PruneRecord)
+    bidirectional: tuple[str, ...] = ()
 
     # ------------------------------------------------------------------ sizes
     @property
@@ -231,8 +234,9 @@ class GraspModel:
         Accepts a scalar (same command on every actuator), a sequence over all actuators given
         to the constructor (pruned ones are dropped) or over the kept ones, or a mapping
         ``{actuator_name: value}`` (missing actuators get 0). Commands are closing forces or
-        torques ``>= 0`` [N·m or N]; a sequence of the wrong length (a 1-element list for a
-        2-actuator model included) or a negative value is an :class:`InvalidInputError`.
+        torques ``>= 0`` [N·m or N] (negative only for actuators declared ``bidirectional``); a
+        sequence of the wrong length (a 1-element list for a 2-actuator model included) or a
+        negative value for any other actuator is an :class:`InvalidInputError`.
         """
         names_all = self.all_actuator_names
         if isinstance(command, Mapping):
@@ -265,17 +269,27 @@ class GraspModel:
         if not np.all(np.isfinite(raw)):
             raise InvalidInputError("command", "contains NaN or inf", raw)
         if np.any(raw < 0):
-            bad = [n for n, v in zip(names_all if full else self.actuator_names, raw) if v < 0]
-            raise InvalidInputError(
-                "command",
-                f"negative command for actuator(s) {bad}: a command is the closing force or torque "
-                "an actuator applies (>= 0; a finger that should open is not part of the grasp)",
-                raw,
-            )
+            names = names_all if full else self.actuator_names
+            bad = [n for n, v in zip(names, raw) if v < 0 and n not in self.bidirectional]
+            if bad:
+                raise InvalidInputError(
+                    "command",
+                    f"negative command for actuator(s) {bad}: a command is the closing force or "
+                    "torque an actuator applies (>= 0; declare Actuator(..., bidirectional=True) for "
+                    f"one that drives both ways; bidirectional here: {list(self.bidirectional)})",
+                    raw,
+                )
         if full:
             keep = [names_all.index(n) for n in self.actuator_names]
             raw = raw[keep]
         return raw
+
+    def with_actuator_signs(self, signs: np.ndarray) -> GraspModel:
+        """The same grasp with the transmission column of every actuator with ``signs < 0``
+        negated, (na,): a bidirectional actuator commanded ``-f`` is this model's actuator
+        commanded ``+f``."""
+        sg = np.asarray(signs, float)
+        return replace(self, R=_readonly(self.R * sg[None, :]))
 
     def contact_index(self, contact: int | str) -> int:
         """Index of a contact given by index or name."""
@@ -580,6 +594,7 @@ class GraspModel:
             actuator_names=kept_act_names,
             coupling_names=tuple(cp_names),
             all_actuator_names=tuple(act_names),
+            bidirectional=tuple(n for n, a in zip(act_names, actuators) if a.bidirectional),
             pruned=PruneRecord(
                 joints=pruned_joints,
                 actuators=pruned_a,

@@ -19,6 +19,7 @@ Geometry kinds:
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -212,6 +213,8 @@ class RigidObject:
         """
         import trimesh  # local: only needed for meshes
 
+        if not isinstance(path, (str, os.PathLike)) or isinstance(path, bytes):
+            raise InvalidInputError("path", f"expected a mesh file path (str or os.PathLike), got {path!r}")
         p = Path(path)
         if not p.is_file():
             raise ModelFileError(p, "mesh file not found")

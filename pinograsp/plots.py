@@ -29,8 +29,9 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .contact import writing
 from .errors import InvalidInputError
-from .model import WRENCH_AXES
+from .model import WRENCH_AXES, GraspModel
 from .results import MaxWrench, PassiveResponse, ResistanceProfile
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -109,11 +110,9 @@ def save_figure(
     figure = getattr(fig, "figure", None) if not hasattr(fig, "savefig") else fig
     if figure is None or not hasattr(figure, "savefig"):
         raise InvalidInputError("fig", f"expected a matplotlib Figure or Axes, got {type(fig).__name__}")
-    p = Path(path)
-    if not p.suffix:
-        raise InvalidInputError("path", f"{str(p)!r} has no suffix (e.g. '.png') to choose the format from")
-    p.parent.mkdir(parents=True, exist_ok=True)
-    figure.savefig(p, dpi=dpi, bbox_inches="tight")
+    if isinstance(path, (str, os.PathLike)) and not isinstance(path, bytes) and not Path(path).suffix:
+        raise InvalidInputError("path", f"{str(path)!r} has no suffix (e.g. '.png') to pick the format")
+    p = writing(path, lambda f: figure.savefig(f, dpi=dpi, bbox_inches="tight"))
     if close:
         pyplot().close(figure)
     return p
@@ -184,6 +183,8 @@ def _as_profiles(
         if p.magnitudes.size == 0:
             raise InvalidInputError(f"profile[{i}]", "has no directions")
     if labels is not None:
+        if isinstance(labels, (str, bytes)) or not isinstance(labels, (Sequence, np.ndarray)):
+            raise InvalidInputError("labels", f"expected a list of {len(profiles)} labels, got {labels!r}")
         labels = [str(s) for s in labels]
         if len(labels) != len(profiles):
             raise InvalidInputError("labels", f"expected {len(profiles)} labels, got {len(labels)}")
@@ -530,8 +531,10 @@ def plot_force_comparison(
         The Axes.
 
     Raises:
-        InvalidInputError: Results whose contact count does not match the model.
+        InvalidInputError: Not a model, or results whose contact count does not match it.
     """
+    if not isinstance(model, GraspModel):
+        raise InvalidInputError("model", f"expected pinograsp.GraspModel, got {type(model).__name__}")
     nc = model.nc
     cp = _contact_forces(passive, "passive", nc)
     cl = _contact_forces(compliance, "compliance", nc)

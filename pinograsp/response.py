@@ -32,8 +32,9 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from .contact import positive_number, whole_number
-from .errors import ConditioningWarning, InvalidInputError
+from .audit import audit_message, energy_check, friction_use
+from .contact import choice, positive_number, whole_number
+from .errors import AuditWarning, ConditioningWarning, InvalidInputError
 from .model import GraspModel
 from .results import Audit, PassiveResponse
 from .solvers import MIQP_SOLVERS, OPTIMAL, Formulation, ScaledData, resolve_solver
@@ -122,8 +123,7 @@ class Settings:
 
     def validated(self) -> Settings:
         """Check every field; raise :class:`InvalidInputError` naming the bad one."""
-        if self.backend not in BACKENDS:
-            raise InvalidInputError("backend", f"must be one of {BACKENDS}, got {self.backend!r}")
+        choice("backend", self.backend, BACKENDS)
         if str(self.solver).upper() not in MIQP_SOLVERS or self.backend == Backend.MIQP.value:
             resolve_solver(self.solver)  # a name it does not know, or not installed where used
         for name in ("time_limit", "bigm", "gamma", "eps", "tolerance"):
@@ -134,10 +134,7 @@ class Settings:
         for name in ("accelerate", "verify_infeasible"):
             if not isinstance(getattr(self, name), bool):
                 raise InvalidInputError(name, f"expected True or False, got {getattr(self, name)!r}")
-        if self.complementarity not in ("bigm", "indicator"):
-            raise InvalidInputError(
-                "complementarity", f"must be 'bigm' or 'indicator', got {self.complementarity!r}"
-            )
+        choice("complementarity", self.complementarity, ("bigm", "indicator"))
         if (
             self.backend == Backend.MIQP.value
             and self.complementarity == "indicator"
@@ -152,8 +149,8 @@ class Settings:
             isinstance(self.improvement, (int, float)) and 0 <= self.improvement < 1
         ):
             raise InvalidInputError("improvement", f"must be in [0, 1), got {self.improvement!r}")
-        if self.variant is not None and self.variant not in VARIANTS:
-            raise InvalidInputError("variant", f"must be one of {VARIANTS}, got {self.variant!r}")
+        if self.variant is not None:
+            choice("variant", self.variant, VARIANTS)
         return self
 
     def variant_for(self, method: str) -> str:
@@ -270,6 +267,21 @@ class PassiveSolver:
             )
         self._preload: dict[tuple, tuple[_Stage, str]] = {}
         self._backend_cache: dict = {}
+        self._mirrors: dict[tuple[bool, ...], PassiveSolver] = {}
+
+    def _mirror(self, fc: np.ndarray) -> tuple[PassiveSolver, np.ndarray] | None:
+        """For negative commands of bidirectional actuators: the solver of the model with those
+        actuators' transmissions negated (commanded ``|f_c|``) and the signs (na,); else None."""
+        neg = fc < 0
+        if not neg.any():
+            return None
+        signs = np.where(neg, -1.0, 1.0)
+        key = tuple(bool(v) for v in neg)
+        if key not in self._mirrors:
+            with warnings.catch_warnings():  # the same contacts: warned by this session already
+                warnings.simplefilter("ignore", ConditioningWarning)
+                self._mirrors[key] = PassiveSolver(self.model.with_actuator_signs(signs), self.settings)
+        return self._mirrors[key], signs
 
     def solve(self, kind: str | ProblemKind, data: ScaledData, guess: Mode | None = None) -> RawSolution:
         """Solve one scaled problem with the settings' backend; ``guess`` is an incumbent mode
@@ -396,6 +408,9 @@ class PassiveSolver:
         """
         m, f, s = self.model, self.form, self.settings
         fc = m.command_vector(command)
+        mirror = self._mirror(fc)
+        if mirror is not None:
+            return mirror[0].max_load_factor(np.abs(fc), direction, upper)
         p = np.zeros(m.nc)
         pre_time = 0.0
         if s.variant_for("prp") != "single-step":
@@ -434,10 +449,19 @@ class PassiveSolver:
     @single_threaded
     def response(self, command: object, wrench: object, method: str = "iterative") -> PassiveResponse:
         """Passive response to ``wrench`` under ``command`` (see :func:`passive_response`)."""
-        if method not in METHODS:
-            raise InvalidInputError("method", f"must be one of {METHODS}, got {method!r}")
+        choice("method", method, METHODS)
         m = self.model
         fc = m.command_vector(command)
+        mirror = self._mirror(fc)
+        if mirror is not None:  # bidirectional actuators driving the other way
+            solver, sg = mirror
+            r = solver.response(np.abs(fc), wrench, method)
+            return replace(
+                r,
+                command=fc,
+                actuator_forces=r.actuator_forces * sg,
+                actuator_displacements=r.actuator_displacements * sg,
+            )
         w6 = m.wrench_vector(wrench)
         w = m.reduce_wrench(w6)
         variant = self.settings.variant_for(method)
@@ -518,6 +542,7 @@ class PassiveSolver:
                 actuator_modes=(),
                 net_wrench=nan(6),
                 audit=None,
+                friction_use=nan(nc),
                 converged=False,
                 solver=self.settings.backend,
                 **common,
@@ -533,6 +558,7 @@ class PassiveSolver:
         qh = z[lay["qh"]]
         q = qh * F / f.qscale if nq else np.zeros(0)
         x = f.unscale_x(st.xh, F)
+        x_load = m.expand_twist(x)
         if pre is not None and pre.raw is not None and pre.raw.z is not None:
             play = self._layout_of(pre_kind or method)
             q = q + pre.raw.z[play["qh"]] * pre.data.F / f.qscale
@@ -552,6 +578,25 @@ class PassiveSolver:
             (m.J.T @ c - m.R @ fa - m.C.T @ lam) / np.where(f.lever > 0, f.lever, 1.0) if nq else np.zeros(0)
         )
         scale = max(F, 1e-300)
+        modes_c = tuple("touching" if t else "separated" for t in raw.mode.touching)
+        tol = self.settings.tolerance * scale
+        energy = None
+        if status == "resisted":  # an equilibrium: its energy balance must hold
+            energy = energy_check(
+                cf[:, 0],
+                m.k,
+                w6,
+                x_load,
+                fc,
+                u,
+                m.expand_twist(x),
+                q,
+                m.length_scale,
+                f.lever,
+                m.contact_names,
+                # rounding relative to the larger of this stage's and the preload stage's scale
+                self.settings.tolerance * max(F, pre.data.F if pre is not None else 0.0),
+            )
         audit = Audit(
             equilibrium=float(np.linalg.norm(net * f.wscale)),
             hand=float(np.abs(hand).max(initial=0.0)),
@@ -560,9 +605,11 @@ class PassiveSolver:
             bigm_ratio=raw.bigm_ratio,
             bigm_retries=raw.bigm_retries,
             polished=raw.polished,
-            tolerance=self.settings.tolerance * scale,
+            tolerance=tol,
+            energy=energy,
         )
-        modes_c = tuple("touching" if t else "separated" for t in raw.mode.touching)
+        if energy is not None and not (energy.energy_ok and energy.displacement_ok):
+            warnings.warn(audit_message(method, energy), AuditWarning, stacklevel=4)
         modes_a = tuple(
             ("moving" if mv else "holding") if k == "non-backdrivable" else k
             for k, mv in zip(m.kinds, raw.mode.moving)
@@ -585,6 +632,7 @@ class PassiveSolver:
             actuator_modes=modes_a,
             net_wrench=m.expand_wrench(net),
             audit=audit,
+            friction_use=friction_use(cf, m.mu, raw.mode.touching, tol),
             converged=st.converged,
             solver=raw.backend,
             **common,
@@ -630,8 +678,7 @@ def passive_response(
         A :class:`~pinograsp.results.PassiveResponse`; ``resistible`` says whether the wrench is
         resisted, ``status`` why not (``"timeout"``/``"failed"`` are never reported as resisted).
     """
-    if method not in METHODS:
-        raise InvalidInputError("method", f"must be one of {METHODS}, got {method!r}")
+    choice("method", method, METHODS)
     return solver_for(model, settings, **overrides).response(command, wrench, method)
 
 

@@ -7,6 +7,8 @@ from typing import Literal
 
 import numpy as np
 
+from .audit import EnergyCheck
+
 
 @dataclass(frozen=True)
 class Audit:
@@ -24,6 +26,8 @@ class Audit:
         bigm_retries: How many times the big-M bounds had to be enlarged.
         polished: Whether the solution was polished by the exact fixed-mode QP.
         tolerance: Tolerance the residuals are compared with [N].
+        energy: Energy balance and displacement size of an equilibrium (None when the load is
+            not resisted): :class:`~pinograsp.audit.EnergyCheck`.
     """
 
     equilibrium: float
@@ -34,15 +38,19 @@ class Audit:
     bigm_retries: int = 0
     polished: bool = False
     tolerance: float = 1e-6
+    energy: EnergyCheck | None = None
 
     @property
     def ok(self) -> bool:
-        """All hand/complementarity/friction residuals within tolerance and no big-M saturation."""
+        """All hand/complementarity/friction residuals within tolerance, no big-M saturation,
+        and (for an equilibrium) the energy balance and displacement size hold."""
+        physical = self.energy is None or (self.energy.energy_ok and self.energy.displacement_ok)
         return (
             self.hand <= self.tolerance
             and self.complementarity <= self.tolerance
             and self.friction <= self.tolerance
             and self.bigm_ratio < 0.1
+            and physical
         )
 
 
@@ -84,6 +92,8 @@ class PassiveResponse:
         n_solves: Complementarity problems solved (branch-and-bound searches or reference
             MIQPs; one per PRP, one per iteration step, plus the subspace jumps).
         contact_names, joint_names, actuator_names: Labels of the rows above.
+        friction_use: ``|c_t| / (mu c_n)`` per contact (nc,): NaN for a separated contact or one
+            touching with no normal force (above the audit tolerance).
     """
 
     resistible: bool
@@ -113,6 +123,7 @@ class PassiveResponse:
     contact_names: tuple[str, ...] = ()
     joint_names: tuple[str, ...] = ()
     actuator_names: tuple[str, ...] = ()
+    friction_use: np.ndarray | None = None
 
     @property
     def normal_forces(self) -> np.ndarray:
@@ -152,6 +163,10 @@ class MaxWrench:
         response: The passive response at ``magnitude`` (or at ``upper`` when unbounded).
         search: ``"bisection"``, ``"secant"`` (iterative) or ``"direct"`` (one load-factor
             complementarity problem, PRP only).
+        audit_failures: Resisted magnitudes whose solution fails the audit (energy balance or
+            displacement size; ``inf`` for the zero-preload limit test), ascending. Non-empty
+            means the PRP's wedging artefact carries the verdict above ``min(audit_failures)``;
+            one :class:`~pinograsp.errors.AuditWarning` says so.
     """
 
     direction: np.ndarray
@@ -168,6 +183,12 @@ class MaxWrench:
     n_solves: int
     response: PassiveResponse | None = field(default=None, repr=False)
     search: str = "bisection"
+    audit_failures: tuple[float, ...] = ()
+
+    @property
+    def physically_audited(self) -> bool:
+        """No resisted verdict of the search rests on a solution that fails the audit."""
+        return not self.audit_failures
 
     @property
     def monotone(self) -> bool:

@@ -146,13 +146,13 @@ class Scene:
         """The scene's preload, or the named preload of ``analysis.preloads``."""
         if name is None:
             return dict(self.command)
-        if name not in self.analysis["preloads"]:
+        if not isinstance(name, str) or name not in self.analysis["preloads"]:
             raise UnknownNameError("preload", name, list(self.analysis["preloads"]))
         return dict(self.analysis["preloads"][name])
 
     def direction(self, name: str) -> np.ndarray:
         """A named direction of ``analysis.directions`` (unit 6-vector)."""
-        if name not in self.analysis["directions"]:
+        if not isinstance(name, str) or name not in self.analysis["directions"]:
             raise UnknownNameError("direction", name, list(self.analysis["directions"]))
         return np.array(self.analysis["directions"][name])
 
@@ -525,7 +525,7 @@ def _lock_joints(
     for a in actuators:
         tr = {j: v for j, v in a.transmission.items() if j not in lock}
         if tr:
-            acts.append(Actuator(tr, a.kind, a.name))
+            acts.append(Actuator(tr, a.kind, a.name, bidirectional=a.bidirectional))
     cps = []
     for c in couplings:
         inside = [j in lock for j in c.weights]
@@ -602,13 +602,16 @@ def _actuators(f: _File, value: object, key: str) -> list[Actuator]:
     for i, a in enumerate(value):
         ka = f"{key}[{i}]"
         a = f.mapping(a, ka)
-        f.keys(a, ("name", "kind", "transmission"), ka)
+        f.keys(a, ("name", "kind", "transmission", "bidirectional"), ka)
         tr = f.mapping(f.require(a, "transmission", ka), f"{ka}.transmission", "a mapping joint -> arm")
         trv = {str(j): f.number(v, f"{ka}.transmission.{j}") for j, v in tr.items()}
         kind = str(a.get("kind", "non-backdrivable"))
         if kind not in ACTUATOR_KINDS:
             raise f.error(f"{ka}.kind", f"unknown kind {kind!r}; valid kinds: {', '.join(ACTUATOR_KINDS)}")
-        out.append(Actuator(trv, kind, str(a.get("name", f"a{i}"))))
+        bidir = a.get("bidirectional", False)
+        if not isinstance(bidir, bool):
+            raise f.error(f"{ka}.bidirectional", f"expected true or false, got {_show(bidir)}")
+        out.append(Actuator(trv, kind, str(a.get("name", f"a{i}")), bidirectional=bidir))
     return out
 
 

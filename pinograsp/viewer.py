@@ -40,6 +40,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .contact import writing
 from .errors import InvalidInputError, MissingDependencyError, PinograspWarning
 from .model import GraspModel
 
@@ -547,10 +548,7 @@ def save_html(fig: Any, path: str | os.PathLike[str]) -> Path:
         raise InvalidInputError(
             "fig", f"expected a plotly Figure (from scene_figure), got {type(fig).__name__}"
         )
-    p = Path(path)
-    p.parent.mkdir(parents=True, exist_ok=True)
-    fig.write_html(str(p), include_plotlyjs=True, full_html=True)
-    return p
+    return writing(path, lambda f: fig.write_html(str(f), include_plotlyjs=True, full_html=True))
 
 
 # ----------------------------------------------------------------------------- matplotlib
@@ -693,14 +691,12 @@ def save_png(
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
-    p = Path(path)
+    writing(path, lambda f: None)  # the path is checked before the drawing
     fig = Figure(figsize=figsize)
     FigureCanvasAgg(fig)
     ax = fig.add_subplot(projection="3d")
     scene_axes(model, response, ax=ax, **kwargs)
-    p.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(p, dpi=dpi, format="png")
-    return p
+    return writing(path, lambda f: fig.savefig(f, dpi=dpi, format="png"))
 
 
 __all__ = [

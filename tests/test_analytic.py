@@ -114,6 +114,7 @@ def test_wedge_prp_artefact_and_iterative_finite():
         x = prp.response.object_displacement
         assert x[5] < 0 and abs(x[5]) * h > 10 * abs(x[1])  # rotation, not motion along the load
         assert set(prp.response.actuator_modes) == {"holding"}
+        assert not prp.physically_audited and not prp.response.audit.energy.energy_ok  # flagged
         it = check_max(m, TAU, d, "iterative", expected)
         assert not it.unbounded
     # below the limit both methods agree on the forces' normal part

@@ -129,3 +129,54 @@ def test_model_side_errors_name_the_culprit(case1):
     ]
     with pytest.raises(pg.ModelError, match="no contact moves"):
         pg.GraspModel.from_contacts(fixed, planar=True)
+
+
+def _pinch_right_axis(flipped: bool, bidirectional: bool) -> pg.GraspModel:
+    """The analytic pinch; with ``flipped`` the right joint's axis is reversed, so that finger
+    closes for a negative joint torque."""
+    ez = np.array([0.0, 0.0, 1.0])
+    left = pg.Contact.revolute(
+        [-0.05, 0, 0], [1, 0, 0], {0: ([-0.05, -0.1, 0], -ez)}, nq=2, mu=0.5, name="left"
+    )
+    right = pg.Contact.revolute(
+        [0.05, 0, 0], [-1, 0, 0], {1: ([0.05, -0.1, 0], -ez if flipped else ez)}, nq=2, mu=0.5, name="right"
+    )
+    acts = [
+        pg.Actuator({0: 1.0}, name="left"),
+        pg.Actuator({1: 1.0}, name="right", bidirectional=bidirectional),
+    ]
+    return pg.GraspModel.from_contacts(
+        [left, right], actuators=acts, planar=True, joint_names=("left", "right")
+    )
+
+
+@pytest.mark.parametrize("method", ["iterative", "prp"])
+def test_bidirectional_actuator_takes_negative_commands(method):
+    """A bidirectional actuator commanded -f is the actuator with its column negated commanded
+    +f: the mirrored pinch gives the pinch's forces, with signed actuator force and travel."""
+    ref_model = _pinch_right_axis(False, False)
+    neg_model = _pinch_right_axis(True, True)
+    assert neg_model.bidirectional == ("right",)
+    w = [2.0, 3.0, 0.0]
+    ref = pg.passive_response(ref_model, 1.0, w, method)
+    neg = pg.passive_response(neg_model, [1.0, -1.0], w, method)
+    assert neg.status == ref.status == "resisted"
+    np.testing.assert_allclose(neg.contact_forces, ref.contact_forces, atol=1e-9)
+    np.testing.assert_allclose(neg.contact_forces[:, 0], [10.0, 12.0], rtol=1e-6)  # 10 N preload + 2 N
+    np.testing.assert_allclose(neg.actuator_forces, ref.actuator_forces * [1, -1], atol=1e-9)
+    np.testing.assert_allclose(neg.actuator_displacements, ref.actuator_displacements * [1, -1], atol=1e-9)
+    np.testing.assert_allclose(neg.joint_torques, ref.joint_torques * [1, -1], atol=1e-9)
+    assert neg.command.tolist() == [1.0, -1.0]
+    a = pg.max_resistible_wrench(ref_model, 1.0, "fy", method, upper=50)
+    b = pg.max_resistible_wrench(neg_model, {"left": 1.0, "right": -1.0}, "fy", method, upper=50)
+    assert a.magnitude == b.magnitude and abs(a.magnitude - 10.0) <= a.resolution + 2e-3  # 2 mu tau / L
+    # without the declaration a negative command names the actuator and the way out
+    with pytest.raises(pg.InvalidInputError, match=r"\['right'\].*bidirectional=True") as info:
+        pg.passive_response(_pinch_right_axis(True, False), [1.0, -1.0], w, method)
+    assert info.value.name == "command"
+
+
+def test_bidirectional_flag_is_validated():
+    with pytest.raises(pg.InvalidInputError) as info:
+        pg.Actuator({0: 1.0}, name="m", bidirectional="yes")
+    assert info.value.name == "actuator 'm'.bidirectional"

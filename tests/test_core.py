@@ -153,7 +153,8 @@ def test_direct_load_factor_by_branch_and_bound_matches_closed_form():
 
 
 @pytest.mark.parametrize(
-    ("direction", "sin_theta"), [("fy", 1.0), ([1.0, 1.0, 0], np.sqrt(0.5)), ([0.3, -1.0, 0], 1 / np.sqrt(1.09))]
+    ("direction", "sin_theta"),
+    [("fy", 1.0), ([1.0, 1.0, 0], np.sqrt(0.5)), ([0.3, -1.0, 0], 1 / np.sqrt(1.09))],
 )
 def test_fine_bisection_next_to_the_limit_gives_a_verdict(direction, sin_theta):
     """30 halvings of [0, 1e3] test magnitudes ~1e-7 (relative) above the pinch's limit, where

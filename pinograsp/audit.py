@@ -1,0 +1,159 @@
+"""Physical checks of a solution that the optimisation itself does not impose.
+
+* **Energy** (seed §VI, the wedging artefact): springs cannot store more energy than the load
+  and the actuators supply on the solution's own displacements, since friction only dissipates::
+
+      E_spring = sum_i c_n,i^2 / (2 k_i)   <=   W_load + W_act
+      W_load = w . x_load      (the load is constant while the object moves by x_load)
+      W_act  = f_c . u         (an actuator moves only at its command f_c; holding ones do no work)
+
+  ``x_load`` is the object displacement of the load stage (the whole displacement for the
+  single-step variant; after a preload stage the load was not yet applied during the preload).
+  A PRP answer that wedges the object between locked fingers breaks it; a physical equilibrium
+  reached by the iterative scheme satisfies it (typically ``E ≈ 0.25–0.6 W``).
+* **Displacements**: the model is linear in virtual displacements of the size of the spring
+  compressions ``c_n / k``; an object or joint displacement more than
+  :data:`MAX_DISPLACEMENT_RATIO` times the largest compression is a march towards infinity in a
+  null direction, not an answer.
+* **Friction use** ``|c_t| / (mu c_n)`` is defined for touching contacts that carry a normal force;
+  a separated contact has none (NaN).
+
+The thresholds are documented in ``docs/accuracy.md``. This module is NumPy only.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+#: Relative slack of the energy inequality (rounding of the solution's forces and displacements).
+ENERGY_RTOL = 1e-6
+#: Largest accepted displacement, in multiples of the largest spring compression ``c_n / k``.
+MAX_DISPLACEMENT_RATIO = 1e3
+#: Share of the spring energy held by the contacts named in a failed energy check.
+NAMED_SHARE = 0.9
+
+
+@dataclass(frozen=True)
+class EnergyCheck:
+    """The energy balance of one solution (every energy in [J] = [N·m]).
+
+    Attributes:
+        spring_energy: ``sum c_n^2 / (2 k)`` over the contacts [J].
+        load_work: Work of the constant external wrench on the load stage's object displacement [J].
+        actuator_work: Work of the actuators at their commands on their displacements [J].
+        displacement_ratio: Largest object translation / rotation x length scale / joint
+            displacement x lever, over the largest spring compression ``c_n / k`` (dimensionless).
+        contacts: Contacts holding :data:`NAMED_SHARE` of the spring energy, most first (named
+            when a check fails).
+        tolerance: Absolute slack [J]: the spring energy that forces within the audit's force
+            tolerance can carry (``sum (2 c_n + t) t / (2 k)`` for a force tolerance ``t``).
+    """
+
+    spring_energy: float
+    load_work: float
+    actuator_work: float
+    displacement_ratio: float
+    contacts: tuple[str, ...]
+    tolerance: float = 0.0
+
+    @property
+    def energy_ok(self) -> bool:
+        """Spring energy within the supplied work (friction cannot create energy)."""
+        supplied = self.load_work + self.actuator_work
+        scale = max(self.spring_energy, abs(self.load_work), abs(self.actuator_work))
+        return self.spring_energy <= supplied + ENERGY_RTOL * scale + self.tolerance
+
+    @property
+    def displacement_ok(self) -> bool:
+        """No displacement beyond :data:`MAX_DISPLACEMENT_RATIO` spring compressions."""
+        return bool(self.displacement_ratio <= MAX_DISPLACEMENT_RATIO)
+
+
+def energy_check(
+    normal_forces: np.ndarray,
+    stiffness: np.ndarray,
+    wrench: np.ndarray,
+    load_displacement: np.ndarray,
+    command: np.ndarray,
+    actuator_displacements: np.ndarray,
+    object_displacement: np.ndarray,
+    joint_displacements: np.ndarray,
+    length_scale: float,
+    levers: np.ndarray,
+    names: tuple[str, ...],
+    force_tolerance: float = 0.0,
+) -> EnergyCheck:
+    """The energy balance and displacement size of a solution.
+
+    Args:
+        normal_forces: ``c_n`` (nc,) [N].
+        stiffness: ``k`` (nc,) [N/m].
+        wrench: External wrench (6,) [N, N·m].
+        load_displacement: Object displacement of the load stage (6,) [m, rad].
+        command: Actuator commands (na,) [N·m or N].
+        actuator_displacements: ``u = R^T q`` (na,) [rad or m].
+        object_displacement: Total object displacement (6,) [m, rad].
+        joint_displacements: ``q`` (nq,) [rad or m].
+        length_scale: Grasp size [m] (rotations x length scale are lengths).
+        levers: Joint lever arms (nq,) [m] (joint displacements x lever are lengths).
+        names: Contact names (nc,).
+        force_tolerance: The audit's force tolerance [N] (forces below it are rounding: a zero
+            preload and load store no energy).
+    """
+    cn = np.asarray(normal_forces, float)
+    k = np.asarray(stiffness, float)
+    per_contact = cn**2 / (2.0 * k)
+    spring = float(per_contact.sum())
+    load = float(np.dot(wrench, load_displacement))
+    act = float(np.dot(command, actuator_displacements)) if len(command) else 0.0
+    x = np.asarray(object_displacement, float)
+    sizes = [np.abs(x[:3]).max(initial=0.0), np.abs(x[3:]).max(initial=0.0) * length_scale]
+    if len(joint_displacements):
+        sizes.append(float(np.max(np.abs(joint_displacements) * levers)))
+    compression = float(np.max(np.abs(cn) / k, initial=0.0))
+    disp = max(sizes)
+    ratio = disp / compression if compression > 0 else (0.0 if disp == 0 else np.inf)
+    order = np.argsort(-per_contact, kind="stable")
+    named, held = [], 0.0
+    for i in order:
+        if held >= NAMED_SHARE * spring or per_contact[i] <= 0:
+            break
+        named.append(names[i])
+        held += per_contact[i]
+    t = float(force_tolerance)
+    slack = float(np.sum((2.0 * np.abs(cn) + t) * t / (2.0 * k)))
+    return EnergyCheck(spring, load, act, float(ratio), tuple(named), slack)
+
+
+def friction_use(
+    contact_forces: np.ndarray, mu: np.ndarray, touching: tuple[bool, ...], floor: float
+) -> np.ndarray:
+    """``|c_t| / (mu c_n)`` (nc,) for touching contacts with ``c_n > floor`` [N]; NaN otherwise
+    (a separated contact, or one touching with no normal force, uses no friction)."""
+    cf = np.asarray(contact_forces, float)
+    out = np.full(len(cf), np.nan)
+    for i, (f, m, t) in enumerate(zip(cf, mu, touching)):
+        if t and f[0] > floor:
+            out[i] = float(np.linalg.norm(f[1:])) / (m * f[0])
+    return out
+
+
+def audit_message(method: str, check: EnergyCheck) -> str:
+    """The warning text of a solution that fails :func:`energy_check`."""
+    parts = []
+    if not check.energy_ok:
+        supplied = check.load_work + check.actuator_work
+        parts.append(
+            f"its springs store {check.spring_energy:.4g} J but the load and the actuators supply "
+            f"only {supplied:.4g} J on its displacements (contacts {', '.join(check.contacts)}): "
+            "the wedging artefact"
+        )
+    if not check.displacement_ok:
+        parts.append(
+            f"its displacements reach {check.displacement_ratio:.3g} times the largest spring "
+            f"compression (limit {MAX_DISPLACEMENT_RATIO:g})"
+        )
+    hint = " (method='iterative' has no wedging artefact)" if method == "prp" else ""
+    return f"{method} solution fails the audit: " + "; ".join(parts) + hint
