@@ -45,11 +45,13 @@ DATA_DIR = Path(__file__).resolve().parent / "data"
 BUILTIN_HANDS: dict[str, tuple[str, str]] = {
     "barrett_bh8_282": ("urdf/barrett_bh8_282.urdf", "urdf/barrett_bh8_282.yaml"),
     "underactuated_2f": ("urdf/underactuated_2f.urdf", "urdf/underactuated_2f.yaml"),
+    "parallel_jaw": ("urdf/parallel_jaw.urdf", "urdf/parallel_jaw.yaml"),
     "allegro_right": (
         "example-robot-data:robots/allegro_hand_description/urdf/allegro_right_hand.urdf",
         "hands/allegro_right.yaml",
     ),
     "panda_hand": ("example-robot-data:robots/panda_description/urdf/panda.urdf", "hands/panda_hand.yaml"),
+    "so101": ("example-robot-data:robots/so_arm_description/urdf/so101.urdf", "hands/so101.yaml"),
 }
 
 
@@ -590,8 +592,9 @@ class Hand:
     def builtin(cls, name: str) -> Hand:
         """A hand shipped with pinograsp (or described by it), by name.
 
-        Names: ``barrett_bh8_282``, ``underactuated_2f`` (URDFs in ``pinograsp/data/urdf``),
-        ``allegro_right`` and ``panda_hand`` (URDFs from example-robot-data, descriptions in
+        Names: ``barrett_bh8_282``, ``underactuated_2f``, ``parallel_jaw`` (URDFs in
+        ``pinograsp/data/urdf``),
+        ``allegro_right``, ``panda_hand`` and ``so101`` (URDFs from example-robot-data, descriptions in
         ``pinograsp/data/hands``).
 
         Raises:

@@ -47,7 +47,8 @@ def contact_jacobian(hand: Hand, q: np.ndarray, joint_id: int, point: np.ndarray
     placement = oMi.inverse() * pin.SE3(
         np.eye(3), np.asarray(point, dtype=float)
     )  # point frame in joint frame
-    J6 = pin.getFrameJacobian(hand.model, hand.data, joint_id, placement, pin.LOCAL_WORLD_ALIGNED)  # (6, nv)
+    J6 = pin.getFrameJacobian(hand.model, hand.data, joint_id, placement, pin.LOCAL_WORLD_ALIGNED)
+    J6 = np.asarray(J6, dtype=float).reshape(6, hand.model.nv)  # a 1-DoF model gives shape (6,)
     return J6[:3] * hand.closing_signs[None, :]
 
 

@@ -32,7 +32,9 @@ def _fd_jacobian(
     return out
 
 
-@pytest.mark.parametrize("name", ["barrett_bh8_282", "underactuated_2f", "allegro_right", "panda_hand"])
+@pytest.mark.parametrize(
+    "name", ["barrett_bh8_282", "underactuated_2f", "allegro_right", "panda_hand", "parallel_jaw", "so101"]
+)
 def test_contact_jacobian_matches_finite_differences(name):
     hand = pg.Hand.builtin(name)
     rng = np.random.default_rng(7)
