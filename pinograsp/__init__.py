@@ -20,6 +20,7 @@ from .errors import (
     UnknownNameError,
 )
 from .model import WRENCH_AXES, GraspModel, PruneRecord
+from .preload import PreloadChoice, equilibrium_preload
 from .response import PassiveSolver, Session, Settings, passive_response, solver_for
 from .results import Audit, MaxWrench, PassiveResponse, ResistanceProfile
 from .solvers import available_miqp_solvers
@@ -36,6 +37,8 @@ __all__ = [
     "Session",
     "Settings",
     "available_miqp_solvers",
+    "equilibrium_preload",
+    "PreloadChoice",
     "linear_compliance",
     "max_resistible_wrench",
     "passive_response",

@@ -18,7 +18,7 @@ from .errors import (
     SolverError,
     SolverTimeoutError,
 )
-from .model import GraspModel, axis_index
+from .model import WRENCH_AXES, GraspModel, axis_index
 from .response import METHODS, PassiveSolver, Settings, solver_for
 from .results import MaxWrench, PassiveResponse, ResistanceProfile
 from .search import Search, bisection, secant
@@ -71,9 +71,14 @@ def check_preload(solver: PassiveSolver, command: object, method: str) -> Passiv
     resp = solver.response(command, np.zeros(6), method)
     if not _check(resp, 0.0):
         detail = f"{method} solve at w = 0 returned {resp.status!r}"
-        if resp.residual_history:
+        residual = None
+        if np.all(np.isfinite(resp.net_wrench)):
+            residual = resp.net_wrench
+            shown = ", ".join(f"{a}={v:.3g}" for a, v in zip(WRENCH_AXES, residual) if abs(v) > 0)
+            detail += f"; net wrench left on the object: {shown or '0'} [N, N·m]"
+        elif resp.residual_history:
             detail += f" (net wrench {resp.residual_history[-1]:.3g} N)"
-        raise PreloadNotInEquilibriumError(solver.model.command_vector(command).tolist(), detail)
+        raise PreloadNotInEquilibriumError(solver.model.command_vector(command).tolist(), detail, residual)
     return resp
 
 

@@ -81,6 +81,12 @@ def _common(p: argparse.ArgumentParser, *, out_default: str | None = None) -> No
         choices=("prp", "iterative"),
         help="prp (Alg. 1, one MIQP) or iterative (Alg. 2+3, no wedging); default: the scene's",
     )
+    g.add_argument(
+        "--variant",
+        choices=("single-step", "preload-first", "settled-preload"),
+        help="load path: preload and load together, preload first (object held still), or the "
+        "object settled into the preload first; default: the scene's (docs/design.md)",
+    )
     g.add_argument("--upper", type=float, help="bisection upper limit [N or N·m]; default: the scene's")
     g.add_argument(
         "--steps", type=int, help="bisection steps (resolution upper/2**steps); default: the scene's"
@@ -226,6 +232,19 @@ def build_parser() -> argparse.ArgumentParser:
     c.add_argument("--preloads", help="comma-separated preload names (default: all of the scene's)")
     _common(c)
     c.set_defaults(func=cmd_compare_preloads)
+
+    pl = sub.add_parser(
+        "preload",
+        help="choose actuator commands under which the grasp is in equilibrium (or say why none)",
+        description="Commands under which the preload alone is in equilibrium with every contact "
+        "pressing (pg.equilibrium_preload; docs/hands.md, 'Choosing a preload').",
+    )
+    pl.add_argument("scene", metavar="SCENE")
+    pl.add_argument("--objective", choices=("balanced", "least_norm"), default="balanced")
+    pl.add_argument("--max-command", type=float, default=1.0, help="bound of every command [N·m or N]")
+    pl.add_argument("--grip", type=float, default=1.0, help="least normal force for least_norm [N]")
+    _common(pl)
+    pl.set_defaults(func=cmd_preload)
     return parser
 
 
@@ -263,6 +282,8 @@ def _settings(args: argparse.Namespace, scene: Any) -> Any:
         over["solver"] = args.solver
     if getattr(args, "time_limit", None) is not None:
         over["time_limit"] = args.time_limit
+    if getattr(args, "variant", None):
+        over["variant"] = args.variant
     return make_settings(scene.settings, **over)
 
 
@@ -1264,3 +1285,36 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 if __name__ == "__main__":  # pragma: no cover
     sys.exit(main())
+
+
+def cmd_preload(args: argparse.Namespace) -> int:
+    from .preload import equilibrium_preload
+
+    scene = _load(args.scene)
+    out = _Output(args)
+    method = _method(args, scene)
+    choice = equilibrium_preload(
+        scene.model,
+        method,
+        objective=args.objective,
+        max_command=args.max_command,
+        grip=args.grip,
+        settings=_settings(args, scene),
+    )
+    result = choice.to_dict()
+    data = {"command": "preload", **_scene_header(scene), "preload": result.pop("command"), **result}
+    lines = [
+        f"scene {scene.name!r}: {scene.description}",
+        f"method: {method}, objective: {args.objective}",
+        "",
+    ]
+    lines.append(f"status: {choice.status}: {choice.reason}")
+    if choice.command is not None:
+        lines += ["", "commands [N·m or N]:"]
+        lines += [f"  {k:<24s} {v:12.6g}" for k, v in choice.command.items()]
+        lines += ["", "normal forces of the design [N]:"]
+        lines += [f"  {n:<24s} {f:12.6g}" for n, f in zip(scene.model.contact_names, choice.normal_forces)]
+    out.print(*lines)
+    out.write_json("preload.json", data)
+    out.finish(data)
+    return 0

@@ -84,13 +84,20 @@ class PreloadNotInEquilibriumError(PinograspError):
     Raised by analyses that start from the preloaded grasp, instead of reporting that the
     grasp "resists 0 N". Attributes:
         command: The actuator command that failed, in actuator units.
-        detail: What the equilibrium solve reported.
+        detail: What the equilibrium solve reported (with the residual net wrench).
+        residual: The net wrench on the object (6,) [N, N·m], or None.
     """
 
-    def __init__(self, command: object, detail: str) -> None:
+    def __init__(self, command: object, detail: str, residual: object = None) -> None:
         self.command = command
         self.detail = detail
-        super().__init__(f"preload not in equilibrium at w = 0 (command {command}): {detail}")
+        #: Net wrench left on the object at w = 0 (6,) [N, N·m], when the solve gives one.
+        self.residual = residual
+        super().__init__(
+            f"preload not in equilibrium at w = 0 (command {command}): {detail}. "
+            "pg.equilibrium_preload(model) finds commands that are, or says why none exist "
+            "(docs/hands.md, 'Choosing a preload')"
+        )
 
 
 class PinograspWarning(UserWarning):
