@@ -105,3 +105,14 @@ def test_deterministic_and_cli_matches_api(capsys):
         pg.equilibrium_preload(s.model, objective="fair")
     with pytest.raises(pg.UnknownNameError):
         pg.equilibrium_preload(s.model, max_command={"f9": 1.0})
+
+
+def test_held_still_versus_settled_preload():
+    """Unequal commands on the pinch: 10 N vs 5 N on a held object (iterative: no equilibrium);
+    a settling object pushes the weaker finger onto its non-backdrivable motor (PRP: 10 N each)."""
+    m = analytic.pinch()
+    it = pg.passive_response(m, [1.0, 0.5], np.zeros(3), "iterative")
+    prp = pg.passive_response(m, [1.0, 0.5], np.zeros(3), "prp")
+    assert it.status == "not_resisted" and prp.status == "resisted"
+    np.testing.assert_allclose(prp.normal_forces, [10.0, 10.0], rtol=1e-9)
+    assert prp.actuator_modes == ("moving", "holding")
