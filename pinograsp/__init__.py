@@ -1,8 +1,6 @@
 """pinograsp: passive reaction analysis for robot grasps."""
 
 from .actuation import ACTUATOR_KINDS, Actuator, Coupling
-from .analysis import max_resistible_wrench, resistance_profile, wrench_direction
-from .baseline import LinearComplianceResult, linear_compliance
 from .contact import Contact, friction_edges
 from .errors import (
     AuditWarning,
@@ -20,10 +18,25 @@ from .errors import (
     UnknownNameError,
 )
 from .model import WRENCH_AXES, GraspModel, PruneRecord
-from .preload import PreloadChoice, equilibrium_preload
-from .response import PassiveSolver, Session, Settings, passive_response, solver_for
 from .results import Audit, MaxWrench, PassiveResponse, ResistanceProfile
-from .solvers import available_miqp_solvers
+
+# --- the solver side: imported on first use, so that `import pinograsp`, the URDF side and
+# `pinograsp scenes` / `--help` load neither the solvers nor cvxpy.
+_LAZY = {
+    "max_resistible_wrench": "analysis",
+    "resistance_profile": "analysis",
+    "wrench_direction": "analysis",
+    "LinearComplianceResult": "baseline",
+    "linear_compliance": "baseline",
+    "PreloadChoice": "preload",
+    "equilibrium_preload": "preload",
+    "PassiveSolver": "response",
+    "Session": "response",
+    "Settings": "response",
+    "passive_response": "response",
+    "solver_for": "response",
+    "available_miqp_solvers": "solvers",
+}
 
 __version__ = "0.1.0"
 
@@ -73,6 +86,7 @@ __all__ = [
 from .errors import ModelFileError, NoContactError, PenetrationError, UrdfError  # noqa: E402
 
 _URDF_SIDE = {
+    **_LAZY,
     "Hand": "hand",
     "HandDescription": "hand",
     "example_robot_data_dir": "hand",
@@ -81,7 +95,8 @@ _URDF_SIDE = {
     "link_distances": "collision",
     "grasp_model_from_scene": "scene",
 }
-__all__ += ["ModelFileError", "NoContactError", "PenetrationError", "UrdfError", *_URDF_SIDE]
+__all__ += ["ModelFileError", "NoContactError", "PenetrationError", "UrdfError"]
+__all__ += [k for k in _URDF_SIDE if k not in __all__]
 
 # --- plots and the 3D scene view (issue 5): matplotlib / plotly are imported only when used.
 from .errors import MissingDependencyError  # noqa: E402

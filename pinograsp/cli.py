@@ -1283,10 +1283,6 @@ def main(argv: Sequence[str] | None = None) -> int:
             return 1
 
 
-if __name__ == "__main__":  # pragma: no cover
-    sys.exit(main())
-
-
 def cmd_preload(args: argparse.Namespace) -> int:
     from .preload import equilibrium_preload
 
@@ -1318,3 +1314,7 @@ def cmd_preload(args: argparse.Namespace) -> int:
     out.write_json("preload.json", data)
     out.finish(data)
     return 0
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -6,11 +6,9 @@ friction pyramids, every contact pressing (``c_n >= t > 0``), the object in equi
 (``G c = 0``), the hand in equilibrium with every driving actuator at its command
 (``J^T c = R f_c + C^T lambda``; locked actuators react freely), normal forces produced by the
 springs ``c_n = k n^T (J q - G^T x)`` of a hand displacement ``q`` that the couplings allow
-(``C q = 0``) and that closes every non-backdrivable actuator (``R^T q >= 0``), and
-
-* ``method="iterative"``: the object **held still** while the preload is applied (``x = 0``:
-  the iterative scheme's preload stage; docs/hands.md, "Choosing a preload");
-* ``method="prp"``: the object free to settle (``x`` free).
+(``C q = 0``) and that closes every non-backdrivable actuator (``R^T q >= 0``), and an object
+displacement ``x``. The design problem does not follow a method's path to the equilibrium; the
+verification does (``method``: whose preload stage to run; docs/hands.md, "Choosing a preload").
 
 Objectives: ``"balanced"`` maximises the smallest normal force with every command within its
 bound (then the least-norm commands at that force); ``"least_norm"`` gives the smallest
@@ -100,6 +98,15 @@ def _bounds(model: GraspModel, max_command: object) -> np.ndarray:
     return np.full(model.na, positive_number("max_command", max_command))
 
 
+def force_scale(model: GraspModel, fmax: np.ndarray) -> float:
+    """The contact force [N] the strongest actuator at its bound presses through the shortest
+    contact lever: ``max |R| fmax / min ||J_n||`` (levers of contacts that joints move)."""
+    levers = np.linalg.norm(model.J[model.normal_rows], axis=1)
+    levers = levers[levers > 0]
+    torque = float(np.max(np.abs(model.R) @ fmax, initial=0.0))
+    return torque / float(levers.min()) if len(levers) and torque > 0 else 1.0
+
+
 def _constraints(
     model: GraspModel, fmax: np.ndarray, method: str, signed: bool = False
 ) -> tuple[list, object, object, object]:
@@ -115,9 +122,7 @@ def _constraints(
     f = cp.Variable(m.na)
     q = cp.Variable(m.nq)
     c, cn = m.D @ beta, m.E @ beta
-    compression = m.J[m.normal_rows] @ q
-    if method == "prp":  # the object settles
-        compression = compression - m.G.T[m.normal_rows] @ cp.Variable(m.nw)
+    compression = m.J[m.normal_rows] @ q - m.G.T[m.normal_rows] @ cp.Variable(m.nw)
     tau = m.R @ f  # (nq,): driving actuators at their commands ...
     if (~drive).any():  # ... locked ones react freely (their command is not used)
         tau = m.R[:, drive] @ f[drive] + m.R[:, ~drive] @ cp.Variable(int((~drive).sum()))
@@ -129,7 +134,7 @@ def _constraints(
         cn == cp.multiply(m.k, compression),
         f >= (-fmax if signed else np.where(bidir, -fmax, 0.0)),
         f <= fmax,
-        cn <= 1e3 * float(fmax.max()) * float(m.k.max()),  # bounded (the diagnosis maximises)
+        cn <= 1e6 * force_scale(m, fmax),  # bounded (the diagnosis maximises)
     ]
     if m.ncp:
         cons.append(m.C @ q == 0)
@@ -144,7 +149,7 @@ def _solved(problem: object) -> bool:
     import cvxpy as cp
 
     problem.solve(solver=cp.CLARABEL)  # type: ignore[attr-defined]
-    return problem.status in ("optimal", "optimal_inaccurate") and problem.value is not None  # type: ignore[attr-defined]
+    return problem.status == "optimal" and problem.value is not None  # type: ignore[attr-defined]
 
 
 def _design(model: GraspModel, fmax: np.ndarray, method: str, objective: str, grip: float, normal_only: bool):
@@ -157,8 +162,10 @@ def _design(model: GraspModel, fmax: np.ndarray, method: str, objective: str, gr
         cons.append(c[np.setdiff1d(np.arange(m.nc * m.d), m.normal_rows)] == 0)
     if objective == "balanced":
         t = cp.Variable()
-        if not _solved(cp.Problem(cp.Maximize(t), [*cons, cn >= t])) or t.value <= 0:
-            return None
+        if not _solved(cp.Problem(cp.Maximize(t), [*cons, cn >= t])) or t.value <= LOADED * force_scale(
+            m, fmax
+        ):
+            return None  # no force above the solver's noise: nothing presses every contact
         target = float(t.value) * (1.0 - 1e-6)
     else:
         target = grip
@@ -172,7 +179,7 @@ def _design(model: GraspModel, fmax: np.ndarray, method: str, objective: str, gr
         a = np.abs(fv)
         s = float(np.min(fmax[a > 0] / a[a > 0])) if (a > 0).any() else 1.0
         fv, cv = np.clip(fv * s, -fmax, fmax), cv * s
-    return np.round(fv / fmax, 9) * fmax, cv  # to the design problem's accuracy (1e-9 of the bounds)
+    return np.round(fv / fmax, 6) * fmax, cv  # to the design accuracy (1e-6 of the bounds)
 
 
 def _diagnose(model: GraspModel, fmax: np.ndarray, method: str) -> tuple[tuple[str, ...], tuple[str, ...]]:
@@ -184,7 +191,7 @@ def _diagnose(model: GraspModel, fmax: np.ndarray, method: str) -> tuple[tuple[s
     m = model
     cons, f, _, cn = _constraints(m, fmax, method, signed=True)
     t = cp.Variable()
-    if _solved(cp.Problem(cp.Maximize(t), [*cons, cn >= t])) and t.value > 0:
+    if _solved(cp.Problem(cp.Maximize(t), [*cons, cn >= t])) and t.value > LOADED * force_scale(m, fmax):
         floor = float(t.value) * 0.5  # press every contact; pull as little as possible
         pull = cp.sum(cp.multiply(cp.neg(f), 1.0 / fmax))
         if _solved(cp.Problem(cp.Minimize(pull), [*cons, cn >= floor])):
@@ -215,8 +222,8 @@ def equilibrium_preload(
 
     Args:
         model: The grasp.
-        method: Whose preload stage to model: ``"iterative"`` (default: the object held still
-            while the fingers close) or ``"prp"`` (the object settles).
+        method: Whose preload stage verifies the commands: ``"iterative"`` (default) or
+            ``"prp"``.
         objective: ``"balanced"`` (default: the largest smallest normal force within the
             bounds) or ``"least_norm"`` (the smallest commands pressing every contact with at
             least ``grip``).
@@ -252,8 +259,8 @@ def equilibrium_preload(
     if design is not None:
         return PreloadChoice(
             "unverified", command, cn, method, objective, resp, (), (),
-            f"the design balances, but the {method} preload stage ends {resp.status!r} with it; "
-            + ("try method='prp' (the object settles)" if method == "iterative" else "check the model"),
+            f"the design balances, but the {method} preload stage ends {resp.status!r} with it"
+            + ("; method='prp' lets the object settle" if method == "iterative" else ""),
         )  # fmt: skip
     if objective == "least_norm":  # bounded by max_command?
         best = _design(model, fmax, method, "balanced", grip, False)
@@ -277,8 +284,7 @@ def equilibrium_preload(
         parts[-1] += " (no other contact or finger can oppose them)"
     if not parts:
         parts.append("each contact can be pressed, but not all at once")
-    held = "with the object held still, " if method == "iterative" else ""
     return PreloadChoice(
         "infeasible", None, None, method, objective, None, contacts, actuators,
-        held + "; ".join(parts),
+        "; ".join(parts),
     )  # fmt: skip

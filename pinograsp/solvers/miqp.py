@@ -64,7 +64,6 @@ from contextlib import contextmanager
 from dataclasses import replace
 from typing import Any
 
-import cvxpy as cp
 import numpy as np
 
 from ..errors import InvalidInputError, SolverError, SolverNotAvailableError
@@ -72,7 +71,20 @@ from .base import FAILED, INFEASIBLE, OPTIMAL, TIMEOUT, Mode, RawSolution
 from .formulation import Formulation, ScaledData
 from .problem import INF, Problem, ProblemKind, build_problem
 
+
 #: cvxpy solvers able to solve mixed-integer QPs, with the package that provides each.
+class _Cvxpy:
+    """cvxpy, imported on first use (1–1.5 s): ``import pinograsp``, the scene listing and the
+    default branch-and-bound never need it."""
+
+    def __getattr__(self, name: str) -> Any:
+        import cvxpy
+
+        return getattr(cvxpy, name)
+
+
+cp = _Cvxpy()
+
 MIQP_SOLVERS = {
     "SCIP": "pyscipopt (installed with pinograsp)",
     "GUROBI": "gurobipy (pip install 'pinograsp[gurobi]')",
