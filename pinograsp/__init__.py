@@ -22,7 +22,9 @@ from .errors import (
 from .model import WRENCH_AXES, GraspModel, PruneRecord
 from .response import PassiveSolver, Session, Settings, passive_response, solver_for
 from .results import Audit, MaxWrench, PassiveResponse, ResistanceProfile
+from .serialize import format_magnitude, format_max_wrench
 from .solvers import available_miqp_solvers
+from .tables import results_rows, results_table, results_to_csv
 
 __version__ = "0.1.0"
 
@@ -36,10 +38,15 @@ __all__ = [
     "Session",
     "Settings",
     "available_miqp_solvers",
+    "format_magnitude",
+    "format_max_wrench",
     "linear_compliance",
     "max_resistible_wrench",
     "passive_response",
     "resistance_profile",
+    "results_rows",
+    "results_table",
+    "results_to_csv",
     "solver_for",
     "wrench_direction",
     "ACTUATOR_KINDS",
