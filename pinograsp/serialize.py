@@ -522,9 +522,7 @@ def profile_repr(p: ResistanceProfile) -> str:
         fin = np.array([r.status == "finite" for r in p.results], bool)
     else:
         fin = ~np.asarray(p.unbounded, bool) & np.isfinite(p.magnitudes)
-    rng = (
-        f"({_num(np.min(p.magnitudes[fin]))}, {_num(np.max(p.magnitudes[fin]))})" if fin.any() else "None"
-    )
+    rng = f"({_num(np.min(p.magnitudes[fin]))}, {_num(np.max(p.magnitudes[fin]))})" if fin.any() else "None"
     norm = None if p.normalized_by is None else _num(p.normalized_by)
     return (
         f"ResistanceProfile(plane={tuple(p.plane)!r}, n={len(p.angles)}, method={method!r}, "

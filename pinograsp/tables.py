@@ -158,14 +158,19 @@ def _write_csv(path: object, columns: Sequence[str], rows: list[dict[str, Any]],
     return writing(path, write, name=name)
 
 
-def profile_to_csv(profile: ResistanceProfile, path: object) -> Path:
+def profile_to_csv(profile: ResistanceProfile, path: object, *, name: str = "path") -> Path:
     """Write :func:`profile_rows` to a CSV file (header :data:`PROFILE_COLUMNS`; ``inf`` where
     unbounded, an empty cell for a missing ``normalized``). Returns the path written.
+
+    Args:
+        profile: The profile.
+        path: The CSV file (``str`` or ``os.PathLike``); parent folders are created.
+        name: How errors name ``path`` (e.g. ``"--csv"``).
 
     Raises:
         InvalidInputError: ``path`` is not a file path or cannot be written.
     """
-    return _write_csv(path, PROFILE_COLUMNS, profile_rows(profile), "path")
+    return _write_csv(path, PROFILE_COLUMNS, profile_rows(profile), name)
 
 
 def results_to_csv(results: Sequence[MaxWrench] | Mapping[Any, MaxWrench], path: object) -> Path:
