@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .errors import InvalidInputError
 from .model import WRENCH_AXES
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -60,6 +61,16 @@ def decimals(resolution: float) -> int:
     return int(min(6, max(0, math.ceil(-math.log10(resolution)))))
 
 
+def _real(name: str, value: object) -> float:
+    """``float(value)`` for a real number (``inf`` and ``nan`` accepted), else InvalidInputError."""
+    if isinstance(value, (str, bytes, bool)):
+        raise InvalidInputError(name, f"expected a number, got {value!r}")
+    try:
+        return float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError, OverflowError):
+        raise InvalidInputError(name, f"expected a number, got {value!r}") from None
+
+
 def format_magnitude(value: float, resolution: float, unit: str | None = None) -> str:
     """A magnitude printed to its resolution.
 
@@ -71,7 +82,10 @@ def format_magnitude(value: float, resolution: float, unit: str | None = None) -
     Examples: ``format_magnitude(1.3672, 0.2, "N")`` is ``"1.4 N"``,
     ``format_magnitude(4.29893, 4.8e-06, "N")`` is ``"4.298930 N"`` (at most 6 decimals).
     """
-    v = float(value)
+    v = _real("value", value)
+    resolution = _real("resolution", resolution)
+    if unit is not None and not isinstance(unit, str):
+        raise InvalidInputError("unit", f"expected a string or None, got {unit!r}")
     if math.isinf(v):
         text = "unbounded" if v > 0 else "-unbounded"
     elif math.isnan(v):
@@ -85,6 +99,13 @@ def format_max_wrench(mw: MaxWrench, scale: float = 1.0, unit: str | None = None
     """A :class:`~pinograsp.results.MaxWrench` magnitude as text, by its status: ``unbounded``,
     ``>= upper``, ``< floor`` or the magnitude to its resolution, all divided by ``scale``
     (e.g. a normalisation reference), followed by ``unit`` when given."""
+    from .results import MaxWrench
+
+    if not isinstance(mw, MaxWrench):
+        raise InvalidInputError("mw", f"expected a MaxWrench, got {type(mw).__name__}")
+    scale = _real("scale", scale)
+    if not (math.isfinite(scale) and scale > 0):
+        raise InvalidInputError("scale", f"must be finite and > 0, got {scale!r}")
     if mw.status == "unbounded":
         return "unbounded"
     if mw.status == "above_limit":

@@ -251,3 +251,15 @@ def test_cli_csv_bad_path(tmp_path, capsys):
     err = capsys.readouterr().err
     assert code == 2 and err.count("\n") == 1
     assert err.startswith("pinograsp: error: --csv:") and "is a folder" in err
+
+
+def test_bad_arguments_are_pinograsp_errors(max_y):
+    for args in (("x", 1.0), (1.0, None), (1.0, 1.0, 3)):
+        with pytest.raises(pg.InvalidInputError):
+            format_magnitude(*args)
+    with pytest.raises(pg.InvalidInputError, match="MaxWrench"):
+        format_max_wrench(1.0)
+    with pytest.raises(pg.InvalidInputError, match="scale"):
+        format_max_wrench(max_y, scale=0.0)
+    with pytest.raises(pg.InvalidInputError, match="ResistanceProfile"):
+        pg.tables.profile_rows(max_y)
