@@ -387,6 +387,46 @@ def linear_compliance_dict(r: LinearComplianceResult) -> dict[str, Any]:
     )
 
 
+def pair_distance_dict(d: Any) -> dict[str, Any]:
+    """A :class:`~pinograsp.collision.PairDistance` as plain data (lengths [m])."""
+    return jsonable(
+        {
+            "link": d.link,
+            "geometry": d.geometry,
+            "index": d.index,
+            "distance": d.distance,
+            "point": d.point,
+            "point_hand": d.point_hand,
+            "point_object": d.point_object,
+            "normal": d.normal,
+        }
+    )
+
+
+def contact_report_dict(r: Any) -> dict[str, Any]:
+    """A :class:`~pinograsp.collision.ContactReport` as plain data (lengths [m])."""
+    return jsonable(
+        {
+            "tolerance": r.tolerance,
+            "links": list(r.links),
+            "contacts": [pair_distance_dict(c) for c in r.contacts],
+            "pairs": [pair_distance_dict(c) for c in r.pairs],
+            "link_distances": dict(r.link_distances),
+        }
+    )
+
+
+def contact_report_summary(r: Any) -> str:
+    """The contacts found (link, signed distance [mm]) and the closest links without contact."""
+    lines = [f"{len(r.contacts)} contact(s) within {r.tolerance * 1e3:g} mm:"]
+    lines += [f"  {c.link} ({c.geometry}): {c.distance * 1e3:+.3f} mm" for c in r.contacts]
+    touching = set(r.links)
+    others = sorted((d, k) for k, d in r.link_distances.items() if k not in touching)
+    if others:
+        lines.append("closest other links: " + ", ".join(f"{k} {d * 1e3:.3g} mm" for d, k in others[:3]))
+    return "\n".join(lines)
+
+
 # ---------------------------------------------------------------------------- summaries
 def _status_counts(p: ResistanceProfile) -> dict[str, int]:
     counts = {"finite": 0, "unbounded": 0, "above_limit": 0, "below_resolution": 0}

@@ -263,3 +263,21 @@ def test_bad_arguments_are_pinograsp_errors(max_y):
         format_max_wrench(max_y, scale=0.0)
     with pytest.raises(pg.InvalidInputError, match="ResistanceProfile"):
         pg.tables.profile_rows(max_y)
+
+
+def test_contact_report_to_dict(tmp_path):
+    from test_collision import PROBE
+
+    from pinograsp.collision import detect_contacts
+    from pinograsp.objects import RigidObject
+
+    f = tmp_path / "probe.urdf"
+    f.write_text(PROBE)
+    box = RigidObject.box(0.1, pose=[0.1, 0, 0])
+    rep = detect_contacts(pg.Hand.from_urdf(f), [0.0395, 0.0], box, links=["slider"])
+    d = json.loads(json.dumps(rep.to_dict()))
+    assert d["links"] == ["slider"] and d["tolerance"] == rep.tolerance
+    assert d["contacts"][0]["distance"] == pytest.approx(0.0005, abs=1e-9)
+    assert d["contacts"][0]["normal"] == pytest.approx([1, 0, 0], abs=1e-9)
+    assert d["contacts"][0] == rep.contacts[0].to_dict()
+    assert rep.summary().startswith("1 contact(s) within") and "slider" in rep.summary()
