@@ -77,12 +77,9 @@ def deg_list(angles: np.ndarray) -> str:
 
 
 def runs_text(deg: np.ndarray, mask: np.ndarray) -> str:
-    from pinograsp.cli import unbounded_runs
+    from pinograsp import serialize
 
-    runs = unbounded_runs(deg, mask)
-    if not runs:
-        return "none"
-    return ", ".join(f"{a:g}°" if a == b else f"{a:g}°–{b:g}°" for a, b in runs)
+    return serialize.runs_text(serialize.unbounded_runs(deg, mask))
 
 
 def progress_bar(label: str) -> Any:

@@ -19,6 +19,8 @@ from .errors import (
 )
 from .model import WRENCH_AXES, GraspModel, PruneRecord
 from .results import Audit, MaxWrench, PassiveResponse, ResistanceProfile
+from .serialize import format_magnitude, format_max_wrench
+from .tables import results_rows, results_table, results_to_csv
 
 # --- the solver side: imported on first use, so that `import pinograsp`, the URDF side and
 # `pinograsp scenes` / `--help` load neither the solvers nor cvxpy.
@@ -52,10 +54,15 @@ __all__ = [
     "available_miqp_solvers",
     "equilibrium_preload",
     "PreloadChoice",
+    "format_magnitude",
+    "format_max_wrench",
     "linear_compliance",
     "max_resistible_wrench",
     "passive_response",
     "resistance_profile",
+    "results_rows",
+    "results_table",
+    "results_to_csv",
     "solver_for",
     "wrench_direction",
     "ACTUATOR_KINDS",

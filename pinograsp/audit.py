@@ -24,8 +24,11 @@ The thresholds are documented in ``docs/accuracy.md``. This module is NumPy only
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
+
+from . import serialize as _ser
 
 #: Relative slack of the energy inequality (rounding of the solution's forces and displacements).
 ENERGY_RTOL = 1e-6
@@ -69,6 +72,15 @@ class EnergyCheck:
     def displacement_ok(self) -> bool:
         """No displacement beyond :data:`MAX_DISPLACEMENT_RATIO` spring compressions."""
         return bool(self.displacement_ratio <= MAX_DISPLACEMENT_RATIO)
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain JSON-ready data: the energies [J], their verdicts, the displacement ratio and
+        the contacts (the ``energy`` block of an audit in ``pinograsp analyze --json``)."""
+        return _ser.energy_dict(self)
+
+    def summary(self) -> str:
+        """The energy balance [J] and displacement ratio with their verdicts, on one line."""
+        return _ser.energy_summary(self)
 
 
 def energy_check(

@@ -14,10 +14,12 @@ would have to pull, or leave their friction cones (seed Fig. 1).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import proxsuite
 
+from . import serialize as _ser
 from .contact import finite_array, finite_number, positive_number
 from .errors import InvalidInputError, SolverError
 from .model import GraspModel
@@ -36,6 +38,7 @@ class LinearComplianceResult:
         push_violations: Names of contacts whose normal force is negative (would pull).
         friction_violations: Names of contacts outside their friction cone ``|c_t| <= mu c_n``.
         friction_ratio: ``|c_t| / (mu c_n)`` per contact (inf where ``c_n <= 0`` and ``c_t != 0``).
+        contact_names: Labels of the rows above, (nc,).
     """
 
     contact_forces: np.ndarray
@@ -46,11 +49,21 @@ class LinearComplianceResult:
     push_violations: tuple[str, ...]
     friction_violations: tuple[str, ...]
     friction_ratio: np.ndarray
+    contact_names: tuple[str, ...] = ()
 
     @property
     def valid(self) -> bool:
         """No contact pulls and every contact is inside its friction cone."""
         return not self.push_violations and not self.friction_violations
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain JSON-ready data: ``valid``, the forces [N] as lists (nc, 3), the object
+        displacement [m, rad], the violations and ``friction_ratio`` (``None`` where infinite)."""
+        return _ser.linear_compliance_dict(self)
+
+    def summary(self) -> str:
+        """Validity, the violating contacts, normal forces [N] and friction use, as text."""
+        return _ser.linear_compliance_summary(self)
 
 
 def linear_compliance(
@@ -135,4 +148,5 @@ def linear_compliance(
         push_violations=push,
         friction_violations=fric,
         friction_ratio=ratio,
+        contact_names=tuple(m.contact_names),
     )

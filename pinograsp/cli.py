@@ -28,12 +28,23 @@ import sys
 import time
 import warnings
 from collections.abc import Callable, Iterator, Sequence
+from dataclasses import replace
 from pathlib import Path
 from typing import Any, TextIO
 
 import numpy as np
 
 from .errors import InvalidInputError, PinograspError
+from .serialize import (  # noqa: F401  (unbounded_runs: re-exported for scripts importing it from here)
+    direction_text,
+    format_magnitude,
+    format_max_wrench,
+    jsonable,
+    runs_text,
+    unbounded_runs,
+    vector_text,
+    wrench_unit,
+)
 
 #: Defaults of ``pinograsp demo``: small enough to finish in well under a minute on 2 cores.
 DEMO_SCENE = "case1"
@@ -212,6 +223,11 @@ def build_parser() -> argparse.ArgumentParser:
         "(default: the scene's setting)",
     )
     pr.add_argument("--preload", help="one of the scene's named preloads (default: the scene's preload)")
+    pr.add_argument(
+        "--csv",
+        metavar="FILE",
+        help="also write the profile as CSV: one row per direction (angle, direction, magnitude, status ...)",
+    )
     _common(pr)
     _progress_options(pr)
     pr.set_defaults(func=cmd_profile)
@@ -397,69 +413,6 @@ def parse_plane(scene: Any, text: str | None) -> tuple[object, object]:
     return parts[0], parts[1]
 
 
-def _jsonable(x: Any) -> Any:
-    """numpy arrays/scalars -> lists/numbers; inf/nan -> None."""
-    if isinstance(x, dict):
-        return {str(k): _jsonable(v) for k, v in x.items()}
-    if isinstance(x, (list, tuple)):
-        return [_jsonable(v) for v in x]
-    if isinstance(x, np.ndarray):
-        return _jsonable(x.tolist())
-    if isinstance(x, (bool, np.bool_)):
-        return bool(x)
-    if isinstance(x, (int, np.integer)):
-        return int(x)
-    if isinstance(x, (float, np.floating)):
-        v = float(x)
-        return v if math.isfinite(v) else None
-    if isinstance(x, Path):
-        return str(x)
-    return x
-
-
-def _fmt(v: float, unbounded: bool = False, digits: int = 4) -> str:
-    if unbounded or (isinstance(v, float) and math.isinf(v)):
-        return "unbounded"
-    return f"{v:.{digits}f}"
-
-
-def _decimals(resolution: float) -> int:
-    """Decimals that show a magnitude to its resolution (0–6)."""
-    if not resolution > 0:
-        return 4
-    return int(min(6, max(0, math.ceil(-math.log10(resolution)))))
-
-
-def fmt_max_wrench(mw: Any, scale: float = 1.0) -> str:
-    """A max-wrench result as text, by its status: ``unbounded``, ``>= upper``, ``< resolution``
-    or the magnitude to its resolution (all divided by ``scale``)."""
-    if mw.status == "unbounded":
-        return "unbounded"
-    if mw.status == "above_limit":
-        return f">= {mw.upper / scale:.4g}"
-    if mw.status == "below_resolution":
-        return f"< {mw.floor / scale:.2g}"
-    return f"{mw.magnitude / scale:.{_decimals(mw.resolution / scale)}f}"
-
-
-def _fmt_vec(v: Sequence[float]) -> str:
-    a = np.asarray(v, dtype=float)
-    tiny = 1e-9 * max(1.0, float(np.abs(a).max(initial=0.0)))
-    return "(" + ", ".join(f"{0.0 if abs(x) < tiny else x:.4g}" for x in a) + ")"
-
-
-def _direction_text(d: np.ndarray) -> str:
-    from .plots import direction_label
-
-    return direction_label(d).replace("−", "-")
-
-
-def _unit(d: np.ndarray) -> str:
-    force = np.linalg.norm(d[:3]) > 1e-12
-    torque = np.linalg.norm(d[3:]) > 1e-12
-    return "N" if force and not torque else ("N·m" if torque and not force else "N, N·m")
-
-
 class _Output:
     """stdout for humans, or nothing but JSON with ``--json``; files in ``--out``."""
 
@@ -487,7 +440,7 @@ class _Output:
     def write_json(self, name: str, data: dict) -> None:
         p = self.path(name)
         if p is not None:
-            p.write_text(json.dumps(_jsonable(data), indent=2) + "\n")
+            p.write_text(json.dumps(jsonable(data), indent=2) + "\n")
             self.written.append(p)
 
     def figure(self, name: str, draw: Callable[[Path], object]) -> None:
@@ -498,7 +451,7 @@ class _Output:
 
     def finish(self, data: dict) -> None:
         if self.json:  # printed by main() once the solvers' stdout is restored
-            self.args.json_text = json.dumps(_jsonable(data), indent=2) + "\n"
+            self.args.json_text = json.dumps(jsonable(data), indent=2) + "\n"
         elif self.written:
             print("\nwrote " + ", ".join(str(p) for p in self.written))
 
@@ -577,150 +530,8 @@ def _profile_kwargs(args: argparse.Namespace) -> dict[str, Any]:
 
 
 # ---------------------------------------------------------------------------- result -> dict
-def response_dict(model: Any, r: Any) -> dict[str, Any]:
-    """A :class:`~pinograsp.results.PassiveResponse` as plain JSON-ready data."""
-    mu = dict(zip(model.contact_names, model.mu))
-    contacts = []
-    for i, name in enumerate(r.contact_names):
-        use = None if r.friction_use is None or np.isnan(r.friction_use[i]) else float(r.friction_use[i])
-        contacts.append(
-            {
-                "name": name,
-                "mode": r.contact_modes[i],
-                "mu": mu.get(name),
-                "force": r.contact_forces[i],
-                "force_world": r.contact_forces_world[i],
-                "friction_use": use,
-            }
-        )
-    kinds = dict(zip(model.actuator_names, model.kinds))
-    actuators = [
-        {
-            "name": name,
-            "kind": kinds.get(name),
-            "command": r.command[i],
-            "force": r.actuator_forces[i],
-            "mode": r.actuator_modes[i],
-            "displacement": r.actuator_displacements[i],
-        }
-        for i, name in enumerate(r.actuator_names)
-    ]
-    joints = [
-        {"name": name, "torque": r.joint_torques[i], "displacement": r.joint_displacements[i]}
-        for i, name in enumerate(r.joint_names)
-    ]
-    audit = None
-    if r.audit is not None:
-        a = r.audit
-        audit = {
-            "ok": a.ok,
-            "equilibrium": a.equilibrium,
-            "hand": a.hand,
-            "complementarity": a.complementarity,
-            "friction": a.friction,
-            "bigm_ratio": a.bigm_ratio,
-            "bigm_retries": a.bigm_retries,
-            "polished": a.polished,
-            "tolerance": a.tolerance,
-            "energy": None
-            if a.energy is None
-            else {
-                "spring_energy": a.energy.spring_energy,
-                "load_work": a.energy.load_work,
-                "actuator_work": a.energy.actuator_work,
-                "energy_ok": a.energy.energy_ok,
-                "displacement_ratio": a.energy.displacement_ratio,
-                "displacement_ok": a.energy.displacement_ok,
-                "contacts": list(a.energy.contacts),
-            },
-        }
-    return {
-        "resistible": r.resistible,
-        "status": r.status,
-        "method": r.method,
-        "variant": r.variant,
-        "wrench": r.wrench,
-        "contacts": contacts,
-        "actuators": actuators,
-        "joints": joints,
-        "coupling_forces": r.coupling_forces,
-        "object_displacement": r.object_displacement,
-        "net_wrench": r.net_wrench,
-        "audit": audit,
-        "iterations": r.iterations,
-        "residual_history": list(r.residual_history),
-        "solver": r.solver,
-        "solve_time": r.solve_time,
-        "n_solves": r.n_solves,
-    }
-
-
-def max_wrench_dict(mw: Any, label: str | None = None, model: Any = None) -> dict[str, Any]:
-    """A :class:`~pinograsp.results.MaxWrench` as plain JSON-ready data."""
-    out = {
-        "direction": mw.direction,
-        "label": label or _direction_text(mw.direction),
-        "magnitude": None if mw.unbounded else mw.magnitude,
-        "unbounded": mw.unbounded,
-        "status": mw.status,
-        "unit": _unit(mw.direction),
-        "upper": mw.upper,
-        "resolution": mw.resolution,
-        "method": mw.method,
-        "monotone": mw.monotone,
-        "audit_failures": [None if np.isinf(m) else m for m in mw.audit_failures],
-        "evidence": [[m, ok] for m, ok in mw.evidence],
-        "n_solves": mw.n_solves,
-        "solve_time": mw.solve_time,
-        "wall_time": mw.wall_time,
-    }
-    if model is not None:
-        out["response"] = None if mw.response is None else response_dict(model, mw.response)
-    return out
-
-
-def profile_dict(p: Any, normalized_by: float | None) -> dict[str, Any]:
-    """A :class:`~pinograsp.results.ResistanceProfile` (absolute magnitudes) as JSON-ready data."""
-    return {
-        "plane": list(p.plane),
-        "basis": p.basis,
-        "n": len(p.angles),
-        "angles_deg": np.degrees(p.angles),
-        "directions": p.directions,
-        "magnitudes": p.magnitudes,
-        "unbounded": p.unbounded,
-        "monotone": [r.monotone for r in p.results],
-        "n_solves": [r.n_solves for r in p.results],
-        "normalized_by": normalized_by,
-        "normalized": None if normalized_by is None else np.asarray(p.magnitudes) / normalized_by,
-        "wall_time": p.wall_time,
-    }
-
-
 def _scene_header(scene: Any) -> dict[str, Any]:
     return {"scene": scene.name, "scene_file": scene.path, "description": scene.description}
-
-
-def unbounded_runs(angles_deg: np.ndarray, unbounded: np.ndarray) -> list[tuple[float, float]]:
-    """Circular runs of unbounded directions as ``(first, last)`` angles [deg]."""
-    u = np.asarray(unbounded, bool)
-    n = len(u)
-    if n == 0 or not u.any():
-        return []
-    if u.all():
-        return [(float(angles_deg[0]), float(angles_deg[-1]))]
-    start = int(np.flatnonzero(~u)[0]) + 1  # begin right after a bounded direction
-    runs, cur = [], None
-    for k in range(n):
-        i = (start + k) % n
-        if u[i]:
-            cur = (i, i) if cur is None else (cur[0], i)
-        elif cur is not None:
-            runs.append(cur)
-            cur = None
-    if cur is not None:
-        runs.append(cur)
-    return sorted((float(angles_deg[a]), float(angles_deg[b])) for a, b in runs)
 
 
 # ---------------------------------------------------------------------------- commands
@@ -759,7 +570,7 @@ def cmd_scenes(args: argparse.Namespace) -> int:
         },
     }
     if args.json:
-        print(json.dumps(_jsonable(data), indent=2))
+        print(json.dumps(jsonable(data), indent=2))
         return 0
     print(scene.summary())
     print(
@@ -768,37 +579,38 @@ def cmd_scenes(args: argparse.Namespace) -> int:
     )
     for key in ("directions", "wrenches"):
         if an[key]:
-            print(f"  {key}: " + ", ".join(f"{k} {_fmt_vec(v)}" for k, v in an[key].items()))
+            print(f"  {key}: " + ", ".join(f"{k} {vector_text(v)}" for k, v in an[key].items()))
     for k, v in an["preloads"].items():
         print(f"  preload {k}: " + ", ".join(f"{a}={x:g}" for a, x in v.items()))
     return 0
 
 
 def _contact_table(model: Any, r: Any) -> list[str]:
-    d = response_dict(model, r)
+    d = r.to_dict(model)
     w = max([len("contact"), *(len(c["name"]) for c in d["contacts"])])
     lines = [
         f"  {'contact':{w}s}  {'mode':9s} {'c_n [N]':>10s} {'c_t1 [N]':>10s} {'c_t2 [N]':>10s}"
         f" {'|c_t|/mu c_n':>12s}   world force [N]"
     ]
-    for c in d["contacts"]:
-        f = c["force"]
+    for i, c in enumerate(d["contacts"]):
+        f = r.contact_forces[i]  # NaN (not None) when there is no solution
         use = c["friction_use"]
         use_s = "—" if use is None else f"{use:.3f}"
         lines.append(
-            f"  {c['name']:{w}s}  {c['mode']:9s} {f[0]:10.4f} {f[1]:10.4f} {f[2]:10.4f} {use_s:>12s}"
-            f"   {_fmt_vec(c['force_world'])}"
+            f"  {c['name']:{w}s}  {c['mode'] or '—':9s} {f[0]:10.4f} {f[1]:10.4f} {f[2]:10.4f} {use_s:>12s}"
+            f"   {vector_text(r.contact_forces_world[i])}"
         )
     return lines
 
 
 def _actuator_table(model: Any, r: Any) -> list[str]:
-    d = response_dict(model, r)
+    d = r.to_dict(model)
     w = max([len("actuator"), *(len(a["name"]) for a in d["actuators"])])
     lines = [f"  {'actuator':{w}s}  {'kind':17s} {'command':>10s} {'force':>10s}  mode"]
-    for a in d["actuators"]:
+    for i, a in enumerate(d["actuators"]):
         lines.append(
-            f"  {a['name']:{w}s}  {a['kind'] or '':17s} {a['command']:10.4f} {a['force']:10.4f}  {a['mode']}"
+            f"  {a['name']:{w}s}  {a['kind'] or '':17s} {r.command[i]:10.4f} {r.actuator_forces[i]:10.4f}"
+            f"  {a['mode'] or '—'}"
         )
     return lines
 
@@ -840,13 +652,13 @@ def cmd_analyze(args: argparse.Namespace) -> int:
         **_scene_header(scene),
         "preload": command,
         "preload_name": preload_name,
-        **response_dict(scene.model, r),
+        **r.to_dict(scene.model),
     }
     out.print(
         f"scene {scene.name!r}: {scene.description}",
         f"preload: {', '.join(f'{k}={v:g}' for k, v in command.items())}"
         + (f" ({preload_name})" if preload_name else ""),
-        f"wrench: {_fmt_vec(r.wrench)} [N, N·m] (fx, fy, fz, mx, my, mz)",
+        f"wrench: {vector_text(r.wrench)} [N, N·m] (fx, fy, fz, mx, my, mz)",
         f"method: {r.method} ({r.variant})",
         "",
         f"status: {r.status} -> {'RESISTED' if r.resistible else 'NOT RESISTED'} "
@@ -885,14 +697,14 @@ def cmd_max_wrench(args: argparse.Namespace) -> int:
     mw = max_resistible_wrench(
         scene.model, command, direction, method, upper, steps, settings=_settings(args, scene)
     )
-    unit = _unit(mw.direction)
+    unit = wrench_unit(mw.direction)
     data = {
         "command": "max-wrench",
         **_scene_header(scene),
         "preload": command,
         "preload_name": preload_name,
         "steps": steps,
-        **max_wrench_dict(mw, label, scene.model),
+        **mw.to_dict(label),
     }
     if mw.status == "unbounded":
         verdict = (
@@ -910,12 +722,12 @@ def cmd_max_wrench(args: argparse.Namespace) -> int:
             "not distinguishable from zero)"
         )
     else:
-        verdict = f"{fmt_max_wrench(mw)} {unit} (resolution {mw.resolution:.2g} {unit})"
+        verdict = f"{format_max_wrench(mw)} {unit} (resolution {mw.resolution:.2g} {unit})"
     lines = [
         f"scene {scene.name!r}: {scene.description}",
         f"preload: {', '.join(f'{k}={v:g}' for k, v in command.items())}"
         + (f" ({preload_name})" if preload_name else ""),
-        f"direction: {label} = {_fmt_vec(mw.direction)}; method {method}, upper {upper:g}, {steps} steps",
+        f"direction: {label} = {vector_text(mw.direction)}; method {method}, upper {upper:g}, {steps} steps",
         "",
         f"max resistible magnitude: {verdict}",
         f"{mw.search}: {len(mw.evidence)} magnitudes tried, monotone: {'yes' if mw.monotone else 'NO'}; "
@@ -983,11 +795,11 @@ def _normalization(
         why = "unbounded" if hit.unbounded else "not resisted"
         if args.normalize:
             raise InvalidInputError(
-                "--normalize", f"the reference direction {_direction_text(hit.direction)} is {why}"
+                "--normalize", f"the reference direction {direction_text(hit.direction)} is {why}"
             )
         print(
             f"pinograsp: warning: not normalised: the reference direction "
-            f"{_direction_text(hit.direction)} is {why}",
+            f"{direction_text(hit.direction)} is {why}",
             file=sys.stderr,
         )
         return None
@@ -1015,7 +827,7 @@ def _profile_report(
     p = _run_profile(args, scene, command, plane, n, upper, steps)
     norm = _normalization(args, scene, command, p, method, upper, steps)
     wall = time.perf_counter() - t0
-    unit = _unit(p.basis[0] + p.basis[1])
+    unit = wrench_unit(p.basis[0] + p.basis[1])
     deg = np.degrees(p.angles)
     data = {
         "command": kind,
@@ -1027,11 +839,10 @@ def _profile_report(
         "steps": steps,
         "resolution": upper / 2**steps,
         "unit": unit,
-        **profile_dict(p, norm),
-        "unbounded_runs_deg": unbounded_runs(deg, p.unbounded),
+        **p.to_dict(norm),
         "total_time": wall,
     }
-    b1, b2 = (_direction_text(b) for b in p.basis)
+    b1, b2 = (direction_text(b) for b in p.basis)
     header = f"{'angle [deg]':>11s}  {'direction':>22s}  {'max [' + unit + ']':>12s}"
     if norm is not None:
         header += f"  {'normalised':>10s}"
@@ -1049,24 +860,27 @@ def _profile_report(
         s = np.sin(p.angles[i])
         dtxt = f"{c:+.3f} {b1.lstrip('+')} {s:+.3f} {b2.lstrip('+')}"
         mw = p.results[i]
-        row = f"{a:11.1f}  {dtxt:>22s}  {fmt_max_wrench(mw):>12s}"
+        row = f"{a:11.1f}  {dtxt:>22s}  {format_max_wrench(mw):>12s}"
         if norm is not None:
-            row += f"  {fmt_max_wrench(mw, norm):>10s}"
+            row += f"  {format_max_wrench(mw, norm):>10s}"
         lines.append(row)
     runs = data["unbounded_runs_deg"]
     lines.append("")
     if runs:
-        lines.append(
-            "unbounded (passively resisted without bound): "
-            + ", ".join(f"{a:g}°" if a == b else f"{a:g}°–{b:g}°" for a, b in runs)
-        )
+        lines.append("unbounded (passively resisted without bound): " + runs_text(runs))
     else:
         lines.append("no unbounded direction")
     if norm is not None:
-        lines.append(f"normalised by the {b2} value {norm:.4g} {unit}")
+        lines.append(f"normalised by the {b2} value {format_magnitude(norm, upper / 2**steps, unit)}")
     bad = [f"{deg[i]:g}°" for i, r in enumerate(p.results) if not r.monotone]
     if bad:
         lines.append("non-monotone bisection evidence at: " + ", ".join(bad))
+    csv_path = getattr(args, "csv", None)
+    if csv_path is not None:
+        table = p if norm is None else replace(p, magnitudes=p.magnitudes / norm, normalized_by=norm)
+        from .tables import profile_to_csv
+
+        out.written.append(profile_to_csv(table, csv_path, name="--csv"))
     out.print(*lines)
     out.write_json("profile.json", data)
 
@@ -1161,7 +975,7 @@ def cmd_compare_preloads(args: argparse.Namespace) -> int:
             {
                 "label": label,
                 "direction": next(iter(per.values())).direction,
-                "results": {nm: max_wrench_dict(mw) for nm, mw in per.items()},
+                "results": {nm: mw.to_dict(response=False) for nm, mw in per.items()},
                 "ratio": ratio,
             }
             for label, per, ratio in rows
@@ -1179,7 +993,7 @@ def cmd_compare_preloads(args: argparse.Namespace) -> int:
         head,
     ]
     for label, per, ratio in rows:
-        cells = "  ".join(f"{fmt_max_wrench(per[nm]):>14s}" for nm in names)
+        cells = "  ".join(f"{format_max_wrench(per[nm]):>14s}" for nm in names)
         rtxt = "-" if ratio is None else f"{ratio:.3f}"
         lines.append(f"  {label:{w}s}  {cells}  {rtxt:>8s}")
     out.print(*lines)

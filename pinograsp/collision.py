@@ -23,11 +23,12 @@ penetrating.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import coal
 import numpy as np
 
+from . import serialize as _ser
 from .errors import NoContactError, PenetrationError
 
 if TYPE_CHECKING:
@@ -67,6 +68,10 @@ class PairDistance:
         """Contact point: midway between the nearest points [m], (3,)."""
         return 0.5 * (self.point_hand + self.point_object)
 
+    def to_dict(self) -> dict[str, Any]:
+        """Plain JSON-ready data: names, ``distance`` [m], points and normal as lists (3,) [m]."""
+        return _ser.pair_distance_dict(self)
+
 
 @dataclass(frozen=True)
 class ContactReport:
@@ -87,6 +92,15 @@ class ContactReport:
     def links(self) -> tuple[str, ...]:
         """Links in contact (one entry per contact)."""
         return tuple(c.link for c in self.contacts)
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain JSON-ready data: ``tolerance`` [m], ``links``, ``contacts`` and ``pairs``
+        (:meth:`PairDistance.to_dict`), ``link_distances`` [m]."""
+        return _ser.contact_report_dict(self)
+
+    def summary(self) -> str:
+        """The contacts (link, signed distance [mm]) and the closest links without contact."""
+        return _ser.contact_report_summary(self)
 
 
 def _signed_distance(

@@ -31,8 +31,9 @@ import numpy as np
 
 from .contact import writing
 from .errors import InvalidInputError
-from .model import WRENCH_AXES, GraspModel
+from .model import GraspModel
 from .results import MaxWrench, PassiveResponse, ResistanceProfile
+from .serialize import direction_label
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
@@ -147,18 +148,6 @@ def _plane_unit(plane: Sequence[str], basis: np.ndarray) -> str:
         return units.pop()  # type: ignore[return-value]
     kinds = {_direction_unit(b) for b in np.atleast_2d(basis)}
     return kinds.pop() if len(kinds) == 1 else "N, N·m mixed"
-
-
-def direction_label(direction: object) -> str:
-    """Short label of a wrench direction: ``"+fx"``, ``"-mz"``, or ``"(0.71 fx + 0.71 fy)"``."""
-    d = np.asarray(direction, dtype=float).reshape(-1)
-    if d.shape != (6,):
-        return str(direction)
-    nz = np.flatnonzero(np.abs(d) > 1e-9)
-    if nz.size == 1:
-        return f"{'+' if d[nz[0]] > 0 else '−'}{WRENCH_AXES[nz[0]]}"
-    terms = [f"{d[i]:+.2f} {WRENCH_AXES[i]}" for i in nz]
-    return "(" + " ".join(terms).lstrip("+") + ")"
 
 
 def _as_profiles(

@@ -521,6 +521,8 @@ class PassiveSolver:
             contact_names=m.contact_names,
             joint_names=m.joint_names,
             actuator_names=m.actuator_names,
+            contact_mu=np.array(m.mu, dtype=float),
+            actuator_kinds=tuple(m.kinds),
         )
         if raw is None or raw.z is None:  # no solution: every quantity is NaN
 

@@ -3,10 +3,11 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 
+from . import serialize as _ser
 from .audit import EnergyCheck
 
 
@@ -53,8 +54,16 @@ class Audit:
             and physical
         )
 
+    def to_dict(self) -> dict[str, Any]:
+        """Plain JSON-ready data: ``ok``, the residuals [N], big-M use and ``energy``."""
+        return _ser.audit_dict(self)
 
-@dataclass(frozen=True)
+    def summary(self) -> str:
+        """The verdict and residuals [N] as text (and the energy balance [J] when checked)."""
+        return _ser.audit_summary(self)
+
+
+@dataclass(frozen=True, repr=False)
 class PassiveResponse:
     """Passive response of a preloaded grasp to one external wrench.
 
@@ -94,6 +103,8 @@ class PassiveResponse:
         contact_names, joint_names, actuator_names: Labels of the rows above.
         friction_use: ``|c_t| / (mu c_n)`` per contact (nc,): NaN for a separated contact or one
             touching with no normal force (above the audit tolerance).
+        contact_mu: Friction coefficient per contact (nc,) (``None``: not recorded).
+        actuator_kinds: Kind of each actuator (``"non-backdrivable"``, ...), (na,).
     """
 
     resistible: bool
@@ -124,18 +135,37 @@ class PassiveResponse:
     joint_names: tuple[str, ...] = ()
     actuator_names: tuple[str, ...] = ()
     friction_use: np.ndarray | None = None
+    contact_mu: np.ndarray | None = None
+    actuator_kinds: tuple[str, ...] = ()
 
     @property
     def normal_forces(self) -> np.ndarray:
         """Normal contact forces ``c_n`` (nc,) [N]."""
         return self.contact_forces[:, 0]
 
+    def to_dict(self, model: Any = None) -> dict[str, Any]:
+        """Plain JSON-ready data, the ``pinograsp analyze --json`` schema (``docs/cli.md``):
+        forces [N] as lists, ``None`` for NaN/inf.
+
+        Args:
+            model: Optional :class:`~pinograsp.GraspModel` to take ``mu`` and actuator ``kind``
+                from (default: the record's ``contact_mu`` and ``actuator_kinds``).
+        """
+        return _ser.response_dict(self, model)
+
+    def summary(self) -> str:
+        """Status, wrench, normal contact forces [N], actuator modes and the audit, as text."""
+        return _ser.response_summary(self)
+
+    def __repr__(self) -> str:
+        return _ser.response_repr(self)
+
 
 #: How a max-wrench search ended (see :class:`MaxWrench`).
 MaxWrenchStatus = Literal["finite", "unbounded", "above_limit", "below_resolution"]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class MaxWrench:
     """Largest resistible wrench magnitude along one direction (bisection).
 
@@ -197,8 +227,26 @@ class MaxWrench:
         good = [m for m, ok in self.evidence if ok]
         return not bad or not good or max(good) < min(bad)
 
+    def to_dict(self, label: str | None = None, *, response: bool = True) -> dict[str, Any]:
+        """Plain JSON-ready data, the ``pinograsp max-wrench --json`` schema (``docs/cli.md``):
+        ``magnitude`` [N or N·m] is ``None`` when unbounded.
 
-@dataclass(frozen=True)
+        Args:
+            label: Direction label (default ``"+fy"``-style text of the direction).
+            response: Include ``"response"`` (:meth:`PassiveResponse.to_dict` at the limit).
+        """
+        return _ser.max_wrench_dict(self, label, response=response)
+
+    def summary(self, label: str | None = None) -> str:
+        """Status and magnitude to the resolution with its unit, the search, and the normal
+        contact forces [N] at the limit, as text."""
+        return _ser.max_wrench_summary(self, label)
+
+    def __repr__(self) -> str:
+        return _ser.max_wrench_repr(self)
+
+
+@dataclass(frozen=True, repr=False)
 class ResistanceProfile:
     """Maximum resistible magnitude over directions in a plane of wrench space.
 
@@ -229,3 +277,45 @@ class ResistanceProfile:
         """Finite profile points in plane coordinates, (n, 2) (``nan`` where unbounded)."""
         m = np.where(self.unbounded, np.nan, self.magnitudes)
         return np.column_stack([m * np.cos(self.angles), m * np.sin(self.angles)])
+
+    @property
+    def statuses(self) -> tuple[str, ...]:
+        """:attr:`MaxWrench.status` per direction, (n,)."""
+        return tuple(r.status for r in self.results)
+
+    def to_dict(self, normalized_by: float | None = None, *, results: bool = False) -> dict[str, Any]:
+        """Plain JSON-ready data, the profile part of ``pinograsp profile --json``
+        (``docs/cli.md``): absolute ``magnitudes`` [N or N·m] (``None`` where unbounded),
+        ``normalized``, ``unbounded_runs_deg``, ...
+
+        Args:
+            normalized_by: Reference magnitude for ``"normalized"`` (default: the profile's own).
+            results: Also list every direction's :meth:`MaxWrench.to_dict` (without responses).
+        """
+        return _ser.profile_dict(self, normalized_by, results=results)
+
+    def summary(self) -> str:
+        """Plane, directions per status, the finite range to the resolution, unbounded runs."""
+        return _ser.profile_summary(self)
+
+    def __repr__(self) -> str:
+        return _ser.profile_repr(self)
+
+    def rows(self) -> list[dict[str, Any]]:
+        """One dict per direction (the CSV columns, :data:`pinograsp.tables.PROFILE_COLUMNS`)."""
+        from .tables import profile_rows
+
+        return profile_rows(self)
+
+    def to_csv(self, path: object) -> object:
+        """Write one row per direction to a CSV file (standard library ``csv``); returns the
+        :class:`~pathlib.Path` written. Columns: :data:`pinograsp.tables.PROFILE_COLUMNS`."""
+        from .tables import profile_to_csv
+
+        return profile_to_csv(self, path)
+
+    def to_dataframe(self) -> Any:
+        """The rows as a ``pandas.DataFrame`` (needs ``pip install "pinograsp[tables]"``)."""
+        from .tables import profile_to_dataframe
+
+        return profile_to_dataframe(self)
