@@ -127,6 +127,10 @@ from .errors import SceneError  # noqa: E402
 _URDF_SIDE.update({"load_scene": "scenes", "Scene": "scenes", "builtin_scenes": "scenes"})
 __all__ += ["SceneError", "load_scene", "Scene", "builtin_scenes"]
 
+# --- "check my description": closing signs against the geometry (no contact needed).
+_URDF_SIDE.update({"check_closing": "inspection", "ClosingCheck": "inspection", "JointClosing": "inspection"})
+__all__ += ["check_closing", "ClosingCheck", "JointClosing"]
+
 
 def __getattr__(name: str) -> object:
     if name in _URDF_SIDE:

@@ -233,6 +233,15 @@ def _reference_value(p: ResistanceProfile, index: int) -> float:
     return float(p.magnitudes[i])
 
 
+def rlabel_angle(avoid: np.ndarray) -> float:
+    """The ray (22.5° + k 45° [deg]) for the radial tick labels farthest from the angles ``avoid`` [rad]."""
+    candidates = np.radians(22.5 + 45.0 * np.arange(8))
+    if np.size(avoid) == 0:
+        return 22.5
+    gap = np.abs(np.angle(np.exp(1j * (candidates[:, None] - np.asarray(avoid, float)[None, :]))))
+    return float(np.degrees(candidates[int(np.argmax(gap.min(axis=1) + 1e-9 * -np.arange(8)))]))
+
+
 def plot_profile(
     profile_or_list: ResistanceProfile | Sequence[ResistanceProfile] | Mapping[str, ResistanceProfile],
     ax: Axes | None = None,
@@ -376,7 +385,11 @@ def plot_profile(
         np.arange(0, 360, 45),
         [f"+{b1}", "", f"+{b2}", "", f"−{b1}", "", f"−{b2}", ""],
     )
-    ax.set_rlabel_position(22.5)
+    # radial tick labels on the unlabelled grid ray farthest from every unbounded wedge
+    unb_angles = np.concatenate(
+        [np.mod(p.angles, 2 * np.pi)[~np.isfinite(r)] for p, r in zip(profiles, radii)]
+    )
+    ax.set_rlabel_position(rlabel_angle(unb_angles))
     ax.grid(True, alpha=0.4)
     if title is None:
         title = f"max resistible wrench in the {b1}–{b2} plane [{unit}]"
@@ -488,6 +501,52 @@ def outside_cone(model: GraspModel, contact_forces: np.ndarray, tol: float = 1e-
     return (ct > model.mu * np.maximum(cn, 0.0) + tol) | (cn < -tol)
 
 
+def _place_labels(ax: Axes, labels: list[tuple[np.ndarray, str, str]], avoid: Sequence[Any] = ()) -> None:
+    """Annotate points without overlaps: each label takes, among eight positions around its
+    point (right/left of it, above/below, near or farther), the first that overlaps no label
+    placed before it nor the artists ``avoid`` (the legend) and stays inside the axes; when none
+    does, the one with the least overlap."""
+    candidates = [
+        ((dx, dy), "left" if dx > 0 else "right", "bottom" if dy > 0 else "top")
+        for dy in (4, -6, 16, -18)
+        for dx in (6, -6)
+    ]
+    try:
+        renderer = ax.figure.canvas.get_renderer()
+    except AttributeError:  # pragma: no cover - backends without a renderer: first position
+        renderer = None
+    box = ax.get_window_extent(renderer) if renderer is not None else None
+    placed: list[Any] = [] if renderer is None else [a.get_window_extent(renderer) for a in avoid]
+
+    def area(a: Any, b: Any) -> float:
+        w = min(a.x1, b.x1) - max(a.x0, b.x0)
+        h = min(a.y1, b.y1) - max(a.y0, b.y0)
+        return max(w, 0.0) * max(h, 0.0)
+
+    for point, text, color in labels:
+        best, best_cost = None, np.inf
+        for offset, ha, va in candidates:
+            t = ax.annotate(
+                text, point, xytext=offset, textcoords="offset points", ha=ha, va=va, fontsize=7, color=color
+            )
+            if renderer is None:
+                best = (t, None)
+                break
+            ext = t.get_window_extent(renderer).expanded(1.15, 1.3)  # a margin: fonts render wider
+            outside = ext.width * ext.height - area(ext, box)
+            cost = sum(area(ext, e) for e in placed) + 10.0 * outside
+            if cost < best_cost:
+                if best is not None:
+                    best[0].remove()
+                best, best_cost = (t, ext), cost
+            else:
+                t.remove()
+            if cost == 0.0:
+                break
+        if best is not None and best[1] is not None:
+            placed.append(best[1])
+
+
 def plot_force_comparison(
     model: GraspModel,
     passive: PassiveResponse,
@@ -574,20 +633,22 @@ def plot_force_comparison(
             gid=GID_OUTSIDE_CONE,
             zorder=4,
         )
-    for k, name in enumerate(model.contact_names):
-        for j in (0, 1):
+    # one label per group of coincident points (mirror-symmetric contacts, or both models
+    # agreeing); in the right quarter of the plot below-left of its point, so that it stays inside
+    close = 1e-6 * max(xmax, ymax)
+    groups: list[tuple[np.ndarray, list[str], bool]] = []
+    for j in (0, 1):
+        for k, name in enumerate(model.contact_names):
             if not np.all(np.isfinite(pts[j][k])):
                 continue
-            if j == 1 and np.allclose(pts[0][k], pts[1][k], atol=1e-9 * max(xmax, ymax)) and not bad[1][k]:
-                continue  # one label when both models agree
-            ax.annotate(
-                name,
-                pts[j][k],
-                xytext=(5, 4),
-                textcoords="offset points",
-                fontsize=7,
-                color="red" if bad[j][k] else "0.2",
-            )
+            for i, g in enumerate(groups):
+                if np.allclose(g[0], pts[j][k], atol=close):
+                    if name not in g[1]:
+                        g[1].append(name)
+                    groups[i] = (g[0], g[1], g[2] or bool(bad[j][k]))
+                    break
+            else:
+                groups.append((pts[j][k], [name], bool(bad[j][k])))
     ax.set_xlim(x_lo, x_hi)
     ax.set_ylim(0.0, y_hi)
     ax.set_xlabel("normal force c_n [N]")
@@ -604,7 +665,10 @@ def plot_force_comparison(
         verdict = getattr(passive, "status", "")
         title = f"{what}\n{labels[0]}: {verdict}; {labels[1]}: {n_bad} of {nc} contacts outside their cone"
     ax.set_title(title, fontsize=9)
-    ax.legend(fontsize=7, loc="upper left")
+    legend = ax.legend(fontsize=7, loc="upper left")
+    _place_labels(
+        ax, [(p, "\n".join(names), "red" if red else "0.2") for p, names, red in groups], avoid=[legend]
+    )
     return ax
 
 
@@ -617,5 +681,6 @@ __all__ = [
     "plot_preload_comparison",
     "plot_profile",
     "pyplot",
+    "rlabel_angle",
     "save_figure",
 ]

@@ -12,6 +12,16 @@ object (``hand=``, ``q=``, ``obj=``), or any *scene* object with a ``.model`` at
 optionally ``.hand``, ``.q``, ``.object``, ``.frame``), such as the result of
 ``pinograsp.load_scene``.
 
+``model=None`` with ``hand=`` (and ``q=``, default the open configuration) and ``obj=`` draws the
+scene **before contact** (or at any configuration, touching or not): each hand joint's closing
+direction (the velocity of its link's point closest to the object when the joint alone closes,
+from the Jacobian; one arrow per joint) and each link's closest distance to the object (the
+nearest three annotated, listed in the title). Nothing is raised when nothing touches.
+
+PNG views are drawn **upright** (:func:`pinograsp.view3d.upright_view`): the hand's approach
+axis (hand base towards the object) points up on the page and the camera looks from above the
+palm, from the side where the fewest hand points hide the object.
+
 Drawing conventions (metres, in the **model's frame**: the hand base frame, unless ``frame`` —
 a scene's analysis axes — says otherwise; hand and object are then re-expressed in it):
 
@@ -43,6 +53,19 @@ import numpy as np
 from .contact import writing
 from .errors import InvalidInputError, MissingDependencyError, PinograspWarning
 from .model import GraspModel
+from .view3d import (
+    ClosingArrow,
+    View,
+    closest_points,
+    closing_arrows,
+    closing_traces,
+    distance_title,
+    distance_trace,
+    draw_closing_mpl,
+    draw_distances_mpl,
+    hand_up,
+    upright_view,
+)
 
 if TYPE_CHECKING:  # pragma: no cover
     from .hand import Hand
@@ -98,6 +121,14 @@ class SceneElements:
         cone_scale: Cone height [m].
         force_scale: Arrow length per newton [m/N].
         title: Default title.
+        closing: Closing-direction arrows, one per hand joint that moves collision geometry
+            (drawn without a model, or with ``show_closing=True``).
+        closing_length: Drawn length of the closing arrows [m].
+        link_distances: Closest signed distance per hand link to the object [m] (as
+            :func:`pinograsp.link_distances`; empty without hand or object).
+        distance_points: Each link's point closest to the object, (3,) [m].
+        view: The upright camera (:func:`pinograsp.view3d.upright_view`) when a hand or an
+            object is drawn, else ``None``.
     """
 
     meshes: list[Mesh]
@@ -109,6 +140,11 @@ class SceneElements:
     cone_scale: float
     force_scale: float
     title: str
+    closing: tuple[ClosingArrow, ...] = ()
+    closing_length: float = 0.0
+    link_distances: dict[str, float] = field(default_factory=dict)
+    distance_points: dict[str, np.ndarray] = field(default_factory=dict)
+    view: View | None = None
 
     @property
     def bounds(self) -> np.ndarray:
@@ -117,6 +153,10 @@ class SceneElements:
             [self.points]
             + [m.vertices for m in self.meshes]
             + [s.segments.reshape(-1, 3) for s in self.segments]
+            + [
+                np.array([a.point, a.point + self.closing_length * a.velocity / np.linalg.norm(a.velocity)])
+                for a in self.closing
+            ]
         )
         allp = np.concatenate([p for p in pts if p.size])
         return np.vstack([allp.min(axis=0), allp.max(axis=0)])
@@ -196,8 +236,13 @@ def _merge(parts: Sequence[tuple[np.ndarray, np.ndarray, str]]) -> tuple[np.ndar
 
 def _resolve(
     model: object, hand: Hand | None, q: object, obj: RigidObject | None, frame: object
-) -> tuple[GraspModel, Hand | None, object, RigidObject | None, np.ndarray]:
-    if not isinstance(model, GraspModel):
+) -> tuple[GraspModel | None, Hand | None, object, RigidObject | None, np.ndarray]:
+    if model is None:
+        if hand is None and obj is None:
+            raise InvalidInputError("model", "model=None needs a hand= and/or an obj= to draw")
+        if hand is not None and q is None and hasattr(hand, "q_open"):
+            q = np.array(hand.q_open)  # before any contact: the open configuration
+    elif not isinstance(model, GraspModel):
         inner = getattr(model, "model", None)
         if not isinstance(inner, GraspModel):
             raise InvalidInputError(
@@ -228,10 +273,14 @@ def _resolve(
     return model, hand, q, obj, to_model
 
 
-def _forces(model: GraspModel, response: object) -> tuple[np.ndarray | None, np.ndarray | None, str]:
+def _forces(model: GraspModel | None, response: object) -> tuple[np.ndarray | None, np.ndarray | None, str]:
     """World contact forces (nc, 3), applied wrench (6,) or None, and a status label."""
     if response is None:
         return None, None, ""
+    if model is None:
+        raise InvalidInputError(
+            "response", "forces need contacts: pass the grasp model (model=None draws none)"
+        )
     if hasattr(response, "response") and hasattr(response, "unbounded"):  # MaxWrench
         response = response.response
         if response is None:
@@ -259,6 +308,14 @@ def _forces(model: GraspModel, response: object) -> tuple[np.ndarray | None, np.
     return f, w, status
 
 
+def _count(name: str, value: object, el: SceneElements) -> int:
+    if value is None:  # the nearest three links before contact; none when contacts are drawn
+        return 0 if len(el.points) else 3
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 0:
+        raise InvalidInputError(name, f"expected a count >= 0, got {value!r}")
+    return int(value)
+
+
 def _positive_or_none(name: str, value: object) -> float | None:
     if value is None:
         return None
@@ -283,9 +340,12 @@ def scene_elements(
     force_scale: float | None = None,
     show_cones: bool = True,
     show_forces: bool = True,
+    show_closing: bool | None = None,
+    tolerance: float | None = None,
 ) -> SceneElements:
     """The meshes, segments and points a scene view draws (see :func:`scene_figure` for the arguments)."""
     model, hand, q, obj, to_model = _resolve(model, hand, q, obj, frame)
+    show_closing = model is None if show_closing is None else bool(show_closing)
     cone_scale = _positive_or_none("cone_scale", cone_scale)
     force_scale = _positive_or_none("force_scale", force_scale)
     forces, wrench, status = _forces(model, response)
@@ -327,35 +387,49 @@ def scene_elements(
             stacklevel=3,
         )
 
-    pts = np.asarray(model.points, dtype=float).reshape(-1, 3)
-    normals = np.asarray(model.frames, dtype=float)[:, :, 0]
-    # scene size: object and contacts (not the whole hand)
-    ref = np.vstack([pts, np.asarray(model.reference_point, float).reshape(1, 3)])
-    if obj is not None and meshes and meshes[-1].name == "object":
-        ref = np.vstack([ref, meshes[-1].vertices])
+    obj_mesh = next((m for m in meshes if m.name == "object"), None)
+    hand_mesh = next((m for m in meshes if m.name == "hand"), None)
+    if model is None:
+        pts, normals = np.zeros((0, 3)), np.zeros((0, 3))
+        mu, names, length_scale = np.zeros(0), (), 0.0
+        ref_point = (
+            _transform(np.asarray(obj.center_of_mass, float).reshape(1, 3), to_model)[0]
+            if obj is not None
+            else np.zeros(3)
+        )
+    else:
+        pts = np.asarray(model.points, dtype=float).reshape(-1, 3)
+        normals = np.asarray(model.frames, dtype=float)[:, :, 0]
+        mu, names, length_scale = np.asarray(model.mu, float), tuple(model.contact_names), model.length_scale
+        ref_point = np.asarray(model.reference_point, float)
+    nc = len(pts)
+    # scene size: object and contacts (not the whole hand; the whole scene without contacts)
+    ref = np.vstack([pts, ref_point.reshape(1, 3)])
+    if obj_mesh is not None:
+        ref = np.vstack([ref, obj_mesh.vertices])
+    if model is None and hand_mesh is not None:
+        ref = np.vstack([ref, hand_mesh.vertices])
     size = float(np.linalg.norm(ref.max(axis=0) - ref.min(axis=0)))
-    size = max(size, 2.0 * float(model.length_scale), 1e-3)
+    size = max(size, 2.0 * float(length_scale), 1e-3)
     h = cone_scale if cone_scale is not None else 0.3 * size
     segments: list[Segments] = []
-    if model.nc:
+    if nc:
         segments.append(
             Segments(
                 "contact normals", np.stack([pts, pts - h * normals], axis=1), COLORS["normals"], 2.0, True
             )
         )
-    if show_cones and model.nc:
+    if show_cones and nc:
         parts = [
-            _cone(p, -n, h, h * float(mu)) + (name,)
-            for p, n, mu, name in zip(pts, normals, model.mu, model.contact_names)
-            if mu > 0
+            _cone(p, -n, h, h * float(m)) + (name,) for p, n, m, name in zip(pts, normals, mu, names) if m > 0
         ]
         v, f, lab = _merge(parts)
         if len(v):
             meshes.append(Mesh("friction cones", v, f, COLORS["cones"], 0.3, lab))
 
     labels = []
-    for i, name in enumerate(model.contact_names):
-        text = f"{name}<br>mu = {model.mu[i]:g}<br>n = {np.round(normals[i], 3).tolist()}"
+    for i, name in enumerate(names):
+        text = f"{name}<br>mu = {mu[i]:g}<br>n = {np.round(normals[i], 3).tolist()}"
         if forces is not None and np.all(np.isfinite(forces[i])):
             c_n = float(forces[i] @ normals[i])
             text += f"<br>force [N] = {np.round(forces[i], 3).tolist()}<br>c_n = {c_n:.4g} N"
@@ -370,7 +444,7 @@ def scene_elements(
     s = force_scale if force_scale is not None else (0.3 * size / fmax if fmax > 0 else 0.0)
     if show_forces and forces is not None and fmax > 0:
         shafts, heads = [], []
-        for p, f, name in zip(pts, forces, model.contact_names):
+        for p, f, name in zip(pts, forces, names):
             if not np.all(np.isfinite(f)) or np.linalg.norm(f) * s < 1e-9 * size:
                 continue
             tail = p - s * f
@@ -388,7 +462,7 @@ def scene_elements(
             and np.all(np.isfinite(wrench))
             and np.linalg.norm(wrench[:3]) * s > 1e-9 * size
         ):
-            o = np.asarray(model.reference_point, float)
+            o = ref_point
             tip = o + s * wrench[:3]
             length = float(np.linalg.norm(s * wrench[:3]))
             u = wrench[:3] / np.linalg.norm(wrench[:3])
@@ -398,8 +472,52 @@ def scene_elements(
             )
             v, f_ = _cone(tip, -u, hl, 0.4 * hl, 12)
             meshes.append(Mesh("external force", v, f_, COLORS["external"], 1.0, ["external force"] * len(v)))
-    title = f"{model.nc} contacts" + (f" — {status}" if status else "")
-    return SceneElements(meshes, segments, pts, labels, tuple(model.contact_names), size, h, s, title)
+    title = f"{nc} contacts" + (f" — {status}" if status else "")
+    extra = _hand_extras(
+        hand, q, obj, to_model, hand_mesh, obj_mesh, ref_point, size, show_closing, tolerance
+    )
+    if model is None:
+        title = extra.pop("title")
+    else:
+        extra.pop("title")
+    return SceneElements(meshes, segments, pts, labels, names, size, h, s, title, **extra)
+
+
+def _hand_extras(
+    hand: Hand | None,
+    q: object,
+    obj: RigidObject | None,
+    to_model: np.ndarray,
+    hand_mesh: Mesh | None,
+    obj_mesh: Mesh | None,
+    ref_point: np.ndarray,
+    size: float,
+    show_closing: bool,
+    tolerance: float | None,
+) -> dict[str, Any]:
+    """Closing arrows, per-link distances, the upright camera and the contact-free title."""
+    from .collision import DEFAULT_TOLERANCE
+
+    tol = DEFAULT_TOLERANCE if tolerance is None else float(_positive_or_none("tolerance", tolerance) or 0.0)
+    out: dict[str, Any] = {"title": "hand and object" if hand is not None and obj is not None else "scene"}
+    qv = None if hand is None else hand.configuration(q)
+    if hand is not None and obj is not None:
+        dist, points, _, _ = closest_points(hand, qv, obj, to_model)
+        out.update(link_distances=dist, distance_points=points, title=distance_title(dist, tol))
+    if hand is not None and show_closing:
+        out["closing"] = closing_arrows(hand, qv, obj, to_model)
+        out["closing_length"] = 0.18 * size
+    if hand_mesh is None and obj_mesh is None:
+        return out
+    target = None if obj_mesh is None else ref_point
+    radius = 0.0
+    if obj_mesh is not None:
+        radius = 0.5 * float(np.linalg.norm(obj_mesh.vertices.max(axis=0) - obj_mesh.vertices.min(axis=0)))
+    verts = None if hand_mesh is None else hand_mesh.vertices
+    origin = to_model[:3, 3] if hand is not None else np.zeros(3)
+    up = hand_up(origin, target, verts)
+    out["view"] = upright_view(up, verts, target, radius)
+    return out
 
 
 # ----------------------------------------------------------------------------- plotly
@@ -423,6 +541,9 @@ def scene_figure(
     force_scale: float | None = None,
     show_cones: bool = True,
     show_forces: bool = True,
+    show_closing: bool | None = None,
+    show_distances: int | None = None,
+    tolerance: float | None = None,
     title: str | None = None,
     height: int = 600,
 ) -> Any:
@@ -432,9 +553,14 @@ def scene_figure(
     ``object``, ``contacts``, ``contact normals``, ``friction cones``, ``contact forces``,
     ``external force`` — only those that apply.
 
+    Without a model (``model=None``), the traces are ``hand``, ``object``, one ``closing
+    <joint> (<sign>)`` trace per hand joint that moves collision geometry (legend group
+    ``closing directions``) and ``closest distances``. The camera looks at the hand upright.
+
     Args:
         model: A :class:`~pinograsp.GraspModel`, or a scene with ``.model`` (and optionally
-            ``.hand``, ``.q``, ``.object``, used unless given explicitly).
+            ``.hand``, ``.q``, ``.object``, used unless given explicitly), or ``None``: hand and
+            object only, before (or without) contact.
         response: Contact forces to draw: a :class:`~pinograsp.PassiveResponse`, a
             :class:`~pinograsp.LinearComplianceResult`, a :class:`~pinograsp.MaxWrench` (its
             response), or world forces (nc, 3) [N]. Non-finite rows are not drawn.
@@ -450,7 +576,12 @@ def scene_figure(
         force_scale: Arrow length per newton [m/N] (default: the largest force, contact or
             external, is as long as the cones' default height).
         show_cones, show_forces: Draw friction cones / force arrows.
-        title: Figure title (default: contact count and the response status).
+        show_closing: Draw each joint's closing direction (default: only without a model).
+        show_distances: Number of nearest links annotated with their distance to the object
+            (default: 3 without contacts, 0 with).
+        tolerance: Contact tolerance [m] of the title's "touching" (default 1 mm).
+        title: Figure title (default: contact count and the response status; without a model,
+            contact state and the nearest links' distances [mm]).
         height: Figure height in pixels.
 
     Raises:
@@ -469,7 +600,10 @@ def scene_figure(
         force_scale=force_scale,
         show_cones=show_cones,
         show_forces=show_forces,
+        show_closing=show_closing,
+        tolerance=tolerance,
     )
+    n_dist = _count("show_distances", show_distances, el)
     fig = go.Figure()
     for m in el.meshes:
         first = not any(t.name == m.name for t in fig.data)
@@ -524,6 +658,16 @@ def scene_figure(
                 hoverinfo="text",
             )
         )
+    for tr in closing_traces(go, el.closing, el.closing_length):
+        fig.add_trace(tr)
+    if el.link_distances and n_dist:
+        fig.add_trace(distance_trace(go, el.link_distances, el.distance_points, n_dist))
+    camera = {}
+    if el.view is not None:
+        up = np.zeros(3)
+        up["xyz".index(el.view.vertical_axis)] = 1.0 if el.view.roll == 0 else -1.0
+        eye = 1.9 * el.view.eye
+        camera = {"up": dict(zip("xyz", up.tolist())), "eye": dict(zip("xyz", eye.tolist()))}
     fig.update_layout(
         title={"text": el.title if title is None else title},
         height=height,
@@ -534,6 +678,7 @@ def scene_figure(
             "xaxis_title": "x [m]",
             "yaxis_title": "y [m]",
             "zaxis_title": "z [m]",
+            **({"camera": camera} if camera else {}),
         },
     )
     return fig
@@ -572,16 +717,24 @@ def scene_axes(
     force_scale: float | None = None,
     show_cones: bool = True,
     show_forces: bool = True,
+    show_closing: bool | None = None,
+    show_distances: int | None = None,
+    tolerance: float | None = None,
     title: str | None = None,
-    elev: float = 30.0,
-    azim: float = -60.0,
+    elev: float | None = None,
+    azim: float | None = None,
+    upright: bool = True,
     max_faces: int = 4000,
 ) -> Any:
     """Draw the scene of :func:`scene_figure` on a matplotlib 3D Axes and return it.
 
     Meshes are ``Poly3DCollection`` (each limited to ``max_faces`` faces, every k-th face kept),
     segments lines, contacts points. ``ax``: a 3D Axes (default: a new pyplot figure).
-    Other arguments as :func:`scene_figure`; ``elev``/``azim``: view angles [deg].
+    Other arguments as :func:`scene_figure`. ``elev``/``azim``: view angles [deg] (z vertical);
+    by default (both ``None`` and ``upright=True``) the view of
+    :func:`pinograsp.view3d.upright_view`: the hand's approach axis up on the page, the camera on
+    the object's side of the palm. Closing arrows are ``Line3DCollection`` artists with ``gid``
+    ``"pinograsp-closing:<joint>"``, distance labels texts with ``gid`` ``"pinograsp-distance"``.
     """
     from mpl_toolkits.mplot3d.art3d import Line3DCollection, Poly3DCollection
 
@@ -596,7 +749,10 @@ def scene_axes(
         force_scale=force_scale,
         show_cones=show_cones,
         show_forces=show_forces,
+        show_closing=show_closing,
+        tolerance=tolerance,
     )
+    n_dist = _count("show_distances", show_distances, el)
     if ax is None:
         from .plots import pyplot
 
@@ -651,6 +807,11 @@ def scene_axes(
     if len(el.points):
         ax.scatter(*el.points.T, color=COLORS["contacts"], s=25, depthshade=False, zorder=4)
         legend("contacts", Line2D([], [], color=COLORS["contacts"], marker="o", ls="none"))
+    if el.closing:
+        handles += draw_closing_mpl(ax, el.closing, el.closing_length)
+    if el.link_distances and n_dist:
+        draw_distances_mpl(ax, el.link_distances, el.distance_points, n_dist)
+        legend("closest distances", Line2D([], [], color="k", marker="o", ms=3, ls="none"))
     lo, hi = el.bounds
     c, r = 0.5 * (lo + hi), 0.5 * float((hi - lo).max()) * 1.05 + 1e-9
     ax.set_xlim(c[0] - r, c[0] + r)
@@ -661,8 +822,11 @@ def scene_axes(
     ax.set_ylabel("y [m]", fontsize=8)
     ax.set_zlabel("z [m]", fontsize=8)
     ax.tick_params(labelsize=6)
-    ax.view_init(elev=elev, azim=azim)
-    ax.set_title(el.title if title is None else title, fontsize=10)
+    if elev is None and azim is None and upright and el.view is not None:
+        ax.view_init(**el.view.kwargs())
+    else:
+        ax.view_init(elev=30.0 if elev is None else elev, azim=-60.0 if azim is None else azim)
+    ax.set_title(el.title if title is None else title, fontsize=9 if len(el.title) > 60 else 10, wrap=True)
     ax.legend(handles=handles, loc="upper left", fontsize=7, framealpha=0.85)
     return ax
 
@@ -683,7 +847,9 @@ def save_png(
         path: Output file (parent folders are created).
         dpi, figsize: Figure resolution and size [in].
         **kwargs: Passed to :func:`scene_axes` (``hand``, ``q``, ``obj``, scales, ``title``,
-            ``elev``, ``azim``, ``max_faces``, ...).
+            ``elev``, ``azim``, ``upright``, ``show_closing``, ``show_distances``,
+            ``max_faces``, ...). ``model=None`` with ``hand``/``q``/``obj`` draws the scene
+            before contact.
 
     Returns:
         The written path.
