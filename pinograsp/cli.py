@@ -182,6 +182,7 @@ def build_parser() -> argparse.ArgumentParser:
         "(fy=-5,mz=0.1), or the name of one of the scene's wrenches",
     )
     a.add_argument("--preload", help="one of the scene's named preloads (default: the scene's preload)")
+    a.add_argument("--html", metavar="FILE", help="write the interactive 3D view (plotly) to FILE")
     _common(a)
     a.set_defaults(func=cmd_analyze)
 
@@ -198,6 +199,9 @@ def build_parser() -> argparse.ArgumentParser:
         help="an axis with sign (fy, -fy, mx), a wrench vector 1,0,0,0,0,0, or a scene direction name",
     )
     m.add_argument("--preload", help="one of the scene's named preloads (default: the scene's preload)")
+    m.add_argument(
+        "--html", metavar="FILE", help="write the interactive 3D view at the limit (plotly) to FILE"
+    )
     _common(m)
     m.set_defaults(func=cmd_max_wrench)
 
@@ -675,6 +679,7 @@ def cmd_analyze(args: argparse.Namespace) -> int:
     )
     out.write_json("analyze.json", data)
     out.figure("analyze.png", lambda p: _scene_png(scene, r if r.resistible else None, p))
+    _scene_html(args, out, scene, r if r.resistible else None)
     out.finish(data)
     return 0
 
@@ -683,6 +688,15 @@ def _scene_png(scene: Any, response: Any, path: Path) -> None:
     from .viewer import save_png
 
     save_png(scene, response, path=path, title=f"{scene.name}")
+
+
+def _scene_html(args: argparse.Namespace, out: _Output, scene: Any, response: Any) -> None:
+    """``--html FILE``: the interactive 3D scene (plotly, standalone: works offline)."""
+    if getattr(args, "html", None):
+        from .viewer import save_html, scene_figure
+
+        fig = scene_figure(scene, response, title=f"{scene.name}")
+        out.written.append(save_html(fig, args.html))
 
 
 def cmd_max_wrench(args: argparse.Namespace) -> int:
@@ -740,6 +754,7 @@ def cmd_max_wrench(args: argparse.Namespace) -> int:
     out.write_json("max_wrench.json", data)
     if mw.response is not None:
         out.figure("max_wrench.png", lambda p: _scene_png(scene, mw.response, p))
+    _scene_html(args, out, scene, mw.response)
     out.finish(data)
     return 0
 

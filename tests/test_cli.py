@@ -291,3 +291,21 @@ def test_installed_entry_point_json_only_on_stdout(tmp_path):
     assert res.returncode == 2 and res.stdout == ""
     assert res.stderr.strip().splitlines() == [res.stderr.strip()]
     assert res.stderr.startswith("pinograsp: error: unknown scene 'nosuch'")
+
+
+def test_variant_and_html_options(tmp_path, capsys):
+    """--variant reaches the solver (seed case 3, distal tendon alone: the held-still and the
+    settled preload differ); --html writes the standalone plotly view."""
+    s = pg.load_scene("case3")
+    for variant in ("preload-first", "settled-preload"):
+        assert main(["analyze", "case3", "-w", "0,0,0,0.01,0,0", "--preload", "distal_only",
+                     "--variant", variant, "--json"]) == 0  # fmt: skip
+        data = json.loads(capsys.readouterr().out)
+        ref = pg.passive_response(
+            s.model, s.preload("distal_only"), [0, 0, 0, 0.01, 0, 0], settings=s.settings, variant=variant
+        )
+        assert data["variant"] == variant and data["status"] == ref.status
+    assert ref.variant == "settled-preload"
+    html = tmp_path / "view.html"
+    assert main(["max-wrench", "pinch", "-d", "fy", "--steps", "4", "--html", str(html)]) == 0
+    assert html.stat().st_size > 100_000 and "plotly" in html.read_text()[:20000].lower()
