@@ -1,6 +1,6 @@
 """Actuators (with their transmission to the joints) and rigid joint couplings.
 
-Model (DESIGN §3): actuator forces ``f`` (na) reach the joints through the transmission
+Model (docs/design.md): actuator forces ``f`` (na) reach the joints through the transmission
 ``R`` (nq × na), ``tau = R f + C^T lambda``, with rigid couplings ``C q = 0`` and actuator
 displacement ``u = R^T q``. Each actuator has one of three kinds:
 

@@ -1,4 +1,4 @@
-"""Analytic planar grasps (DESIGN §6) as :class:`GraspModel` factories.
+"""Analytic planar grasps (docs/design.md) as :class:`GraspModel` factories.
 
 These small models have closed-form answers (derived in ``docs/analytic_cases.md`` and checked
 in ``tests/``); they are also the built-in demo scenes. All lengths in [m], torques [N·m].

@@ -5,7 +5,7 @@ every hand collision geometry and the object (``coal.distance`` with
 ``enable_signed_distance``). Coal 3 conventions, checked by ``tests/test_collision.py``:
 
 * the returned normal points **from the first object to the second**: with the hand geometry
-  first, it points from the hand into the object — the pinograsp contact normal (DESIGN §2);
+  first, it points from the hand into the object — the pinograsp contact normal (docs/design.md);
 * the distance is **negative when the shapes overlap** (penetration depth = ``-distance``).
 
 A geometry whose signed distance is ``<= tolerance`` gives one contact: the point midway

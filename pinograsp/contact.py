@@ -1,6 +1,6 @@
 """Point contacts with friction: geometry, stiffness and the linearised friction pyramid.
 
-Conventions (DESIGN §2): the unit normal ``n`` points **from the hand into the object** (the
+Conventions (docs/design.md): the unit normal ``n`` points **from the hand into the object** (the
 direction in which the hand pushes); tangents ``t1, t2`` complete a right-handed frame with
 ``t1 × t2 = n``. The contact force on the object in the contact frame is ``(c_n, c_t1, c_t2)``.
 """

@@ -1,7 +1,7 @@
 """Robot hands from URDF: kinematics (Pinocchio), collision geometry (Coal) and a hand description.
 
 A :class:`Hand` is a Pinocchio model reduced to the hand's own joints, its collision geometry,
-and a :class:`HandDescription` that says how the hand is driven (DESIGN §2–3):
+and a :class:`HandDescription` that says how the hand is driven (docs/design.md):
 
 * **closing signs**: positive motion of every joint, in the grasp model, closes the hand onto the
   object. URDF axes vary, so each joint carries a sign ``s_j = ±1``: closing joint velocity
@@ -676,10 +676,6 @@ class Hand:
     def link_of_geometry(self, index: int) -> str:
         """Name of the link carrying collision geometry ``index``."""
         return self.model.frames[self.geometry.geometryObjects[index].parentFrame].name
-
-    def model_couplings(self) -> list[Coupling]:
-        """Couplings as joint-index :class:`Coupling` objects (closing coordinates)."""
-        return list(self.couplings)
 
     # ------------------------------------------------------------ auto-close
     def closing_direction(self) -> np.ndarray:

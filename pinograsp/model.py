@@ -1,7 +1,7 @@
 """``GraspModel``: the plain-array description of a grasp that every solver works on.
 
 The model holds NumPy arrays only — no Pinocchio or Coal objects — so that solvers and
-analyses stay independent from the URDF side (DESIGN §5). It is built from explicit contacts
+analyses stay independent from the URDF side (docs/design.md). It is built from explicit contacts
 (:meth:`GraspModel.from_contacts`, used by analytic cases) or from a URDF scene
 (:meth:`GraspModel.from_scene`), and pruned to what the scene needs.
 

@@ -1,6 +1,6 @@
 """Rigid objects to grasp: Coal collision geometry, pose in the hand base frame, centre of mass.
 
-Poses are given in the **hand base frame** (the world frame of DESIGN §2) as a 4×4 homogeneous
+Poses are given in the **hand base frame** (the world frame of docs/design.md) as a 4×4 homogeneous
 matrix or a ``pinocchio.SE3``. Lengths in metres. The object's centre of mass is the default
 wrench reference point ``o`` of a grasp built from a scene.
 

@@ -1,4 +1,4 @@
-"""Matplotlib plots of pinograsp results (issue 5, deliverable 3).
+"""Matplotlib plots of pinograsp results.
 
 * :func:`plot_profile` — the seed paper's polar resistance profile: finite magnitudes as a
   curve, directions resisted without bound as hatched wedges reaching the plot edge (marked

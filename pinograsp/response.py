@@ -6,7 +6,7 @@
   net wrench (step in ``[0, gamma]``), each step minimises the net wrench, repeat until it
   falls below ``eps`` (resisted) or stops improving (not resisted).
 
-Two variants (DESIGN §4.2):
+Two variants (docs/design.md):
 
 * ``"single-step"`` (the paper): preload and load are solved together from the
   touching-without-force configuration;

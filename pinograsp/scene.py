@@ -1,4 +1,4 @@
-"""URDF scene → :class:`~pinograsp.model.GraspModel` (DESIGN §5).
+"""URDF scene → :class:`~pinograsp.model.GraspModel` (docs/design.md).
 
 ``grasp_model_from_scene(hand, q, obj)`` detects the contacts with Coal
 (:mod:`pinograsp.collision`), builds one :class:`~pinograsp.contact.Contact` per touching

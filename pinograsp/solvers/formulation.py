@@ -1,7 +1,7 @@
 """Scaled problem data shared by every passive-response backend.
 
 The solvers work on a **normalised** copy of the model so that one set of big-M constants
-and tolerances fits every scene (SOLVER_NOTES: big-M is a correctness issue):
+and tolerances fits every scene (docs/solvers.md: big-M is a correctness issue):
 
 * torques are divided by the model's ``length_scale`` ``ℓ`` so that every wrench component is
   in force units;
@@ -121,7 +121,6 @@ class Formulation:
         self.bdr = np.array([k == BACKDRIVABLE for k in m.kinds], bool)
         self.lck = np.array([k == LOCKED for k in m.kinds], bool)
         # variable slices
-        self.sl_beta = slice(0, nb)
 
     # ------------------------------------------------------------------ layout
     def layout(self, kind: str) -> dict[str, slice]:

@@ -26,7 +26,7 @@ second "infeasible" is reported with the ``M`` that was verified in ``RawSolutio
 
 **Indicator constraints** (``complementarity="indicator"``, SCIP only): the complementarity is
 modelled with SCIP indicator constraints on a PySCIPOpt model built for each solve — no ``M``
-at all, exact for any stiffness (1.5–4× slower, SOLVER_NOTES). ``M`` is then ignored and
+at all, exact for any stiffness (1.5–4× slower, docs/solvers.md). ``M`` is then ignored and
 ``bigm_ratio`` is 0.
 
 **Empty rows.** cvxpy's SCIP interface silently drops a constraint row without any variable
@@ -95,7 +95,7 @@ MIQP_SOLVERS = {
 }
 
 #: SCIP settings measured to be 4-12x faster on these problems with identical answers
-#: (SOLVER_NOTES): the aggregation cut separator and the MPEC heuristic dominate otherwise.
+#: (docs/solvers.md): the aggregation cut separator and the MPEC heuristic dominate otherwise.
 SCIP_DEFAULTS: dict[str, Any] = {
     "heuristics/mpec/freq": -1,
     "separating/aggregation/freq": -1,
