@@ -16,17 +16,26 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
 from .errors import InvalidInputError
 from .model import WRENCH_AXES
 
-if TYPE_CHECKING:  # pragma: no cover
-    from .audit import EnergyCheck
-    from .baseline import LinearComplianceResult
-    from .results import Audit, MaxWrench, PassiveResponse, ResistanceProfile
+# The records are read by their attributes: this module sits below results.py, audit.py and
+# baseline.py (whose methods call it), so it names their types without importing them.
+EnergyCheck = Audit = MaxWrench = PassiveResponse = ResistanceProfile = LinearComplianceResult = Any
+
+#: Attributes that make a record a :class:`~pinograsp.results.MaxWrench` here.
+MAX_WRENCH_FIELDS = ("direction", "magnitude", "status", "resolution", "upper", "floor", "evidence")
+#: Attributes that make a record a :class:`~pinograsp.results.ResistanceProfile` here.
+PROFILE_FIELDS = ("plane", "angles", "directions", "magnitudes", "unbounded", "results")
+
+
+def is_record(x: object, fields: tuple[str, ...]) -> bool:
+    """Whether ``x`` has every attribute in ``fields`` (a result record of that kind)."""
+    return all(hasattr(x, f) for f in fields)
 
 
 # ---------------------------------------------------------------------------- plain data
@@ -99,9 +108,7 @@ def format_max_wrench(mw: MaxWrench, scale: float = 1.0, unit: str | None = None
     """A :class:`~pinograsp.results.MaxWrench` magnitude as text, by its status: ``unbounded``,
     ``>= upper``, ``< floor`` or the magnitude to its resolution, all divided by ``scale``
     (e.g. a normalisation reference), followed by ``unit`` when given."""
-    from .results import MaxWrench
-
-    if not isinstance(mw, MaxWrench):
+    if not is_record(mw, MAX_WRENCH_FIELDS):
         raise InvalidInputError("mw", f"expected a MaxWrench, got {type(mw).__name__}")
     scale = _real("scale", scale)
     if not (math.isfinite(scale) and scale > 0):

@@ -25,8 +25,16 @@ import numpy as np
 from .contact import writing
 from .errors import InvalidInputError, MissingDependencyError
 from .model import WRENCH_AXES
-from .results import MaxWrench, ResistanceProfile
-from .serialize import absolute_magnitudes, direction_text, wrench_unit
+from .serialize import (
+    MAX_WRENCH_FIELDS,
+    PROFILE_FIELDS,
+    MaxWrench,
+    ResistanceProfile,
+    absolute_magnitudes,
+    direction_text,
+    is_record,
+    wrench_unit,
+)
 
 #: Columns of :func:`profile_rows` (and of the profile CSV), in order. ``fx`` ... ``mz``: the
 #: unit direction; ``normalized``: magnitude / the profile's ``normalized_by`` (NaN, an empty
@@ -104,7 +112,7 @@ def profile_rows(profile: ResistanceProfile) -> list[dict[str, Any]]:
     Returns:
         ``n`` rows; ``magnitude`` [N or N·m] absolute (``inf`` where unbounded).
     """
-    if not isinstance(profile, ResistanceProfile):
+    if not is_record(profile, PROFILE_FIELDS):
         raise InvalidInputError("profile", f"expected a ResistanceProfile, got {type(profile).__name__}")
     mags = absolute_magnitudes(profile)
     ref = profile.normalized_by
@@ -134,7 +142,7 @@ def results_rows(results: Sequence[MaxWrench] | Mapping[Any, MaxWrench]) -> list
         )
     rows = []
     for key, mw in items:
-        if not isinstance(mw, MaxWrench):
+        if not is_record(mw, MAX_WRENCH_FIELDS):
             raise InvalidInputError(f"results[{key!r}]", f"expected a MaxWrench, got {type(mw).__name__}")
         row = {"key": key, **_max_wrench_row(mw), "audit_failures": len(mw.audit_failures)}
         rows.append({k: row[k] for k in RESULT_COLUMNS})
