@@ -170,8 +170,13 @@ def exact_prp(solver: PassiveSolver, loads: np.ndarray, free: np.ndarray, spec: 
             count.n += 1
             if not alone or (split and tk[0] <= 0):
                 bad.append(int(k))
+        # by homogeneity, "at any preload" = with the bounds 1e6 times larger
+        wide = {**spec, "bound": spec["bound"] * 1e6}
+        never = [k for k in bad if not _solve_program(solver, loads[k : k + 1], wide, "smallest", upper)[0]]
+        count.n += len(bad)
         why = (
             f"no preload within the bounds resists disturbance(s) {bad}"
+            + (f" ({never} not even as the preload grows large relative to them)" if never else "")
             if bad
             else "each disturbance is resisted within the bounds, but not all under one preload"
         )
