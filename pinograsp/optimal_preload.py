@@ -19,7 +19,9 @@ preload is ``min_u max_k s_k(u)`` and the best split of a budget ``B`` is
 from __future__ import annotations
 
 import itertools
+import sys
 import time
+import types
 import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -182,7 +184,9 @@ def _disturbances(model: GraspModel, disturbances: object) -> np.ndarray:
         name = f"disturbances[{i}]"
         if isinstance(item, str):
             w = wrench_direction(model, item, name)
-        elif isinstance(item, tuple) and len(item) == 2 and not np.isscalar(item[0]):
+        elif (
+            isinstance(item, tuple) and len(item) == 2 and (isinstance(item[0], str) or np.ndim(item[0]) == 1)
+        ):
             w = wrench_direction(model, item[0], name) * positive_number(f"{name} magnitude", item[1])
         else:
             w = model.wrench_vector(item, name)
@@ -317,3 +321,15 @@ def simplex_grid(n: int, divisions: int) -> list[np.ndarray]:
 
 
 __all__ = ["DisturbanceCheck", "OptimalPreload", "optimal_preload", "simplex_grid"]
+
+
+class _CallableModule(types.ModuleType):
+    """This module, callable as :func:`optimal_preload`: importing ``pinograsp.optimal_preload``
+    binds the package attribute ``pinograsp.optimal_preload`` to the module (Python's import
+    system does so after the module has run), so ``pg.optimal_preload(...)`` must work on it."""
+
+    def __call__(self, *args: object, **kwargs: object) -> OptimalPreload:
+        return optimal_preload(*args, **kwargs)  # type: ignore[arg-type]
+
+
+sys.modules[__name__].__class__ = _CallableModule
