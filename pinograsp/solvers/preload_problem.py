@@ -107,7 +107,53 @@ def build_preload_program(
         kinds += list(base.pair_kind)
         owners.append(base.pair_owner + np.where(np.arange(len(base.pairs)) < form.nc, form.nc, na) * k)
         factor.append(base.bigm_factor)
-    extra_C, extra_lo, extra_up = [], [], []
+    extra_C, extra_lo, extra_up, L, lvec = _command_rows(
+        n, fcol, acol, naux, task, objective, cost, bound, budget, t_max, weights
+    )
+    problem = Problem(
+        kind=ProblemKind.PRP,
+        L=L,
+        l=lvec,
+        A=A,
+        b=b,
+        C=np.vstack([C, *extra_C]) if extra_C else C,
+        lo=np.concatenate([lo, extra_lo]),
+        up=np.concatenate([up, extra_up]),
+        pairs=np.vstack(pairs),
+        pair_kind=tuple(kinds),
+        pair_owner=np.concatenate(owners).astype(int),
+        bigm_factor=np.vstack(factor),
+        rows=base.rows,
+        nc=form.nc * nblock,
+        na=na * nblock,
+        eq_names=tuple(
+            f"load[{k - 1}].{nm}" if k else f"preload.{nm}" for k in range(nblock) for nm in base.eq_names
+        ),
+    )
+    return PreloadProgram(
+        problem, fcol + np.arange(na), acol + np.arange(naux) if task != "smallest" else np.zeros(0, int)
+    )
+
+
+def _command_rows(
+    n: int,
+    fcol: int,
+    acol: int,
+    naux: int,
+    task: str,
+    objective: str,
+    cost: np.ndarray,
+    bound: np.ndarray,
+    budget: float,
+    t_max: float,
+    weights: np.ndarray | None,
+) -> tuple[list, list, list, np.ndarray, np.ndarray]:
+    """Rows on the commands (bounds, the max objective's epigraph, the budget), the factors'
+    bounds, and the objective ``|L z + l|^2``."""
+    na = len(cost)
+    extra_C: list = []
+    extra_lo: list = []
+    extra_up: list = []
 
     def row(cols: dict[int, float], low: float, high: float) -> None:
         r = np.zeros(n)
@@ -138,29 +184,7 @@ def build_preload_program(
             row({acol + j: 1.0}, 0.0, float(t_max))
         L[0, acol:] = wts
         lvec[0] = -float(t_max) * float(wts.sum())
-    problem = Problem(
-        kind=ProblemKind.PRP,
-        L=L,
-        l=lvec,
-        A=A,
-        b=b,
-        C=np.vstack([C, *extra_C]) if extra_C else C,
-        lo=np.concatenate([lo, extra_lo]),
-        up=np.concatenate([up, extra_up]),
-        pairs=np.vstack(pairs),
-        pair_kind=tuple(kinds),
-        pair_owner=np.concatenate(owners).astype(int),
-        bigm_factor=np.vstack(factor),
-        rows=base.rows,
-        nc=form.nc * nblock,
-        na=na * nblock,
-        eq_names=tuple(
-            f"load[{k - 1}].{nm}" if k else f"preload.{nm}" for k in range(nblock) for nm in base.eq_names
-        ),
-    )
-    return PreloadProgram(
-        problem, fcol + np.arange(na), acol + np.arange(naux) if task != "smallest" else np.zeros(0, int)
-    )
+    return extra_C, extra_lo, extra_up, L, lvec
 
 
 def _zero_data(form: Formulation) -> ScaledData:
