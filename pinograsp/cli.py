@@ -265,6 +265,7 @@ def build_parser() -> argparse.ArgumentParser:
     pl.add_argument("--grip", type=float, default=1.0, help="least normal force for least_norm [N]")
     _common(pl)
     pl.set_defaults(func=cmd_preload)
+    _add_optimal_preload(sub)
     return parser
 
 
@@ -1141,6 +1142,66 @@ def cmd_preload(args: argparse.Namespace) -> int:
         lines += [f"  {n:<24s} {f:12.6g}" for n, f in zip(scene.model.contact_names, choice.normal_forces)]
     out.print(*lines)
     out.write_json("preload.json", data)
+    out.finish(data)
+    return 0
+
+
+def _add_optimal_preload(sub: Any) -> None:
+    op = sub.add_parser(
+        "optimal-preload",
+        help="the smallest preload resisting given wrenches, or the best split of a budget",
+        description="Smallest actuator commands under which every given wrench is resisted, or "
+        "with --budget the split of a preload budget that resists the most along them "
+        "(pg.optimal_preload; docs/optimal_preload.md).",
+    )
+    op.add_argument("scene", metavar="SCENE")
+    op.add_argument(
+        "-w",
+        "--wrench",
+        action="append",
+        required=True,
+        help="a disturbance (repeatable): axis=value pairs (fx=2,mz=0.1), numbers, or a scene wrench",
+    )
+    op.add_argument("--objective", choices=("max", "sum"), default="max", help="largest or summed command")
+    op.add_argument("--budget", type=float, help="split this budget of the objective instead [N·m or N]")
+    op.add_argument("--resistance", choices=("min", "sum"), default="min", help="split: what to maximise")
+    op.add_argument("--max-command", type=float, default=1.0, help="bound of every command [N·m or N]")
+    op.add_argument("--actuators", help="comma-separated actuators to command (default: all driving)")
+    op.add_argument("--grid", type=int, help="search: simplex divisions (default by actuator count)")
+    op.add_argument("--refine", type=int, default=3, help="search: pattern-search halvings (default 3)")
+    _common(op)
+    op.set_defaults(func=cmd_optimal_preload)
+
+
+def cmd_optimal_preload(args: argparse.Namespace) -> int:
+    from .optimal_preload import optimal_preload
+
+    scene = _load(args.scene)
+    out = _Output(args)
+    method = _method(args, scene)
+    upper = args.upper if args.upper is not None else 1e3
+    _, steps = _upper_steps(args, scene)
+    wrenches = [parse_wrench(scene, w) for w in args.wrench]
+    acts = [a.strip() for a in args.actuators.split(",")] if args.actuators else None
+    result = optimal_preload(
+        scene.model,
+        wrenches,
+        method,
+        objective=args.objective,
+        budget=args.budget,
+        resistance=args.resistance,
+        max_command=args.max_command,
+        actuators=acts,
+        grid=args.grid,
+        refine=args.refine,
+        upper=upper,
+        steps=steps,
+        settings=_settings(args, scene),
+    )
+    fields = result.to_dict()
+    data = {"command": "optimal-preload", **_scene_header(scene), "preload": fields.pop("command"), **fields}
+    out.print(f"scene {scene.name!r}: {scene.description}", "", result.summary())
+    out.write_json("optimal_preload.json", data)
     out.finish(data)
     return 0
 
