@@ -1174,7 +1174,7 @@ def _add_optimal_preload(sub: Any) -> None:
 
 
 def cmd_optimal_preload(args: argparse.Namespace) -> int:
-    from .optimal_preload import optimal_preload
+    from .optimal import optimal_preload
 
     scene = _load(args.scene)
     out = _Output(args)

@@ -3,19 +3,81 @@
 :func:`exact_prp` solves the PRP's program with the commands as variables
 (:mod:`pinograsp.solvers.preload_problem`); :func:`search` is the deterministic search over
 command directions for the iterative scheme. Both return the fields of
-:class:`~pinograsp.optimal_preload.OptimalPreload` except ``method`` and ``wall_time``.
+:class:`~pinograsp.optimal.OptimalPreload` except ``method`` and ``wall_time``.
 """
 
 from __future__ import annotations
 
 import itertools
+from dataclasses import dataclass
+from typing import Literal
 
 import numpy as np
 
 from .errors import PinograspError, PreloadNotInEquilibriumError, SolverError
-from .optimal_preload import MARGIN, DisturbanceCheck, simplex_grid
 from .response import PassiveSolver
 from .solvers.base import INFEASIBLE, OPTIMAL
+
+Status = Literal["optimal", "bound_hit", "infeasible"]
+OBJECTIVES = ("max", "sum")
+RESISTANCES = ("min", "sum")
+#: Grid divisions of the command simplex by the number of chosen actuators (about 9-20 points).
+GRID = {1: 1, 2: 8, 3: 4, 4: 3}
+#: Relative margin of the PRP's exact answer: commands x (1 + MARGIN) (smallest), loads x
+#: (1 - MARGIN) (split), so that the verification is not on the boundary.
+MARGIN = 1e-6
+
+
+@dataclass(frozen=True)
+class DisturbanceCheck:
+    """One disturbance at the answer.
+
+    Attributes:
+        index: Position in the given list.
+        wrench: The wrench checked (6,) [N, N·m] (split: the disturbance x the factor reached).
+        resisted: Whether ``passive_response`` resists it under the answer.
+        status: That response's status.
+        needs_preload: False if it is resisted with zero commands.
+        limit: Largest resistible multiple of the given disturbance under the answer
+            (``inf``: unbounded; NaN: not computed).
+        margin: ``limit - 1`` for the smallest-preload task (how much larger the disturbance
+            could be), ``limit / factor - 1`` for the split.
+    """
+
+    index: int
+    wrench: np.ndarray
+    resisted: bool
+    status: str
+    needs_preload: bool
+    limit: float
+    margin: float
+
+    def to_dict(self) -> dict:
+        """Plain JSON-able dictionary (``None`` for inf/NaN)."""
+
+        def num(v: float) -> float | None:
+            return float(v) if np.isfinite(v) else None
+
+        return {
+            "index": self.index,
+            "wrench": self.wrench.tolist(),
+            "resisted": self.resisted,
+            "status": self.status,
+            "needs_preload": self.needs_preload,
+            "limit": num(self.limit),
+            "margin": num(self.margin),
+        }
+
+
+def simplex_grid(n: int, divisions: int) -> list[np.ndarray]:
+    """Points of the simplex ``{v >= 0, sum v = 1}`` in ``n`` dimensions with coordinates
+    ``i / divisions``, in a fixed (lexicographic, descending) order."""
+    pts = []
+    for comb in itertools.product(range(divisions, -1, -1), repeat=n - 1):
+        if sum(comb) <= divisions:
+            pts.append(np.array([*comb, divisions - sum(comb)], float) / divisions)
+    return pts
+
 
 #: A command at or above ``bound * (1 - BOUND_TOL)`` is at its bound.
 BOUND_TOL = 1e-9

@@ -85,7 +85,7 @@ class PreloadChoice:
         }
 
 
-def _bounds(model: GraspModel, max_command: object) -> np.ndarray:
+def command_bounds(model: GraspModel, max_command: object) -> np.ndarray:
     """Per kept actuator upper bounds (na,) from a scalar or ``{name: bound}``."""
     if isinstance(max_command, dict):
         out = np.ones(model.na)
@@ -239,7 +239,7 @@ def equilibrium_preload(
         raise InvalidInputError("model", f"expected pinograsp.GraspModel, got {type(model).__name__}")
     choice("method", method, METHODS)
     choice("objective", objective, OBJECTIVES)
-    fmax = _bounds(model, max_command)
+    fmax = command_bounds(model, max_command)
     grip = positive_number("grip", grip)
     for normal_only in (False, True):  # friction allowed first; then pressing without friction
         design = _design(model, fmax, method, objective, grip, normal_only)

@@ -10,7 +10,7 @@ import pytest
 import pinograsp as pg
 from pinograsp import analytic
 from pinograsp.cli import main
-from pinograsp.optimal_preload import simplex_grid
+from pinograsp.optimal import simplex_grid
 
 F_Y = [0.0, 3.0, 0.0]  # +Y load on the pinch [N]; closed form: tau >= F L / (2 mu) = 0.3 N·m
 

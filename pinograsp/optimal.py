@@ -18,10 +18,7 @@ preload is ``min_u max_k s_k(u)`` and the best split of a budget ``B`` is
 
 from __future__ import annotations
 
-import itertools
-import sys
 import time
-import types
 import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -32,58 +29,9 @@ import numpy as np
 from .contact import choice, positive_number, whole_number
 from .errors import AuditWarning, InvalidInputError
 from .model import GraspModel
-from .preload import _bounds
+from .optimal_search import GRID, OBJECTIVES, RESISTANCES, DisturbanceCheck, Status, simplex_grid
+from .preload import command_bounds
 from .response import METHODS, Settings, solver_for
-
-Status = Literal["optimal", "bound_hit", "infeasible"]
-OBJECTIVES = ("max", "sum")
-RESISTANCES = ("min", "sum")
-#: Grid divisions of the command simplex by the number of chosen actuators (about 9-20 points).
-GRID = {1: 1, 2: 8, 3: 4, 4: 3}
-#: Relative margin of the PRP's exact answer: commands x (1 + MARGIN) (smallest), loads x
-#: (1 - MARGIN) (split), so that the verification is not on the boundary.
-MARGIN = 1e-6
-
-
-@dataclass(frozen=True)
-class DisturbanceCheck:
-    """One disturbance at the answer.
-
-    Attributes:
-        index: Position in the given list.
-        wrench: The wrench checked (6,) [N, N·m] (split: the disturbance x the factor reached).
-        resisted: Whether ``passive_response`` resists it under the answer.
-        status: That response's status.
-        needs_preload: False if it is resisted with zero commands.
-        limit: Largest resistible multiple of the given disturbance under the answer
-            (``inf``: unbounded; NaN: not computed).
-        margin: ``limit - 1`` for the smallest-preload task (how much larger the disturbance
-            could be), ``limit / factor - 1`` for the split.
-    """
-
-    index: int
-    wrench: np.ndarray
-    resisted: bool
-    status: str
-    needs_preload: bool
-    limit: float
-    margin: float
-
-    def to_dict(self) -> dict:
-        """Plain JSON-able dictionary (``None`` for inf/NaN)."""
-
-        def num(v: float) -> float | None:
-            return float(v) if np.isfinite(v) else None
-
-        return {
-            "index": self.index,
-            "wrench": self.wrench.tolist(),
-            "resisted": self.resisted,
-            "status": self.status,
-            "needs_preload": self.needs_preload,
-            "limit": num(self.limit),
-            "margin": num(self.margin),
-        }
 
 
 @dataclass(frozen=True)
@@ -284,7 +232,7 @@ def optimal_preload(
     loads = _disturbances(model, disturbances)
     free = _free(model, actuators)
     cost = _cost(model, weights, free)
-    bound = np.where(free, _bounds(model, max_command), 0.0)
+    bound = np.where(free, command_bounds(model, max_command), 0.0)
     if budget is not None:
         budget = positive_number("budget", budget)
     dw = np.ones(len(loads))
@@ -310,26 +258,4 @@ def optimal_preload(
     return OptimalPreload(**out, method=method, wall_time=time.perf_counter() - t0)
 
 
-def simplex_grid(n: int, divisions: int) -> list[np.ndarray]:
-    """Points of the simplex ``{v >= 0, sum v = 1}`` in ``n`` dimensions with coordinates
-    ``i / divisions``, in a fixed (lexicographic, descending) order."""
-    pts = []
-    for comb in itertools.product(range(divisions, -1, -1), repeat=n - 1):
-        if sum(comb) <= divisions:
-            pts.append(np.array([*comb, divisions - sum(comb)], float) / divisions)
-    return pts
-
-
 __all__ = ["DisturbanceCheck", "OptimalPreload", "optimal_preload", "simplex_grid"]
-
-
-class _CallableModule(types.ModuleType):
-    """This module, callable as :func:`optimal_preload`: importing ``pinograsp.optimal_preload``
-    binds the package attribute ``pinograsp.optimal_preload`` to the module (Python's import
-    system does so after the module has run), so ``pg.optimal_preload(...)`` must work on it."""
-
-    def __call__(self, *args: object, **kwargs: object) -> OptimalPreload:
-        return optimal_preload(*args, **kwargs)  # type: ignore[arg-type]
-
-
-sys.modules[__name__].__class__ = _CallableModule
