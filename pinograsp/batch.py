@@ -279,20 +279,35 @@ def evaluate_grasps(
     return pd.DataFrame(table, columns=columns)
 
 
-def save_results(table: Any, path: object) -> Path:
-    """Write a batch table to ``.csv`` or ``.parquet`` (by the suffix). Returns the path.
+def output_format(path: object) -> Literal["csv", "parquet"]:
+    """The table format of ``path`` by its suffix (checked before a long batch starts).
 
     Raises:
-        InvalidInputError: Another suffix, or the path cannot be written.
+        InvalidInputError: Not a ``.csv``, ``.parquet`` or ``.pq`` path.
         MissingDependencyError: Parquet without pyarrow (``pip install "pinograsp[parquet]"``).
     """
     suffix = Path(str(path)).suffix.lower() if isinstance(path, (str, os.PathLike)) else ""
     if suffix == ".csv":
-        return writing(path, lambda p: table.to_csv(p, index=False), name="path")
+        return "csv"
     if suffix in (".parquet", ".pq"):
         try:
             import pyarrow  # noqa: F401
         except ImportError:
             raise MissingDependencyError("pyarrow", "Parquet output", extra="parquet") from None
-        return writing(path, lambda p: table.to_parquet(p, index=False), name="path")
+        return "parquet"
     raise InvalidInputError("path", f"expected a .csv or .parquet file, got {path!r}")
+
+
+def save_results(table: Any, path: object) -> Path:
+    """Write a batch table to ``.csv`` or ``.parquet`` (by the suffix; no index column).
+
+    Returns:
+        The path written (parent folders are created).
+
+    Raises:
+        InvalidInputError: Another suffix, or the path cannot be written.
+        MissingDependencyError: Parquet without pyarrow (``pip install "pinograsp[parquet]"``).
+    """
+    if output_format(path) == "csv":
+        return writing(path, lambda p: table.to_csv(p, index=False), name="path")
+    return writing(path, lambda p: table.to_parquet(p, index=False), name="path")

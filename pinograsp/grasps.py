@@ -198,7 +198,9 @@ class GraspSpec:
 
     def __post_init__(self) -> None:
         if not isinstance(self.hand, str) or not self.hand:
-            raise InvalidInputError("hand", f"expected a built-in hand name or a URDF path, got {self.hand!r}")
+            raise InvalidInputError(
+                "hand", f"expected a built-in hand name or a URDF path, got {self.hand!r}"
+            )
         obj = self.object
         if isinstance(obj, Mapping):
             obj = _object_from_mapping(obj)
