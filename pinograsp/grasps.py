@@ -337,6 +337,15 @@ def load_hand(spec: GraspSpec) -> Any:
     return _HANDS[key]
 
 
+def _with_mimics(hand: Any, pairs: tuple) -> dict[str, float]:
+    """``{joint: value}`` with each URDF mimic follower not given following its leader."""
+    q = dict(pairs)
+    for m in hand.mimics:
+        if m.leader in q and m.follower not in q:
+            q[m.follower] = m.multiplier * q[m.leader] + m.offset
+    return q
+
+
 def build_grasp(spec: GraspSpec) -> tuple[Any, dict[str, float], dict[str, float]]:
     """The grasp model and preload command of a spec.
 
@@ -359,7 +368,9 @@ def build_grasp(spec: GraspSpec) -> tuple[Any, dict[str, float], dict[str, float
     if spec.q is None:
         q = hand.close_on(obj, None if spec.q_open is None else dict(spec.q_open), step=spec.step)
     else:
-        q = hand.configuration(dict(spec.q) if spec.q and isinstance(spec.q[0], tuple) else list(spec.q))
+        q = hand.configuration(
+            _with_mimics(hand, spec.q) if spec.q and isinstance(spec.q[0], tuple) else list(spec.q)
+        )
     model = grasp_model_from_scene(hand, q, obj, mu=spec.mu, stiffness=spec.stiffness)
     t1 = time.perf_counter()
     if spec.command == "auto":
