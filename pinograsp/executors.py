@@ -206,7 +206,7 @@ def _run_dask(
         else:
             nw = worker_count(workers, os.cpu_count() or 1)
             cluster = distributed.LocalCluster(
-                n_workers=nw, threads_per_worker=1, processes=True, dashboard_address=None
+                n_workers=nw, threads_per_worker=1, processes=True, dashboard_address=":0"
             )
             owned.append(cluster)
             client = distributed.Client(cluster)
