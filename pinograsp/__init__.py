@@ -137,6 +137,22 @@ __all__ += ["SceneError", "load_scene", "Scene", "builtin_scenes"]
 _URDF_SIDE.update({"check_closing": "inspection", "ClosingCheck": "inspection", "JointClosing": "inspection"})
 __all__ += ["check_closing", "ClosingCheck", "JointClosing"]
 
+# --- batches of grasps (local processes, Ray, Dask): records, sampling, evaluation, tables.
+_URDF_SIDE.update(
+    {
+        "evaluate_grasps": "batch",
+        "WorstAxisScore": "batch",
+        "save_results": "batch",
+        "GraspSpec": "grasps",
+        "ObjectSpec": "grasps",
+        "sample_grasps": "grasps",
+        "load_grasps": "grasp_files",
+        "GraspBatch": "grasp_files",
+    }
+)
+__all__ += ["evaluate_grasps", "WorstAxisScore", "save_results", "GraspSpec", "ObjectSpec"]
+__all__ += ["sample_grasps", "load_grasps", "GraspBatch"]
+
 
 def __getattr__(name: str) -> object:
     if name in _URDF_SIDE:

@@ -8,6 +8,7 @@ Sub-commands::
     pinograsp max-wrench SCENE --direction fy|-fy|1,0,0,0,0,0|<scene direction name>
     pinograsp profile SCENE [--plane fx,fy] [-n 72] [--normalize]
     pinograsp compare-preloads SCENE [--direction NAME ...]
+    pinograsp batch GRASPS.yaml [--executor local|ray|dask] [--workers N] [--out results.parquet]
 
 ``SCENE`` is a built-in scene name (``pinograsp scenes``) or the path of a scene YAML file.
 Common options: ``--method prp|iterative``, ``--upper``, ``--steps``, ``--json`` (the result as
@@ -266,6 +267,29 @@ def build_parser() -> argparse.ArgumentParser:
     _common(pl)
     pl.set_defaults(func=cmd_preload)
     _add_optimal_preload(sub)
+
+    b = sub.add_parser(
+        "batch",
+        help="score many grasps (GRASPS.yaml) on local processes, Ray or Dask; table out",
+        description="pg.evaluate_grasps over the grasps of a GRASPS.yaml (docs/batch.md): one row per "
+        "grasp (status, score and its components, contacts, timing, error), written to --out.",
+    )
+    b.add_argument("grasps", metavar="GRASPS.yaml")
+    b.add_argument("--executor", choices=("local", "ray", "dask"), default="local")
+    b.add_argument("--workers", type=int, help="processes / Ray tasks / Dask workers (0: one per CPU)")
+    b.add_argument("--address", help="existing cluster: Ray 'auto' or ray://..., Dask tcp://host:8786")
+    b.add_argument("--out", help="results table: .parquet or .csv (default: print a summary only)")
+    b.add_argument("--upper", type=float, help="score search limit [N] (default: the file's score block)")
+    b.add_argument("--steps", type=int, help="score search steps (default: the file's score block)")
+    b.add_argument("--method", choices=("prp", "iterative"), help="score method (default: the file's)")
+    b.add_argument(
+        "--progress",
+        action=argparse.BooleanOptionalAction,
+        default=None,
+        help="progress bar with ETA on stderr (default: when stderr is a terminal)",
+    )
+    b.add_argument("--debug", action="store_true", default=argparse.SUPPRESS, help="show full tracebacks")
+    b.set_defaults(func=cmd_batch)
     return parser
 
 
@@ -1203,6 +1227,46 @@ def cmd_optimal_preload(args: argparse.Namespace) -> int:
     out.print(f"scene {scene.name!r}: {scene.description}", "", result.summary())
     out.write_json("optimal_preload.json", data)
     out.finish(data)
+    return 0
+
+
+def cmd_batch(args: argparse.Namespace) -> int:
+    from .batch import WorstAxisScore, evaluate_grasps, output_format, save_results
+    from .grasp_files import load_grasps
+
+    if args.out:
+        try:
+            output_format(args.out)
+        except InvalidInputError as exc:
+            raise InvalidInputError("--out", str(exc).split(": ", 1)[-1]) from None
+    batch = load_grasps(args.grasps)
+    options = dict(batch.score)
+    for key in ("upper", "steps", "method"):
+        if getattr(args, key) is not None:
+            options[key] = getattr(args, key)
+    score = WorstAxisScore(**options)
+    bar = ProgressBar(f"batch {args.executor}", enabled=_progress_enabled(args))
+    t0 = time.perf_counter()
+    try:
+        table = evaluate_grasps(
+            list(batch.grasps), score=score, executor=args.executor, workers=args.workers,
+            address=args.address, progress=bar,
+        )  # fmt: skip
+    finally:
+        bar.close()
+    wall = time.perf_counter() - t0
+    ok = table[table["status"] == "ok"]
+    lines = [f"{len(table)} grasps from {args.grasps}: {len(ok)} ok, {len(table) - len(ok)} errors "
+             f"({wall:.1f} s, {len(table) / wall:.2f} grasps/s, executor {args.executor})"]  # fmt: skip
+    for kind, n in table.loc[table["status"] == "error", "error_type"].value_counts().items():
+        lines.append(f"  error {kind}: {n}")
+    if len(ok) and "score" in ok:
+        q = ok["score"].quantile([0.0, 0.5, 1.0]).tolist()
+        lines.append(f"score [N] (worst axis, {score.method}, upper {score.upper:g}, steps {score.steps}): "
+                     f"min {q[0]:.4g}, median {q[1]:.4g}, max {q[2]:.4g}")  # fmt: skip
+    if args.out:
+        lines.append(f"wrote {save_results(table, args.out)}")
+    print("\n".join(lines))
     return 0
 
 
