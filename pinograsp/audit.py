@@ -148,7 +148,9 @@ def friction_use(
     out = np.full(len(cf), np.nan)
     for i, (f, m, t) in enumerate(zip(cf, mu, touching)):
         if t and f[0] > floor:
-            out[i] = float(np.linalg.norm(f[1:])) / (m * f[0])
+            ct = float(np.linalg.norm(f[1:]))
+            # a frictionless contact uses none (its tangential force is zero up to rounding)
+            out[i] = ct / (m * f[0]) if m > 0 else (0.0 if ct <= floor else np.inf)
     return out
 
 
