@@ -38,6 +38,13 @@ _LAZY = {
     "passive_response": "response",
     "solver_for": "response",
     "available_miqp_solvers": "solvers",
+    "plane_directions": "analysis",
+    "resistance_set": "resistance_set",
+    "ResistanceSet": "resistance_set",
+    "sphere_points": "resistance_set",
+    "grasp_score": "metrics",
+    "GraspScore": "metrics",
+    "ferrari_canny": "metrics",
 }
 
 __version__ = "0.1.0"
@@ -113,6 +120,7 @@ _URDF_SIDE.update(
         "plot_profile": "plots",
         "plot_preload_comparison": "plots",
         "plot_force_comparison": "plots",
+        "plot_resistance_set": "set_plots",
         "save_figure": "plots",
         "scene_figure": "viewer",
         "save_html": "viewer",
