@@ -20,7 +20,7 @@ import numpy as np
 from .contact import finite_array, positive_number
 from .errors import InvalidInputError
 from .model import GraspModel
-from .resistance_set import ResistanceSet, resistance_set
+from .rset import ResistanceSet, resistance_set
 from .serialize import format_magnitude, jsonable
 
 #: How a :class:`GraspScore` was defined.
@@ -74,7 +74,7 @@ class GraspScore:
         kind: :data:`ScoreKind`.
         quantile: The quantile used (``0`` for ``"worst"``; ``None`` for ``"disturbances"``).
         definition: The definition in one sentence.
-        rset: The :class:`~pinograsp.resistance_set.ResistanceSet` it was computed from.
+        rset: The :class:`~pinograsp.rset.ResistanceSet` it was computed from.
         ferrari_canny: :func:`ferrari_canny` of the same contacts with the same ``length``.
         length: Characteristic length [m].
     """
