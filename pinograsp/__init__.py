@@ -45,6 +45,7 @@ _LAZY = {
     "grasp_score": "metrics",
     "GraspScore": "metrics",
     "ferrari_canny": "metrics",
+    "hull_reach": "metrics",
 }
 
 __version__ = "0.1.0"

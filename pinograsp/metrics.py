@@ -62,6 +62,36 @@ def ferrari_canny(model: GraspModel, length: float | None = None) -> float:
     return max(eps, 0.0)
 
 
+def hull_reach(model: GraspModel, points: object, length: float | None = None) -> np.ndarray:
+    """Per-direction Ferrari–Canny: how far the hull of :func:`primitive_wrenches` reaches along
+    each unit direction ``u`` of the scaled wrench space ``(f, tau / length)`` [N per N of total
+    normal force], (n,). Its minimum over all directions is :func:`ferrari_canny`.
+
+    Args:
+        points: Unit directions in the scaled space, (n, 6) (e.g. ``ResistanceSet.sphere``; the
+            planar components are taken for planar models).
+        length: As :func:`ferrari_canny`.
+    """
+    from scipy.spatial import ConvexHull, QhullError
+
+    u = np.asarray(points, dtype=float)
+    u = finite_array("points", u, (u.size // 6, 6)) if u.ndim == 2 and u.shape[1] == 6 else None
+    if u is None:
+        raise InvalidInputError("points", f"expected an array of shape (n, 6), got {points!r}")
+    u = u[:, [0, 1, 5]] if model.planar else u
+    W = primitive_wrenches(model, length)
+    if W.shape[0] <= W.shape[1] or np.linalg.matrix_rank(W) < W.shape[1]:
+        return np.zeros(len(u))
+    try:
+        eq = ConvexHull(W).equations
+    except QhullError:
+        return np.zeros(len(u))
+    dots = u @ eq[:, :-1].T  # (n, facets)
+    with np.errstate(divide="ignore"):
+        t = np.where(dots > 1e-15, -eq[:, -1][None, :] / dots, np.inf)
+    return np.maximum(t.min(axis=1), 0.0)
+
+
 @dataclass(frozen=True, repr=False)
 class GraspScore:
     """A passive-resistance score and the set it came from.

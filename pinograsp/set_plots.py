@@ -48,7 +48,8 @@ def _draw_map(ax: Any, lon: np.ndarray, lat_or_y: np.ndarray, size: np.ndarray, 
         lon[fin], lat_or_y[fin], c=rs.scaled[fin], s=size[fin], cmap="viridis", norm=norm, edgecolors="none"
     )
     m = s == "unbounded"
-    ax.scatter(lon[m], lat_or_y[m], marker="x", c="k", s=np.maximum(size[m], 40.0), linewidths=1.0, gid=GID_UNBOUNDED)
+    big = np.maximum(size[m], 40.0)
+    ax.scatter(lon[m], lat_or_y[m], marker="x", c="k", s=big, linewidths=1.0, gid=GID_UNBOUNDED)
     m = s == "below_resolution"
     ax.scatter(lon[m], lat_or_y[m], marker="o", facecolors="none", edgecolors="red", s=size[m] * 1.5)
     ax.collections[-1].set_gid(GID_NOT_RESISTIBLE)

@@ -190,3 +190,13 @@ def test_plot_resistance_set(rset):
     assert any(c.get_gid() == GID_UNBOUNDED for ax in fig.axes for c in ax.collections)
     with pytest.raises(pg.InvalidInputError, match="rset"):
         pg.plot_resistance_set("nope")
+
+
+def test_hull_reach_is_directional_ferrari_canny(pinch):
+    u = np.zeros((400, 6))
+    u[:, [0, 1, 5]] = pg.sphere_points(400, 3, seed=1)
+    reach = pg.hull_reach(pinch, u)
+    eps = pg.ferrari_canny(pinch)
+    assert reach.min() >= eps - 1e-12 and reach.min() < 1.01 * eps
+    # along +X the unit normal force of one contact is the farthest point: reach exactly 1
+    assert pg.hull_reach(pinch, [[1.0, 0, 0, 0, 0, 0]])[0] == pytest.approx(1.0)
