@@ -20,7 +20,7 @@ import numpy as np
 from .contact import finite_array, positive_number
 from .errors import InvalidInputError
 from .model import GraspModel
-from .rset import ResistanceSet, resistance_set
+from .rset import ResistanceSet, resistance_set, wrench_rows
 from .serialize import format_magnitude, jsonable
 
 #: How a :class:`GraspScore` was defined.
@@ -74,10 +74,13 @@ def hull_reach(model: GraspModel, points: object, length: float | None = None) -
     """
     from scipy.spatial import ConvexHull, QhullError
 
-    u = np.asarray(points, dtype=float)
-    u = finite_array("points", u, (u.size // 6, 6)) if u.ndim == 2 and u.shape[1] == 6 else None
-    if u is None:
+    try:
+        u = None if isinstance(points, (str, bytes)) else np.array(points, dtype=float)
+    except (TypeError, ValueError, OverflowError):
+        u = None
+    if u is None or u.ndim != 2 or u.shape[1] != 6:
         raise InvalidInputError("points", f"expected an array of shape (n, 6), got {points!r}")
+    u = finite_array("points", u, u.shape)
     u = u[:, [0, 1, 5]] if model.planar else u
     W = primitive_wrenches(model, length)
     if W.shape[0] <= W.shape[1] or np.linalg.matrix_rank(W) < W.shape[1]:
@@ -202,13 +205,7 @@ def grasp_score(
         raise InvalidInputError("quantile", f"must be in [0, 1), got {quantile!r}")
     kw = dict(method=method, length=length, workers=workers, upper=upper, steps=steps, settings=settings)
     if disturbances is not None:
-        arr = np.asarray(disturbances, dtype=float) if not isinstance(disturbances, str) else None
-        if arr is None or arr.ndim != 2 or arr.shape[0] < 1:
-            raise InvalidInputError(
-                "disturbances", f"expected an array of shape (k, 6), got {disturbances!r}"
-            )
-        arr = finite_array("disturbances", arr, arr.shape)
-        loads = np.array([model.wrench_vector(w, f"disturbances[{i}]") for i, w in enumerate(arr)])
+        loads = wrench_rows(model, disturbances, "disturbances")
         if np.any(np.abs(loads).max(axis=1) == 0):
             raise InvalidInputError("disturbances", "contains a zero wrench")
         rset = resistance_set(model, command, directions=loads, **kw, **overrides)

@@ -37,6 +37,8 @@ DirectionStatus = Literal["finite", "unbounded", "above_limit", "below_resolutio
 #: Direction classes of the summary: resisted up to a finite limit (``finite``, ``above_limit``),
 #: without bound, not resistible at all (``below_resolution``), or failed.
 CLASSES = ("finite", "unbounded", "not_resistible", "failed")
+#: Largest number of sphere directions (the repulsion is O(n²) per step).
+MAX_DIRECTIONS = 10_000
 #: Quantiles reported by :meth:`ResistanceSet.summary` and ``to_dict``.
 QUANTILES = (0.05, 0.25, 0.5)
 CSV_COLUMNS = ("index", "label", "fx", "fy", "fz", "mx", "my", "mz", "u1", "u2", "u3", "u4", "u5", "u6")
@@ -52,16 +54,15 @@ def sphere_points(n: int, dim: int, seed: int = 0, iterations: int = 40) -> np.n
     Deterministic: the same arguments give the same bits.
     """
     n, dim = whole_number("n", n), whole_number("dim", dim, 2)
+    if n > MAX_DIRECTIONS:
+        raise InvalidInputError("n", f"at most {MAX_DIRECTIONS} directions, got {n}")
     x = np.random.default_rng(whole_number("seed", seed, 0)).standard_normal((n, dim))
     x /= np.linalg.norm(x, axis=1, keepdims=True)
     if n < 2:
         return x
     spacing = (2.0 * np.pi ** (dim / 2) / _gamma(dim / 2) / n) ** (1.0 / (dim - 1))
     for it in range(iterations):
-        diff = x[:, None, :] - x[None, :, :]
-        r2 = np.einsum("ijk,ijk->ij", diff, diff)
-        np.fill_diagonal(r2, np.inf)
-        force = np.einsum("ij,ijk->ik", np.maximum(r2, 1e-12) ** (-(dim + 2) / 2.0), diff)
+        force = np.vstack([_repulsion(x[i : i + 256], x, i, dim) for i in range(0, n, 256)])
         force -= np.sum(force * x, axis=1, keepdims=True) * x  # tangential part
         big = np.linalg.norm(force, axis=1).max()
         if not big > 0:
@@ -69,6 +70,14 @@ def sphere_points(n: int, dim: int, seed: int = 0, iterations: int = 40) -> np.n
         x = x + (0.5 * spacing * (1.0 - it / iterations) / big) * force
         x /= np.linalg.norm(x, axis=1, keepdims=True)
     return x
+
+
+def _repulsion(rows: np.ndarray, x: np.ndarray, first: int, dim: int) -> np.ndarray:
+    """Riesz force ``sum_j (x_i - x_j) / |x_i - x_j|^(dim+2)`` on a block of rows (bounded memory)."""
+    diff = rows[:, None, :] - x[None, :, :]
+    r2 = np.einsum("ijk,ijk->ij", diff, diff)
+    r2[np.arange(len(rows)), first + np.arange(len(rows))] = np.inf
+    return np.einsum("ij,ijk->ik", np.maximum(r2, 1e-12) ** (-(dim + 2) / 2.0), diff)
 
 
 def _gamma(z: float) -> float:
@@ -311,6 +320,19 @@ class _PlaneModel:
         return GraspModel.wrench_vector(self, wrench, name)  # type: ignore[arg-type]
 
 
+def wrench_rows(model: GraspModel, value: object, name: str) -> np.ndarray:
+    """``value`` as validated full wrench 6-vectors, (k, 6) (planar models also take (k, 3));
+    anything else is an :class:`InvalidInputError` naming ``name``."""
+    try:
+        arr = None if isinstance(value, (str, bytes)) else np.array(value, dtype=float)
+    except (TypeError, ValueError, OverflowError):
+        arr = None
+    if arr is None or arr.ndim != 2 or arr.shape[0] < 1:
+        raise InvalidInputError(name, f"expected an array of shape (k, 6), got {value!r}")
+    arr = finite_array(name, arr, arr.shape)
+    return np.array([model.wrench_vector(w, f"{name}[{i}]") for i, w in enumerate(arr)])
+
+
 def _sphere_directions(model: GraspModel, n: int, seed: int, length: float) -> tuple[np.ndarray, np.ndarray]:
     """Raw wrenches ``(u_f, length * u_t)``, (n, 6), of :func:`sphere_points` in the model's space."""
     u = sphere_points(n, model.nw, seed)
@@ -368,11 +390,7 @@ def resistance_set(
         raw, _ = _sphere_directions(model, whole_number("n", 500 if n is None else n), seed, length)
         seed_used: int | None = whole_number("seed", seed, 0)
     else:
-        arr = np.asarray(directions, dtype=float) if not isinstance(directions, str) else None
-        if arr is None or arr.ndim != 2 or arr.shape[0] < 1:
-            raise InvalidInputError("directions", f"expected an array of shape (k, 6), got {directions!r}")
-        arr = finite_array("directions", arr, arr.shape)
-        raw = np.array([model.wrench_vector(w, f"directions[{i}]") for i, w in enumerate(arr)])
+        raw = wrench_rows(model, directions, "directions")
         seed_used = None
     dirs = np.array([wrench_direction(model, w, f"directions[{i}]") for i, w in enumerate(raw)])
     with single_threaded_blas():  # as every public query: one BLAS thread, one reduction order
