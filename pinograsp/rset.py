@@ -211,8 +211,6 @@ class ResistanceSet:
 
     def summary(self) -> str:
         """Classes, the worst direction, quantiles of ``scaled`` [N], fraction unbounded, timing."""
-        from .serialize import format_max_wrench  # noqa: F401  (same text conventions)
-
         n, c = self.n, self.classes()
         res = self.resolution()
         dim = 3 if np.allclose(self.directions[:, [2, 3, 4]], 0.0) else 6
