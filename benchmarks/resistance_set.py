@@ -91,11 +91,21 @@ direction), preload from the scene. Definitions of the set, the scaled magnitude
 DOC_TAIL = """
 ![case 1: resistance set](img/resistance_set_case1.png)
 
-The goal was <= 60 s for 500 iterative directions on this machine. The time per direction is
-that of `pg.max_resistible_wrench` (a grid-snapped secant search per direction, 20 steps);
-directions do not share work across processes, so the total scales with n / workers. For quick
-rankings use fewer directions (n = 100–200: the 5 % quantile is then the 5th–10th smallest) or
-fewer steps (`steps=12`: resolution 0.012 N at `upper` 50).
+The goal was <= 60 s for 500 iterative directions on this machine: **not met** with the scenes'
+20 steps — case 1 takes 104 s (2 workers, 0.33 s median per direction per worker; 209 s in an
+earlier run while other jobs loaded the machine), case 2 about 380 s (extrapolated from 100
+directions; its directions take about 4 times longer). The time per direction is that of
+`pg.max_resistible_wrench` (a grid-snapped secant search, ~80 complementarity solves on case 1);
+directions share no work (ordering them along a nearest-neighbour chain changed nothing:
+29.5 s vs 28.6 s for 80 directions), so the total scales with n / workers. Two runs gave the same
+classes and quantiles (same seed, same bits).
+
+Coarser searches are the lever: measured separately on case 1 (100 directions, 2 workers),
+`steps=20`: 24.2 s, `steps=12`: 10.9 s (2.2× faster; about 55 s for 500 directions), 5 %
+quantile 0.658 N vs 0.615 N — the resolution along a direction is `upper / 2**steps` (0.012 N at
+`upper` 50), i.e. up to `upper / 2**steps / L` ≈ 0.14 N in the scaled norm for torque-heavy
+directions. Fewer directions (n = 100–200: the 5 % quantile is then the 5th–10th smallest value)
+scale linearly.
 """
 
 
