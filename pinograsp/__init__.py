@@ -41,6 +41,14 @@ _LAZY = {
     "passive_response": "response",
     "solver_for": "response",
     "available_miqp_solvers": "solvers",
+    "plane_directions": "analysis",
+    "resistance_set": "rset",
+    "ResistanceSet": "rset",
+    "sphere_points": "rset",
+    "grasp_score": "metrics",
+    "GraspScore": "metrics",
+    "ferrari_canny": "metrics",
+    "hull_reach": "metrics",
 }
 
 __version__ = "0.1.0"
@@ -119,6 +127,7 @@ _URDF_SIDE.update(
         "plot_profile": "plots",
         "plot_preload_comparison": "plots",
         "plot_force_comparison": "plots",
+        "plot_resistance_set": "set_plots",
         "save_figure": "plots",
         "scene_figure": "viewer",
         "save_html": "viewer",

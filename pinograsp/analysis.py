@@ -279,25 +279,38 @@ def _worker_count(workers: int | None, n: int) -> int:
     return max(1, min(w, n))
 
 
+#: A direction whose query raised a :class:`~pinograsp.errors.SolverError` (``run_directions``
+#: with ``catch=True``): ``(index, message, status)``.
+DirectionFailure = tuple[int, str, str]
+
+
 def _directions_block(
-    args: tuple[GraspModel, object, np.ndarray, str, float, int, Settings, str],
-) -> list[MaxWrench]:
-    """Worker: max resistible wrench along each of a block of directions."""
-    model, command, dirs, method, upper, steps, settings, search = args
-    return [
-        max_resistible_wrench(
-            model,
-            command,
-            d,
-            method,
-            upper,
-            steps,
-            settings=settings,
-            check_preload_first=False,
-            search=search,
-        )
-        for d in dirs
-    ]
+    args: tuple[GraspModel, object, np.ndarray, str, float, int, Settings, str, bool],
+) -> list[MaxWrench | tuple[str, str]]:
+    """Worker: max resistible wrench along each of a block of directions (with ``catch``, a
+    direction whose query raises a SolverError gives ``(message, status)`` instead)."""
+    model, command, dirs, method, upper, steps, settings, search, catch = args
+    out: list[MaxWrench | tuple[str, str]] = []
+    for d in dirs:
+        try:
+            out.append(
+                max_resistible_wrench(
+                    model,
+                    command,
+                    d,
+                    method,
+                    upper,
+                    steps,
+                    settings=settings,
+                    check_preload_first=False,
+                    search=search,
+                )
+            )
+        except SolverError as exc:
+            if not catch:
+                raise
+            out.append((" ".join(str(exc).split()), str(exc.status or "failed")))
+    return out
 
 
 def _parallel_directions(
@@ -311,25 +324,24 @@ def _parallel_directions(
     workers: int,
     progress: Callable[[int, int], None] | None,
     search: str = "bisection",
-) -> list[MaxWrench]:
+    catch: bool = False,
+) -> list[MaxWrench | tuple[str, str]]:
     """Directions in a process pool, in contiguous blocks (warm starts within a block)."""
     import multiprocessing as mp
-    from concurrent.futures import ProcessPoolExecutor
+    from concurrent.futures import ProcessPoolExecutor, as_completed
 
     nblocks = min(len(dirs), 4 * workers)
     blocks = [b for b in np.array_split(np.arange(len(dirs)), nblocks) if len(b)]
     ctx = mp.get_context("fork" if "fork" in mp.get_all_start_methods() else "spawn")
-    out: list[MaxWrench | None] = [None] * len(dirs)
+    out: list[MaxWrench | tuple[str, str] | None] = [None] * len(dirs)
     done = 0
     with ProcessPoolExecutor(max_workers=workers, mp_context=ctx) as pool:
         futures = {
             pool.submit(
-                _directions_block, (model, command, dirs[b], method, upper, steps, settings, search)
+                _directions_block, (model, command, dirs[b], method, upper, steps, settings, search, catch)
             ): b
             for b in blocks
         }
-        from concurrent.futures import as_completed
-
         for fut in as_completed(futures):
             b = futures[fut]
             for i, r in zip(b, fut.result()):
@@ -338,6 +350,52 @@ def _parallel_directions(
             if progress is not None:
                 progress(done, len(dirs))
     return out  # type: ignore[return-value]
+
+
+def run_directions(
+    model: GraspModel,
+    command: object,
+    dirs: np.ndarray,
+    method: str,
+    upper: float,
+    steps: int,
+    settings: Settings,
+    *,
+    workers: int | None = None,
+    progress: Callable[[int, int], None] | None = None,
+    search: str = "auto",
+    catch: bool = False,
+) -> tuple[list[MaxWrench | None], list[DirectionFailure]]:
+    """Max resistible wrench along many directions: the machinery of :func:`resistance_profile`
+    and :func:`pinograsp.resistance_set` (the preload is *not* checked here).
+
+    Args:
+        dirs: Wrench directions, (k, 6) (each normalised by :func:`max_resistible_wrench`).
+        workers: Process-pool size (``0``: one per CPU; ``None``/``1``: in this process).
+        catch: Record a direction whose query raises a :class:`SolverError` as a failure
+            (its result is ``None``) instead of raising.
+        Other arguments: as :func:`max_resistible_wrench`.
+
+    Returns:
+        ``(results, failures)``: one :class:`MaxWrench` (or ``None`` for a failure) per
+        direction, in order, and the failures as ``(index, message, status)``.
+    """
+    nw = _worker_count(workers, len(dirs))
+    if nw > 1:
+        raw = _parallel_directions(
+            model, command, dirs, method, upper, steps, settings, nw, progress, search, catch
+        )
+    else:
+        raw = []
+        for i, d in enumerate(dirs):
+            raw += _directions_block(
+                (model, command, d[None, :], method, upper, steps, settings, search, catch)
+            )
+            if progress is not None:
+                progress(i + 1, len(dirs))
+    results = [r if isinstance(r, MaxWrench) else None for r in raw]
+    failures = [(i, r[0], r[1]) for i, r in enumerate(raw) if not isinstance(r, MaxWrench)]
+    return results, failures
 
 
 def _plane_basis(model: GraspModel, plane: Sequence[object]) -> tuple[np.ndarray, tuple[str, str]]:
@@ -357,6 +415,20 @@ def _plane_basis(model: GraspModel, plane: Sequence[object]) -> tuple[np.ndarray
         raise InvalidInputError("plane", "the two directions are parallel")
     labels = tuple(p if isinstance(p, str) else f"d{i}" for i, p in enumerate(plane))
     return np.vstack([b[0], b2 / np.linalg.norm(b2)]), labels  # type: ignore[return-value]
+
+
+def _plane_directions(basis: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Angles ``2πi/n`` [rad], (n,), and directions ``cos(a) b1 + sin(a) b2``, (n, 6)."""
+    angles = 2.0 * np.pi * np.arange(int(n)) / int(n)
+    return angles, np.cos(angles)[:, None] * basis[0] + np.sin(angles)[:, None] * basis[1]
+
+
+def plane_directions(model: GraspModel, plane: Sequence[object] = ("fx", "fy"), n: int = 72) -> np.ndarray:
+    """The ``n`` directions of :func:`resistance_profile` in ``plane``, (n, 6): bit-identical
+    to ``resistance_profile(...).directions`` (e.g. for ``pg.resistance_set(directions=...)``)."""
+    n = whole_number("n", n)
+    basis, _ = _plane_basis(model, plane)
+    return _plane_directions(basis, n)[1]
 
 
 @single_threaded
@@ -398,20 +470,19 @@ def resistance_profile(
     basis, labels = _plane_basis(model, plane)
     solver = solver_for(model, settings, **overrides)
     check_preload(solver, command, choice("method", method, METHODS))
-    angles = 2.0 * np.pi * np.arange(int(n)) / int(n)
-    dirs = np.cos(angles)[:, None] * basis[0] + np.sin(angles)[:, None] * basis[1]
-    nw = _worker_count(workers, len(dirs))
-    if nw > 1:
-        results = _parallel_directions(
-            model, command, dirs, method, upper, steps, solver.settings, nw, progress, search
-        )
-    else:
-        results = []
-        for i, d in enumerate(dirs):
-            block = (model, command, d[None, :], method, upper, steps, solver.settings, search)
-            results += _directions_block(block)
-            if progress is not None:
-                progress(i + 1, len(dirs))
+    angles, dirs = _plane_directions(basis, n)
+    results, _ = run_directions(
+        model,
+        command,
+        dirs,
+        method,
+        upper,
+        steps,
+        solver.settings,
+        workers=workers,
+        progress=progress,
+        search=search,
+    )
     mags = np.array([r.magnitude for r in results])
     unb = np.array([r.unbounded for r in results])
     norm_by = None

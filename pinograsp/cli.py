@@ -9,6 +9,7 @@ Sub-commands::
     pinograsp profile SCENE [--plane fx,fy] [-n 72] [--normalize]
     pinograsp compare-preloads SCENE [--direction NAME ...]
     pinograsp batch GRASPS.yaml [--executor local|ray|dask] [--workers N] [--out results.parquet]
+    pinograsp resistance-set SCENE [-n 500] [--csv FILE]
 
 ``SCENE`` is a built-in scene name (``pinograsp scenes``) or the path of a scene YAML file.
 Common options: ``--method prp|iterative``, ``--upper``, ``--steps``, ``--json`` (the result as
@@ -253,6 +254,23 @@ def build_parser() -> argparse.ArgumentParser:
     c.add_argument("--preloads", help="comma-separated preload names (default: all of the scene's)")
     _common(c)
     c.set_defaults(func=cmd_compare_preloads)
+
+    rs = sub.add_parser(
+        "resistance-set",
+        help="max resistible magnitude over n directions spread evenly on the unit wrench sphere",
+        description="Resistance set: max resistible magnitude over n directions spread evenly on the "
+        "unit wrench sphere (torques scaled by the grasp's length scale), its quantiles and worst "
+        "direction, and the Ferrari-Canny epsilon of the same contacts (docs/metrics.md).",
+    )
+    rs.add_argument("scene", metavar="SCENE")
+    rs.add_argument("-n", type=int, default=500, help="number of directions (default 500)")
+    rs.add_argument("--seed", type=int, default=0, help="seed of the directions (default 0)")
+    rs.add_argument("--length", type=float, help="length scaling torques [m] (default: the grasp's own)")
+    rs.add_argument("--preload", help="one of the scene's named preloads (default: the scene's preload)")
+    rs.add_argument("--csv", metavar="FILE", help="also write one CSV row per direction")
+    _common(rs)
+    _progress_options(rs)
+    rs.set_defaults(func=cmd_resistance_set)
 
     pl = sub.add_parser(
         "preload",
@@ -1226,6 +1244,61 @@ def cmd_optimal_preload(args: argparse.Namespace) -> int:
     data = {"command": "optimal-preload", **_scene_header(scene), "preload": fields.pop("command"), **fields}
     out.print(f"scene {scene.name!r}: {scene.description}", "", result.summary())
     out.write_json("optimal_preload.json", data)
+    out.finish(data)
+    return 0
+
+
+def cmd_resistance_set(args: argparse.Namespace) -> int:
+    from .metrics import ferrari_canny
+    from .rset import resistance_set
+
+    scene = _load(args.scene)
+    if args.n < 1:
+        raise InvalidInputError("-n", f"must be >= 1, got {args.n}")
+    out = _Output(args)
+    command, preload_name = _command(args, scene)
+    method = _method(args, scene)
+    upper, steps = _upper_steps(args, scene)
+    workers = getattr(args, "workers", None)
+    if workers is not None and workers < 0:
+        raise InvalidInputError("--workers", f"must be >= 0 (0: one per CPU), got {workers}")
+    bar = ProgressBar(f"{scene.name} {method}", enabled=_progress_enabled(args))
+    try:
+        rset = resistance_set(
+            scene.model, command, args.n, method, args.length, args.seed, workers, upper, steps,
+            _settings(args, scene), progress=bar,
+        )  # fmt: skip
+    finally:
+        bar.close()
+    eps = ferrari_canny(scene.model, rset.length)
+    data = {
+        "command": "resistance-set",
+        **_scene_header(scene),
+        "preload": command,
+        "preload_name": preload_name,
+        "ferrari_canny": eps,
+        **rset.to_dict(),
+    }
+    out.print(
+        f"scene {scene.name!r}: {scene.description}",
+        f"preload: {', '.join(f'{k}={v:g}' for k, v in command.items())}"
+        + (f" ({preload_name})" if preload_name else ""),
+        "",
+        rset.summary(),
+        f"Ferrari-Canny epsilon of the same contacts: {eps:.4g}",
+    )
+    if args.csv is not None:
+        out.written.append(rset.to_csv(args.csv, name="--csv"))
+    out.write_json("resistance_set.json", data)
+
+    def draw(path: Path) -> None:
+        from .plots import save_figure
+        from .set_plots import plot_resistance_set
+
+        fig = plot_resistance_set(rset, title=f"{scene.name}: resistance set ({method})")
+        save_figure(fig, path, close=True)
+
+    out.figure("resistance_set.png", draw)
     out.finish(data)
     return 0
 

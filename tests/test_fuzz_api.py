@@ -251,3 +251,26 @@ def test_fuzz_hand_and_mesh_loaders(name, path, description):
     expect_pinograsp_error(pg.Hand.builtin, name)
     expect_pinograsp_error(pg.Hand.from_urdf, path, description)
     expect_pinograsp_error(pg.RigidObject.from_mesh, path)
+
+
+@FAST
+@given(
+    n=small_n,
+    method=methods,
+    length=st.one_of(st.none(), st.floats(0.01, 1.0), scalars),
+    seed=st.one_of(st.integers(0, 5), scalars),
+    directions=st.one_of(st.none(), vec(3), st.lists(vec(3), min_size=1, max_size=2), junk),
+    quantile=st.one_of(st.floats(0.0, 0.99), scalars),
+)
+def test_fuzz_resistance_set_and_score(pinch, n, method, length, seed, directions, quantile):
+    s = expect_pinograsp_error(
+        pg.resistance_set, pinch, 1.0, n, method, length, seed, upper=20.0, steps=4, directions=directions
+    )
+    if s is not None:
+        assert s.directions.shape == (s.n, 6) and len(s.statuses) == s.n
+        assert all(st_ in ("finite", "unbounded", "above_limit", "below_resolution") for st_ in s.statuses)
+    g = expect_pinograsp_error(pg.grasp_score, pinch, 1.0, n=n, quantile=quantile, length=length, steps=3)
+    if g is not None:
+        assert g.value >= 0 and g.ferrari_canny == pytest.approx(pg.ferrari_canny(pinch, g.length))
+    e = expect_pinograsp_error(pg.ferrari_canny, pinch, length)
+    assert e is None or e >= 0
