@@ -198,6 +198,21 @@ def _limits(
     return np.array(out)
 
 
+def _infeasible(bad: list, why: str, n_solves: int, common: dict) -> dict:
+    """The fields of an infeasible :class:`~pinograsp.optimal.OptimalPreload`."""
+    return dict(
+        status="infeasible",
+        command=None,
+        value=float("nan"),
+        bound=(),
+        infeasible=tuple(bad),
+        checks=(),
+        reason=why,
+        n_solves=n_solves,
+        **common,
+    )
+
+
 def exact_prp(solver: PassiveSolver, loads: np.ndarray, free: np.ndarray, spec: dict, upper: float) -> dict:
     """The PRP's exact answer (module docstring of :mod:`pinograsp.solvers.preload_problem`)."""
     count = _Count()
@@ -242,17 +257,7 @@ def exact_prp(solver: PassiveSolver, loads: np.ndarray, free: np.ndarray, spec: 
             if bad
             else "each disturbance is resisted within the bounds, but not all under one preload"
         )
-        return dict(
-            status="infeasible",
-            command=None,
-            value=float("nan"),
-            bound=(),
-            infeasible=tuple(bad),
-            checks=(),
-            reason=why,
-            n_solves=count.n,
-            **common,
-        )
+        return _infeasible(bad, why, count.n, common)
     if split:
         factors = np.full(len(loads), t[0]) if spec["resistance"] == "min" else t.copy()
         value = float(t[0] if spec["resistance"] == "min" else spec["dw"] @ t)
@@ -414,17 +419,7 @@ def _search_answer(solver, method, loads, needs, spec, free, best, evaluated, co
             f"disturbance(s) {bad} not resisted within the bounds at any command direction tried"
             + (f" ({never} not even as the preload grows large relative to them)" if never else "")
         )  # fmt: skip
-        return dict(
-            status="infeasible",
-            command=None,
-            value=float("nan"),
-            bound=(),
-            infeasible=tuple(bad),
-            checks=(),
-            reason=why,
-            n_solves=count.n,
-            **common,
-        )
+        return _infeasible(bad, why, count.n, common)
     u = best["u"]
     if spec["budget"] is None:
         f = best["need"] * u
