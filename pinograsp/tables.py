@@ -36,15 +36,8 @@ from .serialize import (
     wrench_unit,
 )
 
-#: Columns of :func:`profile_rows` (and of the profile CSV), in order. ``fx`` ... ``mz``: the
-#: unit direction; ``normalized``: magnitude / the profile's ``normalized_by`` (NaN, an empty
-#: CSV cell, when the profile is not normalised).
-PROFILE_COLUMNS = (
-    "angle_deg",
-    "label",
-    *WRENCH_AXES,
-    "magnitude",
-    "normalized",
+#: Columns that describe one max-wrench result, shared by the profile and batch tables.
+_RESULT_FIELDS = (
     "unit",
     "status",
     "unbounded",
@@ -59,27 +52,14 @@ PROFILE_COLUMNS = (
     "search",
 )
 
+#: Columns of :func:`profile_rows` (and of the profile CSV), in order. ``fx`` ... ``mz``: the
+#: unit direction; ``normalized``: magnitude / the profile's ``normalized_by`` (NaN, an empty
+#: CSV cell, when the profile is not normalised).
+PROFILE_COLUMNS = ("angle_deg", "label", *WRENCH_AXES, "magnitude", "normalized", *_RESULT_FIELDS)
+
 #: Columns of :func:`results_rows` (and of the batch CSV), in order; ``key``: the mapping key or
 #: the position in the sequence; ``audit_failures``: how many resisted magnitudes failed the audit.
-RESULT_COLUMNS = (
-    "key",
-    "label",
-    *WRENCH_AXES,
-    "magnitude",
-    "unit",
-    "status",
-    "unbounded",
-    "monotone",
-    "upper",
-    "resolution",
-    "floor",
-    "n_solves",
-    "solve_time",
-    "wall_time",
-    "method",
-    "search",
-    "audit_failures",
-)
+RESULT_COLUMNS = ("key", "label", *WRENCH_AXES, "magnitude", *_RESULT_FIELDS, "audit_failures")
 
 
 def _max_wrench_row(mw: MaxWrench) -> dict[str, Any]:

@@ -30,7 +30,8 @@ def _small_batch():
     ]
 
 
-def _same(a, b):
+def same_table(a, b):
+    """Equal tables but for the wall times (bit for bit)."""
     cols = [c for c in a.columns if c not in TIMING_COLUMNS]
     pd.testing.assert_frame_equal(a[cols], b[cols], check_exact=True)
 
@@ -60,7 +61,7 @@ def test_rows_statuses_and_errors(inprocess):
 
 
 def test_process_pool_identical_to_in_process(inprocess):
-    _same(pg.evaluate_grasps(_small_batch(), score=FAST, workers=2), inprocess)
+    same_table(pg.evaluate_grasps(_small_batch(), score=FAST, workers=2), inprocess)
 
 
 def test_custom_score_lambda_bad_score_and_progress():

@@ -7,9 +7,9 @@ wall times): ``tests/test_batch.py`` checks the local process pool against this 
 import math
 
 import pytest
+from test_batch import same_table
 
 import pinograsp as pg
-from pinograsp.batch import TIMING_COLUMNS
 
 pd = pytest.importorskip("pandas")
 pytestmark = pytest.mark.slow
@@ -22,11 +22,6 @@ def _batch():
     """Scenes, an auto-closed + auto-preloaded Barrett grasp at sampled poses, and failures."""
     sampled = pg.sample_grasps("barrett_bh8_282", BOX, 3, seed=7, q_open={"bh_j11": math.pi / 2})
     return ["pinch", "wedge", "case1", *sampled, "no_such_scene"]
-
-
-def _same(a, b):
-    cols = [c for c in a.columns if c not in TIMING_COLUMNS]
-    pd.testing.assert_frame_equal(a[cols], b[cols], check_exact=True)
 
 
 @pytest.fixture(scope="module")
@@ -62,7 +57,7 @@ def test_reference_batch_has_ok_and_error_rows(reference):
 def test_ray_existing_connection(ray_cluster, reference):
     done = []
     df = pg.evaluate_grasps(_batch(), score=SCORE, executor="ray", progress=lambda d, t: done.append(d))
-    _same(df, reference)
+    same_table(df, reference)
     assert done[-1] == len(reference)
     assert ray_cluster.is_initialized()  # an existing connection is left open
 
@@ -73,7 +68,7 @@ def test_ray_lambda_score(ray_cluster):
 
 
 def test_dask_client(dask_client, reference):
-    _same(pg.evaluate_grasps(_batch(), score=SCORE, executor=dask_client), reference)
+    same_table(pg.evaluate_grasps(_batch(), score=SCORE, executor=dask_client), reference)
 
 
 def test_dask_address(dask_client):
@@ -91,7 +86,7 @@ def test_three_executors_identical(ray_cluster, dask_client, reference):
     ray_df = pg.evaluate_grasps(_batch(), score=SCORE, executor="ray", workers=2)
     dask_df = pg.evaluate_grasps(_batch(), score=SCORE, executor=dask_client)
     for df in (local, ray_df, dask_df):
-        _same(df, reference)
+        same_table(df, reference)
 
 
 def test_owned_clusters_start_and_stop():
@@ -101,6 +96,6 @@ def test_owned_clusters_start_and_stop():
     if ray.is_initialized():
         ray.shutdown()
     ref = pg.evaluate_grasps(["pinch", "wedge"], score=SCORE, workers=1)
-    _same(pg.evaluate_grasps(["pinch", "wedge"], score=SCORE, executor="dask", workers=2), ref)
-    _same(pg.evaluate_grasps(["pinch", "wedge"], score=SCORE, executor="ray", workers=2), ref)
+    same_table(pg.evaluate_grasps(["pinch", "wedge"], score=SCORE, executor="dask", workers=2), ref)
+    same_table(pg.evaluate_grasps(["pinch", "wedge"], score=SCORE, executor="ray", workers=2), ref)
     assert not ray.is_initialized()
