@@ -23,7 +23,7 @@ import time
 from pathlib import Path
 
 import pinograsp as pg
-from pinograsp.batch import TIMING_COLUMNS
+from pinograsp.batch.evaluate import TIMING_COLUMNS
 
 DOC = Path(__file__).resolve().parent.parent / "docs" / "batch.md"
 BOX = pg.ObjectSpec("box", size=(0.1462, 0.05, 0.10), xyz=(0.0, 0.0, 0.0678))

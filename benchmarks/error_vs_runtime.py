@@ -38,8 +38,8 @@ from pathlib import Path  # noqa: E402
 import numpy as np  # noqa: E402
 
 import pinograsp as pg  # noqa: E402
-from pinograsp import analytic  # noqa: E402
-from pinograsp.synthetic import random_grasp  # noqa: E402
+from pinograsp import examples  # noqa: E402
+from pinograsp.core.examples import random_grasp  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 UPPER = 1e3
@@ -77,7 +77,7 @@ def models(quick: bool) -> dict[str, tuple]:
     pf = ("iterative", "preload-first")
     out = {
         "pinch (2 contacts)": (
-            analytic.pinch,
+            examples.pinch,
             1.0,
             ["fy", [1.0, 1.0, 0, 0, 0, 0], [0.3, -1.0, 0, 0, 0, 0]],
             {
@@ -87,7 +87,7 @@ def models(quick: bool) -> dict[str, tuple]:
             True,
         ),
         "wedge (2 contacts)": (
-            lambda: analytic.pinch(h=0.01),
+            lambda: examples.pinch(h=0.01),
             1.0,
             ["fy"],
             {("prp", "single-step"): [np.inf], pf: [6.0]},

@@ -30,7 +30,13 @@ from typing import Any
 import numpy as np
 
 import pinograsp as pg
-from pinograsp.plots import plot_force_comparison, plot_preload_comparison, plot_profile, pyplot, save_figure
+from pinograsp.viz.plots import (
+    plot_force_comparison,
+    plot_preload_comparison,
+    plot_profile,
+    pyplot,
+    save_figure,
+)
 
 ROOT = Path(__file__).resolve().parents[1]
 START, END = "<!-- results:start -->", "<!-- results:end -->"
@@ -84,7 +90,7 @@ def runs_text(deg: np.ndarray, mask: np.ndarray) -> str:
 
 def progress_bar(label: str) -> Any:
     """A progress bar on a terminal; otherwise (logs) one line per quarter of the directions."""
-    from pinograsp.cli import ProgressBar
+    from pinograsp.cli.main import ProgressBar
 
     if sys.stderr.isatty():
         return ProgressBar(label)

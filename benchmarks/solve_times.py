@@ -12,13 +12,13 @@ import statistics
 from importlib.metadata import version
 
 import pinograsp as pg
-from pinograsp import analytic
+from pinograsp import examples
 
 CASES = {
-    "pinch (2 contacts, planar)": (analytic.pinch, "fy"),
-    "palm (3 contacts, planar)": (analytic.palm_pinch, "fy"),
-    "wedge (2 contacts, planar)": (lambda: analytic.pinch(h=0.01), "fy"),
-    "pinch 3D (2 contacts, 8 edges)": (lambda: analytic.pinch(planar=False), "fy"),
+    "pinch (2 contacts, planar)": (examples.pinch, "fy"),
+    "palm (3 contacts, planar)": (examples.palm_pinch, "fy"),
+    "wedge (2 contacts, planar)": (lambda: examples.pinch(h=0.01), "fy"),
+    "pinch 3D (2 contacts, 8 edges)": (lambda: examples.pinch(planar=False), "fy"),
 }
 
 

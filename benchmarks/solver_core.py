@@ -135,7 +135,7 @@ def api_worker(job_file: str, out_file: str) -> None:
             print(f"    {job['tag']} case1 {ang:4d} deg: {rows[-1]['wall']:.2f} s", flush=True)
         out["rows"] = rows
     elif task == "prp":
-        from pinograsp.synthetic import random_grasp
+        from pinograsp.core.examples import random_grasp
 
         res = {}
         for cfg in job["configs"]:
@@ -154,8 +154,8 @@ def api_worker(job_file: str, out_file: str) -> None:
             res[cfg["label"]] = dict(wall=walls, solve=solves, resisted=ok, n_miqp=miqp)
         out["prp"] = res
     elif task == "prp_bnb":  # new tree only: the solver layer's PRP time
+        from pinograsp.core.examples import random_grasp
         from pinograsp.solvers import BranchAndBound, Formulation, build_problem
-        from pinograsp.synthetic import random_grasp
 
         res = {}
         for cfg in job["configs"]:
@@ -172,14 +172,14 @@ def api_worker(job_file: str, out_file: str) -> None:
             res[cfg["label"]] = ts
         out["prp"] = res
     elif task == "pinch":
-        from pinograsp import analytic
+        from pinograsp import examples
 
         rows = []
         for name, d in job["dirs"].items():
             for method in ("iterative", "prp"):
                 ts, mag = [], None
                 for _ in range(job["repeat"]):
-                    m = analytic.pinch()
+                    m = examples.pinch()
                     t0 = time.perf_counter()
                     r = pg.max_resistible_wrench(m, 1.0, d, method, upper=100.0, steps=20)
                     ts.append(time.perf_counter() - t0)
@@ -379,7 +379,7 @@ def profile_direction(model, command, angle: float) -> dict:
         "node QPs (`NodeQP.solve`)": _ct(st, fn(nq, "solve")),
         "polish of the optimal face": _ct(st, fn(nq, "polish")),
         "canonical point (`BranchAndBound._canonical`)": _ct(st, fn("solvers/bnb.py", "_canonical")),
-        "subspace jumps (`_jump`)": _ct(st, fn("pinograsp/response.py", "_jump")),
+        "subspace jumps (`_jump`)": _ct(st, fn("pinograsp/analysis/response.py", "_jump")),
     }
     ncalls = {k: v[1] for k, v in st.stats.items()}  # type: ignore[attr-defined]
     return dict(
@@ -462,9 +462,9 @@ def force_scale(form, model, command) -> float:
 
 def section_prp(quick: bool, root: Path) -> dict:
     import pinograsp as pg
+    from pinograsp.core.examples import random_grasp
     from pinograsp.solvers import BranchAndBound, Formulation, build_problem
     from pinograsp.solvers.miqp import CvxpyMIQP
-    from pinograsp.synthetic import random_grasp
 
     n = 5 if quick else 30
     sizes = PRP_SIZES[:4] if quick else PRP_SIZES
@@ -542,14 +542,14 @@ def section_prp(quick: bool, root: Path) -> dict:
 
 # ----------------------------------------------------------------------------- section 3
 def section_pinch(quick: bool, root: Path, repeat: int) -> dict:
-    from pinograsp import analytic
+    from pinograsp import examples
 
     rows = []
     for name, d in PINCH_DIRS.items():
         for method in ("iterative", "prp"):
             ts, last = [], None
             for _ in range(repeat):
-                last = timed_query(analytic.pinch(), 1.0, d, method=method, upper=100.0, steps=20)
+                last = timed_query(examples.pinch(), 1.0, d, method=method, upper=100.0, steps=20)
                 ts.append(last["wall"])
             rows.append(
                 dict(
@@ -615,8 +615,8 @@ def section_case2(quick: bool, root: Path) -> dict:
 def agreement_instances(quick: bool) -> list[dict]:
     """Grasps of the agreement test: (id, label, factory, command)."""
     import pinograsp as pg
-    from pinograsp import analytic
-    from pinograsp.synthetic import random_grasp
+    from pinograsp import examples
+    from pinograsp.core.examples import random_grasp
 
     combos = [(npairs, 1, pl) for npairs in range(1, 7) for pl in (True, False)]
     combos += [(npairs, 2, pl) for npairs in range(1, 4) for pl in (True, False)]
@@ -649,8 +649,8 @@ def agreement_instances(quick: bool) -> list[dict]:
     for name in ("case1", "case3"):
         sc = pg.load_scene(name)
         scenes[name] = (lambda sc=sc: sc.model, sc.command, f'pg.load_scene("{name}").model')
-    scenes["pinch"] = (analytic.pinch, 1.0, "analytic.pinch()")
-    scenes["wedge"] = (analytic.wedge, 1.0, "analytic.wedge()")
+    scenes["pinch"] = (examples.pinch, 1.0, "examples.pinch()")
+    scenes["wedge"] = (examples.wedge, 1.0, "examples.wedge()")
     for rep in range(1 if quick else 8):
         for name, (fac, cmd, code) in scenes.items():
             out.append(

@@ -106,7 +106,7 @@ def pinch(
 
 
 def palm(k_palm=1.0, k_fingers=1.0, unit=1.0) -> pg.GraspModel:
-    """Pinch plus a fixed palm contact at (0, -b) pushing +y (analytic.palm_pinch); k in N/m."""
+    """Pinch plus a fixed palm contact at (0, -b) pushing +y (examples.palm_pinch); k in N/m."""
     a, Lu, b = A * unit, L * unit, 0.04 * unit
     kf = k_fingers / unit
     cs = [
@@ -120,7 +120,7 @@ def palm(k_palm=1.0, k_fingers=1.0, unit=1.0) -> pg.GraspModel:
 
 
 def coupled(k=1.0, k_thumb=None, unit=1.0) -> pg.GraspModel:
-    """Fixed thumb and a two-link finger with a 1/3 coupling (analytic.coupled_finger).
+    """Fixed thumb and a two-link finger with a 1/3 coupling (examples.coupled_finger).
 
     ``k``: finger contact stiffness [N/m]; ``k_thumb``: thumb stiffness (default ``k``).
     """

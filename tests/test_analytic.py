@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import pinograsp as pg
-from pinograsp import analytic
+from pinograsp import examples
 
 A, L, MU, TAU = 0.05, 0.1, 0.5, 1.0
 UPPER, STEPS = 100.0, 16
@@ -85,7 +85,7 @@ def test_pinch_max_wrench(pinch, method, theta):
 # ------------------------------------------------------------------- differential
 @pytest.mark.parametrize("method", METHODS)
 def test_differential_pinch(method):
-    m = analytic.pinch(a=A, L=L, mu=MU, differential=True)
+    m = examples.pinch(a=A, L=L, mu=MU, differential=True)
     r0 = pg.passive_response(m, TAU, np.zeros(3), method=method)
     np.testing.assert_allclose(r0.normal_forces, [TAU / L, TAU / L], atol=1e-6)
     check_max(m, TAU, "fy", method, 2 * MU * TAU / L)
@@ -106,7 +106,7 @@ def test_wedge_prp_artefact_and_iterative_finite():
     resists any load; the iterative scheme gives F_max = 2 (tau0/L)(mu - h/a).
     """
     h = 0.01
-    m = analytic.pinch(a=A, L=L, mu=MU, h=h)
+    m = examples.pinch(a=A, L=L, mu=MU, h=h)
     expected = 2 * TAU / L * (MU - h / A)
     for d in ("fy", "-fy"):
         prp = pg.max_resistible_wrench(m, TAU, d, method="prp", upper=UPPER, steps=STEPS)
@@ -125,7 +125,7 @@ def test_wedge_prp_artefact_and_iterative_finite():
 # --------------------------------------------------------------------------- palm
 @pytest.mark.parametrize("method", METHODS)
 def test_palm_contact(method):
-    m = analytic.palm_pinch(a=A, L=L, mu=MU)
+    m = examples.palm_pinch(a=A, L=L, mu=MU)
     check_max(m, TAU, "-fy", method, np.inf)  # pushed onto the palm: passive, unbounded
     check_max(m, TAU, "fy", method, 2 * MU * TAU / L)  # away from the palm: friction-limited
     check_max(m, TAU, "fx", method, np.inf)
@@ -133,7 +133,7 @@ def test_palm_contact(method):
 
 def test_palm_contact_forces_prp():
     """Minimum spring energy: finger friction takes what it can, the palm the rest."""
-    m = analytic.palm_pinch(a=A, L=L, mu=MU)
+    m = examples.palm_pinch(a=A, L=L, mu=MU)
     F = 30.0
     r = pg.passive_response(m, TAU, [0, -F, 0], method="prp")
     np.testing.assert_allclose(r.normal_forces, [TAU / L, TAU / L, F - 2 * MU * TAU / L], atol=1e-6)
@@ -147,7 +147,7 @@ def test_palm_contact_forces_prp():
 @pytest.mark.parametrize("method", METHODS)
 def test_coupled_two_link_finger(method):
     L1, L2, ratio = 0.06, 0.04, 1 / 3
-    m = analytic.coupled_finger(a=A, L1=L1, L2=L2, ratio=ratio, mu=MU)
+    m = examples.coupled_finger(a=A, L1=L1, L2=L2, ratio=ratio, mu=MU)
     lever = L1 + L2 + ratio * L2
     cn = TAU / lever
     r = pg.passive_response(m, TAU, np.zeros(3), method=method)
@@ -168,7 +168,7 @@ def test_coupled_two_link_finger(method):
 def test_backdrivable_fingers_cannot_hold_a_push():
     """Backdrivable joints keep f = f_c: a push along x (unbounded with non-backdrivable
     fingers) is not resisted; along y the pinch limit is unchanged."""
-    m = analytic.pinch(a=A, L=L, mu=MU, kind="backdrivable")
+    m = examples.pinch(a=A, L=L, mu=MU, kind="backdrivable")
     for method in METHODS:
         check_max(m, TAU, "fx", method, 0.0)
         check_max(m, TAU, "fy", method, 2 * MU * TAU / L)

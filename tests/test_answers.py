@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import pinograsp as pg
-from pinograsp import analytic
+from pinograsp import examples
 from pinograsp.cli import main
 
 
@@ -39,10 +39,10 @@ def test_below_resolution_is_not_a_number(case1):
     coarse = pg.max_resistible_wrench(case1.model, case1.command, "fy", upper=1e12, steps=4)
     assert coarse.status == "below_resolution" and coarse.floor == pytest.approx(1e12 / 16)
     # the pinch's band is 10 N: below a 50 N resolution it is not distinguishable from zero
-    r = pg.max_resistible_wrench(analytic.pinch(), 1.0, "fy", "prp", upper=100, steps=1)
+    r = pg.max_resistible_wrench(examples.pinch(), 1.0, "fy", "prp", upper=100, steps=1)
     assert r.status == "below_resolution" and r.magnitude == 0.0
     # one resolution step resisted by the PRP is a value (the limit is known to be >= it)
-    r = pg.max_resistible_wrench(analytic.pinch(), 1.0, "fy", "prp", upper=100, steps=4)
+    r = pg.max_resistible_wrench(examples.pinch(), 1.0, "fy", "prp", upper=100, steps=4)
     assert r.status == "finite" and r.magnitude == 100 / 16
 
 
@@ -111,14 +111,14 @@ def test_one_default_method_and_scenes_apply_their_analysis_block(case1):
 )
 def test_bad_input_names_the_culprit(call, name):
     with pytest.raises(pg.InvalidInputError) as info:
-        call(analytic.pinch())
+        call(examples.pinch())
     assert info.value.name == name
 
 
 def test_model_side_errors_name_the_culprit(case1):
     s = case1
     with pytest.raises(pg.UnknownNameError, match="nolink"):
-        pg.GraspModel.from_scene(s.hand, s.q, s.object, mu={"nolink": 0.3})
+        pg.grasp_model_from_scene(s.hand, s.q, s.object, mu={"nolink": 0.3})
     far = pg.RigidObject.sphere(0.04, pose=[1.0, 1.0, 1.0])
     with pytest.raises(pg.NoContactError) as info:
         s.hand.close_on(far)

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import pinograsp as pg
-from pinograsp.audit import MAX_DISPLACEMENT_RATIO, energy_check, friction_use
+from pinograsp.core.audit import MAX_DISPLACEMENT_RATIO, energy_check, friction_use
 
 
 def _at(deg: float) -> np.ndarray:

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import pinograsp as pg
-from pinograsp import analytic
+from pinograsp import examples
 
 A, L, MU, TAU = 0.05, 0.1, 0.5, 1.0
 
@@ -40,7 +40,7 @@ def test_palm_push_linear_vs_passive():
     """Seed Fig. 1 in miniature: pushing towards the palm, linear springs load the finger
     contacts tangentially beyond friction, while the passive analysis finds the push resisted
     with the palm taking the rest and no extra internal force."""
-    m = analytic.palm_pinch(a=A, L=L, mu=MU, mu_palm=MU)
+    m = examples.palm_pinch(a=A, L=L, mu=MU, mu_palm=MU)
     c0 = pg.passive_response(m, TAU, np.zeros(3)).contact_forces
     F = 60.0
     lin = pg.linear_compliance(m, [0, -F, 0], c0)

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import pinograsp as pg
-from pinograsp.batch import BASE_COLUMNS, TAIL_COLUMNS, TIMING_COLUMNS
+from pinograsp.batch.evaluate import BASE_COLUMNS, TAIL_COLUMNS, TIMING_COLUMNS
 from pinograsp.cli import main
 
 pd = pytest.importorskip("pandas")

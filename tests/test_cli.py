@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import pinograsp as pg
-from pinograsp.cli import ProgressBar, main, unbounded_runs
+from pinograsp.cli.main import ProgressBar, main, unbounded_runs
 
 SCENES = sorted(pg.builtin_scenes())
 FAST = ["--steps", "3"]

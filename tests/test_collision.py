@@ -11,8 +11,8 @@ import pinocchio as pin
 import pytest
 
 import pinograsp as pg
-from pinograsp.collision import DEFAULT_TOLERANCE, detect_contacts, link_distances
-from pinograsp.objects import RigidObject, coal_transform, pose_matrix
+from pinograsp.robots.collision import DEFAULT_TOLERANCE, detect_contacts, link_distances
+from pinograsp.robots.objects import RigidObject, coal_transform, pose_matrix
 
 
 def _coal_distance(g1, p1, g2, p2):

@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 
 import pinograsp as pg
-from pinograsp import analytic
+from pinograsp import examples
+from pinograsp.core.examples import random_grasp
 from pinograsp.solvers import BranchAndBound, Formulation, ScaledData, available_miqp_solvers, build_problem
-from pinograsp.synthetic import random_grasp
 
 HAS_SCIP = "scip" in available_miqp_solvers()
 
@@ -23,8 +23,8 @@ QUERIES = textwrap.dedent(
     import json, sys
     import numpy as np
     import pinograsp as pg
-    from pinograsp import analytic
-    from pinograsp.synthetic import random_grasp
+    from pinograsp import examples
+    from pinograsp.core.examples import random_grasp
 
     def record(r):
         resp = r.response
@@ -34,8 +34,8 @@ QUERIES = textwrap.dedent(
 
     s = pg.load_scene("case1")
     out = [record(pg.max_resistible_wrench(s.model, s.command, d, upper=1e3)) for d in ("fx", "-fx")]
-    out.append(record(pg.max_resistible_wrench(analytic.wedge(), 1.0, "-fy", upper=1e3)))
-    out.append(record(pg.max_resistible_wrench(analytic.wedge(), 1.0, "fy", upper=1e3)))
+    out.append(record(pg.max_resistible_wrench(examples.wedge(), 1.0, "-fy", upper=1e3)))
+    out.append(record(pg.max_resistible_wrench(examples.wedge(), 1.0, "fy", upper=1e3)))
     g = random_grasp(3, n_pairs=2)
     out.append(record(pg.max_resistible_wrench(g, 1.0, [0.3, -0.2, 0.5, 0.0, 0.0, 0.0], upper=50)))
     json.dump(out, sys.stdout)
@@ -54,8 +54,8 @@ def test_same_query_bit_identical_in_fresh_processes_and_after_other_queries():
     # in this process, after unrelated queries (another scene, other directions, PRP)
     s = pg.load_scene("case1")
     pg.max_resistible_wrench(s.model, s.command, [1.0, 1.0, 0, 0, 0, 0], upper=50)
-    pg.passive_response(analytic.wedge(), 1.0, [0, 3.0, 0], method="prp")
-    pg.max_resistible_wrench(analytic.pinch(), 1.0, "fy", upper=100, steps=10)
+    pg.passive_response(examples.wedge(), 1.0, [0, 3.0, 0], method="prp")
+    pg.max_resistible_wrench(examples.pinch(), 1.0, "fy", upper=100, steps=10)
     here = json.loads(json.dumps(_in_process()))
     assert here == runs[0]
     # case1 is mirror-symmetric about the YZ plane: +X and -X are the same answer
@@ -122,7 +122,7 @@ def test_known_answers_of_the_core():
     )
     # the pinch's band 2 mu tau0 / (L |sin θ|) within the iterative tolerance
     for deg in (90, 45):
-        r = pg.max_resistible_wrench(analytic.pinch(), 1.0, _angle_dir(deg)[:3], upper=100, steps=16)
+        r = pg.max_resistible_wrench(examples.pinch(), 1.0, _angle_dir(deg)[:3], upper=100, steps=16)
         assert r.magnitude == pytest.approx(10.0 / np.sin(np.radians(deg)), rel=2e-4)
 
 
@@ -134,7 +134,7 @@ def test_secant_search_finds_the_bisection_cell(model, direction):
         m, cmd = s.model, s.command
         direction = direction if isinstance(direction, str) else list(direction) + [0, 0, 0]
     else:
-        m, cmd = getattr(analytic, model)(), 1.0
+        m, cmd = getattr(examples, model)(), 1.0
     a = pg.max_resistible_wrench(m, cmd, direction, upper=100, steps=16, search="secant")
     b = pg.max_resistible_wrench(m, cmd, direction, upper=100, steps=16, search="bisection")
     assert a.magnitude == b.magnitude and a.unbounded == b.unbounded
@@ -144,7 +144,7 @@ def test_secant_search_finds_the_bisection_cell(model, direction):
 def test_direct_load_factor_by_branch_and_bound_matches_closed_form():
     """Alg. 1's largest load factor in one complementarity solve: the pinch band 2 mu tau0 / L
     along y, 2 mu tau0 / (L sin θ) at θ, unbounded along x (PRP)."""
-    m = analytic.pinch()
+    m = examples.pinch()
     r = pg.max_resistible_wrench(m, 1.0, "fy", "prp", upper=100, search="direct")
     assert r.magnitude == pytest.approx(10.0, rel=1e-8)
     r = pg.max_resistible_wrench(m, 1.0, [1.0, 1.0, 0], "prp", upper=100, search="direct")
@@ -160,7 +160,7 @@ def test_fine_bisection_next_to_the_limit_gives_a_verdict(direction, sin_theta):
     """30 halvings of [0, 1e3] test magnitudes ~1e-7 (relative) above the pinch's limit, where
     the node QPs are nearly infeasible: the least row violation decides (no SolverError), and
     the answer is the closed form 2 mu tau0 / (L |sin θ|) to one grid step."""
-    m = analytic.pinch()
+    m = examples.pinch()
     exact = 10.0 / sin_theta
     r = pg.max_resistible_wrench(m, 1.0, direction, "prp", upper=1e3, steps=30)
     assert r.status == "finite"

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import pinograsp as pg
-from pinograsp import analytic
+from pinograsp import examples
 
 
 def test_preload_not_in_equilibrium():
@@ -42,7 +42,7 @@ def test_preload_not_in_equilibrium():
 )
 def test_bad_input(call, err, match):
     with pytest.raises(err, match=match):
-        call(analytic.pinch())
+        call(examples.pinch())
 
 
 def test_every_error_is_a_pinograsp_error():

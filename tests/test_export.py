@@ -13,17 +13,18 @@ import numpy as np
 import pytest
 
 import pinograsp as pg
-from pinograsp import analytic
+from pinograsp import examples
 from pinograsp.cli import main
-from pinograsp.serialize import decimals, format_magnitude, format_max_wrench
-from pinograsp.tables import PROFILE_COLUMNS, RESULT_COLUMNS
+from pinograsp.core import tables
+from pinograsp.core.serialize import decimals, format_magnitude, format_max_wrench
+from pinograsp.core.tables import PROFILE_COLUMNS, RESULT_COLUMNS
 
 MU, L = 0.5, 0.1  # the analytic pinch: +Y limit 2 mu tau0 / L = 10 N at tau0 = 1
 
 
 @pytest.fixture(scope="module")
 def pinch():
-    return analytic.pinch()
+    return examples.pinch()
 
 
 @pytest.fixture(scope="module")
@@ -262,14 +263,14 @@ def test_bad_arguments_are_pinograsp_errors(max_y):
     with pytest.raises(pg.InvalidInputError, match="scale"):
         format_max_wrench(max_y, scale=0.0)
     with pytest.raises(pg.InvalidInputError, match="ResistanceProfile"):
-        pg.tables.profile_rows(max_y)
+        tables.profile_rows(max_y)
 
 
 def test_contact_report_to_dict(tmp_path):
     from test_collision import PROBE
 
-    from pinograsp.collision import detect_contacts
-    from pinograsp.objects import RigidObject
+    from pinograsp.robots.collision import detect_contacts
+    from pinograsp.robots.objects import RigidObject
 
     f = tmp_path / "probe.urdf"
     f.write_text(PROBE)

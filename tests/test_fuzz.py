@@ -29,7 +29,7 @@ from strategies import (  # noqa: E402
 )
 
 import pinograsp as pg
-from pinograsp import analytic
+from pinograsp import examples
 
 # ------------------------------------------------------------------------------ Contact
 positive = st.floats(1e-6, 1e6)
@@ -213,9 +213,9 @@ def test_fuzz_grasp_model_from_contacts(
 @pytest.fixture(scope="module")
 def models():
     return {
-        "planar": analytic.pinch(),
-        "3d": analytic.pinch(planar=False),
-        "tendon": analytic.pinch(differential=True),
+        "planar": examples.pinch(),
+        "3d": examples.pinch(planar=False),
+        "tendon": examples.pinch(differential=True),
     }
 
 
@@ -265,7 +265,7 @@ def test_fuzz_passive_response(models, command, wrench, method):
 
 
 # ------------------------------------------------------------------------------ scene files
-from pinograsp import scenes as _scenes  # noqa: E402
+from pinograsp.scenes import loading as _scenes  # noqa: E402
 
 load_scene = _scenes.load_scene
 
@@ -371,7 +371,7 @@ description_values = st.one_of(
 @FUZZ
 @given(doc=st.dictionaries(description_keys, description_values, max_size=4))
 def test_fuzz_hand_description(doc):
-    from pinograsp.hand import DATA_DIR
+    from pinograsp.robots.hand import DATA_DIR
 
     desc = expect_pinograsp_error(pg.HandDescription.from_dict, doc)
     if desc is not None:
@@ -420,12 +420,12 @@ def test_fuzz_rigid_objects(size, radius, length, pose, com, translation):
     ),
 )
 def test_fuzz_scene_contacts(small_hand, q, tolerance, links, mu):
-    from pinograsp.collision import detect_contacts
+    from pinograsp.robots.collision import detect_contacts
 
     obj = pg.RigidObject.box((0.05, 0.05, 0.02), pose=[0.0, 0.07, 0.0])
     expect_pinograsp_error(small_hand.configuration, q)
     expect_pinograsp_error(detect_contacts, small_hand, q, obj, tolerance=tolerance, links=links)
-    expect_pinograsp_error(pg.GraspModel.from_scene, small_hand, q, obj, mu=mu)
+    expect_pinograsp_error(pg.grasp_model_from_scene, small_hand, q, obj, mu=mu)
 
 
 @pytest.mark.parametrize("mu", ["abc", object(), {"uf_distal_1": "high"}])
@@ -433,9 +433,9 @@ def test_scene_friction_of_the_wrong_type(small_hand, mu):
     obj = pg.RigidObject.box((0.05, 0.05, 0.02), pose=[0.0, 0.07, 0.0])
     q = small_hand.close_on(obj)
     with pytest.raises(pg.InvalidInputError, match="mu"):
-        pg.GraspModel.from_scene(small_hand, q, obj, mu=mu)
+        pg.grasp_model_from_scene(small_hand, q, obj, mu=mu)
     with pytest.raises(pg.InvalidInputError, match="stiffness"):
-        pg.GraspModel.from_scene(small_hand, q, obj, stiffness=mu)
+        pg.grasp_model_from_scene(small_hand, q, obj, stiffness=mu)
 
 
 # ------------------------------------------------------------------------------ named culprits
@@ -502,13 +502,13 @@ def _hand():
             pg.InvalidInputError,
             "overflows|too far",
         ),
-        (lambda: analytic.pinch().wrench_vector([10**400, 0, 0]), pg.InvalidInputError, "wrench"),
+        (lambda: examples.pinch().wrench_vector([10**400, 0, 0]), pg.InvalidInputError, "wrench"),
         (
-            lambda: analytic.pinch().command_vector({"left": "max"}),
+            lambda: examples.pinch().command_vector({"left": "max"}),
             pg.InvalidInputError,
             r"command\['left'\]",
         ),
-        (lambda: analytic.pinch().command_vector({3: 1.0}), pg.UnknownNameError, "actuator"),
+        (lambda: examples.pinch().command_vector({3: 1.0}), pg.UnknownNameError, "actuator"),
         (lambda: pg.RigidObject.box("big"), pg.InvalidInputError, "size"),
         (lambda: pg.RigidObject.sphere(0.02).moved([0, "up", 0]), pg.InvalidInputError, "translation"),
         (lambda: pg.RigidObject.sphere(0.02).moved(rotation=2 * np.eye(3)), pg.InvalidInputError, "rotation"),
@@ -532,7 +532,7 @@ def test_bad_input_names_the_culprit(call, err, match):
 
 
 def test_detect_contacts_arguments(small_hand):
-    from pinograsp.collision import detect_contacts
+    from pinograsp.robots.collision import detect_contacts
 
     obj = pg.RigidObject.box((0.05, 0.05, 0.02), pose=[0.0, 0.07, 0.0])
     q = small_hand.close_on(obj)
@@ -545,7 +545,7 @@ def test_detect_contacts_arguments(small_hand):
 
 
 def test_malformed_description_file_names_the_file(tmp_path):
-    from pinograsp.hand import DATA_DIR
+    from pinograsp.robots.hand import DATA_DIR
 
     bad = tmp_path / "hand.yaml"
     bad.write_text("actuators: 5\n")

@@ -15,7 +15,7 @@ from hypothesis import strategies as st
 from strategies import FUZZ, expect_pinograsp_error, junk, scalars, vec
 
 import pinograsp as pg
-from pinograsp import analytic
+from pinograsp import examples
 
 matplotlib.use("Agg")
 
@@ -45,7 +45,7 @@ overrides = st.dictionaries(setting_names, setting_values, max_size=2)
 
 @pytest.fixture(scope="module")
 def pinch():
-    return analytic.pinch()
+    return examples.pinch()
 
 
 @FAST
@@ -174,7 +174,7 @@ def test_fuzz_plots(results, which, arg, normalize):
     import matplotlib.pyplot as plt
 
     prof, mw, resp, lc = results
-    pinch = analytic.pinch()
+    pinch = examples.pinch()
     calls = [
         lambda: pg.plot_profile(arg),
         lambda: pg.plot_profile(prof, normalize=normalize, labels=arg),

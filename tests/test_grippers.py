@@ -16,7 +16,7 @@ def jaw():
     hand = pg.Hand.builtin("parallel_jaw")
     ball = pg.RigidObject.sphere(R, pose=[0.0, 0.04, 0.0])
     q = hand.close_on(ball)
-    return hand, q, pg.GraspModel.from_scene(hand, q, ball, mu=MU)
+    return hand, q, pg.grasp_model_from_scene(hand, q, ball, mu=MU)
 
 
 def test_parallel_jaw_model(jaw):
@@ -64,7 +64,7 @@ def so101():
 def test_so101_one_joint_gripper(so101):
     hand, q, ball = so101
     assert hand.nq == 1 and hand.closing_signs.tolist() == [-1.0]
-    m = pg.GraspModel.from_scene(hand, q, ball)
+    m = pg.grasp_model_from_scene(hand, q, ball)
     assert m.nc == 2 and m.J.shape == (6, 1)
     assert set(m.contact_names) == {"gripper_link", "moving_jaw_so101_v1_link"}
     fixed = m.contact_names.index("gripper_link")
@@ -90,7 +90,7 @@ def test_jacobian_of_a_one_joint_hand_matches_finite_differences(so101):
     the moving jaw when the joint closes (closing sign -1)."""
     import pinocchio as pin
 
-    from pinograsp.scene import contact_jacobian
+    from pinograsp.robots.grasp import contact_jacobian
 
     hand, q, _ = so101
     jid = hand.model.getJointId("gripper")

@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 import pinograsp as pg
-from pinograsp.collision import DEFAULT_TOLERANCE, link_distances
-from pinograsp.hand import DATA_DIR
+from pinograsp.robots.collision import DEFAULT_TOLERANCE, link_distances
+from pinograsp.robots.hand import DATA_DIR
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -173,7 +173,7 @@ def test_auto_close_barrett_touches_on_every_finger(barrett):
     assert q[0] == 0.0 and np.all(q >= barrett.lower) and np.all(q <= barrett.upper)
     # symmetric scene -> symmetric fingers
     assert q[1] == pytest.approx(q[4]) and q[1] == pytest.approx(q[6])
-    gm = pg.GraspModel.from_scene(barrett, q, obj)
+    gm = pg.grasp_model_from_scene(barrett, q, obj)
     assert gm.nc == 3
 
 

@@ -6,7 +6,7 @@ import sys
 
 import pytest
 
-HEAVY = ("cvxpy", "pinograsp.solvers", "pinograsp.response", "pinograsp.analysis")
+HEAVY = ("cvxpy", "pinograsp.solvers", "pinograsp.analysis.response", "pinograsp.analysis.max_wrench")
 
 
 def _loaded(code: str) -> list[str]:
@@ -21,7 +21,7 @@ def _loaded(code: str) -> list[str]:
     [
         "import pinograsp",
         "import pinograsp as pg; pg.GraspModel; pg.Contact; pg.MaxWrench",
-        "import pinograsp.hand",
+        "import pinograsp.robots.hand",
         "import pinograsp as pg; pg.evaluate_grasps; pg.sample_grasps; pg.load_grasps; pg.GraspSpec",
         "from pinograsp.cli import main; main(['scenes'])",
         "from pinograsp.cli import main\ntry:\n    main(['--help'])\nexcept SystemExit:\n    pass",
@@ -38,5 +38,5 @@ def test_public_names_resolve_lazily():
         assert getattr(pg, name) is not None, name
     assert _loaded("import pinograsp as pg; pg.passive_response") == [
         "pinograsp.solvers",
-        "pinograsp.response",
+        "pinograsp.analysis.response",
     ]  # the solver side on first use, still without cvxpy (the default branch-and-bound)

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 import pinograsp as pg
-from pinograsp import analytic
+from pinograsp import examples
 
 UPPER, STEPS = 100.0, 14
 
@@ -20,7 +20,7 @@ TAU = 1.0
 
 
 def pinch_contacts(h=0.0):
-    m = analytic.pinch(h=h)
+    m = examples.pinch(h=h)
     EZ = np.array([0, 0, 1.0])
     a, L = 0.05, 0.1
     left = pg.Contact.revolute([-a, -h, 0], [1, 0, 0], {0: ([-a, -h - L, 0], -EZ)}, nq=2, mu=0.5, name="left")
@@ -146,7 +146,7 @@ def test_contact_permutation(pinch):
 @pytest.mark.parametrize("variant", ["single-step", "preload-first"])
 @pytest.mark.parametrize("case", ["pinch", "palm", "coupled"])
 def test_iterative_variants_agree_on_analytic_cases(variant, case):
-    m = {"pinch": analytic.pinch(), "palm": analytic.palm_pinch(), "coupled": analytic.coupled_finger()}[case]
+    m = {"pinch": examples.pinch(), "palm": examples.palm_pinch(), "coupled": examples.coupled_finger()}[case]
     ref = {"pinch": 10.0, "palm": 10.0, "coupled": 2 * 0.5 / (0.1 + 0.04 / 3)}[case]
     r = pg.max_resistible_wrench(m, TAU, "fy", method="iterative", upper=UPPER, steps=STEPS, variant=variant)
     assert abs(r.magnitude - ref) <= RES + 2e-3

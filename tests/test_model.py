@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import pinograsp as pg
-from pinograsp import analytic
+from pinograsp import examples
 
 
 def test_pinch_matrices_match_hand_derivation(pinch):
@@ -122,7 +122,7 @@ def test_model_validation_names_the_culprit():
         pg.GraspModel.from_contacts([off_plane], planar=True)
     with pytest.raises(pg.ModelError):
         pg.GraspModel.from_contacts([])
-    m = analytic.pinch()
+    m = examples.pinch()
     with pytest.raises(pg.UnknownNameError, match="valid actuators"):
         m.command_vector({"thumb": 1.0})
     with pytest.raises(pg.InvalidInputError, match="command"):

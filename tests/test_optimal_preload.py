@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 import pinograsp as pg
-from pinograsp import analytic
+from pinograsp import examples
+from pinograsp.analysis.optimal import simplex_grid
 from pinograsp.cli import main
-from pinograsp.optimal import simplex_grid
 
 F_Y = [0.0, 3.0, 0.0]  # +Y load on the pinch [N]; closed form: tau >= F L / (2 mu) = 0.3 N·m
 
@@ -21,7 +21,7 @@ def _resisted(model, command, wrench, method):
 
 @pytest.mark.parametrize("method", ["iterative", "prp"])
 def test_pinch_smallest_preload_closed_form(method):
-    m = analytic.pinch()
+    m = examples.pinch()
     r = pg.optimal_preload(m, [F_Y], method, objective="max")
     assert r.status == "optimal" and r.task == "smallest" and r.verified
     assert r.value == pytest.approx(0.3, abs=1e-3)  # tau = F L / (2 mu)
@@ -32,21 +32,21 @@ def test_pinch_smallest_preload_closed_form(method):
 
 
 def test_pinch_prp_exact_to_the_margin():
-    r = pg.optimal_preload(analytic.pinch(), [F_Y], "prp", objective="max")
+    r = pg.optimal_preload(examples.pinch(), [F_Y], "prp", objective="max")
     assert max(r.command.values()) == pytest.approx(0.3 * (1 + 1e-6), rel=1e-9)
-    again = pg.optimal_preload(analytic.pinch(), [F_Y], "prp", objective="max")
+    again = pg.optimal_preload(examples.pinch(), [F_Y], "prp", objective="max")
     assert again.command == r.command  # the same bits
 
 
 def test_differential_pinch_equal_torques():
-    m = analytic.pinch(differential=True)  # one tendon: tau_L = tau_R = f
+    m = examples.pinch(differential=True)  # one tendon: tau_L = tau_R = f
     r = pg.optimal_preload(m, [F_Y], "iterative")
     assert r.command["tendon"] == pytest.approx(0.3, abs=1e-3)
     assert not _resisted(m, 0.95 * r.command["tendon"], F_Y, "iterative")
 
 
 def test_sum_objective_and_weights_prp():
-    m = analytic.pinch()
+    m = examples.pinch()
     r = pg.optimal_preload(m, [F_Y], "prp", objective="sum")
     assert sum(r.command.values()) == pytest.approx(0.3, rel=1e-5)  # one finger presses into the other
     w = pg.optimal_preload(m, [F_Y], "prp", objective="sum", weights={"right": 3.0})
@@ -54,7 +54,7 @@ def test_sum_objective_and_weights_prp():
 
 
 def test_bound_hit_and_infeasible():
-    m = analytic.pinch()
+    m = examples.pinch()
     hit = pg.optimal_preload(m, [[0.0, 30.0, 0.0]], "prp", max_command=3.0)  # needs exactly 3
     assert hit.status == "bound_hit" and set(hit.bound) <= {"left", "right"} and hit.bound
     assert hit.verified
@@ -65,13 +65,13 @@ def test_bound_hit_and_infeasible():
 
 
 def test_passively_resisted_needs_no_preload():
-    r = pg.optimal_preload(analytic.pinch(), [[-5.0, 0.0, 0.0]], "iterative")
+    r = pg.optimal_preload(examples.pinch(), [[-5.0, 0.0, 0.0]], "iterative")
     assert r.value == 0.0 and not r.checks[0].needs_preload and r.verified
     assert all(v == 0.0 for v in r.command.values())
 
 
 def test_split_of_a_budget_pinch():
-    m = analytic.pinch()
+    m = examples.pinch()
     exact = pg.optimal_preload(m, ["fy"], "prp", objective="sum", budget=1.0)
     assert exact.task == "split" and exact.value == pytest.approx(10.0, rel=1e-6)  # 2 mu B / L
     assert "budget" in exact.bound and exact.verified
@@ -99,7 +99,7 @@ def test_simplex_grid():
 
 
 def test_bad_input():
-    m = analytic.pinch()
+    m = examples.pinch()
     for kwargs, name in (
         (dict(disturbances=[[0.0, 0.0, 0.0]]), "disturbances[0]"),
         (dict(disturbances=[F_Y], objective="min"), "objective"),
@@ -114,7 +114,7 @@ def test_bad_input():
 
 
 def test_to_dict_and_summary():
-    r = pg.optimal_preload(analytic.pinch(), [F_Y], "prp")
+    r = pg.optimal_preload(examples.pinch(), [F_Y], "prp")
     d = json.loads(json.dumps(r.to_dict()))
     assert d["status"] == "optimal" and d["verified"] and d["checks"][0]["resisted"]
     assert "exact program" in r.summary()

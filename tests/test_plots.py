@@ -11,7 +11,8 @@ import numpy as np
 import pytest
 
 import pinograsp as pg
-from pinograsp import analytic, plots, viewer
+from pinograsp import examples
+from pinograsp.viz import plots, viewer
 
 MU, TAU = 0.5, 1.0  # the conftest pinch (a = 0.05 m, L = 0.1 m)
 
@@ -58,7 +59,7 @@ def synthetic_profile(
 @pytest.fixture(scope="module")
 def profiles(pinch):
     prp = pg.resistance_profile(pinch, TAU, n=8, method="prp", steps=8)
-    low_mu = pg.resistance_profile(analytic.pinch(mu=0.3), TAU, n=8, method="prp", steps=8)
+    low_mu = pg.resistance_profile(examples.pinch(mu=0.3), TAU, n=8, method="prp", steps=8)
     return prp, low_mu
 
 
@@ -244,7 +245,7 @@ def test_force_comparison_marks_contacts_outside_their_cone(pinch, tmp_path):
 
 def test_force_comparison_bad_input(pinch):
     passive = pg.passive_response(pinch, TAU, [0.0, 0.0, 0.0], method="prp")
-    palm = analytic.palm_pinch()
+    palm = examples.palm_pinch()
     lc_palm = pg.linear_compliance(palm, [0.0, 1.0, 0.0])
     with pytest.raises(pg.InvalidInputError, match="compliance.*3 contacts|2 contacts"):
         plots.plot_force_comparison(pinch, passive, lc_palm)
@@ -340,7 +341,7 @@ def barrett_grasp():
     hand = pg.Hand.builtin("barrett_bh8_282")
     obj = pg.RigidObject.box((0.05, 0.06, 0.08), pose=[0.0, 0.0, 0.04])
     q = hand.close_on(obj)
-    model = pg.GraspModel.from_scene(hand, q, obj, mu=0.5)
+    model = pg.grasp_model_from_scene(hand, q, obj, mu=0.5)
     response = pg.passive_response(model, hand.commands, [0.0, 0.0, -5.0, 0.0, 0.0, 0.0], method="prp")
     return SimpleNamespace(model=model, hand=hand, q=q, object=obj, response=response)
 
@@ -411,7 +412,7 @@ def test_scene_view_in_a_scene_analysis_frame(barrett_grasp):
     np.testing.assert_allclose(obj.vertices.max(axis=0), [0.025, 0.07, 0.03], atol=1e-12)
     with pytest.raises(pg.InvalidInputError, match="frame"):
         viewer.scene_elements(g.model, frame=np.ones((4, 4)))
-    scenes = pytest.importorskip("pinograsp.scenes")
+    scenes = pytest.importorskip("pinograsp.scenes.loading")
     case1 = scenes.load_scene("case1")
     el = viewer.scene_elements(case1)
     (obj,) = [m for m in el.meshes if m.name == "object"]

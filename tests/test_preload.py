@@ -8,14 +8,14 @@ import numpy as np
 import pytest
 
 import pinograsp as pg
-from pinograsp import analytic
+from pinograsp import examples
 from pinograsp.cli import main
 
 
 @pytest.mark.parametrize("method", ["iterative", "prp"])
 def test_pinch_closed_forms(method):
     """Pinch: arm L = 0.1 m, so a command tau presses its contact with tau / L."""
-    m = analytic.pinch()
+    m = examples.pinch()
     bal = pg.equilibrium_preload(m, method)
     assert bal.found and bal.command == {"left": 1.0, "right": 1.0}
     np.testing.assert_allclose(bal.normal_forces, [10.0, 10.0], rtol=1e-6)
@@ -29,7 +29,7 @@ def test_pinch_closed_forms(method):
 
 def test_unbalanced_preload_error_names_the_residual_and_the_way_out():
     """Backdrivable fingers at 1 and 0.5 N·m: the object is pushed by 10 - 5 = 5 N along +x."""
-    m = analytic.pinch(kind="backdrivable")
+    m = examples.pinch(kind="backdrivable")
     with pytest.raises(pg.PreloadNotInEquilibriumError, match="equilibrium_preload") as info:
         pg.max_resistible_wrench(m, [1.0, 0.5], "fy", upper=20, steps=4)
     np.testing.assert_allclose(info.value.residual, [5.0, 0, 0, 0, 0, 0], atol=1e-9)
@@ -79,11 +79,11 @@ def test_allegro_without_and_with_its_description():
     urdf = share / "example-robot-data/robots/allegro_hand_description/urdf/allegro_right_hand.urdf"
     ball = pg.RigidObject.sphere(0.04, pose=[0.07, 0.0, 0.03])
     bare = pg.Hand.from_urdf(urdf, package_dirs=[share])
-    m = pg.GraspModel.from_scene(bare, bare.close_on(ball, {"joint_12.0": 1.2}), ball, mu=0.5)
+    m = pg.grasp_model_from_scene(bare, bare.close_on(ball, {"joint_12.0": 1.2}), ball, mu=0.5)
     r = pg.equilibrium_preload(m)
     assert r.status == "infeasible" and set(r.unbalanced_actuators) == {"joint_4.0", "joint_13.0"}
     hand = pg.Hand.builtin("allegro_right")
-    m = pg.GraspModel.from_scene(hand, hand.close_on(ball, {"joint_12.0": 1.2}), ball, mu=0.5)
+    m = pg.grasp_model_from_scene(hand, hand.close_on(ball, {"joint_12.0": 1.2}), ball, mu=0.5)
     r = pg.equilibrium_preload(m)
     assert r.found and max(r.command.values()) == 1.0 and r.normal_forces.min() > 1.0
     with warnings.catch_warnings():
@@ -110,7 +110,7 @@ def test_deterministic_and_cli_matches_api(capsys):
 def test_held_still_versus_settled_preload():
     """Unequal commands on the pinch: 10 N vs 5 N on a held object (iterative: no equilibrium);
     a settling object pushes the weaker finger onto its non-backdrivable motor (PRP: 10 N each)."""
-    m = analytic.pinch()
+    m = examples.pinch()
     it = pg.passive_response(m, [1.0, 0.5], np.zeros(3), "iterative")
     prp = pg.passive_response(m, [1.0, 0.5], np.zeros(3), "prp")
     assert it.status == "not_resisted" and prp.status == "resisted"

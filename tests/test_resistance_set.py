@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import pinograsp as pg
-from pinograsp import analytic
+from pinograsp import examples
 from pinograsp.cli import main
 
 KW = dict(upper=100.0, steps=10)
@@ -19,7 +19,7 @@ A = 0.05  # pinch half-width = its length scale [m]
 
 @pytest.fixture(scope="module")
 def pinch():
-    return analytic.pinch(mu=0.5)
+    return examples.pinch(mu=0.5)
 
 
 @pytest.fixture(scope="module")
@@ -135,19 +135,19 @@ def test_ferrari_canny_hand_computation():
     # planar pinch, L = a: primitive wrenches (±1, ±mu, ∓mu): a tetrahedron around the origin whose
     # faces lie mu / sqrt(mu² + 2) from it
     for mu in (0.3, 0.5, 1.0):
-        assert pg.ferrari_canny(analytic.pinch(mu=mu)) == pytest.approx(mu / np.sqrt(mu**2 + 2), rel=1e-12)
-    assert pg.ferrari_canny(analytic.pinch(mu=0.5)) == pytest.approx(1 / 3)
+        assert pg.ferrari_canny(examples.pinch(mu=mu)) == pytest.approx(mu / np.sqrt(mu**2 + 2), rel=1e-12)
+    assert pg.ferrari_canny(examples.pinch(mu=0.5)) == pytest.approx(1 / 3)
     # torques scaled by 2a instead: (±1, ±m, ∓k), k = m/2; face normal (mk, k, m): distance
     # m k / sqrt(m² k² + k² + m²)
     m, k = 0.5, 0.25
-    e = pg.ferrari_canny(analytic.pinch(mu=m), length=2 * A)
+    e = pg.ferrari_canny(examples.pinch(mu=m), length=2 * A)
     assert e == pytest.approx(m * k / np.sqrt(m**2 * k**2 + k**2 + m**2), rel=1e-12)
-    assert pg.ferrari_canny(analytic.pinch(planar=False)) == 0.0  # no torque about the contact line
+    assert pg.ferrari_canny(examples.pinch(planar=False)) == 0.0  # no torque about the contact line
 
 
 def test_score_orders_friction_and_preload(pinch):
     base = pg.grasp_score(pinch, 1.0, n=16, **KW)
-    more_mu = pg.grasp_score(analytic.pinch(mu=1.0), 1.0, n=16, **KW)
+    more_mu = pg.grasp_score(examples.pinch(mu=1.0), 1.0, n=16, **KW)
     more_preload = pg.grasp_score(pinch, 2.0, n=16, **KW)
     assert base.unit == "N" and base.kind == "quantile" and base.rset.n == 16
     assert more_mu.value > 1.5 * base.value and more_preload.value > 1.5 * base.value
@@ -183,7 +183,7 @@ def test_cli_resistance_set(tmp_path, capsys):
 
 
 def test_plot_resistance_set(rset):
-    from pinograsp.plots import GID_UNBOUNDED
+    from pinograsp.viz.plots import GID_UNBOUNDED
 
     fig = pg.plot_resistance_set(rset)
     assert len(fig.axes) >= 2

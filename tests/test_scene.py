@@ -10,7 +10,7 @@ import pinocchio as pin
 import pytest
 
 import pinograsp as pg
-from pinograsp.scene import contact_jacobian, scene_contacts
+from pinograsp.robots.grasp import contact_jacobian, scene_contacts
 
 
 def _fd_jacobian(
@@ -92,7 +92,7 @@ def test_planar_urdf_grasp_equals_hand_built_model(tmp_path: Path, flip_right: b
     hand = pg.Hand.from_urdf(f, desc)
     obj = pg.RigidObject.box((2 * A, 0.05, 0.02))
     for planar in (True, False):
-        urdf_model = pg.GraspModel.from_scene(hand, [0.0, 0.0], obj, mu=0.4, planar=planar)
+        urdf_model = pg.grasp_model_from_scene(hand, [0.0, 0.0], obj, mu=0.4, planar=planar)
         contacts = [
             pg.Contact.revolute(
                 [-A, 0, 0], [1, 0, 0], {0: ([-A, -L, 0], [0, 0, -1])}, nq=2, mu=0.4, name="left"
@@ -121,7 +121,7 @@ def test_scene_model_couplings_reference_point_and_per_link_mu():
     hand = pg.Hand.builtin("panda_hand")
     box = pg.RigidObject.box((0.03, 0.03, 0.03), pose=[0.002, 0.0, 0.105])
     q = hand.close_on(box)
-    gm = pg.GraspModel.from_scene(hand, q, box, mu={"panda_leftfinger": 0.3})
+    gm = pg.grasp_model_from_scene(hand, q, box, mu={"panda_leftfinger": 0.3})
     np.testing.assert_allclose(gm.reference_point, [0.002, 0, 0.105])
     np.testing.assert_allclose(gm.mu, [0.3, 0.5])
     assert gm.contact_names == ("panda_leftfinger", "panda_rightfinger")
@@ -140,7 +140,7 @@ def test_barrett_scene_prunes_and_keeps_couplings():
     assert [c.name for c in contacts] == ["bh_finger_13_link", "bh_finger_23_link", "bh_finger_33_link"]
     for c in contacts:  # the normal points from the finger into the object: towards the object's centre
         assert np.dot(c.normal, obj.center_of_mass - c.point) > 0
-    gm = pg.GraspModel.from_scene(hand, q, obj)
+    gm = pg.grasp_model_from_scene(hand, q, obj)
     assert gm.actuator_names == ("spread", "f1", "f2", "f3")
     assert set(gm.coupling_names) == {"mimic:bh_j21", "f1_distal", "f2_distal", "f3_distal"}
 
@@ -149,7 +149,7 @@ def test_no_contact_error_lists_distances_per_link():
     hand = pg.Hand.builtin("underactuated_2f")
     far = pg.RigidObject.sphere(0.01, pose=pin.SE3(np.eye(3), np.array([0.0, 0.3, 0.0])))
     with pytest.raises(pg.NoContactError) as exc:
-        pg.GraspModel.from_scene(hand, [0.0] * 4, far)
+        pg.grasp_model_from_scene(hand, [0.0] * 4, far)
     assert set(exc.value.distances) == {
         "uf_palm",
         "uf_proximal_1",
@@ -159,7 +159,7 @@ def test_no_contact_error_lists_distances_per_link():
     }
     assert exc.value.distances["uf_palm"] == pytest.approx(0.29, abs=1e-9)
     with pytest.raises(pg.InvalidInputError, match="expected 4 joint values"):
-        pg.GraspModel.from_scene(hand, [0.0] * 3, far)
+        pg.grasp_model_from_scene(hand, [0.0] * 3, far)
 
 
 def test_planar_urdf_pinch_resists_the_analytic_load(tmp_path: Path):
@@ -169,7 +169,7 @@ def test_planar_urdf_pinch_resists_the_analytic_load(tmp_path: Path):
     f = tmp_path / "pinch.urdf"
     f.write_text(_pinch_urdf(False))
     hand = pg.Hand.from_urdf(f)  # default description: direct drive on jl and jr
-    m = pg.GraspModel.from_scene(
+    m = pg.grasp_model_from_scene(
         hand, [0.0, 0.0], pg.RigidObject.box((2 * A, 0.05, 0.02)), mu=0.4, planar=True
     )
     theta = np.pi / 4
@@ -185,5 +185,5 @@ def test_mismatched_configuration_length_names_the_joints():
 
     hand = pg.Hand.builtin("underactuated_2f")
     with pytest.raises(pg.InvalidInputError, match="expected 4 joint values") as err:
-        pg.GraspModel.from_scene(hand, np.zeros(3), pg.RigidObject.box([0.04, 0.04, 0.04]))
+        pg.grasp_model_from_scene(hand, np.zeros(3), pg.RigidObject.box([0.04, 0.04, 0.04]))
     assert "uf_j11" in str(err.value)

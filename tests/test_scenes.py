@@ -1,4 +1,4 @@
-"""Scene files (pinograsp.scenes): schema, errors, the analytic scenes, the paper's findings.
+"""Scene files (pinograsp.scenes.loading): schema, errors, the analytic scenes, the paper's findings.
 
 Solves use ``method="prp"`` (one MILP per direction) wherever the finding does not depend on the
 method, and few bisection steps for the iterative scheme; the whole file runs in well under a
@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import pinograsp as pg
-from pinograsp import analytic
+from pinograsp import examples
 from pinograsp.errors import InvalidInputError, ModelFileError, SceneError, UnknownNameError
 
 BUILTIN = {"pinch": 2, "wedge": 2, "case1": 4, "case2": 6, "case3": 4, "fig1": 4}
@@ -99,7 +99,7 @@ def test_loading_by_path_equals_loading_by_name(scenes):
 
 
 # ---------------------------------------------------------------------------- analytic scenes
-@pytest.mark.parametrize(("name", "model"), [("pinch", analytic.pinch()), ("wedge", analytic.pinch(h=0.01))])
+@pytest.mark.parametrize(("name", "model"), [("pinch", examples.pinch()), ("wedge", examples.pinch(h=0.01))])
 def test_explicit_scenes_equal_the_analytic_models(scenes, name, model):
     s = scenes[name]
     for key in ARRAYS:
@@ -111,7 +111,7 @@ def test_explicit_scenes_equal_the_analytic_models(scenes, name, model):
 
 def test_pinch_scene_gives_the_analytic_answers(scenes):
     s = scenes["pinch"]
-    ref = analytic.pinch()
+    ref = examples.pinch()
     for direction, expected in (("fy", 10.0), ([1.0, 1.0, 0.0], 10.0 * np.sqrt(2.0))):
         got = pg.max_resistible_wrench(s.model, s.command, direction, method="prp", upper=100, steps=20)
         want = pg.max_resistible_wrench(ref, 1.0, direction, method="prp", upper=100, steps=20)
@@ -169,7 +169,7 @@ def test_fig1_extends_case1(scenes):
 
 
 def test_user_urdf_scene_with_relative_paths(tmp_path):
-    from pinograsp.hand import DATA_DIR
+    from pinograsp.robots.hand import DATA_DIR
 
     (tmp_path / "hand").mkdir()
     for ext in ("urdf", "yaml"):
@@ -319,7 +319,7 @@ EXPLICIT = """
 
 def test_explicit_jacobian_rows_and_default_actuators(tmp_path):
     s = pg.load_scene(write(tmp_path, EXPLICIT))
-    ref = analytic.pinch()
+    ref = examples.pinch()
     assert s.model.actuator_names == ("a", "b")
     for key in ("G", "J", "D", "R"):
         assert np.allclose(getattr(s.model, key), getattr(ref, key)), key

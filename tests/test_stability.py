@@ -22,7 +22,7 @@ import numpy as np
 import pytest
 
 import pinograsp as pg
-from pinograsp import analytic
+from pinograsp import examples
 from pinograsp.solvers import BranchAndBound, Formulation, Mode, ScaledData, build_problem
 from pinograsp.solvers.miqp import CvxpyMIQP, quiet_stdout
 
@@ -83,7 +83,7 @@ def test_bigm_rows_scale_with_the_stiffness_spread():
     factor = build_problem(f, "prp", data).bigm_factor  # (pair, side): contacts, then actuators
     np.testing.assert_allclose(factor[:2, 1], [1e4, 1.0])  # spring gaps
     np.testing.assert_allclose(factor[2:, 0], [1e4, 1.0])  # actuator displacements
-    f1 = Formulation(analytic.pinch(k=1e3))
+    f1 = Formulation(examples.pinch(k=1e3))
     np.testing.assert_allclose(
         build_problem(f1, "prp", f1.scale_data(np.zeros(3), np.ones(2))).bigm_factor, 1.0
     )
@@ -113,7 +113,7 @@ def test_stiff_left_contact_without_verification(ratio):
 def test_infeasible_verdict_is_verified_with_a_larger_m():
     """M = 0.05 (scaled) cuts off the pinch's solution at w = (3, 4): the first solve is
     infeasible, the verification with 100 M finds it."""
-    m = analytic.pinch()
+    m = examples.pinch()
     f = Formulation(m)
     data = f.scale_data(np.array([3.0, 4.0, 0.0]), np.ones(2))
     unverified = CvxpyMIQP(f, "prp", verify_infeasible=False)
@@ -225,7 +225,7 @@ def test_indicator_constraints_match_brute_force():
 
 
 def test_indicator_movement_step_matches_bigm():
-    m = analytic.palm_pinch()
+    m = examples.palm_pinch()
     f = Formulation(m)
     bigm, ind = CvxpyMIQP(f, "move"), CvxpyMIQP(f, "move", complementarity="indicator")
     rng = np.random.default_rng(3)
@@ -239,7 +239,7 @@ def test_indicator_movement_step_matches_bigm():
 
 
 def test_miqp_options_are_validated():
-    f = Formulation(analytic.pinch())
+    f = Formulation(examples.pinch())
     with pytest.raises(pg.InvalidInputError, match="complementarity"):
         CvxpyMIQP(f, "prp", complementarity="sos1")
     with pytest.raises(pg.InvalidInputError, match="kind"):

@@ -7,9 +7,9 @@ import pytest
 import yaml
 
 import pinograsp as pg
-from pinograsp import plots, view3d, viewer
-from pinograsp.collision import link_distances
-from pinograsp.hand import DATA_DIR
+from pinograsp.robots.collision import link_distances
+from pinograsp.robots.hand import DATA_DIR
+from pinograsp.viz import plots, view3d, viewer
 
 plt = plots.pyplot()
 UF_URDF = DATA_DIR / "urdf" / "underactuated_2f.urdf"

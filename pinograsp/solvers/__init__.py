@@ -6,10 +6,10 @@ Solvers never import Pinocchio or Coal; they only see a :class:`~pinograsp.Grasp
 
 from .base import FAILED, INFEASIBLE, NODE_LIMIT, OPTIMAL, TIMEOUT, Mode, RawSolution, SolveStatus
 from .bnb import BranchAndBound
-from .engine import Backend, BackendOptions, solve
 from .formulation import Formulation, ScaledData
 from .miqp import MIQP_SOLVERS, CvxpyMIQP, available_miqp_solvers, resolve_solver
 from .problem import PairKind, Problem, ProblemKind, build_problem
+from .solve import Backend, BackendOptions, solve
 
 __all__ = [
     "FAILED",

@@ -30,6 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..core.settings import MAX_NODES
 from .base import FAILED, INFEASIBLE, NODE_LIMIT, OPTIMAL, Mode, RawSolution
 from .node_qp import NodeQP, QPResult, QPStatus
 from .problem import INF, PairKind, Problem, ProblemKind
@@ -42,7 +43,6 @@ ABS_GAP = 1e-24
 #: Complementarity violation (scaled force units) below which a pair counts as satisfied.
 COMP_TOL = 1e-9
 #: Default node limit of one search.
-MAX_NODES = 20000
 
 
 @dataclass(frozen=True)

@@ -37,7 +37,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..model import GraspModel
+from ..core.model import GraspModel
 
 NBD, BACKDRIVABLE, LOCKED = "non-backdrivable", "backdrivable", "locked"
 
@@ -64,7 +64,7 @@ class ScaledData:
 
 
 class Formulation:
-    """Scaled matrices of a :class:`~pinograsp.model.GraspModel` (built once per model)."""
+    """Scaled matrices of a :class:`~pinograsp.core.model.GraspModel` (built once per model)."""
 
     def __init__(self, model: GraspModel) -> None:
         self.model = model

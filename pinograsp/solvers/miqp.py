@@ -66,6 +66,7 @@ from typing import Any
 
 import numpy as np
 
+from ..core.settings import MIQP_SOLVERS
 from ..errors import InvalidInputError, SolverError, SolverNotAvailableError
 from .base import FAILED, INFEASIBLE, OPTIMAL, TIMEOUT, Mode, RawSolution
 from .formulation import Formulation, ScaledData
@@ -85,14 +86,6 @@ class _Cvxpy:
 
 cp = _Cvxpy()
 
-MIQP_SOLVERS = {
-    "SCIP": "pyscipopt (installed with pinograsp)",
-    "GUROBI": "gurobipy (pip install 'pinograsp[gurobi]')",
-    "MOSEK": "mosek",
-    "CPLEX": "cplex",
-    "XPRESS": "xpress",
-    "COPT": "coptpy",
-}
 
 #: SCIP settings measured to be 4-12x faster on these problems with identical answers
 #: (docs/solvers.md): the aggregation cut separator and the MPEC heuristic dominate otherwise.

@@ -1,0 +1,290 @@
+"""Choosing a preload: actuator commands under which the grasp is in equilibrium at ``w = 0``.
+
+A command vector ``f_c`` is a preload of the grasp when the forces it produces balance on the
+object. Under the model (docs/design.md) that means: contact forces ``c = D beta`` in their
+friction pyramids, every contact pressing (``c_n >= t > 0``), the object in equilibrium
+(``G c = 0``), the hand in equilibrium with every driving actuator at its command
+(``J^T c = R f_c + C^T lambda``; locked actuators react freely), normal forces produced by the
+springs ``c_n = k n^T (J q - G^T x)`` of a hand displacement ``q`` that the couplings allow
+(``C q = 0``) and that closes every non-backdrivable actuator (``R^T q >= 0``), and an object
+displacement ``x``. The design problem does not follow a method's path to the equilibrium; the
+verification does (``method``: whose preload stage to run; docs/hands.md, "Choosing a preload").
+
+Objectives: ``"balanced"`` maximises the smallest normal force with every command within its
+bound (then the least-norm commands at that force); ``"least_norm"`` gives the smallest
+commands for which every contact presses with at least ``grip`` [N]. The commands found are
+verified by :func:`pinograsp.passive_response` at ``w = 0`` with the method; where no preload
+exists, the result names the contacts that no preload can load and the actuators that no
+preload can balance.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+
+from ..core.model import GraspModel
+from ..core.results import PassiveResponse
+from ..core.validate import choice, positive_number
+from ..errors import InvalidInputError, UnknownNameError
+from .response import METHODS, Settings, passive_response
+
+Objective = Literal["balanced", "least_norm"]
+OBJECTIVES: tuple[str, ...] = ("balanced", "least_norm")
+#: Smallest normal force, relative to the largest, for a contact to count as loaded.
+LOADED = 1e-6
+
+
+@dataclass(frozen=True)
+class PreloadChoice:
+    """Result of :func:`equilibrium_preload`.
+
+    Attributes:
+        status: ``"found"`` (commands found and verified), ``"unverified"`` (found by the
+            design problem, but the method's own preload stage does not settle in equilibrium
+            with them) or ``"infeasible"`` (no preload loads every contact).
+        command: ``{actuator: command}`` [N·m or N] (None when infeasible).
+        normal_forces: Normal forces of the design solution (nc,) [N] (None when infeasible).
+        method: The method whose preload stage was modelled.
+        objective: ``"balanced"`` or ``"least_norm"``.
+        response: The verification at ``w = 0`` (None when infeasible).
+        unloadable_contacts: Contacts that no preload can press (infeasible results).
+        unbalanced_actuators: Actuators whose command no preload can balance (infeasible results).
+        reason: One sentence on the outcome.
+    """
+
+    status: Literal["found", "unverified", "infeasible"]
+    command: dict[str, float] | None
+    normal_forces: np.ndarray | None
+    method: str
+    objective: str
+    response: PassiveResponse | None
+    unloadable_contacts: tuple[str, ...]
+    unbalanced_actuators: tuple[str, ...]
+    reason: str
+
+    @property
+    def found(self) -> bool:
+        """Commands found and verified."""
+        return self.status == "found"
+
+    def to_dict(self) -> dict:
+        """Plain JSON-able dictionary."""
+        return {
+            "status": self.status,
+            "command": self.command,
+            "normal_forces": None if self.normal_forces is None else self.normal_forces.tolist(),
+            "method": self.method,
+            "objective": self.objective,
+            "resisted_at_zero_load": None if self.response is None else bool(self.response.resistible),
+            "unloadable_contacts": list(self.unloadable_contacts),
+            "unbalanced_actuators": list(self.unbalanced_actuators),
+            "reason": self.reason,
+        }
+
+
+def command_bounds(model: GraspModel, max_command: object) -> np.ndarray:
+    """Per kept actuator upper bounds (na,) from a scalar or ``{name: bound}``."""
+    if isinstance(max_command, dict):
+        out = np.ones(model.na)
+        for key, value in max_command.items():
+            if key not in model.all_actuator_names:
+                raise UnknownNameError("actuator", key, model.all_actuator_names)
+            if key in model.actuator_names:
+                out[model.actuator_names.index(key)] = positive_number(f"max_command[{key!r}]", value)
+        return out
+    return np.full(model.na, positive_number("max_command", max_command))
+
+
+def force_scale(model: GraspModel, fmax: np.ndarray) -> float:
+    """The contact force [N] the strongest actuator at its bound presses through the shortest
+    contact lever: ``max |R| fmax / min ||J_n||`` (levers of contacts that joints move)."""
+    levers = np.linalg.norm(model.J[model.normal_rows], axis=1)
+    levers = levers[levers > 0]
+    torque = float(np.max(np.abs(model.R) @ fmax, initial=0.0))
+    return torque / float(levers.min()) if len(levers) and torque > 0 else 1.0
+
+
+def _constraints(
+    model: GraspModel, fmax: np.ndarray, method: str, signed: bool = False
+) -> tuple[list, object, object, object]:
+    """The equilibrium constraints of the module docstring: (constraints, f, c, c_n). With
+    ``signed`` the commands may be negative (the diagnosis: which actuator would have to pull)."""
+    import cvxpy as cp
+
+    m = model
+    drive = np.array([kind != "locked" for kind in m.kinds])
+    bidir = np.array([n in m.bidirectional for n in m.actuator_names], dtype=bool)
+    nbd = np.array([kind == "non-backdrivable" for kind in m.kinds]) & ~bidir
+    beta = cp.Variable(m.nb, nonneg=True)
+    f = cp.Variable(m.na)
+    q = cp.Variable(m.nq)
+    c, cn = m.D @ beta, m.E @ beta
+    compression = m.J[m.normal_rows] @ q - m.G.T[m.normal_rows] @ cp.Variable(m.nw)
+    tau = m.R @ f  # (nq,): driving actuators at their commands ...
+    if (~drive).any():  # ... locked ones react freely (their command is not used)
+        tau = m.R[:, drive] @ f[drive] + m.R[:, ~drive] @ cp.Variable(int((~drive).sum()))
+    if m.ncp:
+        tau = tau + m.C.T @ cp.Variable(m.ncp)
+    cons = [
+        m.G @ c == 0,
+        m.J.T @ c == tau,
+        cn == cp.multiply(m.k, compression),
+        f >= (-fmax if signed else np.where(bidir, -fmax, 0.0)),
+        f <= fmax,
+        cn <= 1e6 * force_scale(m, fmax),  # bounded (the diagnosis maximises)
+    ]
+    if m.ncp:
+        cons.append(m.C @ q == 0)
+    if nbd.any() and not signed:
+        cons.append(m.R[:, nbd].T @ q >= 0)  # every non-backdrivable actuator closed
+    if (~drive).any():
+        cons.append(f[~drive] == 0)
+    return cons, f, c, cn
+
+
+def _solved(problem: object) -> bool:
+    import cvxpy as cp
+
+    problem.solve(solver=cp.CLARABEL)  # type: ignore[attr-defined]
+    return problem.status == "optimal" and problem.value is not None  # type: ignore[attr-defined]
+
+
+def _design(model: GraspModel, fmax: np.ndarray, method: str, objective: str, grip: float, normal_only: bool):
+    """Commands (na,) and normal forces (nc,) of the design problem, or None."""
+    import cvxpy as cp
+
+    m = model
+    cons, f, c, cn = _constraints(m, fmax, method)
+    if normal_only:
+        cons.append(c[np.setdiff1d(np.arange(m.nc * m.d), m.normal_rows)] == 0)
+    if objective == "balanced":
+        t = cp.Variable()
+        if not _solved(cp.Problem(cp.Maximize(t), [*cons, cn >= t])) or t.value <= LOADED * force_scale(
+            m, fmax
+        ):
+            return None  # no force above the solver's noise: nothing presses every contact
+        target = float(t.value) * (1.0 - 1e-6)
+    else:
+        target = grip
+    if not _solved(cp.Problem(cp.Minimize(cp.sum_squares(f / float(fmax.max()))), [*cons, cn >= target])):
+        return None
+    drive = np.array([kind != "locked" for kind in m.kinds])
+    bidir = np.array([n in m.bidirectional for n in m.actuator_names], dtype=bool)
+    fv = np.where(drive, np.where(bidir, f.value, np.maximum(f.value, 0.0)), 0.0)
+    cv = np.asarray(cn.value, float)
+    if objective == "balanced":  # homogeneous: scale up until a command meets its bound exactly
+        a = np.abs(fv)
+        s = float(np.min(fmax[a > 0] / a[a > 0])) if (a > 0).any() else 1.0
+        fv, cv = np.clip(fv * s, -fmax, fmax), cv * s
+    return np.round(fv / fmax, 6) * fmax, cv  # to the design accuracy (1e-6 of the bounds)
+
+
+def _diagnose(model: GraspModel, fmax: np.ndarray, method: str) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """Why no preload exists: the driving actuators that would have to pull (a negative
+    command) for every contact to press, or, if even pulling does not help, the contacts that
+    no preload can press."""
+    import cvxpy as cp
+
+    m = model
+    cons, f, _, cn = _constraints(m, fmax, method, signed=True)
+    t = cp.Variable()
+    if _solved(cp.Problem(cp.Maximize(t), [*cons, cn >= t])) and t.value > LOADED * force_scale(m, fmax):
+        floor = float(t.value) * 0.5  # press every contact; pull as little as possible
+        pull = cp.sum(cp.multiply(cp.neg(f), 1.0 / fmax))
+        if _solved(cp.Problem(cp.Minimize(pull), [*cons, cn >= floor])):
+            need = np.maximum(-np.asarray(f.value, float), 0.0) / fmax
+            return (), tuple(n for n, v in zip(m.actuator_names, need) if v > 1e-6)
+    cons, f, _, cn = _constraints(m, fmax, method)
+    unloadable = []
+    for i, name in enumerate(m.contact_names):  # vs the force its finger presses on a held object
+        p = cp.Problem(cp.Maximize(cn[i]), cons)
+        alone = cp.Problem(cp.Maximize(cn[i]), cons[1:])  # cons[0]: the object's equilibrium
+        best = float(p.value) if _solved(p) else 0.0
+        ref = float(alone.value) if _solved(alone) else 0.0
+        if best <= LOADED * ref or ref <= 0:
+            unloadable.append(name)
+    return tuple(unloadable), ()
+
+
+def equilibrium_preload(
+    model: GraspModel,
+    method: str = "iterative",
+    *,
+    objective: str = "balanced",
+    max_command: float | dict[str, float] = 1.0,
+    grip: float = 1.0,
+    settings: Settings | None = None,
+) -> PreloadChoice:
+    """Actuator commands under which the grasp is in equilibrium at ``w = 0``.
+
+    Args:
+        model: The grasp.
+        method: Whose preload stage verifies the commands: ``"iterative"`` (default) or
+            ``"prp"``.
+        objective: ``"balanced"`` (default: the largest smallest normal force within the
+            bounds) or ``"least_norm"`` (the smallest commands pressing every contact with at
+            least ``grip``).
+        max_command: Upper bound of every command, or ``{actuator: bound}`` (others 1)
+            [N·m or N].
+        grip: Smallest normal force at every contact for ``"least_norm"`` [N].
+        settings: Solver settings of the verification.
+
+    Returns:
+        A :class:`PreloadChoice`; ``choice.command`` goes straight into every analysis.
+    """
+    if not isinstance(model, GraspModel):
+        raise InvalidInputError("model", f"expected pinograsp.GraspModel, got {type(model).__name__}")
+    choice("method", method, METHODS)
+    choice("objective", objective, OBJECTIVES)
+    fmax = command_bounds(model, max_command)
+    grip = positive_number("grip", grip)
+    for normal_only in (False, True):  # friction allowed first; then pressing without friction
+        design = _design(model, fmax, method, objective, grip, normal_only)
+        if design is None:
+            continue
+        f, cn = design
+        command = {n: 0.0 for n in model.all_actuator_names}
+        command.update({n: float(v) for n, v in zip(model.actuator_names, f)})
+        resp = passive_response(model, command, np.zeros(6), method, settings=settings)
+        if resp.resistible:
+            how = "without friction" if normal_only else "with friction"
+            return PreloadChoice(
+                "found", command, cn, method, objective, resp, (), (),
+                f"every contact presses (smallest normal force {cn.min():.4g} N, {how}) and the "
+                f"{method} preload stage is in equilibrium",
+            )  # fmt: skip
+    if design is not None:
+        return PreloadChoice(
+            "unverified", command, cn, method, objective, resp, (), (),
+            f"the design balances, but the {method} preload stage ends {resp.status!r} with it"
+            + ("; method='prp' lets the object settle" if method == "iterative" else ""),
+        )  # fmt: skip
+    if objective == "least_norm":  # bounded by max_command?
+        best = _design(model, fmax, method, "balanced", grip, False)
+        if best is not None:
+            return PreloadChoice(
+                "infeasible", None, None, method, objective, None, (), (),
+                f"within max_command every contact presses with at most {best[1].min():.4g} N "
+                f"< grip = {grip:g} N: raise max_command or lower grip",
+            )  # fmt: skip
+    contacts, actuators = _diagnose(model, fmax, method)
+    parts = []
+    if contacts:
+        parts.append(f"no preload presses contact(s) {list(contacts)}")
+    if actuators:
+        parts.append(
+            f"actuator(s) {list(actuators)} would have to pull (a negative command) for every "
+            "contact to press: lock them (kind 'locked'), declare them bidirectional, or move "
+            "the object or the contacts"
+        )
+    if contacts:
+        parts[-1] += " (no other contact or finger can oppose them)"
+    if not parts:
+        parts.append("each contact can be pressed, but not all at once")
+    return PreloadChoice(
+        "infeasible", None, None, method, objective, None, contacts, actuators,
+        "; ".join(parts),
+    )  # fmt: skip

@@ -1,0 +1,388 @@
+"""Grasp records for batch evaluation: a hand, an object at a pose, a configuration and a preload.
+
+:class:`GraspSpec` and :class:`ObjectSpec` are frozen, plain-data records (strings, floats and
+tuples): cheap to pickle to worker processes, Ray or Dask, and rebuilt into a
+:class:`~pinograsp.core.model.GraspModel` where they are evaluated (:func:`build_grasp`; hands are
+loaded once per process and cached). :func:`sample_grasps` places one object at many poses
+around a nominal one, to be auto-closed by the hand.
+
+This module imports neither the solvers nor the URDF side until a grasp is built.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, replace
+from typing import Any, Literal
+
+import numpy as np
+
+from ..core.validate import choice, finite_number, positive_number, whole_number
+from ..errors import InvalidInputError
+
+#: Object shapes of :class:`ObjectSpec`.
+SHAPES = ("box", "sphere", "cylinder", "mesh")
+Shape = Literal["box", "sphere", "cylinder", "mesh"]
+
+
+def _floats(name: str, value: object, n: int | None = None) -> tuple[float, ...]:
+    if isinstance(value, (str, bytes, Mapping)) or not isinstance(value, (Sequence, np.ndarray)):
+        raise InvalidInputError(name, f"expected {n or 'a list of'} numbers, got {value!r}")
+    out = tuple(finite_number(f"{name}[{i}]", v) for i, v in enumerate(value))
+    if n is not None and len(out) != n:
+        raise InvalidInputError(name, f"expected {n} numbers, got {len(out)}")
+    return out
+
+
+def _pairs(name: str, value: object) -> tuple[tuple[str, float], ...] | tuple[float, ...]:
+    """``{name: value}`` -> sorted-as-given ``((name, value), ...)``; a sequence -> floats."""
+    if isinstance(value, Mapping):
+        return tuple((str(k), finite_number(f"{name}.{k}", v)) for k, v in value.items())
+    return _floats(name, value)
+
+
+def rotation_rpy(rpy: Sequence[float]) -> np.ndarray:
+    """URDF roll-pitch-yaw [rad] -> rotation ``Rz(yaw) Ry(pitch) Rx(roll)``, (3, 3)."""
+    r, p, y = (float(v) for v in rpy)
+    cr, sr, cp, sp, cy, sy = math.cos(r), math.sin(r), math.cos(p), math.sin(p), math.cos(y), math.sin(y)
+    return np.array(
+        [
+            [cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
+            [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
+            [-sp, cp * sr, cp * cr],
+        ]
+    )
+
+
+def rpy_of(R: np.ndarray) -> tuple[float, float, float]:
+    """Inverse of :func:`rotation_rpy`: roll, pitch, yaw [rad] of a rotation (3, 3); pitch in
+    ``[-pi/2, pi/2]`` (at ``|pitch| = pi/2`` roll is taken 0)."""
+    pitch = -math.asin(max(-1.0, min(1.0, float(R[2, 0]))))
+    if abs(math.cos(pitch)) < 1e-12:
+        return 0.0, pitch, math.atan2(-float(R[0, 1]), float(R[1, 1]))
+    return math.atan2(float(R[2, 1]), float(R[2, 2])), pitch, math.atan2(float(R[1, 0]), float(R[0, 0]))
+
+
+@dataclass(frozen=True)
+class ObjectSpec:
+    """An object and its pose in the hand base frame, as plain data.
+
+    Attributes:
+        shape: ``"box"``, ``"sphere"``, ``"cylinder"`` (axis along its z) or ``"mesh"``.
+        size: Box edge lengths ``(sx, sy, sz)`` [m] (box only).
+        radius: Sphere or cylinder radius [m].
+        length: Cylinder length [m].
+        file: Mesh file (STL/OBJ/PLY; mesh only).
+        scale: Mesh vertex scale (e.g. 1e-3 for millimetres).
+        convex: Mesh as its convex hull (``True``), a surface (``False``) or by its shape (``None``).
+        xyz: Position of the object frame [m], (3,).
+        rpy: Orientation, URDF roll-pitch-yaw [rad], (3,).
+        name: Label (default: the shape).
+    """
+
+    shape: Shape
+    size: tuple[float, float, float] | None = None
+    radius: float | None = None
+    length: float | None = None
+    file: str | None = None
+    scale: float = 1.0
+    convex: bool | None = None
+    xyz: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    rpy: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    name: str | None = None
+
+    def __post_init__(self) -> None:
+        choice("shape", self.shape, SHAPES)
+        need = {"box": ("size",), "sphere": ("radius",), "cylinder": ("radius", "length"), "mesh": ("file",)}
+        for key in ("size", "radius", "length", "file"):
+            given = getattr(self, key) is not None
+            if given != (key in need[self.shape]):
+                what = "needs" if not given else "takes no"
+                raise InvalidInputError(key, f"a {self.shape} {what} '{key}'")
+        if self.size is not None:
+            sz = _floats("size", self.size, 3)
+            for i, v in enumerate(sz):
+                positive_number(f"size[{i}]", v)
+            object.__setattr__(self, "size", sz)
+        for key in ("radius", "length"):
+            if getattr(self, key) is not None:
+                object.__setattr__(self, key, positive_number(key, getattr(self, key)))
+        if self.file is not None and (not isinstance(self.file, str) or not self.file):
+            raise InvalidInputError("file", f"expected a mesh file path, got {self.file!r}")
+        object.__setattr__(self, "scale", positive_number("scale", self.scale))
+        if self.convex is not None and not isinstance(self.convex, bool):
+            raise InvalidInputError("convex", f"expected True, False or None, got {self.convex!r}")
+        object.__setattr__(self, "xyz", _floats("xyz", self.xyz, 3))
+        object.__setattr__(self, "rpy", _floats("rpy", self.rpy, 3))
+        if self.name is not None and not isinstance(self.name, str):
+            raise InvalidInputError("name", f"expected a string, got {self.name!r}")
+
+    @property
+    def pose(self) -> np.ndarray:
+        """The object frame in the hand base frame, 4×4."""
+        T = np.eye(4)
+        T[:3, :3] = rotation_rpy(self.rpy)
+        T[:3, 3] = self.xyz
+        return T
+
+    def with_pose(self, xyz: Sequence[float], rpy: Sequence[float]) -> ObjectSpec:
+        """The same object at another pose (position [m], roll-pitch-yaw [rad])."""
+        return replace(self, xyz=tuple(float(v) for v in xyz), rpy=tuple(float(v) for v in rpy))
+
+    @classmethod
+    def from_object(cls, obj: Any) -> ObjectSpec:
+        """The record of a primitive :class:`~pinograsp.robots.objects.RigidObject` (box, sphere,
+        cylinder; meshes need an :class:`ObjectSpec` with their file and scale)."""
+        kind = getattr(obj, "kind", None)
+        if kind not in ("box", "sphere", "cylinder"):
+            raise InvalidInputError(
+                "obj", f"expected an ObjectSpec or a box/sphere/cylinder RigidObject, got {obj!r}"
+            )
+        if np.any(np.asarray(obj.com_local) != 0):
+            raise InvalidInputError("obj", "a RigidObject with a shifted centre of mass has no ObjectSpec")
+        T = np.asarray(obj.pose)
+        dims = dict(obj.dimensions)
+        return cls(kind, xyz=tuple(T[:3, 3]), rpy=rpy_of(T[:3, :3]), name=obj.name, **dims)
+
+    def to_object(self) -> Any:
+        """The :class:`~pinograsp.robots.objects.RigidObject` (imports Coal)."""
+        from ..robots.objects import RigidObject
+
+        name = self.name or (self.shape if self.shape != "mesh" else None)
+        if self.shape == "box":
+            return RigidObject.box(self.size, self.pose, name=name)
+        if self.shape == "sphere":
+            return RigidObject.sphere(self.radius, self.pose, name=name)
+        if self.shape == "cylinder":
+            return RigidObject.cylinder(self.radius, self.length, self.pose, name=name)
+        return RigidObject.from_mesh(self.file, self.pose, scale=self.scale, convex=self.convex, name=name)
+
+
+@dataclass(frozen=True)
+class GraspSpec:
+    """One grasp to evaluate, as plain data.
+
+    Attributes:
+        hand: A built-in hand name (``pg.Hand.builtin``) or the path of a URDF file.
+        object: The object and its pose (an :class:`ObjectSpec`; a primitive ``RigidObject`` or
+            a mapping of its fields is converted).
+        description: Hand description YAML for a URDF path (default: next to the URDF).
+        package_dirs: Folders for ``package://`` meshes of a URDF path.
+        q: Hand configuration, URDF coordinates [rad or m]: ``{joint: value}`` or one value per
+            hand joint; ``None``: auto-close (``Hand.close_on``) from ``q_open``.
+        q_open: Open configuration of the auto-close ``{joint: value}`` (default: the description's).
+        step: Largest joint step of the auto-close [rad].
+        mu: Friction coefficient of every contact.
+        stiffness: Normal stiffness of every contact [N/m].
+        command: ``"auto"`` (``pg.equilibrium_preload``), a number (every actuator) or
+            ``{actuator: value}`` [N·m or N].
+        max_command: Bound of every command of the ``"auto"`` preload [N·m or N].
+        preload_method: Whose preload stage ``"auto"`` verifies: ``"iterative"`` or ``"prp"``.
+        id: Label of the grasp's row (default: its position in the batch).
+    """
+
+    hand: str
+    object: ObjectSpec
+    description: str | None = None
+    package_dirs: tuple[str, ...] = ()
+    q: tuple[tuple[str, float], ...] | tuple[float, ...] | None = None
+    q_open: tuple[tuple[str, float], ...] | None = None
+    step: float = 0.03
+    mu: float = 0.5
+    stiffness: float = 1.0
+    command: Literal["auto"] | float | tuple[tuple[str, float], ...] = "auto"
+    max_command: float = 1.0
+    preload_method: Literal["iterative", "prp"] = "iterative"
+    id: str | None = None
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.hand, str) or not self.hand:
+            raise InvalidInputError(
+                "hand", f"expected a built-in hand name or a URDF path, got {self.hand!r}"
+            )
+        obj = self.object
+        if isinstance(obj, Mapping):
+            obj = _object_from_mapping(obj)
+        elif not isinstance(obj, ObjectSpec):
+            obj = ObjectSpec.from_object(obj)
+        object.__setattr__(self, "object", obj)
+        if self.description is not None and (not isinstance(self.description, str) or not self.description):
+            raise InvalidInputError("description", f"expected a file path, got {self.description!r}")
+        dirs = self.package_dirs
+        if isinstance(dirs, str) or not all(isinstance(d, str) for d in dirs):
+            raise InvalidInputError("package_dirs", f"expected a list of folder paths, got {dirs!r}")
+        object.__setattr__(self, "package_dirs", tuple(dirs))
+        if self.q is not None:
+            object.__setattr__(self, "q", _pairs("q", self.q))
+        if self.q_open is not None:
+            if not isinstance(self.q_open, Mapping) and not all(isinstance(p, tuple) for p in self.q_open):
+                raise InvalidInputError("q_open", f"expected a mapping joint -> value, got {self.q_open!r}")
+            object.__setattr__(self, "q_open", _pairs("q_open", dict(self.q_open)))
+        for key in ("step", "max_command"):
+            object.__setattr__(self, key, positive_number(key, getattr(self, key)))
+        mu = finite_number("mu", self.mu)
+        if mu < 0:
+            raise InvalidInputError("mu", f"must be >= 0, got {self.mu!r}")
+        object.__setattr__(self, "mu", mu)
+        object.__setattr__(self, "stiffness", positive_number("stiffness", self.stiffness))
+        cmd = self.command
+        if isinstance(cmd, str):
+            choice("command", cmd, ("auto",))
+        elif isinstance(cmd, (Mapping, tuple)):
+            object.__setattr__(self, "command", _pairs("command", dict(cmd)))
+        else:
+            object.__setattr__(self, "command", finite_number("command", cmd))
+        choice("preload_method", self.preload_method, ("iterative", "prp"))
+        if self.id is not None and not isinstance(self.id, str):
+            object.__setattr__(self, "id", str(self.id))
+
+    def to_dict(self) -> dict[str, Any]:
+        """The record as plain JSON-ready data (mappings for ``q``, ``q_open``, ``command``)."""
+        out: dict[str, Any] = {}
+        for key in self.__dataclass_fields__:
+            v = getattr(self, key)
+            if key == "object":
+                v = {k: getattr(v, k) for k in v.__dataclass_fields__ if getattr(v, k) is not None}
+            elif isinstance(v, tuple) and v and isinstance(v[0], tuple):
+                v = dict(v)
+            out[key] = list(v) if isinstance(v, tuple) else v
+        return out
+
+
+def _object_from_mapping(data: Mapping) -> ObjectSpec:
+    keys = set(ObjectSpec.__dataclass_fields__)
+    for k in data:
+        if k not in keys:
+            raise InvalidInputError(f"object.{k}", f"unknown key; valid keys: {', '.join(sorted(keys))}")
+    return ObjectSpec(**dict(data))
+
+
+def sample_grasps(
+    hand: str,
+    obj: ObjectSpec | Any,
+    n: int,
+    seed: int = 0,
+    *,
+    translation: float | Sequence[float] = 0.005,
+    rotation: float = math.radians(10.0),
+    include_nominal: bool = True,
+    **fields: Any,
+) -> list[GraspSpec]:
+    """Grasps of one object at ``n`` poses sampled around its nominal pose, auto-closed by ``hand``.
+
+    Each pose is the nominal one displaced by a translation drawn uniformly in the box
+    ``±translation`` (per axis, hand base frame) and rotated about the object's origin by an
+    angle drawn uniformly in ``[0, rotation]`` about a uniformly random axis. The draws come
+    from ``numpy.random.default_rng(seed)``: the same ``seed`` gives the same grasps everywhere.
+
+    Args:
+        hand: Built-in hand name or URDF path (as :attr:`GraspSpec.hand`).
+        obj: The object at its nominal pose (:class:`ObjectSpec` or a primitive ``RigidObject``).
+        n: Number of grasps.
+        seed: Seed of the generator.
+        translation: Half-width of the position box [m]: a scalar or (3,).
+        rotation: Largest rotation angle [rad].
+        include_nominal: The first grasp is the nominal pose itself.
+        **fields: Other :class:`GraspSpec` fields shared by every grasp (``q_open``, ``mu``,
+            ``command``, ...).
+
+    Returns:
+        ``n`` grasps with ids ``"s<seed>-<i>"``.
+    """
+    n = whole_number("n", n)
+    seed = whole_number("seed", seed, minimum=0)
+    spec = obj if isinstance(obj, ObjectSpec) else ObjectSpec.from_object(obj)
+    half = np.asarray(_floats("translation", np.broadcast_to(np.asarray(translation, dtype=float), 3)))
+    if np.any(half < 0):
+        raise InvalidInputError("translation", f"must be >= 0, got {translation!r}")
+    rotation = finite_number("rotation", rotation)
+    if rotation < 0:
+        raise InvalidInputError("rotation", f"must be >= 0, got {rotation!r}")
+    if "id" in fields or "object" in fields:
+        raise InvalidInputError("fields", "'id' and 'object' are set by sample_grasps")
+    GraspSpec(hand, spec, **fields)  # validate the shared fields once, before sampling
+    rng = np.random.default_rng(seed)
+    R0, p0 = rotation_rpy(spec.rpy), np.asarray(spec.xyz)
+    out = []
+    for i in range(n):
+        dp = rng.uniform(-1.0, 1.0, 3) * half
+        axis = rng.normal(size=3)
+        angle = rng.uniform(0.0, rotation)
+        if include_nominal and i == 0:
+            dp, angle = np.zeros(3), 0.0
+        axis = axis / max(float(np.linalg.norm(axis)), 1e-300)
+        K = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+        dR = np.eye(3) + math.sin(angle) * K + (1.0 - math.cos(angle)) * (K @ K)
+        placed = spec if angle == 0.0 and not dp.any() else spec.with_pose(p0 + dp, rpy_of(dR @ R0))
+        out.append(GraspSpec(hand, placed, id=f"s{seed}-{i}", **fields))
+    return out
+
+
+# ---------------------------------------------------------------------------- building (worker side)
+_HANDS: dict[tuple, Any] = {}
+
+
+def load_hand(spec: GraspSpec) -> Any:
+    """The spec's :class:`~pinograsp.robots.hand.Hand`, loaded once per process."""
+    from ..robots.hand import BUILTIN_HANDS, Hand
+
+    key = (spec.hand, spec.description, spec.package_dirs)
+    if key not in _HANDS:
+        if spec.hand in BUILTIN_HANDS and spec.description is None:
+            _HANDS[key] = Hand.builtin(spec.hand)
+        else:
+            dirs = list(spec.package_dirs) or None
+            _HANDS[key] = Hand.from_urdf(spec.hand, spec.description, package_dirs=dirs)
+    return _HANDS[key]
+
+
+def _with_mimics(hand: Any, pairs: tuple) -> dict[str, float]:
+    """``{joint: value}`` with each URDF mimic follower not given following its leader."""
+    q = dict(pairs)
+    for m in hand.mimics:
+        if m.leader in q and m.follower not in q:
+            q[m.follower] = m.multiplier * q[m.leader] + m.offset
+    return q
+
+
+def build_grasp(spec: GraspSpec) -> tuple[Any, dict[str, float], dict[str, float]]:
+    """The grasp model and preload command of a spec.
+
+    Returns:
+        ``(model, command, times)``: the :class:`~pinograsp.core.model.GraspModel`, the command
+        ``{actuator: value}`` [N·m or N] and the wall times [s] ``build`` (hand, auto-close,
+        contacts) and ``preload`` (the ``"auto"`` preload design).
+
+    Raises:
+        PinograspError: the hand cannot be loaded, nothing touches, no preload is found, ...
+    """
+    import time
+
+    from ..errors import PreloadNotInEquilibriumError
+    from ..robots.grasp import grasp_model_from_scene
+
+    t0 = time.perf_counter()
+    hand = load_hand(spec)
+    obj = spec.object.to_object()
+    if spec.q is None:
+        q = hand.close_on(obj, None if spec.q_open is None else dict(spec.q_open), step=spec.step)
+    else:
+        q = hand.configuration(
+            _with_mimics(hand, spec.q) if spec.q and isinstance(spec.q[0], tuple) else list(spec.q)
+        )
+    model = grasp_model_from_scene(hand, q, obj, mu=spec.mu, stiffness=spec.stiffness)
+    t1 = time.perf_counter()
+    if spec.command == "auto":
+        from ..analysis.preload import equilibrium_preload
+
+        pre = equilibrium_preload(model, spec.preload_method, max_command=spec.max_command)
+        if pre.status != "found":
+            raise PreloadNotInEquilibriumError(None, f"no auto preload ({pre.status}): {pre.reason}")
+        command = dict(pre.command)
+    elif isinstance(spec.command, tuple):
+        command = {a: 0.0 for a in model.all_actuator_names} | dict(spec.command)
+    else:
+        command = dict.fromkeys(model.all_actuator_names, float(spec.command))
+    model.command_vector(command)  # validated here: a bad command is this grasp's error
+    return model, command, {"build": t1 - t0, "preload": time.perf_counter() - t1}

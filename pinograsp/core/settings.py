@@ -1,0 +1,208 @@
+"""Settings of every analysis and the typed vocabularies of their options (docs/design.md).
+
+The option vocabularies are ``str`` enums: a member equals its value, so ``method="prp"`` and
+``method=Method.PRP`` are the same argument, and code compares members, never free text.
+This module imports no solver: scenes validate their analysis blocks with it at load time.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from enum import Enum
+
+from ..errors import InvalidInputError, SolverNotAvailableError, UnknownNameError
+from .validate import choice, positive_number, whole_number
+
+
+class Method(str, Enum):
+    """Which passive-response algorithm (docs/design.md)."""
+
+    #: Seed Alg. 1: one mixed-integer problem; admits the wedging artefact.
+    PRP = "prp"
+    #: Seed Alg. 2 inside Alg. 3: the movement-constrained iterative scheme (default).
+    ITERATIVE = "iterative"
+
+
+class Variant(str, Enum):
+    """How the preload and the load are applied (see :mod:`pinograsp.analysis.response`)."""
+
+    #: The paper's: preload and load solved together from the touching configuration.
+    SINGLE_STEP = "single-step"
+    #: The authors' released code: the preload alone first, the load on top (object held still).
+    PRELOAD_FIRST = "preload-first"
+    #: As ``PRELOAD_FIRST`` but the object settles freely under the preload (Alg. 1 at w = 0).
+    SETTLED_PRELOAD = "settled-preload"
+
+
+class Backend(str, Enum):
+    """Which solver answers the complementarity problems."""
+
+    #: pinograsp's exact branch-and-bound over the complementarity pairs (DAQP node QPs).
+    BNB = "bnb"
+    #: The reference cvxpy MIQP (``Settings.solver`` names the MIQP solver).
+    MIQP = "miqp"
+
+
+class Complementarity(str, Enum):
+    """How the reference MIQP backend writes complementarity."""
+
+    #: Big-M constraints (any MIQP solver).
+    BIGM = "bigm"
+    #: SCIP indicator constraints (no big-M constant; SCIP only).
+    INDICATOR = "indicator"
+
+
+class Search(str, Enum):
+    """How :func:`~pinograsp.max_resistible_wrench` searches the magnitude."""
+
+    #: Secant on the iterative scheme's final net wrench (iterative) / bisection (PRP).
+    AUTO = "auto"
+    #: The seed paper's bisection.
+    BISECTION = "bisection"
+    #: Grid-snapped secant (iterative method only).
+    SECANT = "secant"
+    #: One load-factor complementarity problem (PRP only).
+    DIRECT = "direct"
+
+
+METHODS = tuple(m.value for m in Method)
+VARIANTS = tuple(v.value for v in Variant)
+BACKENDS = tuple(b.value for b in Backend)
+COMPLEMENTARITIES = tuple(c.value for c in Complementarity)
+
+#: MIQP solvers of the reference backend (cvxpy names) and the package that provides each.
+MIQP_SOLVERS = {
+    "SCIP": "pyscipopt (installed with pinograsp)",
+    "GUROBI": "gurobipy (pip install 'pinograsp[gurobi]')",
+    "MOSEK": "mosek",
+    "CPLEX": "cplex",
+    "XPRESS": "xpress",
+    "COPT": "coptpy",
+}
+
+#: Default node limit of one branch-and-bound search (a count, never a time).
+MAX_NODES = 20000
+
+
+@dataclass(frozen=True)
+class Settings:
+    """Solver and iteration settings (all analyses accept them as keyword overrides).
+
+    Attributes:
+        backend: ``"bnb"`` (default): pinograsp's exact, deterministic branch-and-bound over
+            the complementarity pairs (``docs/solvers.md``); ``"miqp"``: the reference
+            mixed-integer QP through cvxpy with the solver named by ``solver``.
+        max_nodes: Node limit of one branch-and-bound search (a count, never a time); hitting
+            it gives status ``"node_limit"``.
+        solver: MIQP solver of the reference backend: ``"scip"`` (open source) or any installed
+            cvxpy MIQP solver (``"gurobi"`` with ``pinograsp[gurobi]``).
+        time_limit: Per-MIQP time limit [s] of the reference backend; hitting it gives status
+            ``"timeout"``.
+        bigm: Initial big-M constant of the reference backend in scaled force units.
+        bigm_retries: Enlargements (x100 each) when a MIQP solution reaches 10 % of big-M.
+        gamma: Step bound of Alg. 2, dimensionless: one step changes the spring force of the
+            stiffest contact by at most ``gamma`` times the current net wrench.
+        eps: Equilibrium tolerance of the iterative scheme [N] on the net wrench norm
+            (torques divided by the model's length scale). Paper: 1e-3 N.
+        eps_rel: Relative part of the equilibrium tolerance: the iteration is resisted when
+            ``|r| <= eps + eps_rel * F`` with ``F`` the solve's force scale (largest of the
+            load, the commands as contact forces and the pre-compression) [N]. The paper's
+            absolute 1e-3 N alone asks 2e-6 relative accuracy of a 500 N load, where the
+            scheme's linear convergence stalls under the 1 % improvement rule (passively
+            resisted directions then come out "not resisted" at a random magnitude), and it
+            breaks the homogeneity of the model (scaling preload and load by ``s`` scales every
+            force by ``s``). Default 1e-5; ``0`` restores the paper's rule.
+        improvement: The iteration stops (not resisted) when the net wrench norm improves by
+            less than this fraction in one step (authors' code: 1 %).
+        max_iterations: Iteration cap (authors' code: 100); hitting it gives
+            ``"not_converged"``.
+        variant: ``"single-step"``, ``"preload-first"`` or ``"settled-preload"`` (see the
+            module docstring); ``None`` picks the method's default.
+        tolerance: Audit tolerance on hand/complementarity/friction residuals, relative to the
+            data scale.
+        accelerate: Let the iterative scheme jump ahead in a mode that has held for
+            :data:`JUMP_AFTER` slow steps: the object moves to the best point of the cone of
+            that mode's recent net wrenches (``docs/solvers.md``); the stop rules apply to real
+            steps only. ``False``: the paper's scheme step by step (it can stall under the 1 %
+            rule in narrow valleys where the net wrench still decreases).
+        complementarity: ``"bigm"`` (default) or ``"indicator"`` (SCIP indicator constraints,
+            no big-M constant; SCIP only).
+        verify_infeasible: Re-solve an infeasible big-M MIQP once with ``M x 100`` before
+            trusting the infeasibility (an ``M`` that cuts off every solution is otherwise
+            indistinguishable from a load that is not resisted).
+    """
+
+    backend: str = "bnb"
+    max_nodes: int = MAX_NODES
+    solver: str = "scip"
+    time_limit: float = 60.0
+    bigm: float = 1e3
+    bigm_retries: int = 2
+    gamma: float = 1.0
+    eps: float = 1e-3
+    eps_rel: float = 1e-5
+    improvement: float = 1e-2
+    max_iterations: int = 100
+    variant: str | None = None
+    tolerance: float = 1e-6
+    accelerate: bool = True
+    complementarity: str = "bigm"
+    verify_infeasible: bool = True
+
+    def validated(self) -> Settings:
+        """Check every field; raise :class:`InvalidInputError` naming the bad one."""
+        choice("backend", self.backend, BACKENDS)
+        if str(self.solver).upper() not in MIQP_SOLVERS:  # installed or not: the solver layer tells
+            raise SolverNotAvailableError(
+                f"unknown MIQP solver {self.solver!r}; supported: {[s.lower() for s in MIQP_SOLVERS]}",
+                solver=str(self.solver),
+            )
+        for name in ("time_limit", "bigm", "gamma", "eps", "tolerance"):
+            positive_number(name, getattr(self, name))
+        for name in ("max_iterations", "max_nodes"):
+            whole_number(name, getattr(self, name))
+        whole_number("bigm_retries", self.bigm_retries, minimum=0)
+        for name in ("accelerate", "verify_infeasible"):
+            if not isinstance(getattr(self, name), bool):
+                raise InvalidInputError(name, f"expected True or False, got {getattr(self, name)!r}")
+        choice("complementarity", self.complementarity, COMPLEMENTARITIES)
+        if (
+            self.backend == Backend.MIQP.value
+            and self.complementarity == "indicator"
+            and str(self.solver).upper() != "SCIP"
+        ):
+            raise InvalidInputError("complementarity", "indicator constraints need solver='scip'")
+        if isinstance(self.eps_rel, bool) or not (
+            isinstance(self.eps_rel, (int, float)) and 0 <= self.eps_rel < 1
+        ):
+            raise InvalidInputError("eps_rel", f"must be a number in [0, 1), got {self.eps_rel!r}")
+        if isinstance(self.improvement, bool) or not (
+            isinstance(self.improvement, (int, float)) and 0 <= self.improvement < 1
+        ):
+            raise InvalidInputError("improvement", f"must be in [0, 1), got {self.improvement!r}")
+        if self.variant is not None:
+            choice("variant", self.variant, VARIANTS)
+        return self
+
+    def variant_for(self, method: str) -> Variant:
+        """The variant used for ``method``."""
+        if self.variant is not None:
+            return Variant(self.variant)
+        return Variant.SINGLE_STEP if method == Method.PRP else Variant.PRELOAD_FIRST
+
+
+def make_settings(settings: Settings | None = None, **overrides: object) -> Settings:
+    """A validated :class:`Settings` from a base and keyword overrides."""
+    if settings is not None and not isinstance(settings, Settings):
+        raise InvalidInputError(
+            "settings",
+            f"expected pinograsp.Settings or None, got {type(settings).__name__}; "
+            "pass single fields as keywords (e.g. eps=1e-3) or build pg.Settings(...)",
+        )
+    base = settings or Settings()
+    if overrides:
+        unknown = set(overrides) - set(Settings.__dataclass_fields__)
+        if unknown:
+            raise UnknownNameError("setting", sorted(unknown)[0], list(Settings.__dataclass_fields__))
+        base = replace(base, **overrides)  # type: ignore[arg-type]
+    return base.validated()

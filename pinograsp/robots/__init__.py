@@ -1,0 +1,1 @@
+"""robots layer (docs/design.md)."""

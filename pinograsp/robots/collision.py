@@ -1,0 +1,240 @@
+"""Hand–object contact detection with Coal.
+
+For a hand configuration and an object pose, Coal computes the **signed distance** between
+every hand collision geometry and the object (``coal.distance`` with
+``enable_signed_distance``). Coal 3 conventions, checked by ``tests/test_collision.py``:
+
+* the returned normal points **from the first object to the second**: with the hand geometry
+  first, it points from the hand into the object — the pinograsp contact normal (docs/design.md);
+* the distance is **negative when the shapes overlap** (penetration depth = ``-distance``).
+
+A geometry whose signed distance is ``<= tolerance`` gives one contact: the point midway
+between the two nearest points, the Coal normal, and the link name. Each collision geometry
+gives at most one contact (the closest point pair): a face-on-face touch is one point, not a
+patch. The default tolerance :data:`DEFAULT_TOLERANCE` is **1 mm**; distances below
+``-max_penetration`` (default :data:`DEFAULT_MAX_PENETRATION`, **5 mm**) raise
+:class:`~pinograsp.errors.PenetrationError`. All positions are in the hand base frame [m].
+
+Non-convex meshes (object or hand) are Coal BVH *surfaces*: a shape entirely inside one is not
+detected, and Coal may return a zero normal for deep overlaps; such a pair is reported as
+penetrating.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+import coal
+import numpy as np
+
+from ..core import serialize as _ser
+from ..errors import NoContactError, PenetrationError
+
+if TYPE_CHECKING:
+    from .hand import Hand
+    from .objects import RigidObject
+
+#: Default contact tolerance [m]: a geometry within this signed distance of the object touches it.
+DEFAULT_TOLERANCE = 1e-3
+#: Default deepest accepted penetration [m]; deeper overlaps raise PenetrationError.
+DEFAULT_MAX_PENETRATION = 5e-3
+
+
+@dataclass(frozen=True)
+class PairDistance:
+    """Signed distance between one hand collision geometry and the object.
+
+    Attributes:
+        link: Hand link carrying the geometry.
+        geometry: Name of the collision geometry.
+        index: Index of the geometry in ``hand.geometry``.
+        distance: Signed distance [m], negative when overlapping.
+        point_hand: Nearest point on the hand geometry, base frame [m], (3,).
+        point_object: Nearest point on the object, base frame [m], (3,).
+        normal: Unit normal from the hand into the object, (3,) (zeros if Coal gave none).
+    """
+
+    link: str
+    geometry: str
+    index: int
+    distance: float
+    point_hand: np.ndarray
+    point_object: np.ndarray
+    normal: np.ndarray
+
+    @property
+    def point(self) -> np.ndarray:
+        """Contact point: midway between the nearest points [m], (3,)."""
+        return 0.5 * (self.point_hand + self.point_object)
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain JSON-ready data: names, ``distance`` [m], points and normal as lists (3,) [m]."""
+        return _ser.pair_distance_dict(self)
+
+
+@dataclass(frozen=True)
+class ContactReport:
+    """Result of :func:`detect_contacts`.
+
+    Attributes:
+        contacts: Geometry pairs within tolerance (the contacts), in geometry order.
+        pairs: Every hand geometry's distance to the object.
+        tolerance: Contact tolerance used [m].
+    """
+
+    contacts: tuple[PairDistance, ...]
+    pairs: tuple[PairDistance, ...]
+    tolerance: float
+    link_distances: dict[str, float] = field(default_factory=dict)
+
+    @property
+    def links(self) -> tuple[str, ...]:
+        """Links in contact (one entry per contact)."""
+        return tuple(c.link for c in self.contacts)
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain JSON-ready data: ``tolerance`` [m], ``links``, ``contacts`` and ``pairs``
+        (:meth:`PairDistance.to_dict`), ``link_distances`` [m]."""
+        return _ser.contact_report_dict(self)
+
+    def summary(self) -> str:
+        """The contacts (link, signed distance [mm]) and the closest links without contact."""
+        return _ser.contact_report_summary(self)
+
+
+def _signed_distance(
+    g1: coal.CollisionGeometry, T1: coal.Transform3s, g2: coal.CollisionGeometry, T2: coal.Transform3s
+) -> tuple[float, np.ndarray, np.ndarray, np.ndarray]:
+    req = coal.DistanceRequest()
+    req.enable_signed_distance = True
+    res = coal.DistanceResult()
+    d = coal.distance(g1, T1, g2, T2, req, res)
+    n = np.array(res.normal, dtype=float)
+    nn = np.linalg.norm(n)
+    n = n / nn if nn > 1e-12 else np.zeros(3)
+    return (
+        float(d),
+        np.array(res.getNearestPoint1(), dtype=float),
+        np.array(res.getNearestPoint2(), dtype=float),
+        n,
+    )
+
+
+def pair_distances(hand: Hand, q: object, obj: RigidObject) -> tuple[PairDistance, ...]:
+    """Signed distance of every hand collision geometry to the object.
+
+    Args:
+        hand: The hand.
+        q: Hand configuration (URDF coordinates, see :meth:`Hand.configuration`).
+        obj: The object, pose in the hand base frame.
+    """
+    qv = hand.configuration(q)
+    hand.forward(qv)
+    T_obj = obj.transform
+    out = []
+    for k, go in enumerate(hand.geometry.geometryObjects):
+        oMg = hand.geometry_data.oMg[k]
+        d, p1, p2, n = _signed_distance(
+            go.geometry, coal.Transform3s(oMg.rotation, oMg.translation), obj.geometry, T_obj
+        )
+        out.append(PairDistance(hand.link_of_geometry(k), go.name, k, d, p1, p2, n))
+    return tuple(out)
+
+
+def geometry_distances(
+    hand: Hand, q: np.ndarray, obj: RigidObject, mask: np.ndarray | None = None
+) -> np.ndarray:
+    """Signed distances [m] of the hand collision geometries to the object, (ngeom,).
+
+    Geometries outside ``mask`` get ``+inf`` (not computed). A pair for which Coal gives no
+    normal while overlapping (deep overlap with a BVH surface) gets ``-inf``.
+    """
+    hand.forward(q)
+    T_obj = obj.transform
+    n_geo = len(hand.geometry.geometryObjects)
+    out = np.full(n_geo, np.inf)
+    for k in range(n_geo):
+        if mask is not None and not mask[k]:
+            continue
+        oMg = hand.geometry_data.oMg[k]
+        go = hand.geometry.geometryObjects[k]
+        d, _, _, n = _signed_distance(
+            go.geometry, coal.Transform3s(oMg.rotation, oMg.translation), obj.geometry, T_obj
+        )
+        out[k] = -np.inf if (d <= 0 and not np.any(n)) else d
+    return out
+
+
+def link_distances(hand: Hand, q: object, obj: RigidObject) -> dict[str, float]:
+    """Closest signed distance [m] of each hand link (over its geometries) to the object."""
+    out: dict[str, float] = {}
+    for p in pair_distances(hand, q, obj):
+        out[p.link] = min(out.get(p.link, np.inf), p.distance)
+    return out
+
+
+def detect_contacts(
+    hand: Hand,
+    q: object,
+    obj: RigidObject,
+    *,
+    tolerance: float = DEFAULT_TOLERANCE,
+    max_penetration: float = DEFAULT_MAX_PENETRATION,
+    links: list[str] | tuple[str, ...] | None = None,
+    require: bool = True,
+) -> ContactReport:
+    """Find the hand–object contacts at configuration ``q``.
+
+    Args:
+        hand: The hand.
+        q: Hand configuration (URDF coordinates [rad or m]; sequence or ``{joint: value}``).
+        obj: The object, pose in the hand base frame.
+        tolerance: A geometry whose signed distance to the object is ``<= tolerance`` [m]
+            touches it (default 1 mm).
+        max_penetration: Deepest accepted overlap [m] (default 5 mm).
+        links: Only these links may touch (default: every contact link of the hand).
+        require: Raise :class:`NoContactError` when nothing touches.
+
+    Returns:
+        The contacts (normals from the hand into the object) and every pair's distance.
+
+    Raises:
+        NoContactError: No geometry within tolerance (lists the closest distance per link).
+        PenetrationError: A geometry overlaps the object by more than ``max_penetration``, or a
+            BVH pair overlaps without a usable normal.
+        UnknownNameError: ``links`` names a link without contact geometry.
+    """
+    from ..core.validate import finite_number
+    from ..errors import InvalidInputError, UnknownNameError
+
+    tolerance = finite_number("tolerance", tolerance)
+    if tolerance < 0:
+        raise InvalidInputError("tolerance", f"must be finite and >= 0, got {tolerance}")
+    max_penetration = finite_number("max_penetration", max_penetration)
+    if max_penetration < 0:
+        raise InvalidInputError("max_penetration", f"must be finite and >= 0, got {max_penetration}")
+    if links is not None:
+        if isinstance(links, (str, bytes)) or not isinstance(links, (list, tuple)):
+            raise InvalidInputError("links", f"expected a list of link names, got {links!r}")
+        valid = hand.contact_link_names
+        for ln in links:
+            if not isinstance(ln, str) or ln not in valid:
+                raise UnknownNameError("link", ln, valid)
+    pairs = pair_distances(hand, q, obj)
+    if links is not None:
+        pairs = tuple(p for p in pairs if p.link in links)
+    dist: dict[str, float] = {}
+    for p in pairs:
+        dist[p.link] = min(dist.get(p.link, np.inf), p.distance)
+    deep = {
+        p.link: p.distance
+        for p in pairs
+        if p.distance < -max_penetration or (p.distance <= 0 and not np.any(p.normal))
+    }
+    if deep:
+        raise PenetrationError(deep, max_penetration, dist)
+    contacts = tuple(p for p in pairs if p.distance <= tolerance)
+    if require and not contacts:
+        raise NoContactError(dist, tolerance)
+    return ContactReport(contacts, pairs, float(tolerance), dist)

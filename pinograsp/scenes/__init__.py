@@ -1,0 +1,1 @@
+"""scenes layer (docs/design.md)."""
