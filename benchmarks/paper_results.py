@@ -263,7 +263,7 @@ def load(name: str) -> Any | None:
 
 
 def find_direction(scene: Any, target: np.ndarray, fallback: str) -> tuple[Any, str]:
-    for k, v in scene.analysis["directions"].items():
+    for k, v in scene.analysis.directions.items():
         if np.allclose(v, target):
             return np.asarray(v), k
     return fallback, fallback
@@ -283,7 +283,7 @@ def case1(args: argparse.Namespace, img: Path) -> Case:
         return missing("case1")
     s = scene_settings(scene, args)
     c = Case("case1", settings=settings_text(s))
-    planes = scene.analysis["planes"]
+    planes = scene.analysis.planes
     xy = planes.get("xy", ("fx", "fy"))
     xz = planes.get("xz", ("fx", "fz"))
     pxy = profile(scene, s, xy, label="XY")
@@ -433,7 +433,7 @@ def case2(args: argparse.Namespace, img: Path) -> Case:
         return missing("case2")
     s = scene_settings(scene, args)
     c = Case("case2", settings=settings_text(s))
-    names = list(scene.analysis["preloads"])
+    names = list(scene.analysis.preloads)
     if len(names) < 2:
         c.rows.append(Row("2", "preloads", "-", "scene has fewer than two named preloads", "n/a", 0.0))
         return c
@@ -466,7 +466,7 @@ def case2(args: argparse.Namespace, img: Path) -> Case:
         )
     )
     # XY profiles for both preloads
-    profs = {nm: profile(scene, s, scene.analysis["plane"], scene.preload(nm), label=nm) for nm in (f1, f2)}
+    profs = {nm: profile(scene, s, scene.analysis.plane, scene.preload(nm), label=nm) for nm in (f1, f2)}
     t_prof = sum(p.wall_time for p in profs.values())
     c.seconds = t_ratio + t_prof
     ax = plot_preload_comparison(res, title=f"case 2: +X resistance per preload ({s.method})")
@@ -519,7 +519,7 @@ def case3(args: argparse.Namespace, img: Path, case1_result: Case | None) -> Cas
         return missing("case3")
     s = scene_settings(scene, args)
     c = Case("case3", settings=settings_text(s))
-    names = list(scene.analysis["preloads"])
+    names = list(scene.analysis.preloads)
     prox = next((nm for nm in names if "prox" in nm), names[0] if names else None)
     dist = next((nm for nm in names if "dist" in nm), names[1] if len(names) > 1 else None)
     torque, tname = find_direction(scene, np.array([0, 0, 0, 1.0, 0, 0]), "mx")
@@ -578,7 +578,7 @@ def case3(args: argparse.Namespace, img: Path, case1_result: Case | None) -> Cas
             t_ratio,
         )
     )
-    p = profile(scene, s, scene.analysis["plane"], label="XY")
+    p = profile(scene, s, scene.analysis.plane, label="XY")
     t_prof = p.wall_time
     n = len(p.angles)
     if n % 4 == 0 and tuple(p.plane) == ("fx", "fy"):
@@ -694,7 +694,7 @@ def fig1(args: argparse.Namespace, img: Path) -> Case:
     t0 = time.perf_counter()
     s = scene_settings(scene, args)
     c = Case("fig1", settings=settings_text(s))
-    wrenches = scene.analysis["wrenches"]
+    wrenches = scene.analysis.wrenches
     if wrenches:
         wname, w = next(iter(wrenches.items()))
         w = np.asarray(w, float)
@@ -704,7 +704,7 @@ def fig1(args: argparse.Namespace, img: Path) -> Case:
     pre = pg.passive_response(scene.model, scene.command, np.zeros(6), method, settings=scene.settings)
     lin = pg.linear_compliance(scene.model, w, pre.contact_forces)
     passive = pg.passive_response(scene.model, scene.command, w, method, settings=scene.settings)
-    zero = scene.preload("none") if "none" in scene.analysis["preloads"] else {k: 0.0 for k in scene.command}
+    zero = scene.preload("none") if "none" in scene.analysis.preloads else {k: 0.0 for k in scene.command}
     passive0 = pg.passive_response(scene.model, zero, w, method, settings=scene.settings)
     dirn = w / np.linalg.norm(w)
     mw0 = pg.max_resistible_wrench(scene.model, zero, dirn, method, s.upper, s.steps, settings=scene.settings)

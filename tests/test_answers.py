@@ -81,11 +81,11 @@ def test_one_default_method_and_scenes_apply_their_analysis_block(case1):
     default = pg.passive_response(s.model, s.command, w)
     explicit = pg.passive_response(s.model, s.command, w, "iterative")
     assert default.method == "iterative" and np.array_equal(default.contact_forces, explicit.contact_forces)
-    assert s.passive_response(w).method == s.analysis["method"] == "iterative"
+    assert s.passive_response(w).method == s.analysis.method == "iterative"
     mw = s.max_resistible_wrench("fy")
-    assert mw.upper == s.analysis["upper"] == 50.0
-    assert mw.resolution == 50.0 / 2 ** s.analysis["steps"]
-    ref = pg.max_resistible_wrench(s.model, s.command, "fy", upper=50.0, steps=s.analysis["steps"])
+    assert mw.upper == s.analysis.upper == 50.0
+    assert mw.resolution == 50.0 / 2**s.analysis.steps
+    ref = pg.max_resistible_wrench(s.model, s.command, "fy", upper=50.0, steps=s.analysis.steps)
     assert mw.magnitude == ref.magnitude
     prp = s.max_resistible_wrench("fy", method="prp", steps=8)
     assert prp.method == "prp" and prp.resolution == 50.0 / 2**8

@@ -49,7 +49,7 @@ def test_scenes_describes_one(capsys):
     data = run_json(capsys, "scenes", "case1")
     scene = pg.load_scene("case1")
     assert data["contacts"] == list(scene.model.contact_names)
-    assert data["analysis"]["upper"] == scene.analysis["upper"]
+    assert data["analysis"]["upper"] == scene.analysis.upper
 
 
 # ---------------------------------------------------------------------------- every built-in scene
@@ -63,10 +63,10 @@ def test_profile_every_scene_matches_api(name, capsys, tmp_path):
     api = pg.resistance_profile(
         scene.model,
         scene.command,
-        scene.analysis["plane"],
+        scene.analysis.plane,
         n=4,
         method="prp",
-        upper=scene.analysis["upper"],
+        upper=scene.analysis.upper,
         steps=3,
         settings=scene.settings,
     )
@@ -83,14 +83,14 @@ def test_profile_every_scene_matches_api(name, capsys, tmp_path):
 @pytest.mark.parametrize("name", SCENES)
 def test_max_wrench_and_analyze_every_scene(name, capsys):
     scene = pg.load_scene(name)
-    direction = next(iter(scene.analysis["directions"]), "fy")
+    direction = next(iter(scene.analysis.directions), "fy")
     data = run_json(capsys, "max-wrench", name, "--direction", direction, "--steps", "4", "--method", "prp")
     api = pg.max_resistible_wrench(
         scene.model,
         scene.command,
-        scene.analysis["directions"].get(direction, direction),
+        scene.analysis.directions.get(direction, direction),
         "prp",
-        scene.analysis["upper"],
+        scene.analysis.upper,
         4,
         settings=scene.settings,
     )
@@ -177,7 +177,7 @@ def test_demo_writes_table_plot_and_json(capsys, tmp_path):
 
 def test_compare_preloads(capsys, tmp_path):
     scene = pg.load_scene("case3")
-    names = list(scene.analysis["preloads"])
+    names = list(scene.analysis.preloads)
     kw = ["--upper", "1", "--steps", "5", "--method", "prp"]
     data = run_json(
         capsys, "compare-preloads", "case3", "--direction", "torque_x", *kw, "--out", str(tmp_path)

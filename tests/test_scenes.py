@@ -62,14 +62,14 @@ def test_every_builtin_loads_with_its_contacts_and_a_preload_in_equilibrium(scen
     assert s.model.nc == BUILTIN[name]
     assert set(s.command) == set(s.model.all_actuator_names)
     assert isinstance(s.settings, pg.Settings)
-    assert s.analysis["method"] in ("prp", "iterative")
+    assert s.analysis.method in ("prp", "iterative")
     if name in ("pinch", "wedge"):
         assert s.hand is None and s.object is None and s.q is None
     else:
         assert s.hand is not None and s.object is not None and s.q.shape == (s.hand.nq,)
     # the preload alone is an equilibrium, with the scene's method and every named preload
-    for cmd in [s.command, *s.analysis["preloads"].values()]:
-        r = pg.passive_response(s.model, cmd, np.zeros(6), method=s.analysis["method"], settings=s.settings)
+    for cmd in [s.command, *s.analysis.preloads.values()]:
+        r = pg.passive_response(s.model, cmd, np.zeros(6), method=s.analysis.method, settings=s.settings)
         assert r.resistible, (name, cmd, r.status)
         assert r.audit.ok
 
@@ -77,7 +77,7 @@ def test_every_builtin_loads_with_its_contacts_and_a_preload_in_equilibrium(scen
 @pytest.mark.parametrize("name", sorted(BUILTIN))
 def test_max_resistible_wrench_runs_on_every_builtin(scenes, name):
     s = scenes[name]
-    direction = next(iter(s.analysis["directions"].values()))
+    direction = next(iter(s.analysis.directions.values()))
     mw = pg.max_resistible_wrench(s.model, s.command, direction, method="prp", upper=100, steps=8)
     assert mw.unbounded or mw.magnitude >= 0
 
@@ -165,7 +165,7 @@ def test_planar_reduction_of_case1_keeps_the_xy_answers(scenes):
 def test_fig1_extends_case1(scenes):
     assert np.allclose(scenes["fig1"].model.G, scenes["case1"].model.G)
     assert scenes["fig1"].command == scenes["case1"].command
-    assert scenes["fig1"].analysis["preloads"]["none"] == {"f1": 0.0, "f2": 0.0, "f3": 0.0}
+    assert scenes["fig1"].analysis.preloads["none"] == {"f1": 0.0, "f2": 0.0, "f3": 0.0}
 
 
 def test_user_urdf_scene_with_relative_paths(tmp_path):
@@ -481,7 +481,7 @@ def test_settled_preload_equals_preload_first_when_nothing_settles(pinch):
 
 def test_fig1_linear_compliance_vs_passive(scenes):
     s = scenes["fig1"]
-    push = s.analysis["wrenches"]["push_palm"]
+    push = s.analysis.wrenches["push_palm"]
     pre = pg.passive_response(s.model, s.command, np.zeros(6), method="iterative", settings=s.settings)
     lc = pg.linear_compliance(s.model, push, pre.contact_forces)
     distal = {"bh_finger_13_link", "bh_finger_23_link"}

@@ -13,6 +13,7 @@ from ..core.audit import audit_message
 from ..core.axes import WRENCH_AXES, circle_directions, plane_basis, wrench_direction
 from ..core.model import GraspModel
 from ..core.results import MaxWrench, PassiveResponse, ResistanceProfile
+from ..core.settings import Search
 from ..core.validate import choice, positive_number, whole_number
 from ..errors import (
     AuditWarning,
@@ -24,7 +25,7 @@ from ..errors import (
 from ..solvers.base import SolveStatus
 from ..solvers.solve import single_threaded
 from .response import METHODS, PassiveSolver, Settings, solver_for
-from .search import Search, bisection, secant
+from .search import bisection, secant
 
 
 def _check(resp: PassiveResponse, magnitude: float) -> bool:

@@ -319,17 +319,17 @@ def _load(name_or_path: str) -> Any:
 
 
 def _method(args: argparse.Namespace, scene: Any) -> str:
-    return args.method or scene.analysis.get("method", "iterative")
+    return args.method or scene.analysis.method
 
 
 def _upper_steps(args: argparse.Namespace, scene: Any, default_steps: int | None = None) -> tuple[float, int]:
-    upper = args.upper if args.upper is not None else float(scene.analysis.get("upper", 1e3))
+    upper = args.upper if args.upper is not None else float(scene.analysis.upper)
     if args.steps is not None:
         steps = args.steps
     elif default_steps is not None:
         steps = default_steps
     else:
-        steps = int(scene.analysis.get("steps", 20))
+        steps = int(scene.analysis.steps)
     if not (math.isfinite(upper) and upper > 0):
         raise InvalidInputError("--upper", f"must be finite and > 0, got {upper!r}")
     if steps < 1:
@@ -389,7 +389,7 @@ def _axis_values(text: str, what: str) -> np.ndarray:
 def parse_wrench(scene: Any, text: str) -> np.ndarray:
     """``--wrench``: numbers (6, or 3 for planar scenes), ``axis=value`` pairs, or a scene wrench."""
     text = text.strip()
-    named = scene.analysis.get("wrenches", {})
+    named = scene.analysis.wrenches
     if text in named:
         return np.asarray(named[text], dtype=float)
     if not text:
@@ -418,7 +418,7 @@ def parse_direction(scene: Any, text: str) -> tuple[object, str]:
     from ..core.axes import axis_index
 
     text = text.strip()
-    named = scene.analysis.get("directions", {})
+    named = scene.analysis.directions
     if text in named:
         return np.asarray(named[text], dtype=float), text
     if "," in text or ";" in text:
@@ -441,9 +441,9 @@ def parse_plane(scene: Any, text: str | None) -> tuple[object, object]:
     from ..core.axes import axis_index
 
     if text is None:
-        return tuple(scene.analysis.get("plane", ("fx", "fy")))  # type: ignore[return-value]
+        return tuple(scene.analysis.plane)  # type: ignore[return-value]
     text = text.strip()
-    planes = scene.analysis.get("planes", {})
+    planes = scene.analysis.planes
     if text in planes:
         return tuple(planes[text])  # type: ignore[return-value]
     if ";" in text:
@@ -604,16 +604,16 @@ def cmd_scenes(args: argparse.Namespace) -> int:
         "planar": scene.model.planar,
         "preload": scene.command,
         "analysis": {
-            "method": an["method"],
-            "upper": an["upper"],
-            "steps": an["steps"],
-            "n": an["n"],
-            "plane": list(an["plane"]),
-            "planes": {k: list(v) for k, v in an["planes"].items()},
-            "normalize": an["normalize"],
-            "directions": an["directions"],
-            "wrenches": an["wrenches"],
-            "preloads": an["preloads"],
+            "method": an.method,
+            "upper": an.upper,
+            "steps": an.steps,
+            "n": an.n,
+            "plane": list(an.plane),
+            "planes": {k: list(v) for k, v in an.planes.items()},
+            "normalize": an.normalize,
+            "directions": an.directions,
+            "wrenches": an.wrenches,
+            "preloads": an.preloads,
         },
     }
     if args.json:
@@ -621,13 +621,13 @@ def cmd_scenes(args: argparse.Namespace) -> int:
         return 0
     print(scene.summary())
     print(
-        f"  analysis: method {an['method']}, upper {an['upper']:g}, {an['steps']} steps, "
-        f"n = {an['n']}, plane {','.join(map(str, an['plane']))}"
+        f"  analysis: method {an.method}, upper {an.upper:g}, {an.steps} steps, "
+        f"n = {an.n}, plane {','.join(map(str, an.plane))}"
     )
     for key in ("directions", "wrenches"):
-        if an[key]:
-            print(f"  {key}: " + ", ".join(f"{k} {vector_text(v)}" for k, v in an[key].items()))
-    for k, v in an["preloads"].items():
+        if getattr(an, key):
+            print(f"  {key}: " + ", ".join(f"{k} {vector_text(v)}" for k, v in getattr(an, key).items()))
+    for k, v in an.preloads.items():
         print(f"  preload {k}: " + ", ".join(f"{a}={x:g}" for a, x in v.items()))
     return 0
 
@@ -836,7 +836,7 @@ def _normalization(
     from ..analysis.max_wrench import max_resistible_wrench
     from ..core.axes import wrench_direction
 
-    want = args.normalize if args.normalize is not None else scene.analysis.get("normalize")
+    want = args.normalize if args.normalize is not None else scene.analysis.normalize
     if not want:
         return None
     ref = profile.basis[1] if want is True or args.normalize else want
@@ -962,7 +962,7 @@ def cmd_profile(args: argparse.Namespace) -> int:
     scene = _load(args.scene)
     command, preload_name = _command(args, scene)
     plane = parse_plane(scene, args.plane)
-    n = args.n if args.n is not None else int(scene.analysis.get("n", 72))
+    n = args.n if args.n is not None else int(scene.analysis.n)
     upper, steps = _upper_steps(args, scene)
     return _profile_report(args, scene, command, preload_name, plane, n, upper, steps, "profile")
 
@@ -982,7 +982,7 @@ def cmd_compare_preloads(args: argparse.Namespace) -> int:
 
     scene = _load(args.scene)
     out = _Output(args)
-    preloads = scene.analysis.get("preloads", {})
+    preloads = scene.analysis.preloads
     if args.preloads:
         names = [t.strip() for t in args.preloads.split(",") if t.strip()]
         for nm in names:
@@ -995,7 +995,7 @@ def cmd_compare_preloads(args: argparse.Namespace) -> int:
             f"scene {scene.name!r} has {len(names)} named preload(s) ({', '.join(names) or 'none'}); "
             "compare-preloads needs at least two (analysis.preloads in the scene file)",
         )
-    dir_texts = args.direction or list(scene.analysis.get("directions", {}))
+    dir_texts = args.direction or list(scene.analysis.directions)
     if not dir_texts:
         raise InvalidInputError(
             "compare-preloads",

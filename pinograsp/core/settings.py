@@ -14,7 +14,17 @@ from ..errors import InvalidInputError, SolverNotAvailableError, UnknownNameErro
 from .validate import choice, positive_number, whole_number
 
 
-class Method(str, Enum):
+class Vocabulary(str, Enum):
+    """A ``str`` enum that prints as its value (``f"{Method.PRP}"`` is ``"prp"``) on every Python."""
+
+    def __str__(self) -> str:
+        return str(self.value)
+
+    def __format__(self, spec: str) -> str:
+        return format(str(self.value), spec)
+
+
+class Method(Vocabulary):
     """Which passive-response algorithm (docs/design.md)."""
 
     #: Seed Alg. 1: one mixed-integer problem; admits the wedging artefact.
@@ -23,7 +33,7 @@ class Method(str, Enum):
     ITERATIVE = "iterative"
 
 
-class Variant(str, Enum):
+class Variant(Vocabulary):
     """How the preload and the load are applied (see :mod:`pinograsp.analysis.response`)."""
 
     #: The paper's: preload and load solved together from the touching configuration.
@@ -34,7 +44,7 @@ class Variant(str, Enum):
     SETTLED_PRELOAD = "settled-preload"
 
 
-class Backend(str, Enum):
+class Backend(Vocabulary):
     """Which solver answers the complementarity problems."""
 
     #: pinograsp's exact branch-and-bound over the complementarity pairs (DAQP node QPs).
@@ -43,7 +53,7 @@ class Backend(str, Enum):
     MIQP = "miqp"
 
 
-class Complementarity(str, Enum):
+class Complementarity(Vocabulary):
     """How the reference MIQP backend writes complementarity."""
 
     #: Big-M constraints (any MIQP solver).
@@ -52,7 +62,7 @@ class Complementarity(str, Enum):
     INDICATOR = "indicator"
 
 
-class Search(str, Enum):
+class Search(Vocabulary):
     """How :func:`~pinograsp.max_resistible_wrench` searches the magnitude."""
 
     #: Secant on the iterative scheme's final net wrench (iterative) / bisection (PRP).

@@ -40,7 +40,7 @@ from ..core.actuation import ACTUATOR_KINDS, Actuator, Coupling
 from ..core.axes import WRENCH_AXES, axis_index
 from ..core.contact import Contact
 from ..core.model import GraspModel
-from ..core.settings import METHODS
+from ..core.settings import METHODS, Method
 from ..errors import PinograspError, SceneError, UnknownNameError
 
 #: Folder of the built-in scenes shipped with pinograsp.
@@ -102,6 +102,35 @@ _DEG = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*deg\s*$")
 
 
 # ---------------------------------------------------------------------------- the result
+@dataclass(frozen=True)
+class SceneAnalysis:
+    """A scene file's ``analysis`` block, validated (docs/scenes.md).
+
+    Attributes:
+        method: Analysis method.
+        upper: Upper limit of the max-wrench search [N or N·m].
+        steps: Search steps (resolution ``upper / 2**steps``).
+        n: Directions of a profile.
+        plane: Default profile plane (two axis names or two 6-vectors).
+        planes: Named planes, name -> plane.
+        normalize: Profile normalisation (``None``, ``True`` or an axis name / vector).
+        directions: Named directions, name -> unit 6-vector.
+        wrenches: Named wrenches, name -> 6-vector [N, N·m].
+        preloads: Named preloads, name -> ``{actuator: command}``.
+    """
+
+    method: Method = Method.ITERATIVE
+    upper: float = 1e3
+    steps: int = 20
+    n: int = 72
+    plane: tuple = ("fx", "fy")
+    planes: dict[str, tuple] = field(default_factory=dict)
+    normalize: object = None
+    directions: dict[str, np.ndarray] = field(default_factory=dict)
+    wrenches: dict[str, np.ndarray] = field(default_factory=dict)
+    preloads: dict[str, dict[str, float]] = field(default_factory=dict)
+
+
 @dataclass(frozen=True, eq=False)
 class Scene:
     """A loaded scene: the grasp model, its preload and its analysis settings.
@@ -115,9 +144,7 @@ class Scene:
             (``model.all_actuator_names``) [N·m or N].
         settings: Solver settings (:class:`pinograsp.analysis.response.Settings`) from the ``analysis``
             block.
-        analysis: ``method``, ``upper``, ``steps``, ``plane``, ``planes``, ``n``,
-            ``normalize``, ``directions`` (name -> unit 6-vector), ``wrenches``
-            (name -> 6-vector), ``preloads`` (name -> command like :attr:`command`).
+        analysis: The validated ``analysis`` block (:class:`SceneAnalysis`).
         hand: The :class:`~pinograsp.robots.hand.Hand` (``None`` for explicit-contact scenes).
         q: Hand configuration, URDF coordinates (``None`` for explicit-contact scenes).
         object: The :class:`~pinograsp.robots.objects.RigidObject` (``None`` for explicit scenes).
@@ -134,7 +161,7 @@ class Scene:
     model: GraspModel
     command: dict[str, float]
     settings: Any
-    analysis: dict[str, Any]
+    analysis: SceneAnalysis
     hand: Any = None
     q: np.ndarray | None = None
     object: Any = None
@@ -146,19 +173,19 @@ class Scene:
         """The scene's preload, or the named preload of ``analysis.preloads``."""
         if name is None:
             return dict(self.command)
-        if not isinstance(name, str) or name not in self.analysis["preloads"]:
-            raise UnknownNameError("preload", name, list(self.analysis["preloads"]))
-        return dict(self.analysis["preloads"][name])
+        if not isinstance(name, str) or name not in self.analysis.preloads:
+            raise UnknownNameError("preload", name, list(self.analysis.preloads))
+        return dict(self.analysis.preloads[name])
 
     def direction(self, name: str) -> np.ndarray:
         """A named direction of ``analysis.directions`` (unit 6-vector)."""
-        if not isinstance(name, str) or name not in self.analysis["directions"]:
-            raise UnknownNameError("direction", name, list(self.analysis["directions"]))
-        return np.array(self.analysis["directions"][name])
+        if not isinstance(name, str) or name not in self.analysis.directions:
+            raise UnknownNameError("direction", name, list(self.analysis.directions))
+        return np.array(self.analysis.directions[name])
 
     def _query_args(self, overrides: dict[str, Any]) -> dict[str, Any]:
         """The scene's analysis block (method, upper, steps, settings) with ``overrides``."""
-        kw = {k: overrides.pop(k, self.analysis[k]) for k in ("method", "upper", "steps")}
+        kw = {k: overrides.pop(k, getattr(self.analysis, k)) for k in ("method", "upper", "steps")}
         kw["settings"] = overrides.pop("settings", self.settings)
         return kw
 
@@ -177,7 +204,7 @@ class Scene:
         from ..analysis.max_wrench import max_resistible_wrench
 
         kw = self._query_args(overrides)
-        if isinstance(direction, str) and direction in self.analysis["directions"]:
+        if isinstance(direction, str) and direction in self.analysis.directions:
             direction = self.direction(direction)
         cmd = self.preload(command) if command is None or isinstance(command, str) else command
         return max_resistible_wrench(self.model, cmd, direction, **kw, **overrides)
@@ -189,13 +216,13 @@ class Scene:
 
         kw = self._query_args(overrides)
         if plane is None:
-            plane = self.analysis["plane"]
+            plane = self.analysis.plane
         elif isinstance(plane, str):
-            if plane not in self.analysis["planes"]:
-                raise UnknownNameError("plane", plane, list(self.analysis["planes"]))
-            plane = self.analysis["planes"][plane]
-        kw["n"] = overrides.pop("n", self.analysis["n"])
-        kw["normalize"] = overrides.pop("normalize", self.analysis["normalize"])
+            if plane not in self.analysis.planes:
+                raise UnknownNameError("plane", plane, list(self.analysis.planes))
+            plane = self.analysis.planes[plane]
+        kw["n"] = overrides.pop("n", self.analysis.n)
+        kw["normalize"] = overrides.pop("normalize", self.analysis.normalize)
         cmd = self.preload(command) if command is None or isinstance(command, str) else command
         return resistance_profile(self.model, cmd, plane, **kw, **overrides)
 
@@ -779,7 +806,7 @@ def _plane(f: _File, model: GraspModel, value: object, key: str) -> tuple:
     return tuple(v if isinstance(v, str) else tuple(float(x) for x in b[i]) for i, v in enumerate(value))
 
 
-def _analysis(f: _File, model: GraspModel, value: object) -> tuple[dict[str, Any], Any]:
+def _analysis(f: _File, model: GraspModel, value: object) -> tuple[SceneAnalysis, Any]:
     from ..core.settings import make_settings
 
     a = f.mapping(value if value is not None else {}, "analysis")
@@ -788,7 +815,7 @@ def _analysis(f: _File, model: GraspModel, value: object) -> tuple[dict[str, Any
     method = a.get("method", "iterative")
     if method not in METHODS:
         raise f.error("analysis.method", f"must be one of {', '.join(METHODS)}, got {method!r}")
-    out["method"] = method
+    out["method"] = Method(method)
     out["upper"] = f.number(a.get("upper", 1e3), "analysis.upper", positive=True)
     out["steps"] = f.integer(a.get("steps", 20), "analysis.steps")
     out["n"] = f.integer(a.get("n", 72), "analysis.n")
@@ -833,7 +860,7 @@ def _analysis(f: _File, model: GraspModel, value: object) -> tuple[dict[str, Any
             bad = "solver"
         msg = str(exc).removeprefix(f"{bad}: ") if bad in overrides else str(exc)
         raise f.error(f"analysis.{bad}" if bad in overrides else "analysis", msg) from exc
-    return out, settings
+    return SceneAnalysis(**out), settings
 
 
 # ---------------------------------------------------------------------------- entry points
