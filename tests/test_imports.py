@@ -22,6 +22,7 @@ def _loaded(code: str) -> list[str]:
         "import pinograsp",
         "import pinograsp as pg; pg.GraspModel; pg.Contact; pg.MaxWrench",
         "import pinograsp.robots.hand",
+        "import pinograsp.core, pinograsp.core.examples",
         "import pinograsp as pg; pg.evaluate_grasps; pg.sample_grasps; pg.load_grasps; pg.GraspSpec",
         "from pinograsp.cli import main; main(['scenes'])",
         "from pinograsp.cli import main\ntry:\n    main(['--help'])\nexcept SystemExit:\n    pass",

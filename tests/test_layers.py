@@ -1,0 +1,188 @@
+"""The package's layers hold (docs/design.md): imports only point down, no import cycles, the
+light entry points load no solver, and no module or function outgrows a newcomer's reading."""
+
+from __future__ import annotations
+
+import ast
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+PACKAGE = Path(__file__).resolve().parents[1] / "pinograsp"
+
+#: Rank of each layer (a folder, or a top-level module); a module may import its own layer and
+#: lower ranks. ``analysis`` and ``robots`` share a rank and must not import each other.
+RANKS = {
+    "errors": 0,
+    "core": 1,
+    "solvers": 2,
+    "analysis": 3,
+    "robots": 3,
+    "scenes": 4,
+    "batch": 5,
+    "viz": 6,
+    "cli": 7,
+    "__init__": 8,
+}
+#: Longest module [lines] and function [lines, def to last line]; plotting functions may be longer.
+MAX_MODULE = 500
+MAX_FUNCTION = 80
+PLOTTING = ("viz",)
+
+
+def _modules() -> dict[str, Path]:
+    out = {}
+    for p in sorted(PACKAGE.rglob("*.py")):
+        parts = p.relative_to(PACKAGE).with_suffix("").parts
+        out[".".join(parts)] = p
+    return out
+
+
+MODULES = _modules()
+
+
+def _layer(module: str) -> str:
+    return module.split(".")[0]
+
+
+def _type_checking_lines(tree: ast.AST) -> set[int]:
+    lines: set[int] = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.If) and "TYPE_CHECKING" in ast.unparse(node.test):
+            for sub in node.body:
+                lines.update(range(sub.lineno, (sub.end_lineno or sub.lineno) + 1))
+    return lines
+
+
+def _resolve(module: str, node: ast.ImportFrom | ast.Import) -> list[str]:
+    """The package modules an import statement of ``module`` loads (relative or absolute)."""
+    if isinstance(node, ast.Import):
+        names = [a.name.removeprefix("pinograsp.") for a in node.names if a.name.startswith("pinograsp.")]
+        return [n for n in names if n in MODULES or f"{n}.__init__" in MODULES]
+    if node.level:
+        pkg = module.split(".")[:-1]
+        base = pkg[: len(pkg) - (node.level - 1)]
+    elif (node.module or "").startswith("pinograsp"):
+        base = []
+    else:
+        return []
+    stem = (node.module or "").removeprefix("pinograsp").lstrip(".")
+    target = ".".join(base + ([stem] if stem else []))
+    out = []
+    for alias in node.names:
+        full = f"{target}.{alias.name}" if target else alias.name
+        if full in MODULES or f"{full}.__init__" in MODULES:
+            out.append(full)
+        elif target in MODULES or f"{target}.__init__" in MODULES:
+            out.append(target)
+    return [o if o in MODULES else f"{o}.__init__" for o in out if o]
+
+
+def _imports() -> dict[str, set[str]]:
+    """Every module's imports of package modules: module level and inside functions, not those
+    under ``if TYPE_CHECKING:``."""
+    graph: dict[str, set[str]] = {}
+    for module, path in MODULES.items():
+        tree = ast.parse(path.read_text())
+        skip = _type_checking_lines(tree)
+        deps: set[str] = set()
+        for node in ast.walk(tree):
+            if isinstance(node, (ast.Import, ast.ImportFrom)) and node.lineno not in skip:
+                deps.update(d for d in _resolve(module, node) if d != module)
+        graph[module] = deps
+    return graph
+
+
+GRAPH = _imports()
+
+
+def test_the_import_parser_sees_the_known_edges():
+    assert "core.model" in GRAPH["analysis.response"]
+    assert "errors" in GRAPH["core.contact"]
+    assert any(d.startswith("solvers") for d in GRAPH["analysis.response"])
+
+
+def test_imports_point_down():
+    upward = []
+    for module, deps in GRAPH.items():
+        me = _layer(module)
+        for dep in deps:
+            them = _layer(dep)
+            if them == me:
+                continue
+            if RANKS[them] >= RANKS[me]:
+                upward.append(f"{module} -> {dep}")
+    assert upward == []
+
+
+def test_no_import_cycles():
+    state: dict[str, int] = {}
+    cycles: list[list[str]] = []
+
+    def visit(m: str, stack: list[str]) -> None:
+        state[m] = 1
+        for d in sorted(GRAPH.get(m, ())):
+            if state.get(d) == 1:
+                cycles.append(stack[stack.index(d) :] + [d])
+            elif d not in state:
+                visit(d, [*stack, d])
+        state[m] = 2
+
+    for m in sorted(GRAPH):
+        if m not in state:
+            visit(m, [m])
+    assert cycles == []
+
+
+def test_every_layer_is_a_folder_with_a_docstring():
+    for layer, rank in RANKS.items():
+        if layer in ("errors", "__init__"):
+            continue
+        init = PACKAGE / layer / "__init__.py"
+        assert init.exists(), layer
+        assert ast.get_docstring(ast.parse(init.read_text())), layer
+    assert {_layer(m) for m in MODULES} <= set(RANKS) | {"__main__"}
+
+
+def test_modules_and_functions_stay_small():
+    long_modules = {m: n for m, p in MODULES.items() if (n := len(p.read_text().splitlines())) > MAX_MODULE}
+    long_functions = []
+    for module, path in MODULES.items():
+        if _layer(module) in PLOTTING:
+            continue
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                n = (node.end_lineno or node.lineno) - node.lineno + 1
+                if n > MAX_FUNCTION:
+                    long_functions.append(f"{module}.{node.name}: {n}")
+    assert long_modules == {}
+    assert long_functions == []
+
+
+def _loaded(code: str, watch: tuple[str, ...]) -> list[str]:
+    probe = f"{code}\nimport sys\nprint('LOADED:' + ','.join(m for m in {watch!r} if m in sys.modules))"
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
+    line = [x for x in out.stdout.splitlines() if x.startswith("LOADED:")][-1]
+    return [m for m in line.removeprefix("LOADED:").split(",") if m]
+
+
+@pytest.mark.parametrize(
+    "code",
+    [
+        "import pinograsp.core",
+        "import pinograsp.core.model, pinograsp.core.examples, pinograsp.core.settings",
+        "import pinograsp.robots.grasp, pinograsp.robots.closing",
+        "import pinograsp as pg; pg.load_scene('case1')",
+    ],
+)
+def test_light_entry_points_load_no_cvxpy(code):
+    assert _loaded(code, ("cvxpy",)) == []
+
+
+def test_core_and_robots_load_no_solver():
+    heavy = ("pinograsp.solvers", "pinograsp.analysis", "cvxpy", "daqp", "proxsuite")
+    assert _loaded("import pinograsp.core.model, pinograsp.core.examples", heavy) == []
+    assert _loaded("import pinograsp.robots.grasp, pinograsp.robots.closing", heavy) == []
+    assert _loaded("import pinograsp.core.model", ("pinocchio", "coal")) == []
