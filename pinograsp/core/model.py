@@ -237,16 +237,6 @@ class GraspModel:
         sg = np.asarray(signs, float)
         return replace(self, R=readonly(self.R * sg[None, :]))
 
-    def contact_index(self, contact: int | str) -> int:
-        """Index of a contact given by index or name."""
-        if isinstance(contact, str):
-            if contact not in self.contact_names:
-                raise UnknownNameError("contact", contact, self.contact_names)
-            return self.contact_names.index(contact)
-        if not 0 <= int(contact) < self.nc:
-            raise UnknownNameError("contact", contact, range(self.nc))
-        return int(contact)
-
     def world_forces(self, c: np.ndarray) -> np.ndarray:
         """World-frame contact forces on the object, (nc, 3), from contact-frame ``c`` (nc*d,)."""
         cc = np.asarray(c, dtype=float).reshape(self.nc, self.d)

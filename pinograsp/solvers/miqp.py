@@ -66,14 +66,13 @@ from typing import Any
 
 import numpy as np
 
-from ..core.settings import MIQP_SOLVERS
+from ..core.settings import COMPLEMENTARITIES, MIQP_SOLVERS, Complementarity
 from ..errors import InvalidInputError, SolverError, SolverNotAvailableError
 from .base import FAILED, INFEASIBLE, OPTIMAL, TIMEOUT, Mode, RawSolution
 from .formulation import Formulation, ScaledData
 from .problem import INF, Problem, ProblemKind, build_problem
 
 
-#: cvxpy solvers able to solve mixed-integer QPs, with the package that provides each.
 class _Cvxpy:
     """cvxpy, imported on first use (1–1.5 s): ``import pinograsp``, the scene listing and the
     default branch-and-bound never need it."""
@@ -99,8 +98,6 @@ SCIP_DEFAULTS: dict[str, Any] = {
 #: feasible indicator models "infeasible" (a pinch movement step whose feasible point it accepts
 #: once the binaries are fixed); without them every answer matched the big-M model.
 INDICATOR_PARAMS: dict[str, Any] = {"misc/allowstrongdualreds": False}
-#: Ways to model the complementarity constraints.
-COMPLEMENTARITY = ("bigm", "indicator")
 #: An "infeasible" MIQP is re-solved with M multiplied by this before it is trusted.
 VERIFY_FACTOR = 100.0
 #: A solution of the verifying solve counts only if some bounded quantity exceeds this fraction
@@ -267,17 +264,16 @@ class CvxpyMIQP:
         self.verify_infeasible = bool(opts.pop("verify_infeasible", verify_infeasible))
         self.quiet = bool(opts.pop("quiet", quiet))
         self.options = opts
-        if complementarity not in COMPLEMENTARITY:
+        if complementarity not in COMPLEMENTARITIES:
             raise InvalidInputError(
-                "complementarity", f"must be one of {COMPLEMENTARITY}, got {complementarity!r}"
+                "complementarity", f"must be one of {COMPLEMENTARITIES}, got {complementarity!r}"
             )
-        if complementarity == "indicator" and self.solver != "SCIP":
+        if complementarity == Complementarity.INDICATOR and self.solver != "SCIP":
             raise InvalidInputError(
                 "complementarity",
                 f"indicator constraints are implemented for solver 'scip' only, not {solver!r}",
             )
-        self.complementarity = complementarity
-        self.n_solves = 0
+        self.complementarity = Complementarity(complementarity)
 
     def problem(self, data: ScaledData, t_max: float = 1.0) -> Problem:
         """The shared problem description of one solve."""
@@ -310,13 +306,12 @@ class CvxpyMIQP:
         P = self.problem(data, t_max)
         bad = P.empty_rows()
         if bad:
-            self.n_solves += 1
             return RawSolution(
                 status=INFEASIBLE,
                 backend=backend,
                 message=f"no contact force can produce the wrench component(s) {', '.join(bad)}",
             )
-        if self.complementarity == "indicator":
+        if self.complementarity is Complementarity.INDICATOR:
             return self._solve_indicator(P)
         sol = self._solve_bigm(P, float(M))
         if sol.status == INFEASIBLE and self.verify_infeasible:
@@ -382,7 +377,6 @@ class CvxpyMIQP:
         except Exception as exc:  # backend crashed (licence, memory, ...)
             raise SolverError(f"{self.solver} raised {type(exc).__name__}: {exc}", solver=backend) from exc
         dt = time.perf_counter() - t0
-        self.n_solves += 1
         st = prob.status
         raw_status = _backend_status(prob)
         if st in (cp.INFEASIBLE, cp.settings.INFEASIBLE_OR_UNBOUNDED):
@@ -406,7 +400,6 @@ class CvxpyMIQP:
             backend=backend,
             bigm_ratio=bigm_ratio(P, zv, M),
             message=raw_status,
-            path="miqp",
         )
 
     # ---------------------------------------------------------- indicator constraints
@@ -457,7 +450,6 @@ class CvxpyMIQP:
         except Exception as exc:  # pragma: no cover - backend crash
             raise SolverError(f"SCIP raised {type(exc).__name__}: {exc}", solver="scip") from exc
         dt = time.perf_counter() - t0
-        self.n_solves += 1
         status = str(mdl.getStatus())
         backend = "scip-indicator"
         if status in ("infeasible", "inforunbd"):
@@ -478,5 +470,4 @@ class CvxpyMIQP:
             backend=backend,
             bigm_ratio=0.0,
             message=status,
-            path="miqp",
         )
