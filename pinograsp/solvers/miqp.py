@@ -45,22 +45,14 @@ first solve, so it can only come from the integrality tolerance times the larger
 complementarity — seen on a rotated 3D pinch 0.1 % above its limit) and the verdict stays
 "infeasible".
 
-**Quiet.** SCIP's LP solver prints ``Cannot set feasibility tolerance to small value ...
-without GMP`` straight to the process's stderr when it tightens its tolerance on hard
-problems. With ``quiet=True`` (default) the solve runs with file descriptors 1 and 2
-redirected; that line is dropped and any other output is forwarded to ``sys.stdout`` /
-``sys.stderr``.
+**Quiet.** With ``quiet=True`` (default) a solve runs inside
+:func:`~pinograsp.solvers.quiet.quiet_stdout`, which drops SCIP's "without GMP" line.
 """
 
 from __future__ import annotations
 
-import os
-import sys
-import tempfile
-import threading
 import time
 import warnings
-from contextlib import contextmanager
 from dataclasses import replace
 from typing import Any
 
@@ -71,6 +63,7 @@ from ..errors import InvalidInputError, SolverError, SolverNotAvailableError
 from .base import FAILED, INFEASIBLE, OPTIMAL, TIMEOUT, Mode, RawSolution
 from .formulation import Formulation, ScaledData
 from .problem import INF, Problem, ProblemKind, build_problem
+from .quiet import quiet_stdout
 
 
 class _Cvxpy:
@@ -103,8 +96,6 @@ VERIFY_FACTOR = 100.0
 #: A solution of the verifying solve counts only if some bounded quantity exceeds this fraction
 #: of the first M (otherwise the first solve would have found it: an integrality artefact).
 GENUINE = 0.5
-#: Lines of backend output that carry no information for pinograsp users (dropped when quiet).
-NOISE = ("without GMP - using",)
 
 
 def available_miqp_solvers() -> list[str]:
@@ -125,57 +116,6 @@ def resolve_solver(name: str) -> str:
             f"MIQP solver {name!r} is not installed; install {MIQP_SOLVERS[key]}", solver=str(name)
         )
     return key
-
-
-_FD_LOCK = threading.Lock()
-
-
-@contextmanager
-def quiet_stdout(enabled: bool = True):
-    """Redirect file descriptors 1 and 2 around a backend call; drop :data:`NOISE` lines and
-    forward the rest to ``sys.stdout`` / ``sys.stderr``.
-
-    Solver libraries write to the C-level streams (SoPlex's "without GMP" line goes to stderr),
-    which ``contextlib.redirect_stdout`` cannot catch. A lock makes concurrent threads take turns
-    (the redirection is process-wide).
-    """
-    if not enabled:
-        yield
-        return
-    streams = ((1, sys.stdout), (2, sys.stderr))
-    with _FD_LOCK:
-        for _, stream in streams:
-            try:
-                stream.flush()
-            except Exception:  # pragma: no cover - a closed or exotic stream
-                pass
-        saved: list[tuple[int, int, object, object]] = []
-        try:
-            for fd, stream in streams:
-                try:
-                    keep = os.dup(fd)
-                except OSError:  # pragma: no cover - no such descriptor (embedded interpreters)
-                    continue
-                tmp = tempfile.TemporaryFile(mode="w+b")
-                os.dup2(tmp.fileno(), fd)
-                saved.append((fd, keep, tmp, stream))
-            yield
-        finally:
-            texts = []
-            for fd, keep, tmp, stream in saved:
-                try:
-                    stream.flush()  # type: ignore[attr-defined]
-                except Exception:  # pragma: no cover
-                    pass
-                os.dup2(keep, fd)
-                os.close(keep)
-                tmp.seek(0)  # type: ignore[attr-defined]
-                texts.append((tmp.read().decode(errors="replace"), stream))  # type: ignore[attr-defined]
-                tmp.close()  # type: ignore[attr-defined]
-            for text, stream in texts:
-                kept = [ln for ln in text.splitlines(keepends=True) if not any(n in ln for n in NOISE)]
-                if kept:
-                    stream.write("".join(kept))  # type: ignore[attr-defined]
 
 
 def _second_attempt(first: RawSolution, again: RawSolution, note: str) -> RawSolution:
