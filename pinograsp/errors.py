@@ -119,10 +119,6 @@ class AuditWarning(PinograspWarning):
     displacements are absurdly large (``PassiveResponse.audit.energy``; docs/accuracy.md)."""
 
 
-class ConvergenceWarning(PinograspWarning):
-    """An iterative computation stopped without meeting its tolerance."""
-
-
 class ModelFileError(PinograspError, ValueError):
     """A model file (URDF, hand description, mesh) is missing, unreadable or malformed.
 

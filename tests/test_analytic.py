@@ -1,4 +1,4 @@
-"""Closed-form planar grasps (DESIGN §6 plus four more derived in docs/analytic_cases.md).
+"""Closed-form planar grasps: the pinch and the other cases derived in docs/analytic_cases.md.
 
 Forces at a given load must match closed form to 1e-6; bisection magnitudes to the bisection
 resolution for PRP, and within ``eps + resolution`` (the iterative scheme accepts a net wrench

@@ -24,8 +24,10 @@ import numpy as np
 from ..errors import InvalidInputError
 from .validate import check_name, choice, finite_number
 
+#: The actuator kinds (see the module docstring).
+NON_BACKDRIVABLE, BACKDRIVABLE, LOCKED = "non-backdrivable", "backdrivable", "locked"
 #: Valid actuator kinds.
-ACTUATOR_KINDS = ("non-backdrivable", "backdrivable", "locked")
+ACTUATOR_KINDS = (NON_BACKDRIVABLE, BACKDRIVABLE, LOCKED)
 
 
 def _joint_key(owner: str, joint: object) -> int | str:

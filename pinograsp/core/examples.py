@@ -174,49 +174,17 @@ def random_grasp(
     nq = 2 * n_pairs * contacts_per_finger
     joint = 0
     for k in range(int(n_pairs)):
-        if planar:
-            a = rng.uniform(0, 2 * np.pi)
-            n = np.array([np.cos(a), np.sin(a), 0.0])
-            e = np.cross(EZ, n)
-        else:
-            n = _unit(rng.normal(size=3))
-            e = _unit(np.cross(n, _unit(rng.normal(size=3))))
-        r = radius * rng.uniform(0.7, 1.3)
-        s = radius * rng.uniform(0.2, 0.5)  # half distance between proximal and distal contact
-        off = radius * rng.uniform(-0.3, 0.3)  # offset of the finger along e
-        depth, length = radius * rng.uniform(0.5, 1.0), radius * rng.uniform(1.5, 2.5)
+        n, e, r, off, sizes = _pair_draw(rng, planar, radius)
         hinge = _unit(np.cross(e, n))
         for side, sign in enumerate((1.0, -1.0)):  # the second finger is the point mirror
-            nn = sign * n
-            ee = sign * e
-            face = -r * nn + off * ee
+            nn, ee = sign * n, sign * e
             name = f"f{2 * k + side}"
-            j1 = joint
-            if contacts_per_finger == 1:
-                p = face
-                pivot = p - depth * nn - length * ee
-                ax = _closing_axis(hinge, p, pivot, nn)
-                contacts.append(Contact.revolute(p, nn, {j1: (pivot, ax)}, nq=nq, mu=mu, name=name))
-                actuators.append(Actuator({j1: 1.0}, kind=kind, name=name))
-                joint += 1
-            else:
-                j2 = joint + 1
-                p1, p2 = face - s * ee, face + s * ee
-                o1 = face - depth * nn - (s + length) * ee
-                o2 = face - depth * nn
-                a1 = _closing_axis(hinge, p1, o1, nn)
-                a2 = _closing_axis(hinge, p2, o2, nn)
-                contacts.append(
-                    Contact.revolute(p1, nn, {j1: (o1, a1)}, nq=nq, mu=mu, name=f"{name}_proximal")
-                )
-                contacts.append(
-                    Contact.revolute(
-                        p2, nn, {j1: (o1, a1), j2: (o2, a2)}, nq=nq, mu=mu, name=f"{name}_distal"
-                    )
-                )
-                actuators.append(Actuator({j1: 1.0}, kind=kind, name=name))
-                couplings.append(Coupling.follow(j2, j1, ratio))
-                joint += 2
+            face = -r * nn + off * ee
+            contacts += _finger(face, nn, ee, hinge, sizes, joint, nq, mu, name, contacts_per_finger)
+            actuators.append(Actuator({joint: 1.0}, kind=kind, name=name))
+            if contacts_per_finger == 2:
+                couplings.append(Coupling.follow(joint + 1, joint, ratio))
+            joint += contacts_per_finger
     return GraspModel.from_contacts(
         contacts,
         actuators=actuators,
@@ -225,3 +193,54 @@ def random_grasp(
         edges=edges,
         joint_names=tuple(f"j{i}" for i in range(nq)),
     )
+
+
+def _pair_draw(
+    rng: np.random.Generator, planar: bool, radius: float
+) -> tuple[np.ndarray, np.ndarray, float, float, tuple[float, float, float]]:
+    """One random pair of fingers: face normal ``n`` and in-plane direction ``e`` (unit, (3,)),
+    face distance ``r`` [m], offset ``off`` of the fingers along ``e`` [m] and the finger sizes
+    (half distance between proximal and distal contact, depth, length) [m]."""
+    if planar:
+        a = rng.uniform(0, 2 * np.pi)
+        n = np.array([np.cos(a), np.sin(a), 0.0])
+        e = np.cross(EZ, n)
+    else:
+        n = _unit(rng.normal(size=3))
+        e = _unit(np.cross(n, _unit(rng.normal(size=3))))
+    r = radius * rng.uniform(0.7, 1.3)
+    s = radius * rng.uniform(0.2, 0.5)
+    off = radius * rng.uniform(-0.3, 0.3)
+    depth, length = radius * rng.uniform(0.5, 1.0), radius * rng.uniform(1.5, 2.5)
+    return n, e, r, off, (s, depth, length)
+
+
+def _finger(
+    face: np.ndarray,
+    nn: np.ndarray,
+    ee: np.ndarray,
+    hinge: np.ndarray,
+    sizes: tuple[float, float, float],
+    joint: int,
+    nq: int,
+    mu: float,
+    name: str,
+    contacts_per_finger: int,
+) -> list[Contact]:
+    """The contacts of one finger pressing on the face point ``face`` along ``nn``: one on a
+    single link (joint ``joint``), or proximal and distal on two links (joints ``joint`` and
+    ``joint + 1``); ``sizes`` = (half contact spacing, depth, length) [m]."""
+    s, depth, length = sizes
+    if contacts_per_finger == 1:
+        pivot = face - depth * nn - length * ee
+        ax = _closing_axis(hinge, face, pivot, nn)
+        return [Contact.revolute(face, nn, {joint: (pivot, ax)}, nq=nq, mu=mu, name=name)]
+    p1, p2 = face - s * ee, face + s * ee
+    o1 = face - depth * nn - (s + length) * ee
+    o2 = face - depth * nn
+    a1 = _closing_axis(hinge, p1, o1, nn)
+    a2 = _closing_axis(hinge, p2, o2, nn)
+    return [
+        Contact.revolute(p1, nn, {joint: (o1, a1)}, nq=nq, mu=mu, name=f"{name}_proximal"),
+        Contact.revolute(p2, nn, {joint: (o1, a1), joint + 1: (o2, a2)}, nq=nq, mu=mu, name=f"{name}_distal"),
+    ]

@@ -17,39 +17,12 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from ..errors import InvalidInputError, ModelError, UnknownNameError
+from ..errors import InvalidInputError, UnknownNameError
 from .actuation import Actuator, Coupling
 from .axes import PLANAR_AXES
-from .contact import Contact, friction_edges
-from .validate import finite_number, flag, sequence
-
-#: Relative threshold below which Jacobian entries count as zero (pruning, planar checks).
-ZERO_TOL = 1e-12
-
-
-@dataclass(frozen=True)
-class PruneRecord:
-    """What :meth:`GraspModel.from_contacts` removed because the scene does not need it."""
-
-    joints: tuple[str, ...] = ()
-    actuators: tuple[str, ...] = ()
-    couplings: tuple[str, ...] = ()
-    tangential: tuple[str, ...] = ()
-    dropped_transmission: tuple[tuple[str, str], ...] = ()
-
-    def __bool__(self) -> bool:
-        return any((self.joints, self.actuators, self.couplings, self.tangential))
-
-
-#: Largest number of friction pyramid edges accepted (32 edges already approximate the cone
-#: to 1 - cos(pi/32) = 0.5 %).
-MAX_EDGES = 256
-
-
-def _readonly(a: np.ndarray) -> np.ndarray:
-    a = np.ascontiguousarray(a, dtype=float)
-    a.setflags(write=False)
-    return a
+from .build import PruneRecord, build_model, readonly
+from .contact import Contact
+from .validate import finite_number
 
 
 @dataclass(frozen=True, eq=False)
@@ -262,17 +235,7 @@ class GraspModel:
         negated, (na,): a bidirectional actuator commanded ``-f`` is this model's actuator
         commanded ``+f``."""
         sg = np.asarray(signs, float)
-        return replace(self, R=_readonly(self.R * sg[None, :]))
-
-    def contact_index(self, contact: int | str) -> int:
-        """Index of a contact given by index or name."""
-        if isinstance(contact, str):
-            if contact not in self.contact_names:
-                raise UnknownNameError("contact", contact, self.contact_names)
-            return self.contact_names.index(contact)
-        if not 0 <= int(contact) < self.nc:
-            raise UnknownNameError("contact", contact, range(self.nc))
-        return int(contact)
+        return replace(self, R=readonly(self.R * sg[None, :]))
 
     def world_forces(self, c: np.ndarray) -> np.ndarray:
         """World-frame contact forces on the object, (nc, 3), from contact-frame ``c`` (nc*d,)."""
@@ -323,258 +286,18 @@ class GraspModel:
             ModelError: Inconsistent sizes, a non-planar element in a planar model, ...
             UnknownNameError: A transmission or coupling names an unknown joint.
         """
-        contacts = sequence("contacts", contacts)
-        if not contacts:
-            raise ModelError("a grasp needs at least one contact")
-        for i, c in enumerate(contacts):
-            if not isinstance(c, Contact):
-                raise InvalidInputError(
-                    f"contacts[{i}]", f"expected pinograsp.Contact, got {type(c).__name__}"
-                )
-        nqs = {c.jacobian.shape[1] for c in contacts if c.jacobian is not None}
-        if len(nqs) > 1:
-            detail = ", ".join(
-                f"{c.name or i}: {c.jacobian.shape[1]}"
-                for i, c in enumerate(contacts)
-                if c.jacobian is not None
-            )
-            raise ModelError(f"contact Jacobians disagree on the number of joints ({detail})")
-        if joint_names is not None:
-            joint_names = sequence("joint_names", joint_names)
-            for n in joint_names:
-                if not isinstance(n, str):
-                    raise InvalidInputError("joint_names", f"expected strings, got {n!r}")
-        planar = flag("planar", planar)
-        circumscribed = flag("circumscribed", circumscribed)
-        prune = flag("prune", prune)
-        nq = nqs.pop() if nqs else (len(joint_names) if joint_names is not None else 0)
-        if joint_names is None:
-            joint_names = tuple(f"q{j}" for j in range(nq))
-        joint_names = tuple(str(n) for n in joint_names)
-        if len(joint_names) != nq:
-            raise ModelError(f"{len(joint_names)} joint names for {nq} Jacobian columns")
-        if len(set(joint_names)) != nq:
-            raise ModelError(f"duplicate joint names in {joint_names}")
-
-        names = []
-        for i, c in enumerate(contacts):
-            names.append(c.name if c.name is not None else f"c{i}")
-        if len(set(names)) != len(names):
-            names = [f"{n}#{i}" for i, n in enumerate(names)]
-
-        try:
-            o = (
-                np.zeros(3)
-                if reference_point is None
-                else np.asarray(reference_point, dtype=float).reshape(-1)
-            )
-        except (TypeError, ValueError, OverflowError) as exc:
-            raise InvalidInputError(
-                "reference_point", f"expected 3 numbers, got {reference_point!r}"
-            ) from exc
-        if o.shape != (3,) or not np.all(np.isfinite(o)):
-            raise InvalidInputError("reference_point", f"expected 3 finite numbers, got {reference_point!r}")
-
-        if edges is None:
-            m = 8
-        elif isinstance(edges, (bool, np.bool_)) or not isinstance(edges, (int, np.integer)):
-            raise InvalidInputError("edges", f"expected an integer number of pyramid edges, got {edges!r}")
-        else:
-            m = int(edges)
-        if m > MAX_EDGES:
-            raise InvalidInputError("edges", f"at most {MAX_EDGES} pyramid edges, got {m}")
-        if planar:
-            m = 2
-        elif m < 3:
-            raise InvalidInputError("edges", f"a 3D friction pyramid needs at least 3 edges, got {m}")
-
-        points = np.array([c.point for c in contacts])
-        frames = np.array([c.frame for c in contacts])
-        jw = np.array([c.jacobian if c.jacobian is not None else np.zeros((3, nq)) for c in contacts])
-        if nq == 0 or not np.any(jw):
-            raise ModelError(
-                "no contact moves with a joint (every contact is fixed): passive reaction needs at "
-                f"least one finger joint that reaches a contact; contacts: {[c.name for c in contacts]}"
-            )
-        if planar:
-            scale = max(np.abs(points - o).max(), 1e-300)
-            for i, c in enumerate(contacts):
-                if (
-                    abs(c.point[2] - o[2]) > 1e-9 * scale
-                    or abs(c.normal[2]) > 1e-9
-                    or abs(c.tangent[2]) > 1e-9
-                ):
-                    raise ModelError(
-                        f"contact {names[i]!r} is not in the XY plane (point z, normal z or tangent z "
-                        "non-zero); use planar=False"
-                    )
-                jscale = max(np.abs(jw).max(), 1e-300)
-                if np.any(np.abs(jw[i, 2]) > 1e-9 * jscale):
-                    raise ModelError(
-                        f"contact {names[i]!r}: its Jacobian moves it out of the XY plane; use planar=False"
-                    )
-
-        # --- joints, transmission, couplings (by index, names resolved) --------------
-        def joint_idx(owner: str, key: int | str) -> int:
-            if isinstance(key, str):
-                if key not in joint_names:
-                    raise UnknownNameError("joint", key, joint_names)
-                return joint_names.index(key)
-            if not 0 <= key < nq:
-                raise UnknownNameError("joint", key, list(range(nq)) + list(joint_names))
-            return key
-
-        if actuators is None:
-            actuators = [Actuator({j: 1.0}, name=joint_names[j]) for j in range(nq)]
-        actuators = sequence("actuators", actuators)
-        act_names = []
-        for a_i, a in enumerate(actuators):
-            if not isinstance(a, Actuator):
-                raise InvalidInputError(
-                    f"actuators[{a_i}]", f"expected pinograsp.Actuator, got {type(a).__name__}"
-                )
-            act_names.append(a.name if a.name is not None else f"a{a_i}")
-        if len(set(act_names)) != len(act_names):
-            raise ModelError(f"duplicate actuator names in {act_names}")
-        R = np.zeros((nq, len(actuators)))
-        for a_i, a in enumerate(actuators):
-            for key, arm in a.transmission.items():
-                R[joint_idx(f"actuator {act_names[a_i]!r}", key), a_i] += arm
-
-        if couplings is None:
-            C = np.zeros((0, nq))
-            cp_names: list[str] = []
-        elif isinstance(couplings, np.ndarray):
-            try:
-                C = np.array(couplings, dtype=float, ndmin=2)
-            except (TypeError, ValueError, OverflowError) as exc:
-                raise InvalidInputError("couplings", f"expected a numeric (ncp, {nq}) array: {exc}") from exc
-            if C.size == 0:
-                C = np.zeros((0, nq))
-            if C.ndim != 2 or C.shape[1] != nq or not np.all(np.isfinite(C)):
-                raise InvalidInputError(
-                    "couplings", f"expected a finite (ncp, {nq}) array, got shape {C.shape}"
-                )
-            cp_names = [f"k{r}" for r in range(C.shape[0])]
-        else:
-            couplings = sequence("couplings", couplings)
-            C = np.zeros((len(couplings), nq))
-            cp_names = []
-            for r, cp in enumerate(couplings):
-                if not isinstance(cp, Coupling):
-                    raise InvalidInputError(
-                        f"couplings[{r}]", f"expected pinograsp.Coupling, got {type(cp).__name__}"
-                    )
-                cp_names.append(cp.name if cp.name is not None else f"k{r}")
-                for key, v in cp.weights.items():
-                    C[r, joint_idx(f"coupling {cp_names[-1]!r}", key)] += v
-        if C.shape[0] and np.any(np.all(C == 0, axis=1)):
-            raise ModelError("a coupling has all-zero weights")
-
-        # --- pruning -----------------------------------------------------------------
-        jmax = max(np.abs(jw).max(), 1e-300) if jw.size else 1.0
-        reaches = np.any(np.abs(jw) > ZERO_TOL * jmax, axis=(0, 1)) if nq else np.zeros(0, bool)
-        keep_j = reaches if prune else np.ones(nq, bool)
-        pruned_joints = tuple(joint_names[j] for j in range(nq) if not keep_j[j])
-        dropped_tr = tuple(
-            (act_names[a_i], joint_names[j])
-            for a_i in range(R.shape[1])
-            for j in range(nq)
-            if not keep_j[j] and R[j, a_i] != 0
-        )
-        keep_cp = ~np.any(C[:, ~keep_j] != 0, axis=1) if C.shape[0] else np.zeros(0, bool)
-        pruned_cp = tuple(cp_names[r] for r in range(C.shape[0]) if not keep_cp[r])
-        R = R[keep_j]
-        keep_a = np.any(R != 0, axis=0) if prune else np.ones(R.shape[1], bool)
-        pruned_a = tuple(act_names[a] for a in range(R.shape[1]) if not keep_a[a])
-        R = R[:, keep_a]
-        C = C[keep_cp][:, keep_j]
-        cp_names = [cp_names[r] for r in range(len(cp_names)) if keep_cp[r]]
-        jw = jw[:, :, keep_j]
-        kept_joint_names = tuple(n for j, n in enumerate(joint_names) if keep_j[j])
-        kinds = tuple(a.kind for a, keep in zip(actuators, keep_a) if keep)
-        kept_act_names = tuple(n for n, keep in zip(act_names, keep_a) if keep)
-
-        # --- contact-frame matrices ----------------------------------------------------
-        d = 2 if planar else 3
-        nc = len(contacts)
-        nqk = int(keep_j.sum())
-        G = np.zeros((3 if planar else 6, nc * d))
-        J = np.zeros((nc * d, nqk))
-        blocks = []
-        beta_contact = []
-        tangential = []
-        for i, c in enumerate(contacts):
-            F = frames[i][:, :d]  # (3, d)
-            r = points[i] - o
-            moment = np.cross(r, F.T).T  # (3, d)
-            if planar:
-                G[:, i * d : (i + 1) * d] = np.vstack([F[:2], moment[2:3]])
-            else:
-                G[:, i * d : (i + 1) * d] = np.vstack([F, moment])
-            J[i * d : (i + 1) * d] = F.T @ jw[i]
-            mu_i = c.mu
-            if mu_i == 0.0 and prune:
-                edges_i = friction_edges(0.0, m)[:d]
-                tangential.append(names[i])
-            else:
-                edges_i = friction_edges(mu_i, m, circumscribed)[:d]
-                if mu_i == 0.0:  # kept on request: m zero-friction edges
-                    edges_i = np.repeat(np.array([[1.0], [0.0], [0.0]])[:d], m, axis=1)
-            blocks.append(edges_i)
-            beta_contact += [i] * edges_i.shape[1]
-        nb = sum(b.shape[1] for b in blocks)
-        D = np.zeros((nc * d, nb))
-        col = 0
-        for i, b in enumerate(blocks):
-            D[i * d : (i + 1) * d, col : col + b.shape[1]] = b
-            col += b.shape[1]
-
-        if length_scale is None:
-            with np.errstate(over="ignore"):
-                rms = float(np.sqrt(np.mean(np.sum((points - o) ** 2, axis=1))))
-            length_scale = rms if rms > 0 else 1.0
-        else:
-            length_scale = finite_number("length_scale", length_scale)
-            if not length_scale > 0:
-                raise InvalidInputError("length_scale", f"must be finite and > 0, got {length_scale}")
-        for label, arr in (("grasp map", G), ("hand Jacobian", J), ("friction pyramid", D)):
-            if not np.all(np.isfinite(arr)):
-                raise InvalidInputError(
-                    "contacts", f"the {label} overflows: contact coordinates or Jacobians too large"
-                )
-        if not np.isfinite(length_scale):
-            raise InvalidInputError("contacts", "the contact points are too far from the reference point")
-
-        return cls(
-            G=_readonly(G),
-            J=_readonly(J),
-            D=_readonly(D),
-            beta_contact=np.asarray(beta_contact, dtype=int),
-            k=_readonly(np.array([c.stiffness for c in contacts])),
-            mu=_readonly(np.array([c.mu for c in contacts])),
-            R=_readonly(R.reshape(nqk, -1)),
-            C=_readonly(C.reshape(-1, nqk)),
-            kinds=kinds,
-            points=_readonly(points),
-            frames=_readonly(frames),
-            reference_point=_readonly(o),
-            planar=bool(planar),
-            edges=m,
-            length_scale=float(length_scale),
-            contact_names=tuple(names),
-            joint_names=kept_joint_names,
-            actuator_names=kept_act_names,
-            coupling_names=tuple(cp_names),
-            all_actuator_names=tuple(act_names),
-            bidirectional=tuple(n for n, a in zip(act_names, actuators) if a.bidirectional),
-            pruned=PruneRecord(
-                joints=pruned_joints,
-                actuators=pruned_a,
-                couplings=pruned_cp,
-                tangential=tuple(tangential),
-                dropped_transmission=dropped_tr,
-            ),
+        return build_model(
+            cls,
+            contacts,
+            actuators,
+            couplings,
+            planar,
+            reference_point=reference_point,
+            joint_names=joint_names,
+            edges=edges,
+            circumscribed=circumscribed,
+            prune=prune,
+            length_scale=length_scale,
         )
 
     def summary(self) -> str:

@@ -1,5 +1,5 @@
 """Solver layer: the shared problem description, pinograsp's exact branch-and-bound (DAQP node
-QPs) and the reference cvxpy MIQP backend.
+QPs) and the reference cvxpy MIQP backend (docs/solvers.md).
 
 Solvers never import Pinocchio or Coal; they only see a :class:`~pinograsp.GraspModel`.
 """

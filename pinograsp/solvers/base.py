@@ -23,13 +23,12 @@ class SolveStatus(str, Enum):
     FAILED = "failed"
 
 
-OPTIMAL, INFEASIBLE, TIMEOUT, FAILED = (
-    SolveStatus.OPTIMAL,
-    SolveStatus.INFEASIBLE,
-    SolveStatus.TIMEOUT,
-    SolveStatus.FAILED,
-)
+# Short names of the members.
+OPTIMAL = SolveStatus.OPTIMAL
+INFEASIBLE = SolveStatus.INFEASIBLE
+TIMEOUT = SolveStatus.TIMEOUT
 NODE_LIMIT = SolveStatus.NODE_LIMIT
+FAILED = SolveStatus.FAILED
 
 
 @dataclass(frozen=True)
@@ -51,7 +50,7 @@ class RawSolution:
     """A solution of one scaled problem (see :mod:`pinograsp.solvers.formulation`).
 
     Attributes:
-        status: ``"optimal"``, ``"infeasible"``, ``"timeout"`` or ``"failed"``.
+        status: :class:`SolveStatus`.
         z: Scaled variables, or None when there is no solution.
         mode: Complementarity mode of the solution, or None.
         objective: Scaled objective value.
@@ -61,11 +60,6 @@ class RawSolution:
         bigm_retries: How many times the big-M constants were enlarged.
         polished: Whether ``z`` comes from the exact fixed-mode QP (exact complementarity).
         message: Extra backend information.
-        duals: Inequality multipliers of the fixed-mode QP (ProxSuite sign convention: negative
-            where a lower bound is active), or None for MIQP solutions.
-        path: How the solution was obtained: ``"miqp"`` (exact), ``"guess"`` (fixed-mode QP of a
-            guessed mode that passed the optimality check) or ``"fallback"`` (the guess failed
-            and the exact MIQP answered).
     """
 
     status: SolveStatus
@@ -78,5 +72,3 @@ class RawSolution:
     bigm_retries: int = 0
     polished: bool = False
     message: str = ""
-    duals: np.ndarray | None = None
-    path: str = "miqp"

@@ -31,8 +31,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..core.settings import MAX_NODES
-from .base import FAILED, INFEASIBLE, NODE_LIMIT, OPTIMAL, Mode, RawSolution
-from .node_qp import NodeQP, QPResult, QPStatus
+from .base import FAILED, INFEASIBLE, NODE_LIMIT, OPTIMAL, Mode, RawSolution, SolveStatus
+from .node_qp import NodeQP, QPResult
 from .problem import INF, PairKind, Problem, ProblemKind
 
 #: Relative optimality tolerance on the objective (a squared force): a node whose bound is within
@@ -120,7 +120,7 @@ class BranchAndBound:
         if guess is not None:
             sides = P.sides_of(guess)
             res = self._qp(sides.astype(np.int8))
-            if res.status is QPStatus.OPTIMAL:
+            if res.status is SolveStatus.OPTIMAL:
                 best_obj, best_sides, best_z = res.objective, sides, res.z
         stack = [np.full(npair, -1, np.int8)]
         limited = False
@@ -131,7 +131,7 @@ class BranchAndBound:
             fixed = stack.pop()
             res = self._qp(fixed)
             self._nodes += 1
-            if res.status is QPStatus.FAILED:
+            if res.status is SolveStatus.FAILED:
                 # no verdict on this relaxation: its children cover every complementary point
                 # of it, and fixing more pairs often makes the QP tractable; a leaf is a failure
                 free = np.flatnonzero(fixed < 0)
@@ -144,7 +144,7 @@ class BranchAndBound:
                     child[k] = side
                     stack.append(child)
                 continue
-            if res.status is QPStatus.INFEASIBLE or self._pruned(res.objective, best_obj):
+            if res.status is SolveStatus.INFEASIBLE or self._pruned(res.objective, best_obj):
                 continue
             viol = self._violation(res.z, fixed)
             natural = np.where(fixed >= 0, fixed, P.natural_sides(res.z)).astype(np.int8)
@@ -152,7 +152,7 @@ class BranchAndBound:
                 best_obj, best_sides, best_z = res.objective, natural, res.z
                 continue
             rep = self._qp(natural)
-            if rep.status is QPStatus.OPTIMAL and rep.objective < best_obj:
+            if rep.status is SolveStatus.OPTIMAL and rep.objective < best_obj:
                 best_obj, best_sides, best_z = rep.objective, natural, rep.z
             if self._pruned(res.objective, best_obj):
                 continue
@@ -191,9 +191,9 @@ class BranchAndBound:
         P = self.p
         if z_found is None:
             res = self._qp(sides.astype(np.int8), polish=True)
-            if res.status is QPStatus.INFEASIBLE:
+            if res.status is SolveStatus.INFEASIBLE:
                 return RawSolution(status=INFEASIBLE, backend="bnb", message="the mode has no feasible point")
-            if res.status is not QPStatus.OPTIMAL:
+            if res.status is not SolveStatus.OPTIMAL:
                 return self._failed("the optimal mode's QP could not be re-solved")
             z_found = res.z
         else:
@@ -210,7 +210,6 @@ class BranchAndBound:
             backend="bnb",
             polished=True,
             message=self._count_message(),
-            path="bnb",
         )
 
     def _canonical(self, z: np.ndarray, sides: np.ndarray) -> np.ndarray:

@@ -37,9 +37,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..core.actuation import BACKDRIVABLE, LOCKED, NON_BACKDRIVABLE
 from ..core.model import GraspModel
-
-NBD, BACKDRIVABLE, LOCKED = "non-backdrivable", "backdrivable", "locked"
 
 
 @dataclass(frozen=True, eq=False)
@@ -114,13 +113,11 @@ class Formulation:
             self.cl_norm = np.zeros(0)
             self.Cq = np.zeros((0, nq))
         Ru = m.R.T / self.qscale[None, :] if na else np.zeros((0, nq))
-        self.usigma = 1.0 / np.abs(Ru).max(axis=1) if na else np.zeros(0)
-        self.Ru = Ru * self.usigma[:, None]  # (na, nq): û = Ru qh
-        self.kinds = m.kinds
-        self.nbd = np.array([k == NBD for k in m.kinds], bool)
+        usigma = 1.0 / np.abs(Ru).max(axis=1) if na else np.zeros(0)
+        self.Ru = Ru * usigma[:, None]  # (na, nq): û = Ru qh
+        self.nbd = np.array([k == NON_BACKDRIVABLE for k in m.kinds], bool)
         self.bdr = np.array([k == BACKDRIVABLE for k in m.kinds], bool)
         self.lck = np.array([k == LOCKED for k in m.kinds], bool)
-        # variable slices
 
     # ------------------------------------------------------------------ layout
     def layout(self, kind: str) -> dict[str, slice]:

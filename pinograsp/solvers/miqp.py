@@ -45,35 +45,27 @@ first solve, so it can only come from the integrality tolerance times the larger
 complementarity — seen on a rotated 3D pinch 0.1 % above its limit) and the verdict stays
 "infeasible".
 
-**Quiet.** SCIP's LP solver prints ``Cannot set feasibility tolerance to small value ...
-without GMP`` straight to the process's stderr when it tightens its tolerance on hard
-problems. With ``quiet=True`` (default) the solve runs with file descriptors 1 and 2
-redirected; that line is dropped and any other output is forwarded to ``sys.stdout`` /
-``sys.stderr``.
+**Quiet.** With ``quiet=True`` (default) a solve runs inside
+:func:`~pinograsp.solvers.quiet.quiet_stdout`, which drops SCIP's "without GMP" line.
 """
 
 from __future__ import annotations
 
-import os
-import sys
-import tempfile
-import threading
 import time
 import warnings
-from contextlib import contextmanager
 from dataclasses import replace
 from typing import Any
 
 import numpy as np
 
-from ..core.settings import MIQP_SOLVERS
+from ..core.settings import COMPLEMENTARITIES, MIQP_SOLVERS, Complementarity
 from ..errors import InvalidInputError, SolverError, SolverNotAvailableError
 from .base import FAILED, INFEASIBLE, OPTIMAL, TIMEOUT, Mode, RawSolution
 from .formulation import Formulation, ScaledData
 from .problem import INF, Problem, ProblemKind, build_problem
+from .quiet import quiet_stdout
 
 
-#: cvxpy solvers able to solve mixed-integer QPs, with the package that provides each.
 class _Cvxpy:
     """cvxpy, imported on first use (1–1.5 s): ``import pinograsp``, the scene listing and the
     default branch-and-bound never need it."""
@@ -99,15 +91,11 @@ SCIP_DEFAULTS: dict[str, Any] = {
 #: feasible indicator models "infeasible" (a pinch movement step whose feasible point it accepts
 #: once the binaries are fixed); without them every answer matched the big-M model.
 INDICATOR_PARAMS: dict[str, Any] = {"misc/allowstrongdualreds": False}
-#: Ways to model the complementarity constraints.
-COMPLEMENTARITY = ("bigm", "indicator")
 #: An "infeasible" MIQP is re-solved with M multiplied by this before it is trusted.
 VERIFY_FACTOR = 100.0
 #: A solution of the verifying solve counts only if some bounded quantity exceeds this fraction
 #: of the first M (otherwise the first solve would have found it: an integrality artefact).
 GENUINE = 0.5
-#: Lines of backend output that carry no information for pinograsp users (dropped when quiet).
-NOISE = ("without GMP - using",)
 
 
 def available_miqp_solvers() -> list[str]:
@@ -128,57 +116,6 @@ def resolve_solver(name: str) -> str:
             f"MIQP solver {name!r} is not installed; install {MIQP_SOLVERS[key]}", solver=str(name)
         )
     return key
-
-
-_FD_LOCK = threading.Lock()
-
-
-@contextmanager
-def quiet_stdout(enabled: bool = True):
-    """Redirect file descriptors 1 and 2 around a backend call; drop :data:`NOISE` lines and
-    forward the rest to ``sys.stdout`` / ``sys.stderr``.
-
-    Solver libraries write to the C-level streams (SoPlex's "without GMP" line goes to stderr),
-    which ``contextlib.redirect_stdout`` cannot catch. A lock makes concurrent threads take turns
-    (the redirection is process-wide).
-    """
-    if not enabled:
-        yield
-        return
-    streams = ((1, sys.stdout), (2, sys.stderr))
-    with _FD_LOCK:
-        for _, stream in streams:
-            try:
-                stream.flush()
-            except Exception:  # pragma: no cover - a closed or exotic stream
-                pass
-        saved: list[tuple[int, int, object, object]] = []
-        try:
-            for fd, stream in streams:
-                try:
-                    keep = os.dup(fd)
-                except OSError:  # pragma: no cover - no such descriptor (embedded interpreters)
-                    continue
-                tmp = tempfile.TemporaryFile(mode="w+b")
-                os.dup2(tmp.fileno(), fd)
-                saved.append((fd, keep, tmp, stream))
-            yield
-        finally:
-            texts = []
-            for fd, keep, tmp, stream in saved:
-                try:
-                    stream.flush()  # type: ignore[attr-defined]
-                except Exception:  # pragma: no cover
-                    pass
-                os.dup2(keep, fd)
-                os.close(keep)
-                tmp.seek(0)  # type: ignore[attr-defined]
-                texts.append((tmp.read().decode(errors="replace"), stream))  # type: ignore[attr-defined]
-                tmp.close()  # type: ignore[attr-defined]
-            for text, stream in texts:
-                kept = [ln for ln in text.splitlines(keepends=True) if not any(n in ln for n in NOISE)]
-                if kept:
-                    stream.write("".join(kept))  # type: ignore[attr-defined]
 
 
 def _second_attempt(first: RawSolution, again: RawSolution, note: str) -> RawSolution:
@@ -267,17 +204,16 @@ class CvxpyMIQP:
         self.verify_infeasible = bool(opts.pop("verify_infeasible", verify_infeasible))
         self.quiet = bool(opts.pop("quiet", quiet))
         self.options = opts
-        if complementarity not in COMPLEMENTARITY:
+        if complementarity not in COMPLEMENTARITIES:
             raise InvalidInputError(
-                "complementarity", f"must be one of {COMPLEMENTARITY}, got {complementarity!r}"
+                "complementarity", f"must be one of {COMPLEMENTARITIES}, got {complementarity!r}"
             )
-        if complementarity == "indicator" and self.solver != "SCIP":
+        if complementarity == Complementarity.INDICATOR and self.solver != "SCIP":
             raise InvalidInputError(
                 "complementarity",
                 f"indicator constraints are implemented for solver 'scip' only, not {solver!r}",
             )
-        self.complementarity = complementarity
-        self.n_solves = 0
+        self.complementarity = Complementarity(complementarity)
 
     def problem(self, data: ScaledData, t_max: float = 1.0) -> Problem:
         """The shared problem description of one solve."""
@@ -310,13 +246,12 @@ class CvxpyMIQP:
         P = self.problem(data, t_max)
         bad = P.empty_rows()
         if bad:
-            self.n_solves += 1
             return RawSolution(
                 status=INFEASIBLE,
                 backend=backend,
                 message=f"no contact force can produce the wrench component(s) {', '.join(bad)}",
             )
-        if self.complementarity == "indicator":
+        if self.complementarity is Complementarity.INDICATOR:
             return self._solve_indicator(P)
         sol = self._solve_bigm(P, float(M))
         if sol.status == INFEASIBLE and self.verify_infeasible:
@@ -382,7 +317,6 @@ class CvxpyMIQP:
         except Exception as exc:  # backend crashed (licence, memory, ...)
             raise SolverError(f"{self.solver} raised {type(exc).__name__}: {exc}", solver=backend) from exc
         dt = time.perf_counter() - t0
-        self.n_solves += 1
         st = prob.status
         raw_status = _backend_status(prob)
         if st in (cp.INFEASIBLE, cp.settings.INFEASIBLE_OR_UNBOUNDED):
@@ -406,7 +340,6 @@ class CvxpyMIQP:
             backend=backend,
             bigm_ratio=bigm_ratio(P, zv, M),
             message=raw_status,
-            path="miqp",
         )
 
     # ---------------------------------------------------------- indicator constraints
@@ -457,7 +390,6 @@ class CvxpyMIQP:
         except Exception as exc:  # pragma: no cover - backend crash
             raise SolverError(f"SCIP raised {type(exc).__name__}: {exc}", solver="scip") from exc
         dt = time.perf_counter() - t0
-        self.n_solves += 1
         status = str(mdl.getStatus())
         backend = "scip-indicator"
         if status in ("infeasible", "inforunbd"):
@@ -478,5 +410,4 @@ class CvxpyMIQP:
             backend=backend,
             bigm_ratio=0.0,
             message=status,
-            path="miqp",
         )

@@ -35,11 +35,11 @@ This module never imports Pinocchio or Coal.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from enum import Enum
 
 import daqp
 import numpy as np
 
+from .base import SolveStatus
 from .problem import INF, Problem
 
 #: DAQP's exit flag for a solved problem (2: solved with soft constraints violated).
@@ -75,27 +75,19 @@ DAQP_RETRIES: tuple[dict[str, float], ...] = (
 )
 
 
-class QPStatus(str, Enum):
-    """Outcome of one convex QP."""
-
-    OPTIMAL = "optimal"
-    INFEASIBLE = "infeasible"
-    FAILED = "failed"
-
-
 @dataclass(frozen=True, eq=False)
 class QPResult:
     """A convex QP's answer.
 
     Attributes:
-        status: :class:`QPStatus`.
+        status: :class:`~.base.SolveStatus`: ``OPTIMAL``, ``INFEASIBLE`` or ``FAILED``.
         z: The point (scaled variables), or None.
         objective: ``|L z + l|^2`` at ``z`` (``inf`` without a point).
         iterations: DAQP iterations over every attempt.
         attempts: DAQP solves made (retries included).
     """
 
-    status: QPStatus
+    status: SolveStatus
     z: np.ndarray | None
     objective: float
     iterations: int
@@ -147,7 +139,7 @@ class NodeQP:
             # iterations (they report false "infeasible" and cycle on degenerate nodes)
             attempts += 1
             if self.project(up) is None:
-                return QPResult(QPStatus.INFEASIBLE, None, float("inf"), iters, attempts)
+                return QPResult(SolveStatus.INFEASIBLE, None, float("inf"), iters, attempts)
         for opts in DAQP_RETRIES if z is None else ():
             # other proximal weights: a point slightly off its rows (1e-8) or a cycle is often
             # settled by them
@@ -162,11 +154,11 @@ class NodeQP:
             # certificate
             attempts += 1
             status, z = self.interior_point(up)
-            if status is not QPStatus.OPTIMAL:
+            if status is not SolveStatus.OPTIMAL:
                 return QPResult(status, None, float("inf"), iters, attempts)
         if polish:
             z = self.polish(z, up)
-        return QPResult(QPStatus.OPTIMAL, z, P.objective(z), iters, attempts)
+        return QPResult(SolveStatus.OPTIMAL, z, P.objective(z), iters, attempts)
 
     def project(self, up: np.ndarray) -> np.ndarray | None:
         """The least-norm point of the rows with upper bounds ``up`` (None: DAQP proves there is
@@ -182,7 +174,7 @@ class NodeQP:
         x, _, flag, _ = daqp.solve(np.eye(P.n), np.zeros(P.n), self.M, bu, bl, sense)
         return None if flag == _INFEASIBLE else np.asarray(x, float)
 
-    def interior_point(self, up: np.ndarray) -> tuple[QPStatus, np.ndarray | None]:
+    def interior_point(self, up: np.ndarray) -> tuple[SolveStatus, np.ndarray | None]:
         """The node QP by Clarabel (interior point, infeasibility certificates)."""
         import clarabel
         import scipy.sparse as sp
@@ -204,16 +196,16 @@ class NodeQP:
             if name in ("Solved", "AlmostSolved"):
                 z = np.array(sol.x, float)
                 if np.abs(z).max(initial=0.0) <= MAX_POINT and self.feasible(z, up, 1e3 * FEAS_TOL):
-                    return QPStatus.OPTIMAL, z
+                    return SolveStatus.OPTIMAL, z
             if name in ("PrimalInfeasible", "AlmostPrimalInfeasible"):
-                return QPStatus.INFEASIBLE, None
+                return SolveStatus.INFEASIBLE, None
         # no verdict (a node at a relative distance ~1e-7 from infeasibility makes the interior
         # point diverge): the least uniform violation of the rows decides, as the feasibility
         # check defines it
         t = self.least_violation(up)
         if t is not None and t > FEAS_TOL:
-            return QPStatus.INFEASIBLE, None
-        return QPStatus.FAILED, None
+            return SolveStatus.INFEASIBLE, None
+        return SolveStatus.FAILED, None
 
     def least_violation(self, up: np.ndarray) -> float | None:
         """The least ``t >= 0`` (scaled force units) with ``|A z - b| <= t`` and

@@ -28,7 +28,7 @@ This module never imports Pinocchio or Coal.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -79,13 +79,35 @@ def build_preload_program(
     """
     base = build_problem(form, ProblemKind.PRP, _zero_data(form))
     nl = len(loads)
-    nblock = 1 + nl
+    naux = {"smallest": 1 if objective == "max" else 0, "min": 1, "sum": nl}[task]
+    fcol = (1 + nl) * base.n
+    acol = fcol + form.na
+    stacked = _stack_blocks(form, base, loads, task, fcol, acol, acol + naux)
+    extra_C, extra_lo, extra_up, L, lvec = _command_rows(
+        stacked.n, fcol, acol, naux, task, objective, cost, bound, budget, t_max, weights
+    )
+    problem = replace(
+        stacked,
+        L=L,
+        l=lvec,
+        C=np.vstack([stacked.C, *extra_C]) if extra_C else stacked.C,
+        lo=np.concatenate([stacked.lo, extra_lo]),
+        up=np.concatenate([stacked.up, extra_up]),
+    )
+    return PreloadProgram(
+        problem, fcol + np.arange(form.na), acol + np.arange(naux) if task != "smallest" else np.zeros(0, int)
+    )
+
+
+def _stack_blocks(
+    form: Formulation, base: Problem, loads: np.ndarray, task: str, fcol: int, acol: int, n: int
+) -> Problem:
+    """The preload block and one block per load, each a copy of ``base`` on its own columns,
+    with its actuator rows ``f̂_k - f̂_c`` on the shared commands (columns from ``fcol``) and its
+    load: fixed (``"smallest"``) or times a factor (columns from ``acol``). No objective yet."""
+    nblock = 1 + len(loads)
     n0, me0, mi0 = base.n, base.A.shape[0], base.C.shape[0]
     na, nw = form.na, form.nw
-    naux = {"smallest": 1 if objective == "max" else 0, "min": 1, "sum": nl}[task]
-    fcol = nblock * n0
-    acol = fcol + na
-    n = acol + naux
     A = np.zeros((nblock * me0, n))
     b = np.zeros(nblock * me0)
     C = np.zeros((nblock * mi0, n))
@@ -107,18 +129,15 @@ def build_preload_program(
         kinds += list(base.pair_kind)
         owners.append(base.pair_owner + np.where(np.arange(len(base.pairs)) < form.nc, form.nc, na) * k)
         factor.append(base.bigm_factor)
-    extra_C, extra_lo, extra_up, L, lvec = _command_rows(
-        n, fcol, acol, naux, task, objective, cost, bound, budget, t_max, weights
-    )
-    problem = Problem(
+    return Problem(
         kind=ProblemKind.PRP,
-        L=L,
-        l=lvec,
+        L=np.zeros((0, n)),
+        l=np.zeros(0),
         A=A,
         b=b,
-        C=np.vstack([C, *extra_C]) if extra_C else C,
-        lo=np.concatenate([lo, extra_lo]),
-        up=np.concatenate([up, extra_up]),
+        C=C,
+        lo=lo,
+        up=up,
         pairs=np.vstack(pairs),
         pair_kind=tuple(kinds),
         pair_owner=np.concatenate(owners).astype(int),
@@ -129,9 +148,6 @@ def build_preload_program(
         eq_names=tuple(
             f"load[{k - 1}].{nm}" if k else f"preload.{nm}" for k in range(nblock) for nm in base.eq_names
         ),
-    )
-    return PreloadProgram(
-        problem, fcol + np.arange(na), acol + np.arange(naux) if task != "smallest" else np.zeros(0, int)
     )
 
 

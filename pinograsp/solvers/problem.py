@@ -212,64 +212,111 @@ def build_problem(
         t_max: Search limit of the load factor (scaled; ``LOAD`` only).
     """
     kind = ProblemKind(kind)
-    f = form
-    move, load = kind is ProblemKind.MOVE, kind is ProblemKind.LOAD
-    lay = f.layout("move" if move else "prp")
-    D = np.asarray(data.direction, float)
-    D = D.reshape(len(D), -1) if move else D
-    extra = D.shape[1] - 1 if move else (1 if load else 0)
+    move = kind is ProblemKind.MOVE
+    lay = form.layout("move" if move else "prp")
+    directions = np.asarray(data.direction, float)
+    directions = directions.reshape(len(directions), -1) if move else directions
+    extra = directions.shape[1] - 1 if move else (1 if kind is ProblemKind.LOAD else 0)
     n = lay["n"].stop + extra
-    sb, so, sq, sf, sl = lay["beta"], lay["obj"], lay["qh"], lay["fh"], lay["lam"]
-    nb, nq, na, ncp, nc = f.nb, f.nq, f.na, f.ncp, f.nc
-    # objective
-    if move:
+    L, l_vec = _objective(form, kind, data, lay, n, t_max)
+    A, b, eq_names = _equalities(form, kind, data, lay, n)
+    rows = layout_rows(form, kind, directions.shape[1] if move else 1)
+    C, lo, up = _inequalities(form, kind, data, lay, n, rows, directions, gamma, t_max)
+    pairs, pair_kind, owner, factor = _pairs(form, rows)
+    return Problem(
+        kind=kind,
+        L=L,
+        l=l_vec,
+        A=A,
+        b=b,
+        C=C,
+        lo=lo,
+        up=up,
+        pairs=pairs,
+        pair_kind=pair_kind,
+        pair_owner=owner,
+        bigm_factor=factor,
+        rows=rows,
+        nc=form.nc,
+        na=form.na,
+        eq_names=eq_names,
+    )
+
+
+def _objective(
+    f: Formulation, kind: ProblemKind, data: ScaledData, lay: dict[str, slice], n: int, t_max: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """``L``, ``l`` of ``|L z + l|^2``: the net wrench (``MOVE``), ``t_max - t`` (``LOAD``) or
+    the normal forces (``PRP``)."""
+    if kind is ProblemKind.MOVE:
         L = np.zeros((f.nw, n))
-        L[:, sb] = f.Gb
-        l_vec = np.asarray(data.w, float).copy()
-    elif load:
+        L[:, lay["beta"]] = f.Gb
+        return L, np.asarray(data.w, float).copy()
+    if kind is ProblemKind.LOAD:
         L = np.zeros((1, n))
         L[0, -1] = 1.0
-        l_vec = np.array([-float(t_max)])
-    else:
-        L = np.zeros((nc, n))
-        L[:, sb] = f.E
-        l_vec = np.zeros(nc)
-    # equalities: [equilibrium (prp, load)] | hand | couplings
+        return L, np.array([-float(t_max)])
+    L = np.zeros((f.nc, n))
+    L[:, lay["beta"]] = f.E
+    return L, np.zeros(f.nc)
+
+
+def _equalities(
+    f: Formulation, kind: ProblemKind, data: ScaledData, lay: dict[str, slice], n: int
+) -> tuple[np.ndarray, np.ndarray, tuple[str, ...]]:
+    """``A``, ``b`` and the row names of the equalities: equilibrium (not for ``MOVE``), hand,
+    couplings."""
+    sb = lay["beta"]
     eq, rhs = [], []
-    axes = ("fx", "fy", "mz") if f.model.planar else ("fx", "fy", "fz", "mx", "my", "mz")
-    names = [] if move else list(axes)
-    names += [f"hand[{j}]" for j in range(nq)] + [f"coupling[{r}]" for r in range(ncp)]
-    if not move:
+    names = []
+    if kind is not ProblemKind.MOVE:
+        names += ["fx", "fy", "mz"] if f.model.planar else ["fx", "fy", "fz", "mx", "my", "mz"]
         Aeq = np.zeros((f.nw, n))
         Aeq[:, sb] = f.Gb
-        if load:
+        if kind is ProblemKind.LOAD:
             Aeq[:, -1] = np.asarray(data.direction, float)
         eq.append(Aeq)
-        rhs.append(np.zeros(f.nw) if load else -np.asarray(data.w, float))
-    Ah = np.zeros((nq, n))
+        rhs.append(np.zeros(f.nw) if kind is ProblemKind.LOAD else -np.asarray(data.w, float))
+    names += [f"hand[{j}]" for j in range(f.nq)] + [f"coupling[{r}]" for r in range(f.ncp)]
+    Ah = np.zeros((f.nq, n))
     Ah[:, sb] = f.T
-    Ah[:, sf] = -f.Rf
-    Ah[:, sl] = -f.Cl
-    Ac = np.zeros((ncp, n))
-    Ac[:, sq] = f.Cq
+    Ah[:, lay["fh"]] = -f.Rf
+    Ah[:, lay["lam"]] = -f.Cl
+    Ac = np.zeros((f.ncp, n))
+    Ac[:, lay["qh"]] = f.Cq
     eq += [Ah, Ac]
-    rhs += [np.zeros(nq), np.zeros(ncp)]
-    # inequalities: beta | c_n | gap | u | f | step (move: s in [0, gamma]; load: t in [0, t_max])
-    rows = layout_rows(f, kind, D.shape[1] if move else 1)
+    rhs += [np.zeros(f.nq), np.zeros(f.ncp)]
+    return np.vstack(eq), np.concatenate(rhs), tuple(names)
+
+
+def _inequalities(
+    f: Formulation,
+    kind: ProblemKind,
+    data: ScaledData,
+    lay: dict[str, slice],
+    n: int,
+    rows: Rows,
+    directions: np.ndarray,
+    gamma: float,
+    t_max: float,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``C``, ``lo``, ``up`` of the rows beta | c_n | gap | u | f | step (``MOVE``: steps in
+    ``[0, gamma]``; ``LOAD``: ``t`` in ``[0, t_max]``)."""
+    sb, so, sq = lay["beta"], lay["obj"], lay["qh"]
     mi = rows.step.stop
     C = np.zeros((mi, n))
     lo = np.full(mi, -INF)
     up = np.full(mi, INF)
-    C[rows.beta, sb] = np.eye(nb)
+    C[rows.beta, sb] = np.eye(f.nb)
     lo[rows.beta] = 0.0
     C[rows.cn, sb] = f.E
     lo[rows.cn] = 0.0
     C[rows.gap, sb] = f.E
     C[rows.gap, sq] = -f.Kq
     p = np.asarray(data.p, float)
-    if move:
+    if kind is ProblemKind.MOVE:
         cols = [so.start] + list(range(lay["n"].stop, n))
-        KD = f.Kx @ D
+        KD = f.Kx @ directions
         lo[rows.gap] = p - f.Kx @ data.x0
         for k, c in enumerate(cols):
             C[rows.gap, c] = KD[:, k]
@@ -278,11 +325,11 @@ def build_problem(
     else:
         C[rows.gap, so] = f.Kx
         lo[rows.gap] = p
-    if load:
+    if kind is ProblemKind.LOAD:
         C[rows.step, -1] = 1.0
         lo[rows.step], up[rows.step] = 0.0, float(t_max)
     C[rows.u, sq] = f.Ru
-    C[rows.f, sf] = np.eye(na)
+    C[rows.f, lay["fh"]] = np.eye(f.na)
     fc = np.asarray(data.fc, float)
     # actuator kinds: backdrivable f = f_c, u free; locked u = 0, f free; non-backdrivable
     # u >= 0, f >= f_c, complementary
@@ -290,8 +337,14 @@ def build_problem(
     up[rows.u] = np.where(f.lck, 0.0, INF)
     lo[rows.f] = np.where(f.lck, -INF, fc)
     up[rows.f] = np.where(f.bdr, fc, INF)
-    # complementarity pairs: contacts, then non-backdrivable actuators
+    return C, lo, up
+
+
+def _pairs(f: Formulation, rows: Rows) -> tuple[np.ndarray, tuple[PairKind, ...], np.ndarray, np.ndarray]:
+    """The complementarity pairs (contacts, then non-backdrivable actuators): their rows
+    (npair, 2), kinds, owners (npair,) and big-M factors (npair, 2)."""
     gap_m, u_m = _bigm_factors(f)
+    nc = f.nc
     nbd = np.flatnonzero(f.nbd)
     pairs = [(rows.cn.start + i, rows.gap.start + i) for i in range(nc)]
     pairs += [(rows.u.start + a, rows.f.start + a) for a in nbd]
@@ -300,24 +353,7 @@ def build_problem(
     factor = np.vstack(
         [np.column_stack([np.ones(nc), gap_m]), np.column_stack([u_m[nbd], np.ones(len(nbd))])]
     )
-    return Problem(
-        kind=kind,
-        L=L,
-        l=l_vec,
-        A=np.vstack(eq) if eq else np.zeros((0, n)),
-        b=np.concatenate(rhs) if rhs else np.zeros(0),
-        C=C,
-        lo=lo,
-        up=up,
-        pairs=np.array(pairs, int).reshape(-1, 2),
-        pair_kind=kinds,
-        pair_owner=owner,
-        bigm_factor=factor.reshape(-1, 2),
-        rows=rows,
-        nc=nc,
-        na=na,
-        eq_names=tuple(names),
-    )
+    return np.array(pairs, int).reshape(-1, 2), kinds, owner, factor.reshape(-1, 2)
 
 
 def _bigm_factors(form: Formulation) -> tuple[np.ndarray, np.ndarray]:

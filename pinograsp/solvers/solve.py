@@ -132,7 +132,6 @@ def _solve_miqp(
         bigm_ratio=sol.bigm_ratio,
         bigm_retries=retries,
         message=sol.message,
-        path="miqp",
     )
 
 
