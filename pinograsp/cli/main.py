@@ -25,6 +25,7 @@ The parser is in :mod:`.parse`, the commands in :mod:`.commands` and :mod:`.swee
 
 from __future__ import annotations
 
+import argparse
 import contextlib
 import os
 import sys
@@ -78,11 +79,11 @@ def _stdout_to_stderr(enabled: bool) -> Iterator[None]:
         os.close(saved)
 
 
-def _run(args: object, debug: bool) -> int:
+def _run(args: argparse.Namespace, debug: bool) -> int:
     """Run the chosen command; errors become one line on stderr and an exit code."""
     try:
         with _stdout_to_stderr(bool(getattr(args, "json", False))):
-            code = int(COMMANDS[args.cmd](args))  # type: ignore[attr-defined]
+            code = int(COMMANDS[args.cmd](args))
         text = getattr(args, "json_text", None)
         if text is not None:
             sys.stdout.write(text)
