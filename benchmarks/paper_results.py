@@ -90,7 +90,7 @@ def runs_text(deg: np.ndarray, mask: np.ndarray) -> str:
 
 def progress_bar(label: str) -> Any:
     """A progress bar on a terminal; otherwise (logs) one line per quarter of the directions."""
-    from pinograsp.cli.main import ProgressBar
+    from pinograsp.cli.report import ProgressBar
 
     if sys.stderr.isatty():
         return ProgressBar(label)

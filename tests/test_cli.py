@@ -12,7 +12,9 @@ import numpy as np
 import pytest
 
 import pinograsp as pg
-from pinograsp.cli.main import ProgressBar, main, unbounded_runs
+from pinograsp.cli import main
+from pinograsp.cli.report import ProgressBar
+from pinograsp.core.serialize import unbounded_runs
 
 SCENES = sorted(pg.builtin_scenes())
 FAST = ["--steps", "3"]

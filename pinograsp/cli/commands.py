@@ -1,0 +1,283 @@
+"""Commands about one scene or one query: ``scenes``, ``analyze``, ``max-wrench``, ``preload``,
+``optimal-preload``, and ``batch`` (many grasps, one summary). Each ``cmd_*`` takes the parsed
+arguments and returns the exit code (docs/cli.md)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+from typing import Any
+
+import numpy as np
+
+import pinograsp as pg
+
+from ..core.serialize import format_max_wrench, jsonable, vector_text, wrench_unit
+from ..errors import InvalidInputError
+from . import options as opt
+from .report import (
+    Output,
+    actuator_table,
+    audit_line,
+    contact_table,
+    preload_line,
+    progress_bar,
+    scene_figures,
+    scene_header,
+    scene_line,
+)
+
+
+def _scene_data(scene: Any) -> dict[str, Any]:
+    """``pinograsp scenes NAME --json``: the model, the preload and the analysis block."""
+    an = scene.analysis
+    return {
+        **scene_header(scene),
+        "contacts": list(scene.model.contact_names),
+        "joints": list(scene.model.joint_names),
+        "actuators": dict(zip(scene.model.actuator_names, scene.model.kinds)),
+        "planar": scene.model.planar,
+        "preload": scene.command,
+        "analysis": {
+            "method": an.method,
+            "upper": an.upper,
+            "steps": an.steps,
+            "n": an.n,
+            "plane": list(an.plane),
+            "planes": {k: list(v) for k, v in an.planes.items()},
+            "normalize": an.normalize,
+            "directions": an.directions,
+            "wrenches": an.wrenches,
+            "preloads": an.preloads,
+        },
+    }
+
+
+def cmd_scenes(args: argparse.Namespace) -> int:
+    """``pinograsp scenes [SCENE]``: the built-in scenes, or one scene's settings."""
+    if args.scene is None:
+        scenes = pg.builtin_scenes()
+        if args.json:
+            print(json.dumps(scenes, indent=2))
+            return 0
+        width = max((len(k) for k in scenes), default=4)
+        for name, desc in scenes.items():
+            print(f"{name:{width}s}  {desc}")
+        return 0
+    scene = opt.load_scene(args.scene)
+    if args.json:
+        print(json.dumps(jsonable(_scene_data(scene)), indent=2))
+        return 0
+    an = scene.analysis
+    print(scene.summary())
+    print(
+        f"  analysis: method {an.method}, upper {an.upper:g}, {an.steps} steps, "
+        f"n = {an.n}, plane {','.join(map(str, an.plane))}"
+    )
+    for key in ("directions", "wrenches"):
+        if getattr(an, key):
+            print(f"  {key}: " + ", ".join(f"{k} {vector_text(v)}" for k, v in getattr(an, key).items()))
+    for k, v in an.preloads.items():
+        print(f"  preload {k}: " + ", ".join(f"{a}={x:g}" for a, x in v.items()))
+    return 0
+
+
+def cmd_analyze(args: argparse.Namespace) -> int:
+    """``pinograsp analyze SCENE --wrench W``: the passive response to one wrench."""
+    scene = opt.load_scene(args.scene)
+    out = Output(args)
+    command, preload_name = opt.preload(args, scene)
+    w = opt.parse_wrench(scene, args.wrench)
+    method = opt.method(args, scene)
+    r = pg.passive_response(scene.model, command, w, method, settings=opt.settings(args, scene))
+    data = {
+        "command": "analyze",
+        **scene_header(scene),
+        "preload": command,
+        "preload_name": preload_name,
+        **r.to_dict(scene.model),
+    }
+    out.print(
+        scene_line(scene),
+        preload_line(command, preload_name),
+        f"wrench: {vector_text(r.wrench)} [N, N·m] (fx, fy, fz, mx, my, mz)",
+        f"method: {r.method} ({r.variant})",
+        "",
+        f"status: {r.status} -> {'RESISTED' if r.resistible else 'NOT RESISTED'} "
+        f"({r.iterations} iteration(s), {r.n_solves} solve(s), "
+        f"{r.solve_time:.2f} s, {r.solver})",
+        "",
+        "contact forces on the object (contact frame: normal, tangents):",
+        *contact_table(scene.model, r),
+        "",
+        *actuator_table(scene.model, r),
+        "",
+        f"net wrench |w + G c|: {np.linalg.norm(r.net_wrench):.3e}",
+        audit_line(r),
+    )
+    out.write_json("analyze.json", data)
+    scene_figures(args, out, scene, r if r.resistible else None, "analyze.png")
+    out.finish(data)
+    return 0
+
+
+def _verdict(mw: Any, upper: float) -> str:
+    """The max resistible magnitude in words, by the search's status."""
+    unit = wrench_unit(mw.direction)
+    if mw.status == "unbounded":
+        return (
+            f"UNBOUNDED: resisted at the upper limit {upper:g} {unit} and without preload, i.e. "
+            "passively resisted without bound under this model"
+        )
+    if mw.status == "above_limit":
+        return (
+            f">= {upper:g} {unit}: the upper limit is resisted, but the direction is not passively "
+            "resisted without bound (raise --upper to find the limit)"
+        )
+    if mw.status == "below_resolution":
+        return (
+            f"< {mw.floor:.2g} {unit} (below the resolution and the scheme's tolerance: "
+            "not distinguishable from zero)"
+        )
+    return f"{format_max_wrench(mw)} {unit} (resolution {mw.resolution:.2g} {unit})"
+
+
+def cmd_max_wrench(args: argparse.Namespace) -> int:
+    """``pinograsp max-wrench SCENE --direction D``: the largest resistible magnitude along D."""
+    scene = opt.load_scene(args.scene)
+    out = Output(args)
+    command, preload_name = opt.preload(args, scene)
+    direction, label = opt.parse_direction(scene, args.direction)
+    method = opt.method(args, scene)
+    upper, steps = opt.upper_steps(args, scene)
+    mw = pg.max_resistible_wrench(
+        scene.model, command, direction, method, upper, steps, settings=opt.settings(args, scene)
+    )
+    data = {
+        "command": "max-wrench",
+        **scene_header(scene),
+        "preload": command,
+        "preload_name": preload_name,
+        "steps": steps,
+        **mw.to_dict(label),
+    }
+    lines = [
+        scene_line(scene),
+        preload_line(command, preload_name),
+        f"direction: {label} = {vector_text(mw.direction)}; method {method}, upper {upper:g}, {steps} steps",
+        "",
+        f"max resistible magnitude: {_verdict(mw, upper)}",
+        f"{mw.search}: {len(mw.evidence)} magnitudes tried, monotone: {'yes' if mw.monotone else 'NO'}; "
+        f"{mw.n_solves} solves, {mw.wall_time:.2f} s",
+    ]
+    if mw.response is not None:
+        at = "at the upper limit" if mw.unbounded else "at the limit"
+        lines += ["", f"contact forces {at}:", *contact_table(scene.model, mw.response)]
+    out.print(*lines)
+    out.write_json("max_wrench.json", data)
+    png = "max_wrench.png" if mw.response is not None else None
+    scene_figures(args, out, scene, mw.response, png)
+    out.finish(data)
+    return 0
+
+
+def cmd_preload(args: argparse.Namespace) -> int:
+    """``pinograsp preload SCENE``: commands under which the preload alone is in equilibrium."""
+    scene = opt.load_scene(args.scene)
+    out = Output(args)
+    method = opt.method(args, scene)
+    choice = pg.equilibrium_preload(
+        scene.model,
+        method,
+        objective=args.objective,
+        max_command=args.max_command,
+        grip=args.grip,
+        settings=opt.settings(args, scene),
+    )
+    result = choice.to_dict()
+    data = {"command": "preload", **scene_header(scene), "preload": result.pop("command"), **result}
+    lines = [scene_line(scene), f"method: {method}, objective: {args.objective}", ""]
+    lines.append(f"status: {choice.status}: {choice.reason}")
+    if choice.command is not None:
+        lines += ["", "commands [N·m or N]:"]
+        lines += [f"  {k:<24s} {v:12.6g}" for k, v in choice.command.items()]
+        lines += ["", "normal forces of the design [N]:"]
+        lines += [f"  {n:<24s} {f:12.6g}" for n, f in zip(scene.model.contact_names, choice.normal_forces)]
+    out.print(*lines)
+    out.write_json("preload.json", data)
+    out.finish(data)
+    return 0
+
+
+def cmd_optimal_preload(args: argparse.Namespace) -> int:
+    """``pinograsp optimal-preload SCENE -w W ...``: the smallest preload resisting every W, or
+    the best split of ``--budget``."""
+    scene = opt.load_scene(args.scene)
+    out = Output(args)
+    method = opt.method(args, scene)
+    upper = args.upper if args.upper is not None else 1e3
+    _, steps = opt.upper_steps(args, scene)
+    wrenches = [opt.parse_wrench(scene, w) for w in args.wrench]
+    acts = [a.strip() for a in args.actuators.split(",")] if args.actuators else None
+    result = pg.optimal_preload(
+        scene.model,
+        wrenches,
+        method,
+        objective=args.objective,
+        budget=args.budget,
+        resistance=args.resistance,
+        max_command=args.max_command,
+        actuators=acts,
+        grid=args.grid,
+        refine=args.refine,
+        upper=upper,
+        steps=steps,
+        settings=opt.settings(args, scene),
+    )
+    fields = result.to_dict()
+    data = {"command": "optimal-preload", **scene_header(scene), "preload": fields.pop("command"), **fields}
+    out.print(scene_line(scene), "", result.summary())
+    out.write_json("optimal_preload.json", data)
+    out.finish(data)
+    return 0
+
+
+def cmd_batch(args: argparse.Namespace) -> int:
+    """``pinograsp batch GRASPS.yaml``: score every grasp of the file; a summary, ``--out`` table."""
+    from ..batch.evaluate import output_format
+
+    if args.out:
+        try:
+            output_format(args.out)
+        except InvalidInputError as exc:
+            raise InvalidInputError("--out", str(exc).split(": ", 1)[-1]) from None
+    batch = pg.load_grasps(args.grasps)
+    options = dict(batch.score)
+    for key in ("upper", "steps", "method"):
+        if getattr(args, key) is not None:
+            options[key] = getattr(args, key)
+    score = pg.WorstAxisScore(**options)
+    bar = progress_bar(args, f"batch {args.executor}")
+    t0 = time.perf_counter()
+    try:
+        table = pg.evaluate_grasps(
+            list(batch.grasps), score=score, executor=args.executor, workers=args.workers,
+            address=args.address, progress=bar,
+        )  # fmt: skip
+    finally:
+        bar.close()
+    wall = time.perf_counter() - t0
+    ok = table[table["status"] == "ok"]
+    lines = [f"{len(table)} grasps from {args.grasps}: {len(ok)} ok, {len(table) - len(ok)} errors "
+             f"({wall:.1f} s, {len(table) / wall:.2f} grasps/s, executor {args.executor})"]  # fmt: skip
+    for kind, n in table.loc[table["status"] == "error", "error_type"].value_counts().items():
+        lines.append(f"  error {kind}: {n}")
+    if len(ok) and "score" in ok:
+        q = ok["score"].quantile([0.0, 0.5, 1.0]).tolist()
+        lines.append(f"score [N] (worst axis, {score.method}, upper {score.upper:g}, steps {score.steps}): "
+                     f"min {q[0]:.4g}, median {q[1]:.4g}, max {q[2]:.4g}")  # fmt: skip
+    if args.out:
+        lines.append(f"wrote {pg.save_results(table, args.out)}")
+    print("\n".join(lines))
+    return 0

@@ -1,0 +1,321 @@
+"""The ``pinograsp`` argument parser: one small function per sub-command adds its options
+(docs/cli.md lists them).
+
+The parser imports nothing heavy: ``pinograsp --help`` loads neither the solvers nor cvxpy.
+"""
+
+from __future__ import annotations
+
+import argparse
+from collections.abc import Sequence
+
+from ..core.settings import Method, Variant
+
+#: Defaults of ``pinograsp demo``: small enough to finish in well under a minute on 2 cores.
+DEMO_SCENE = "case1"
+DEMO_N = 24
+DEMO_STEPS = 10
+
+#: Options whose value may start with ``-`` (``--direction -fy``, ``--wrench -5,0,0``).
+_DASH_VALUE_OPTIONS = ("--direction", "-d", "--wrench", "-w", "--plane", "-p")
+_METHODS = [m.value for m in Method]
+_PRELOAD_HELP = "one of the scene's named preloads (default: the scene's preload)"
+_PROGRESS_HELP = "progress bar with ETA on stderr (default: when stderr is a terminal)"
+
+
+class UsageError(Exception):
+    """A command-line usage error (argparse's ``error``), reported on one line."""
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str) -> None:  # type: ignore[override]
+        raise UsageError(message)
+
+
+def join_dash_values(argv: Sequence[str]) -> list[str]:
+    """``--direction -fy`` -> ``--direction=-fy`` (argparse would take ``-fy`` for an option)."""
+    out: list[str] = []
+    skip = False
+    for i, tok in enumerate(argv):
+        if skip:
+            skip = False
+            continue
+        nxt = argv[i + 1] if i + 1 < len(argv) else None
+        if tok in _DASH_VALUE_OPTIONS and nxt is not None and nxt.startswith("-") and len(nxt) > 1:
+            out.append(f"{tok}={nxt}")
+            skip = True
+        else:
+            out.append(tok)
+    return out
+
+
+def _debug_option(p: argparse._ActionsContainer) -> None:
+    p.add_argument("--debug", action="store_true", default=argparse.SUPPRESS, help="show full tracebacks")
+
+
+def _common(p: argparse.ArgumentParser, *, out_default: str | None = None) -> None:
+    """The options of every analysis: method, variant, limits, solver, ``--json``, ``--out``."""
+    g = p.add_argument_group("common options")
+    g.add_argument(
+        "--method",
+        choices=_METHODS,
+        help="prp (Alg. 1, one MIQP) or iterative (Alg. 2+3, no wedging); default: the scene's",
+    )
+    g.add_argument(
+        "--variant",
+        choices=[v.value for v in Variant],
+        help="load path: preload and load together, preload first (object held still), or the "
+        "object settled into the preload first; default: the scene's (docs/design.md)",
+    )
+    g.add_argument("--upper", type=float, help="bisection upper limit [N or N·m]; default: the scene's")
+    g.add_argument(
+        "--steps", type=int, help="bisection steps (resolution upper/2**steps); default: the scene's"
+    )
+    g.add_argument("--solver", help="MIQP backend (default: the scene's, normally scip)")
+    g.add_argument("--time-limit", type=float, help="per-MIQP time limit [s]")
+    g.add_argument("--json", action="store_true", help="print the result as JSON on stdout (nothing else)")
+    g.add_argument(
+        "--out",
+        default=out_default,
+        help="write plots and JSON files to this folder"
+        + (f" (default {out_default})" if out_default else " (default: write nothing)"),
+    )
+    _debug_option(g)
+
+
+def _progress_options(p: argparse.ArgumentParser, workers_default: int | None = None) -> None:
+    p.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None, help=_PROGRESS_HELP)
+    p.add_argument(
+        "--workers",
+        type=int,
+        default=workers_default,
+        help="processes for the profile's directions (0: one per CPU; 1: in this process; default "
+        + ("0" if workers_default == 0 else "1")
+        + ")",
+    )
+
+
+def _add_demo(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "demo",
+        help="XY resistance profile of the case1 scene (table, profile.png, profile.json)",
+        description="Resistance profile of a built-in grasp in its XY plane (default: the seed paper's "
+        "case 1, Barrett hand on a box) with few directions; prints a table and writes profile.png "
+        "and profile.json.",
+    )
+    p.add_argument("--scene", default=DEMO_SCENE, help=f"scene name or file (default {DEMO_SCENE})")
+    p.add_argument("-n", type=int, default=DEMO_N, help=f"number of directions (default {DEMO_N})")
+    p.add_argument("--plane", "-p", help="profile plane, e.g. fx,fy (default: the scene's)")
+    p.add_argument(
+        "--normalize",
+        action=argparse.BooleanOptionalAction,
+        default=None,
+        help="divide by the +Y (second axis) value as the paper does (default: the scene's setting)",
+    )
+    _common(p, out_default="pinograsp-out")
+    _progress_options(p, workers_default=0)
+    p.set_defaults(demo_steps=DEMO_STEPS)
+
+
+def _add_scenes(sub: argparse._SubParsersAction) -> None:
+    s = sub.add_parser("scenes", help="list the built-in scenes (or describe one)")
+    s.add_argument("scene", nargs="?", help="show this scene's model, preload and analysis settings")
+    s.add_argument("--json", action="store_true", help="print as JSON")
+    _debug_option(s)
+
+
+def _add_analyze(sub: argparse._SubParsersAction) -> None:
+    a = sub.add_parser(
+        "analyze",
+        help="passive response to one wrench: status, contact forces, audit",
+        description="Passive response of the preloaded grasp to one external wrench on the object.",
+    )
+    a.add_argument("scene", metavar="SCENE")
+    a.add_argument(
+        "--wrench",
+        "-w",
+        required=True,
+        help="fx,fy,fz,mx,my,mz [N, N·m] (planar scenes: also fx,fy,mz), axis=value pairs "
+        "(fy=-5,mz=0.1), or the name of one of the scene's wrenches",
+    )
+    a.add_argument("--preload", help=_PRELOAD_HELP)
+    a.add_argument("--html", metavar="FILE", help="write the interactive 3D view (plotly) to FILE")
+    _common(a)
+
+
+def _add_max_wrench(sub: argparse._SubParsersAction) -> None:
+    m = sub.add_parser(
+        "max-wrench",
+        help="largest resistible wrench along one direction (bisection)",
+        description="Largest wrench magnitude along a direction that the preloaded grasp resists passively.",
+    )
+    m.add_argument("scene", metavar="SCENE")
+    m.add_argument(
+        "--direction",
+        "-d",
+        required=True,
+        help="an axis with sign (fy, -fy, mx), a wrench vector 1,0,0,0,0,0, or a scene direction name",
+    )
+    m.add_argument("--preload", help=_PRELOAD_HELP)
+    m.add_argument(
+        "--html", metavar="FILE", help="write the interactive 3D view at the limit (plotly) to FILE"
+    )
+    _common(m)
+
+
+def _add_profile(sub: argparse._SubParsersAction) -> None:
+    pr = sub.add_parser(
+        "profile",
+        help="max resistible magnitude over directions in a plane (polar plot)",
+        description="Resistance profile: max resistible magnitude over n directions in a plane of "
+        "wrench space.",
+    )
+    pr.add_argument("scene", metavar="SCENE")
+    pr.add_argument(
+        "--plane",
+        "-p",
+        help="two axes fx,fy | fx,fz | mx,my ..., two vectors 'v1;v2', or a scene plane name "
+        "(default: the scene's plane)",
+    )
+    pr.add_argument("-n", type=int, help="number of directions (default: the scene's)")
+    pr.add_argument(
+        "--normalize",
+        action=argparse.BooleanOptionalAction,
+        default=None,
+        help="divide by the value along the plane's second axis (+Y), as the paper does "
+        "(default: the scene's setting)",
+    )
+    pr.add_argument("--preload", help=_PRELOAD_HELP)
+    pr.add_argument(
+        "--csv",
+        metavar="FILE",
+        help="also write the profile as CSV: one row per direction (angle, direction, magnitude, status ...)",
+    )
+    _common(pr)
+    _progress_options(pr)
+
+
+def _add_compare_preloads(sub: argparse._SubParsersAction) -> None:
+    c = sub.add_parser(
+        "compare-preloads",
+        help="max resistible wrench per named preload of the scene, and their ratio (bar plot)",
+        description="For each of the scene's named preloads (analysis.preloads) and named directions "
+        "(analysis.directions), the max resistible magnitude, and the ratio of the first two preloads.",
+    )
+    c.add_argument("scene", metavar="SCENE")
+    c.add_argument(
+        "--direction",
+        "-d",
+        action="append",
+        help="direction(s) to compare (repeatable; default: every named direction of the scene)",
+    )
+    c.add_argument("--preloads", help="comma-separated preload names (default: all of the scene's)")
+    _common(c)
+
+
+def _add_resistance_set(sub: argparse._SubParsersAction) -> None:
+    rs = sub.add_parser(
+        "resistance-set",
+        help="max resistible magnitude over n directions spread evenly on the unit wrench sphere",
+        description="Resistance set: max resistible magnitude over n directions spread evenly on the "
+        "unit wrench sphere (torques scaled by the grasp's length scale), its quantiles and worst "
+        "direction, and the Ferrari-Canny epsilon of the same contacts (docs/metrics.md).",
+    )
+    rs.add_argument("scene", metavar="SCENE")
+    rs.add_argument("-n", type=int, default=500, help="number of directions (default 500)")
+    rs.add_argument("--seed", type=int, default=0, help="seed of the directions (default 0)")
+    rs.add_argument("--length", type=float, help="length scaling torques [m] (default: the grasp's own)")
+    rs.add_argument("--preload", help=_PRELOAD_HELP)
+    rs.add_argument("--csv", metavar="FILE", help="also write one CSV row per direction")
+    _common(rs)
+    _progress_options(rs)
+
+
+def _add_preload(sub: argparse._SubParsersAction) -> None:
+    pl = sub.add_parser(
+        "preload",
+        help="choose actuator commands under which the grasp is in equilibrium (or say why none)",
+        description="Commands under which the preload alone is in equilibrium with every contact "
+        "pressing (pg.equilibrium_preload; docs/hands.md, 'Choosing a preload').",
+    )
+    pl.add_argument("scene", metavar="SCENE")
+    pl.add_argument("--objective", choices=("balanced", "least_norm"), default="balanced")
+    pl.add_argument("--max-command", type=float, default=1.0, help="bound of every command [N·m or N]")
+    pl.add_argument("--grip", type=float, default=1.0, help="least normal force for least_norm [N]")
+    _common(pl)
+
+
+def _add_optimal_preload(sub: argparse._SubParsersAction) -> None:
+    op = sub.add_parser(
+        "optimal-preload",
+        help="the smallest preload resisting given wrenches, or the best split of a budget",
+        description="Smallest actuator commands under which every given wrench is resisted, or "
+        "with --budget the split of a preload budget that resists the most along them "
+        "(pg.optimal_preload; docs/optimal_preload.md).",
+    )
+    op.add_argument("scene", metavar="SCENE")
+    op.add_argument(
+        "-w",
+        "--wrench",
+        action="append",
+        required=True,
+        help="a disturbance (repeatable): axis=value pairs (fx=2,mz=0.1), numbers, or a scene wrench",
+    )
+    op.add_argument("--objective", choices=("max", "sum"), default="max", help="largest or summed command")
+    op.add_argument("--budget", type=float, help="split this budget of the objective instead [N·m or N]")
+    op.add_argument("--resistance", choices=("min", "sum"), default="min", help="split: what to maximise")
+    op.add_argument("--max-command", type=float, default=1.0, help="bound of every command [N·m or N]")
+    op.add_argument("--actuators", help="comma-separated actuators to command (default: all driving)")
+    op.add_argument("--grid", type=int, help="search: simplex divisions (default by actuator count)")
+    op.add_argument("--refine", type=int, default=3, help="search: pattern-search halvings (default 3)")
+    _common(op)
+
+
+def _add_batch(sub: argparse._SubParsersAction) -> None:
+    b = sub.add_parser(
+        "batch",
+        help="score many grasps (GRASPS.yaml) on local processes, Ray or Dask; table out",
+        description="pg.evaluate_grasps over the grasps of a GRASPS.yaml (docs/batch.md): one row per "
+        "grasp (status, score and its components, contacts, timing, error), written to --out.",
+    )
+    b.add_argument("grasps", metavar="GRASPS.yaml")
+    b.add_argument("--executor", choices=("local", "ray", "dask"), default="local")
+    b.add_argument("--workers", type=int, help="processes / Ray tasks / Dask workers (0: one per CPU)")
+    b.add_argument("--address", help="existing cluster: Ray 'auto' or ray://..., Dask tcp://host:8786")
+    b.add_argument("--out", help="results table: .parquet or .csv (default: print a summary only)")
+    b.add_argument("--upper", type=float, help="score search limit [N] (default: the file's score block)")
+    b.add_argument("--steps", type=int, help="score search steps (default: the file's score block)")
+    b.add_argument("--method", choices=_METHODS, help="score method (default: the file's)")
+    b.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None, help=_PROGRESS_HELP)
+    _debug_option(b)
+
+
+#: The sub-commands in the order of ``pinograsp --help``; ``args.cmd`` holds the chosen one.
+_SUBCOMMANDS = (
+    _add_demo,
+    _add_scenes,
+    _add_analyze,
+    _add_max_wrench,
+    _add_profile,
+    _add_compare_preloads,
+    _add_resistance_set,
+    _add_preload,
+    _add_optimal_preload,
+    _add_batch,
+)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The ``pinograsp`` parser; its ``error`` raises :class:`UsageError` instead of exiting."""
+    parser = _Parser(
+        prog="pinograsp",
+        description="Passive reaction analysis for robot grasps: which disturbances a preloaded "
+        "grasp resists without changing its motor commands.",
+        epilog="SCENE is a built-in scene name (see 'pinograsp scenes') or a scene YAML file. "
+        "Docs: docs/cli.md.",
+    )
+    parser.add_argument("--debug", action="store_true", help="show full tracebacks")
+    sub = parser.add_subparsers(dest="cmd", required=True, metavar="COMMAND")
+    for add in _SUBCOMMANDS:
+        add(sub)
+    return parser

@@ -1,0 +1,364 @@
+"""Commands that sweep many directions: ``profile`` and ``demo`` (a plane of wrench space),
+``compare-preloads`` (named directions under named preloads) and ``resistance-set`` (the unit
+wrench sphere). Each ``cmd_*`` takes the parsed arguments and returns the exit code
+(docs/cli.md)."""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+import time
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+import pinograsp as pg
+
+from ..core.serialize import direction_text, format_magnitude, format_max_wrench, runs_text, wrench_unit
+from ..core.tables import profile_to_csv
+from ..errors import InvalidInputError
+from . import options as opt
+from .report import Output, preload_line, progress_bar, scene_header, scene_line
+
+
+@dataclass(frozen=True)
+class _Sweep:
+    """What a profile asks: the scene, the preload (commands [N·m or N] and name), the method
+    and the search limits (``upper`` [N or N·m], ``steps``)."""
+
+    scene: Any
+    command: dict[str, float]
+    preload_name: str | None
+    method: str
+    upper: float
+    steps: int
+
+
+# ---------------------------------------------------------------------------- profile, demo
+def cmd_profile(args: argparse.Namespace) -> int:
+    """``pinograsp profile SCENE``: max resistible magnitude over ``n`` directions in a plane."""
+    scene = opt.load_scene(args.scene)
+    command, preload_name = opt.preload(args, scene)
+    plane = opt.parse_plane(scene, args.plane)
+    n = args.n if args.n is not None else int(scene.analysis.n)
+    upper, steps = opt.upper_steps(args, scene)
+    sweep = _Sweep(scene, command, preload_name, opt.method(args, scene), upper, steps)
+    return _profile_report(args, sweep, plane, n, "profile")
+
+
+def cmd_demo(args: argparse.Namespace) -> int:
+    """``pinograsp demo``: ``profile`` of a built-in scene with few directions and steps."""
+    scene = opt.load_scene(args.scene)
+    command = scene.preload()
+    plane = opt.parse_plane(scene, args.plane)
+    upper, steps = opt.upper_steps(args, scene, default_steps=args.demo_steps)
+    sweep = _Sweep(scene, command, None, opt.method(args, scene), upper, steps)
+    return _profile_report(args, sweep, plane, args.n, "demo")
+
+
+def _run_profile(args: argparse.Namespace, sweep: _Sweep, plane: Any, n: int) -> Any:
+    """:func:`pinograsp.resistance_profile` with a progress bar."""
+    scene = sweep.scene
+    bar = progress_bar(args, f"{scene.name} {sweep.method}")
+    bar(0, n)
+    try:
+        return pg.resistance_profile(
+            scene.model, sweep.command, plane, n, sweep.method, sweep.upper, sweep.steps,
+            settings=opt.settings(args, scene), progress=bar, workers=opt.workers(args),
+        )  # fmt: skip
+    finally:
+        bar.close()
+
+
+def _normalization(
+    args: argparse.Namespace, scene: Any, command: Any, profile: Any, method: str, upper: float, steps: int
+) -> float | None:
+    """The +b2 value to divide by (``None``: absolute). The scene's ``normalize`` is the default;
+    it is dropped with a warning when the reference is unbounded or zero, an explicit
+    ``--normalize`` then fails."""
+    from ..analysis.max_wrench import max_resistible_wrench
+    from ..core.axes import wrench_direction
+
+    want = args.normalize if args.normalize is not None else scene.analysis.normalize
+    if not want:
+        return None
+    ref = profile.basis[1] if want is True or args.normalize else want
+    ref = wrench_direction(scene.model, ref, "normalize")
+    hit = None
+    for r, d in zip(profile.results, profile.directions):
+        if np.allclose(d, ref, atol=1e-9):
+            hit = r
+            break
+    if hit is None:
+        hit = max_resistible_wrench(
+            scene.model, command, ref, method, upper, steps, settings=opt.settings(args, scene)
+        )
+    if hit.unbounded or not hit.magnitude > 0:
+        why = "unbounded" if hit.unbounded else "not resisted"
+        if args.normalize:
+            raise InvalidInputError(
+                "--normalize", f"the reference direction {direction_text(hit.direction)} is {why}"
+            )
+        print(
+            f"pinograsp: warning: not normalised: the reference direction "
+            f"{direction_text(hit.direction)} is {why}",
+            file=sys.stderr,
+        )
+        return None
+    return float(hit.magnitude)
+
+
+def _profile_lines(sweep: _Sweep, p: Any, norm: float | None, wall: float, runs: list) -> list[str]:
+    """The profile as a table, one row per direction, and its unbounded runs."""
+    upper, steps = sweep.upper, sweep.steps
+    unit = wrench_unit(p.basis[0] + p.basis[1])
+    b1, b2 = (direction_text(b) for b in p.basis)
+    header = f"{'angle [deg]':>11s}  {'direction':>22s}  {'max [' + unit + ']':>12s}"
+    if norm is not None:
+        header += f"  {'normalised':>10s}"
+    lines = [
+        scene_line(sweep.scene),
+        preload_line(sweep.command, sweep.preload_name),
+        f"profile in the plane ({b1}, {b2}): {len(p.angles)} directions, method {sweep.method}, "
+        f"upper {upper:g} {unit}, {steps} steps (resolution {upper / 2**steps:.2g} {unit}); {wall:.1f} s",
+        "",
+        header,
+    ]
+    deg = np.degrees(p.angles)
+    for i, a in enumerate(deg):
+        dtxt = f"{np.cos(p.angles[i]):+.3f} {b1.lstrip('+')} {np.sin(p.angles[i]):+.3f} {b2.lstrip('+')}"
+        row = f"{a:11.1f}  {dtxt:>22s}  {format_max_wrench(p.results[i]):>12s}"
+        if norm is not None:
+            row += f"  {format_max_wrench(p.results[i], norm):>10s}"
+        lines.append(row)
+    lines.append("")
+    if runs:
+        lines.append("unbounded (passively resisted without bound): " + runs_text(runs))
+    else:
+        lines.append("no unbounded direction")
+    if norm is not None:
+        lines.append(f"normalised by the {b2} value {format_magnitude(norm, upper / 2**steps, unit)}")
+    bad = [f"{deg[i]:g}°" for i, r in enumerate(p.results) if not r.monotone]
+    if bad:
+        lines.append("non-monotone bisection evidence at: " + ", ".join(bad))
+    return lines
+
+
+def _plot_profile(sweep: _Sweep, p: Any, norm: float | None, path: Path) -> None:
+    """The polar plot of the profile, as ``path``."""
+    unit = wrench_unit(p.basis[0] + p.basis[1])
+    b2 = direction_text(p.basis[1])
+    name = sweep.preload_name
+    title = f"{sweep.scene.name} ({sweep.method}" + (f", preload {name})" if name else ")")
+    if norm is None:
+        title += f": max resistible {unit}"
+    else:
+        title += f"\nnormalised by the {b2} value {norm:.3g} {unit}"
+    ax = pg.plot_profile(p, normalize=norm, title=title, labels=[sweep.method])
+    pg.save_figure(ax, path, close=True)
+
+
+def _profile_report(args: argparse.Namespace, sweep: _Sweep, plane: Any, n: int, kind: str) -> int:
+    """Run the profile; print its table, write ``--csv``, ``profile.json`` and ``profile.png``."""
+    if n < 1:
+        raise InvalidInputError("-n", f"must be >= 1, got {n}")
+    out = Output(args)
+    upper, steps = sweep.upper, sweep.steps
+    t0 = time.perf_counter()
+    p = _run_profile(args, sweep, plane, n)
+    norm = _normalization(args, sweep.scene, sweep.command, p, sweep.method, upper, steps)
+    wall = time.perf_counter() - t0
+    data = {
+        "command": kind,
+        **scene_header(sweep.scene),
+        "preload": sweep.command,
+        "preload_name": sweep.preload_name,
+        "method": sweep.method,
+        "upper": upper,
+        "steps": steps,
+        "resolution": upper / 2**steps,
+        "unit": wrench_unit(p.basis[0] + p.basis[1]),
+        **p.to_dict(norm),
+        "total_time": wall,
+    }
+    lines = _profile_lines(sweep, p, norm, wall, data["unbounded_runs_deg"])
+    csv_path = getattr(args, "csv", None)
+    if csv_path is not None:
+        table = p if norm is None else replace(p, magnitudes=p.magnitudes / norm, normalized_by=norm)
+        out.written.append(profile_to_csv(table, csv_path, name="--csv"))
+    out.print(*lines)
+    out.write_json("profile.json", data)
+    out.figure("profile.png", lambda path: _plot_profile(sweep, p, norm, path))
+    out.finish(data)
+    return 0
+
+
+# ---------------------------------------------------------------------------- compare-preloads
+def _preload_names(args: argparse.Namespace, scene: Any) -> list[str]:
+    """``--preloads a,b`` (each a scene preload), or every named preload; at least two."""
+    if args.preloads:
+        names = [t.strip() for t in args.preloads.split(",") if t.strip()]
+        for nm in names:
+            scene.preload(nm)  # UnknownNameError if not a scene preload
+    else:
+        names = list(scene.analysis.preloads)
+    if len(names) < 2:
+        raise InvalidInputError(
+            "compare-preloads",
+            f"scene {scene.name!r} has {len(names)} named preload(s) ({', '.join(names) or 'none'}); "
+            "compare-preloads needs at least two (analysis.preloads in the scene file)",
+        )
+    return names
+
+
+def _compare_rows(args: argparse.Namespace, scene: Any, names: list[str]) -> tuple[list, str, float, int]:
+    """Per direction: its label, the max wrench per preload, and the ratio of the first two
+    (``None`` unless both are finite); and the method, ``upper`` and ``steps`` used."""
+    dir_texts = args.direction or list(scene.analysis.directions)
+    if not dir_texts:
+        raise InvalidInputError(
+            "compare-preloads",
+            f"scene {scene.name!r} has no named directions (analysis.directions); give --direction",
+        )
+    method = opt.method(args, scene)
+    upper, steps = opt.upper_steps(args, scene)
+    settings = opt.settings(args, scene)
+    rows = []
+    for text in dir_texts:
+        direction, label = opt.parse_direction(scene, text)
+        per = {
+            nm: pg.max_resistible_wrench(
+                scene.model, scene.preload(nm), direction, method, upper, steps, settings=settings
+            )
+            for nm in names
+        }
+        a, b = per[names[0]], per[names[1]]
+        # a ratio of bounds (unbounded, >= upper, < resolution) is undefined
+        ratio = a.magnitude / b.magnitude if a.status == "finite" and b.status == "finite" else None
+        rows.append((label, per, ratio))
+    return rows, method, upper, steps
+
+
+def _compare_lines(scene: Any, names: list[str], rows: list, head: str) -> list[str]:
+    """The comparison table: one row per direction, one column per preload, and the ratio."""
+    w = max([len("direction"), *(len(r[0]) for r in rows)])
+    lines = [
+        scene_line(scene),
+        *(f"preload {nm}: " + ", ".join(f"{k}={v:g}" for k, v in scene.preload(nm).items()) for nm in names),
+        head,
+        "",
+        "max resistible magnitude [N or N·m] per preload, ratio = " + f"{names[0]} / {names[1]}:",
+        f"  {'direction':{w}s}  " + "  ".join(f"{nm:>14s}" for nm in names) + f"  {'ratio':>8s}",
+    ]
+    for label, per, ratio in rows:
+        cells = "  ".join(f"{format_max_wrench(per[nm]):>14s}" for nm in names)
+        rtxt = "-" if ratio is None else f"{ratio:.3f}"
+        lines.append(f"  {label:{w}s}  {cells}  {rtxt:>8s}")
+    return lines
+
+
+def _plot_comparison(scene: Any, rows: list, method: str, path: Path) -> None:
+    """One bar plot per direction (at most three a row), as ``path``."""
+    from ..viz.plots import pyplot
+
+    plt = pyplot()
+    k = len(rows)
+    cols = min(k, 3)
+    nrows = math.ceil(k / cols)
+    fig, axes = plt.subplots(nrows, cols, figsize=(4.2 * cols, 3.6 * nrows), squeeze=False)
+    for ax, (label, per, _) in zip(axes.flat, rows):
+        pg.plot_preload_comparison(per, ax=ax, title=None)
+        ax.set_title(f"{label}\n{ax.get_title()}", fontsize=9)
+    for ax in list(axes.flat)[k:]:
+        ax.set_visible(False)
+    fig.suptitle(f"{scene.name}: max resistible wrench per preload ({method})")
+    fig.tight_layout()
+    pg.save_figure(fig, path, close=True)
+
+
+def cmd_compare_preloads(args: argparse.Namespace) -> int:
+    """``pinograsp compare-preloads SCENE``: max resistible magnitude per named preload along
+    named directions, and the ratio of the first two preloads."""
+    scene = opt.load_scene(args.scene)
+    out = Output(args)
+    names = _preload_names(args, scene)
+    t0 = time.perf_counter()
+    rows, method, upper, steps = _compare_rows(args, scene, names)
+    wall = time.perf_counter() - t0
+    data = {
+        "command": "compare-preloads",
+        **scene_header(scene),
+        "method": method,
+        "upper": upper,
+        "steps": steps,
+        "preloads": {nm: scene.preload(nm) for nm in names},
+        "ratio_of": [names[0], names[1]],
+        "directions": [
+            {
+                "label": label,
+                "direction": next(iter(per.values())).direction,
+                "results": {nm: mw.to_dict(response=False) for nm, mw in per.items()},
+                "ratio": ratio,
+            }
+            for label, per, ratio in rows
+        ],
+        "total_time": wall,
+    }
+    head = f"method {method}, upper {upper:g}, {steps} steps; {wall:.1f} s"
+    out.print(*_compare_lines(scene, names, rows, head))
+    out.write_json("compare_preloads.json", data)
+    out.figure("compare_preloads.png", lambda path: _plot_comparison(scene, rows, method, path))
+    out.finish(data)
+    return 0
+
+
+# ---------------------------------------------------------------------------- resistance-set
+def cmd_resistance_set(args: argparse.Namespace) -> int:
+    """``pinograsp resistance-set SCENE``: max resistible magnitude over ``n`` directions on the
+    unit wrench sphere, and the Ferrari-Canny epsilon of the same contacts."""
+    scene = opt.load_scene(args.scene)
+    if args.n < 1:
+        raise InvalidInputError("-n", f"must be >= 1, got {args.n}")
+    out = Output(args)
+    command, preload_name = opt.preload(args, scene)
+    method = opt.method(args, scene)
+    upper, steps = opt.upper_steps(args, scene)
+    workers = opt.workers(args)
+    bar = progress_bar(args, f"{scene.name} {method}")
+    try:
+        rset = pg.resistance_set(
+            scene.model, command, args.n, method, args.length, args.seed, workers, upper, steps,
+            opt.settings(args, scene), progress=bar,
+        )  # fmt: skip
+    finally:
+        bar.close()
+    eps = pg.ferrari_canny(scene.model, rset.length)
+    data = {
+        "command": "resistance-set",
+        **scene_header(scene),
+        "preload": command,
+        "preload_name": preload_name,
+        "ferrari_canny": eps,
+        **rset.to_dict(),
+    }
+    out.print(
+        scene_line(scene),
+        preload_line(command, preload_name),
+        "",
+        rset.summary(),
+        f"Ferrari-Canny epsilon of the same contacts: {eps:.4g}",
+    )
+    if args.csv is not None:
+        out.written.append(rset.to_csv(args.csv, name="--csv"))
+    out.write_json("resistance_set.json", data)
+
+    def draw(path: Path) -> None:
+        fig = pg.plot_resistance_set(rset, title=f"{scene.name}: resistance set ({method})")
+        pg.save_figure(fig, path, close=True)
+
+    out.figure("resistance_set.png", draw)
+    out.finish(data)
+    return 0
