@@ -27,11 +27,12 @@ from typing import Literal
 import numpy as np
 
 from ..core.model import GraspModel
+from ..core.settings import METHODS, Method, Settings, Variant
 from ..core.validate import choice, positive_number, whole_number
 from ..errors import AuditWarning, InvalidInputError
 from .optimal_search import GRID, OBJECTIVES, RESISTANCES, DisturbanceCheck, Status, simplex_grid
 from .preload import command_bounds
-from .response import METHODS, Settings, solver_for
+from .response import solver_for
 
 
 @dataclass(frozen=True)
@@ -251,7 +252,7 @@ def optimal_preload(
     spec = dict(objective=objective, budget=budget, resistance=resistance, cost=cost, bound=bound, dw=dw)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", AuditWarning)
-        if method == "prp" and solver.settings.variant_for("prp") == "single-step":
+        if method == Method.PRP and solver.settings.variant_for(Method.PRP) is Variant.SINGLE_STEP:
             out = exact_prp(solver, loads, free, spec, upper)
         else:
             out = search(solver, method, loads, free, spec, grid, refine, upper, steps)

@@ -29,6 +29,7 @@ from ..core.axes import PLANAR_AXES, direction_text
 from ..core.model import GraspModel
 from ..core.results import MaxWrench, ResistanceProfile
 from ..core.serialize import format_magnitude, jsonable, vector_text
+from ..core.settings import METHODS
 from ..core.validate import choice, finite_array, positive_number, whole_number
 from ..errors import InvalidInputError
 
@@ -311,7 +312,7 @@ class ResistanceSet:
 
 @dataclass(frozen=True)
 class _PlaneModel:
-    """The part of a model :func:`pinograsp.analysis.max_wrench._plane_basis` needs (wrench validation)."""
+    """The part of a model :func:`pinograsp.core.axes.plane_basis` needs (wrench validation)."""
 
     planar: bool
 
@@ -378,8 +379,9 @@ def resistance_set(
     """
     from ..core.axes import wrench_direction
     from ..solvers.solve import single_threaded_blas
-    from .max_wrench import check_preload, run_directions
-    from .response import METHODS, solver_for
+    from .directions import run_directions
+    from .max_wrench import check_preload
+    from .response import solver_for
 
     t0 = time.perf_counter()
     choice("method", method, METHODS)
