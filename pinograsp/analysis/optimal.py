@@ -28,7 +28,7 @@ import numpy as np
 
 from ..core.model import GraspModel
 from ..core.settings import METHODS, Method, Settings, Variant
-from ..core.validate import choice, positive_number, whole_number
+from ..core.validate import choice, finite_array, positive_number, whole_number
 from ..errors import AuditWarning, InvalidInputError
 from .optimal_search import GRID, OBJECTIVES, RESISTANCES, DisturbanceCheck, Status, simplex_grid
 from .preload import command_bounds
@@ -176,6 +176,16 @@ def _free(model: GraspModel, actuators: object) -> np.ndarray:
     return chosen
 
 
+def _direction_weights(direction_weights: Sequence[float] | None, k: int) -> np.ndarray:
+    """The (k,) weights of ``resistance="sum"`` (default 1), each > 0."""
+    if direction_weights is None:
+        return np.ones(k)
+    dw = finite_array("direction_weights", direction_weights, (k,))
+    if np.any(dw <= 0):
+        raise InvalidInputError("direction_weights", "every weight must be > 0")
+    return dw
+
+
 def optimal_preload(
     model: GraspModel,
     disturbances: object,
@@ -236,13 +246,7 @@ def optimal_preload(
     bound = np.where(free, command_bounds(model, max_command), 0.0)
     if budget is not None:
         budget = positive_number("budget", budget)
-    dw = np.ones(len(loads))
-    if direction_weights is not None:
-        from ..core.validate import finite_array
-
-        dw = finite_array("direction_weights", direction_weights, (len(loads),))
-        if np.any(dw <= 0):
-            raise InvalidInputError("direction_weights", "every weight must be > 0")
+    dw = _direction_weights(direction_weights, len(loads))
     nfree = int(free.sum())
     grid = whole_number("grid", grid) if grid is not None else GRID.get(nfree, 2)
     refine = whole_number("refine", refine, minimum=0)

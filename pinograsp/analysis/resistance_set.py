@@ -25,7 +25,7 @@ from typing import Any, Literal
 
 import numpy as np
 
-from ..core.axes import PLANAR_AXES, direction_text
+from ..core.axes import PLANAR_AXES, direction_text, wrench_direction
 from ..core.model import GraspModel
 from ..core.results import MaxWrench, ResistanceProfile
 from ..core.serialize import format_magnitude, jsonable, vector_text
@@ -341,6 +341,17 @@ def _sphere_directions(model: GraspModel, n: int, seed: int, length: float) -> t
     return u6 * np.r_[1.0, 1.0, 1.0, length, length, length], u6
 
 
+def _requested_directions(
+    model: GraspModel, n: int | None, seed: int, length: float, directions: object
+) -> tuple[np.ndarray, int | None]:
+    """The wrenches (k, 6) of :func:`resistance_set`: ``directions`` as given, or ``n`` points
+    of the sphere of ``seed`` (then also the seed used)."""
+    if directions is None:
+        raw, _ = _sphere_directions(model, whole_number("n", 500 if n is None else n), seed, length)
+        return raw, whole_number("seed", seed, 0)
+    return wrench_rows(model, directions, "directions"), None
+
+
 def resistance_set(
     model: GraspModel,
     command: object,
@@ -377,7 +388,6 @@ def resistance_set(
         PreloadNotInEquilibriumError, InvalidInputError. A :class:`~pinograsp.SolverError` of one
         direction is recorded in ``failures``, not raised.
     """
-    from ..core.axes import wrench_direction
     from ..solvers.solve import single_threaded_blas
     from .directions import run_directions
     from .max_wrench import check_preload
@@ -388,12 +398,7 @@ def resistance_set(
     upper, steps = positive_number("upper", upper), whole_number("steps", steps)
     source = "model.length_scale" if length is None else "given"
     length = float(model.length_scale) if length is None else positive_number("length", length)
-    if directions is None:
-        raw, _ = _sphere_directions(model, whole_number("n", 500 if n is None else n), seed, length)
-        seed_used: int | None = whole_number("seed", seed, 0)
-    else:
-        raw = wrench_rows(model, directions, "directions")
-        seed_used = None
+    raw, seed_used = _requested_directions(model, n, seed, length, directions)
     dirs = np.array([wrench_direction(model, w, f"directions[{i}]") for i, w in enumerate(raw)])
     with single_threaded_blas():  # as every public query: one BLAS thread, one reduction order
         solver = solver_for(model, settings, **overrides)
