@@ -215,7 +215,7 @@ def _finish(q: _Query, magnitude: float, at_upper: bool, response: PassiveRespon
     )
 
 
-def _direct(q: _Query, model: GraspModel) -> tuple[float, PassiveResponse]:
+def _direct(q: _Query) -> tuple[float, PassiveResponse]:
     """The PRP's exact limit by one load-factor problem, and the response just below it."""
     solver, upper = q.solver, float(q.upper)
     lf = solver.max_load_factor(q.command, q.direction, upper)
@@ -228,7 +228,7 @@ def _direct(q: _Query, model: GraspModel) -> tuple[float, PassiveResponse]:
         raise cls(f"load-factor problem: {status.value}", solver=backend, status=status.value)
     if status is not SolveStatus.OPTIMAL:
         raise PreloadNotInEquilibriumError(
-            model.command_vector(q.command).tolist(), "load-factor problem infeasible"
+            solver.model.command_vector(q.command).tolist(), "load-factor problem infeasible"
         )
     if np.isinf(mag):
         raise SolverError(
@@ -305,7 +305,7 @@ def max_resistible_wrench(
     if ok:
         return _finish(q, float("inf"), True, resp)
     if kind is Search.DIRECT:
-        mag, resp = _direct(q, model)
+        mag, resp = _direct(q)
         return _finish(q, mag, False, resp)
     if kind is Search.SECANT:
         st = solver.settings
