@@ -379,7 +379,7 @@ def profile_direction(model, command, angle: float) -> dict:
         "node QPs (`NodeQP.solve`)": _ct(st, fn(nq, "solve")),
         "polish of the optimal face": _ct(st, fn(nq, "polish")),
         "canonical point (`BranchAndBound._canonical`)": _ct(st, fn("solvers/bnb.py", "_canonical")),
-        "subspace jumps (`_jump`)": _ct(st, fn("pinograsp/analysis/response.py", "_jump")),
+        "subspace jumps (`_jump`)": _ct(st, fn("pinograsp/analysis/stages.py", "jump")),
     }
     ncalls = {k: v[1] for k, v in st.stats.items()}  # type: ignore[attr-defined]
     return dict(

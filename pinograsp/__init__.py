@@ -27,7 +27,7 @@ from .errors import (
 # `pinograsp scenes` / `--help` load neither the solvers nor cvxpy.
 _LAZY = {
     "max_resistible_wrench": "analysis.max_wrench",
-    "resistance_profile": "analysis.max_wrench",
+    "resistance_profile": "analysis.profile",
     "LinearComplianceResult": "analysis.baseline",
     "linear_compliance": "analysis.baseline",
     "PreloadChoice": "analysis.preload",

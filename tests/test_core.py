@@ -216,3 +216,25 @@ def test_canonical_optimum_is_feasible_and_complementary():
         lo, up = P.bounds(P.sides_of(sol.mode))
         assert np.all(v >= lo - 1e-8) and np.all(v <= up + 1e-8)
         assert P.complementarity(sol.z).max(initial=0) < 1e-8
+
+
+def test_profile_normalisation_has_one_home():
+    """The value a profile is normalised by: its own result along the reference when it has
+    that direction (``ResistanceProfile.result_along``), else one solve; an unbounded or
+    unresisted reference is an InvalidInputError naming ``normalize``."""
+    from pinograsp.analysis.profile import reference_magnitude
+
+    m, s = examples.pinch(), pg.Settings()
+    p = pg.resistance_profile(m, 1.0, n=8, method="prp", upper=100.0, steps=8)
+    along_y = p.result_along(p.basis[1])
+    assert along_y is p.results[2] and p.result_along(p.directions[1] + 2e-9) is None
+    assert reference_magnitude(m, 1.0, p, True, "prp", 100.0, 8, s) == along_y.magnitude
+    pn = pg.resistance_profile(m, 1.0, n=8, method="prp", upper=100.0, steps=8, normalize=True)
+    assert pn.normalized_by == along_y.magnitude
+    np.testing.assert_array_equal(pn.magnitudes, p.magnitudes / along_y.magnitude)
+    # a reference that the profile does not sample is solved on its own
+    six = pg.resistance_profile(m, 1.0, n=6, method="prp", upper=100.0, steps=8)
+    alone = pg.max_resistible_wrench(m, 1.0, "fy", "prp", 100.0, 8)
+    assert reference_magnitude(m, 1.0, six, "fy", "prp", 100.0, 8, s) == alone.magnitude
+    with pytest.raises(pg.InvalidInputError, match=r"^normalize: the reference direction \+fx is unbounded"):
+        reference_magnitude(m, 1.0, p, "fx", "prp", 100.0, 8, s)

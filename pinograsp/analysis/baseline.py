@@ -66,6 +66,47 @@ class LinearComplianceResult:
         return _ser.linear_compliance_summary(self)
 
 
+def _tangential_stiffness(m: GraspModel, tangential_stiffness: object | None) -> np.ndarray:
+    """Tangential stiffness per contact (nc,) [N/m] (default ``mu * k``)."""
+    if tangential_stiffness is None:
+        kt = m.mu * m.k
+    elif np.ndim(tangential_stiffness) == 0 and not isinstance(tangential_stiffness, (str, bytes)):
+        kt = np.full(m.nc, finite_number("tangential_stiffness", tangential_stiffness))
+    else:
+        kt = finite_array("tangential_stiffness", tangential_stiffness, (m.nc,))
+    if np.any(kt < 0):
+        raise InvalidInputError("tangential_stiffness", f"expected {m.nc} finite values >= 0")
+    return kt
+
+
+def _spring_forces(m: GraspModel, w: np.ndarray, kdiag: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The least-spring-energy contact forces ``Δc`` (nc*d,) [N] balancing the reduced wrench
+    ``w`` (``G Δc = -w``, stiffness ``kdiag`` (nc*d,); a zero stiffness carries no force) and
+    the multipliers of the balance (the object displacement)."""
+    free = kdiag > 0
+    Gf = m.G[:, free]
+    n = int(free.sum())
+    H = np.diag(1.0 / kdiag[free])
+    qp = proxsuite.proxqp.dense.QP(n, m.nw, 0)
+    qp.settings.eps_abs = 1e-12
+    qp.settings.eps_rel = 0.0
+    qp.settings.verbose = False
+    qp.init(H, np.zeros(n), Gf, -w, None, None, None)
+    qp.solve()
+    dc = np.zeros(m.nc * m.d)
+    dc[free] = qp.results.x
+    res = np.abs(m.G @ dc + w).max()
+    if qp.results.info.status != proxsuite.proxqp.QPSolverOutput.PROXQP_SOLVED or res > 1e-8 * max(
+        1.0, np.abs(w).max()
+    ):
+        raise SolverError(
+            f"the contacts cannot balance this wrench with linear springs (residual {res:.3g})",
+            solver="proxsuite",
+            status=str(qp.results.info.status),
+        )
+    return dc, np.array(qp.results.y)  # multipliers of G Δc = -w are the object displacement
+
+
 def linear_compliance(
     model: GraspModel,
     wrench: object,
@@ -95,37 +136,9 @@ def linear_compliance(
         if internal_forces is None
         else finite_array("internal_forces", internal_forces, (nc, 3))
     )
-    if tangential_stiffness is None:
-        kt = m.mu * m.k
-    elif np.ndim(tangential_stiffness) == 0 and not isinstance(tangential_stiffness, (str, bytes)):
-        kt = np.full(nc, finite_number("tangential_stiffness", tangential_stiffness))
-    else:
-        kt = finite_array("tangential_stiffness", tangential_stiffness, (nc,))
-    if np.any(kt < 0):
-        raise InvalidInputError("tangential_stiffness", f"expected {nc} finite values >= 0")
+    kt = _tangential_stiffness(m, tangential_stiffness)
     kdiag = np.column_stack([m.k] + [kt] * (d - 1)).reshape(-1)  # (nc*d,)
-    free = kdiag > 0
-    Gf = m.G[:, free]
-    n = int(free.sum())
-    H = np.diag(1.0 / kdiag[free])
-    qp = proxsuite.proxqp.dense.QP(n, m.nw, 0)
-    qp.settings.eps_abs = 1e-12
-    qp.settings.eps_rel = 0.0
-    qp.settings.verbose = False
-    qp.init(H, np.zeros(n), Gf, -w, None, None, None)
-    qp.solve()
-    dc = np.zeros(nc * d)
-    dc[free] = qp.results.x
-    res = np.abs(m.G @ dc + w).max()
-    if qp.results.info.status != proxsuite.proxqp.QPSolverOutput.PROXQP_SOLVED or res > 1e-8 * max(
-        1.0, np.abs(w).max()
-    ):
-        raise SolverError(
-            f"the contacts cannot balance this wrench with linear springs (residual {res:.3g})",
-            solver="proxsuite",
-            status=str(qp.results.info.status),
-        )
-    x = np.array(qp.results.y)  # multipliers of G Δc = -w are the object displacement
+    dc, x = _spring_forces(m, w, kdiag)
     part = np.zeros((nc, 3))
     part[:, :d] = dc.reshape(nc, d)
     c = c0 + part

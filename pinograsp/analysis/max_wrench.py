@@ -1,19 +1,23 @@
-"""Analyses built on the passive response: max resistible wrench and resistance profiles."""
+"""The largest wrench magnitude a preloaded grasp resists along one direction (seed paper:
+bisection on ``[0, upper]``), and the check that the preload alone is in equilibrium.
+
+Many directions at once: :mod:`pinograsp.analysis.directions`; profiles in a plane:
+:mod:`pinograsp.analysis.profile`.
+"""
 
 from __future__ import annotations
 
-import os
 import time
 import warnings
-from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from ..core.audit import audit_message
-from ..core.axes import WRENCH_AXES, circle_directions, plane_basis, wrench_direction
+from ..core.axes import WRENCH_AXES, wrench_direction
 from ..core.model import GraspModel
-from ..core.results import MaxWrench, PassiveResponse, ResistanceProfile
-from ..core.settings import Search
+from ..core.results import MaxWrench, PassiveResponse
+from ..core.settings import METHODS, Method, Search, Settings
 from ..core.validate import choice, positive_number, whole_number
 from ..errors import (
     AuditWarning,
@@ -24,11 +28,12 @@ from ..errors import (
 )
 from ..solvers.base import SolveStatus
 from ..solvers.solve import single_threaded
-from .response import METHODS, PassiveSolver, Settings, solver_for
+from .response import PassiveSolver, solver_for
 from .search import bisection, secant
 
 
 def _check(resp: PassiveResponse, magnitude: float) -> bool:
+    """The verdict of ``resp`` at ``magnitude``; raise when the solver gave none."""
     if resp.status == "node_limit":
         raise SolverError(
             f"branch-and-bound node limit reached at magnitude {magnitude:.6g} (raise Settings.max_nodes)",
@@ -63,6 +68,183 @@ def check_preload(solver: PassiveSolver, command: object, method: str) -> Passiv
             detail += f" (net wrench {resp.residual_history[-1]:.3g} N)"
         raise PreloadNotInEquilibriumError(solver.model.command_vector(command).tolist(), detail, residual)
     return resp
+
+
+@dataclass
+class Tally:
+    """What one max-wrench query has spent and seen so far (filled in as the search goes).
+
+    Attributes:
+        solve_time: Solver wall time [s].
+        n_solves: Complementarity problems solved.
+        evidence: Every magnitude tried and its verdict, in order.
+        flagged: Resisted magnitudes whose solution fails the audit, with that response.
+    """
+
+    solve_time: float = 0.0
+    n_solves: int = 0
+    evidence: list[tuple[float, bool]] = field(default_factory=list)
+    flagged: list[tuple[float, PassiveResponse]] = field(default_factory=list)
+
+    def add(self, resp: PassiveResponse) -> None:
+        """Count a response's solver time and solves."""
+        self.solve_time += resp.solve_time
+        self.n_solves += resp.n_solves
+
+    def flag(self, magnitude: float, resp: PassiveResponse) -> None:
+        """Keep a resisted response that fails the audit (warned about once, at the end)."""
+        if resp.resistible and resp.audit is not None and not resp.audit.ok:
+            self.flagged.append((magnitude, resp))
+
+
+@dataclass(frozen=True)
+class _Query:
+    """One max-wrench query: what it asks (``direction`` unit, (6,)) and its running tally."""
+
+    solver: PassiveSolver
+    command: object
+    direction: np.ndarray
+    method: str
+    upper: float
+    steps: int
+    search: Search
+    floor: float
+    t0: float
+    tally: Tally
+
+    def test(self, magnitude: float) -> tuple[bool, PassiveResponse]:
+        """The verdict at ``magnitude`` [N or N·m] along the direction, recorded in the tally."""
+        with warnings.catch_warnings():  # summarised once, after the search
+            warnings.simplefilter("ignore", AuditWarning)
+            resp = self.solver.response(self.command, magnitude * self.direction, self.method)
+        self.tally.add(resp)
+        ok = _check(resp, magnitude)
+        self.tally.evidence.append((magnitude, ok))
+        self.tally.flag(magnitude, resp)
+        return ok, resp
+
+
+def _search_kind(search: object, method: str) -> Search:
+    """The search ``search`` names for ``method`` (``"auto"`` resolved)."""
+    kind = Search(choice("search", search, [x.value for x in Search]))
+    if kind is Search.AUTO:
+        kind = Search.SECANT if method == Method.ITERATIVE else Search.BISECTION
+    if kind is Search.DIRECT and method != Method.PRP:
+        raise InvalidInputError("search", "'direct' exists for method='prp' only (Alg. 3 is a trajectory)")
+    if kind is Search.SECANT and method != Method.ITERATIVE:
+        raise InvalidInputError(
+            "search", "'secant' exists for method='iterative' only (PRP stages carry no residual)"
+        )
+    return kind
+
+
+def _floor(solver: PassiveSolver, d: np.ndarray, method: str, upper: float, steps: int) -> float:
+    """Smallest magnitude distinguishable from zero: the resolution, and for the iterative
+    method at least its equilibrium tolerance ``eps`` along ``d``."""
+    floor = float(upper) / 2**steps
+    if method == Method.ITERATIVE:
+        scale = float(np.linalg.norm(solver.model.reduce_wrench(d) * solver.form.wscale))
+        floor = max(floor, solver.settings.eps / scale)
+    return floor
+
+
+def _resisted_without_preload(
+    solver: PassiveSolver, command: object, d: np.ndarray, method: str
+) -> PassiveResponse:
+    """The load ``d`` (unit) under a zero preload: the limit of ``t d`` under ``command`` as
+    ``t -> inf`` (the model is positively homogeneous: ``t d`` under ``f_c`` is ``d`` under
+    ``f_c / t``). Resisted means passively resisted without bound (docs/accuracy.md)."""
+    zero = np.zeros(solver.model.na)
+    resp = solver.response(zero, d, method)
+    _check(resp, float("inf"))
+    return resp
+
+
+def _audit_warning(q: _Query) -> str | None:
+    """The one warning text of the resisted magnitudes that fail the audit (None: none)."""
+    if not q.tally.flagged:
+        return None
+    at, bad = min(q.tally.flagged, key=lambda mr: mr[0])
+    e = bad.audit.energy
+    why = (
+        audit_message(q.method, e)
+        if e is not None and not (e.energy_ok and e.displacement_ok)
+        else "residuals above the audit tolerance"
+    )
+    return (
+        f"{len(q.tally.flagged)} resisted magnitude(s) from {at:.6g} rest on solutions that fail "
+        f"the audit; at {at:.6g}: {why}"
+    )
+
+
+def _finish(q: _Query, magnitude: float, at_upper: bool, response: PassiveResponse | None) -> MaxWrench:
+    """The :class:`MaxWrench` of a search that ended at ``magnitude`` (``at_upper``: ``upper``
+    itself was resisted; the direction is unbounded only if the zero-preload limit says so)."""
+    extra_time = 0.0
+    if at_upper:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", AuditWarning)
+            limit = _resisted_without_preload(q.solver, q.command, q.direction, q.method)
+        q.tally.flag(float("inf"), limit)
+        extra_time = limit.solve_time
+        status = "unbounded" if limit.resistible else "above_limit"
+        magnitude = float("inf") if limit.resistible else float(q.upper)
+        unbounded = limit.resistible
+    else:
+        status = "finite" if magnitude >= q.floor and magnitude > 0 else "below_resolution"
+        unbounded = False
+    message = _audit_warning(q)
+    if message is not None:
+        warnings.warn(message, AuditWarning, stacklevel=4)
+    return MaxWrench(
+        direction=q.direction,
+        magnitude=magnitude,
+        unbounded=unbounded,
+        status=status,
+        floor=q.floor,
+        upper=float(q.upper),
+        resolution=float(q.upper) / 2**q.steps,
+        evidence=tuple(q.tally.evidence),
+        method=q.method,
+        solve_time=q.tally.solve_time + extra_time,
+        wall_time=time.perf_counter() - q.t0,
+        n_solves=q.tally.n_solves,
+        response=response,
+        search=q.search.value,
+        audit_failures=tuple(sorted(m for m, _ in q.tally.flagged)),
+    )
+
+
+def _direct(q: _Query) -> tuple[float, PassiveResponse]:
+    """The PRP's exact limit by one load-factor problem, and the response just below it."""
+    solver, upper = q.solver, float(q.upper)
+    lf = solver.max_load_factor(q.command, q.direction, upper)
+    status, mag = lf.status, lf.magnitude
+    q.tally.solve_time += lf.solve_time
+    q.tally.n_solves += 1
+    backend = solver.settings.backend
+    if status in (SolveStatus.TIMEOUT, SolveStatus.FAILED, SolveStatus.NODE_LIMIT):
+        cls = SolverTimeoutError if status is SolveStatus.TIMEOUT else SolverError
+        raise cls(f"load-factor problem: {status.value}", solver=backend, status=status.value)
+    if status is not SolveStatus.OPTIMAL:
+        raise PreloadNotInEquilibriumError(
+            solver.model.command_vector(q.command).tolist(), "load-factor problem infeasible"
+        )
+    if np.isinf(mag):
+        raise SolverError(
+            f"load-factor problem reached the upper limit {upper:g} that the PRP did not resist",
+            solver=backend,
+            status="failed",
+        )
+    at = mag * (1.0 - 1e-6)
+    ok, resp = q.test(at)
+    if not ok:
+        raise SolverError(
+            f"load-factor problem found magnitude {mag:.9g} but the PRP at {at:.9g} is not resisted",
+            solver=backend,
+            status="failed",
+        )
+    return mag, resp
 
 
 @single_threaded
@@ -100,7 +282,7 @@ def max_resistible_wrench(
             stages; :mod:`pinograsp.analysis.search`) or ``"direct"`` (PRP only): one complementarity
             problem maximising the load factor, exact instead of ``upper / 2**steps``; the
             response at the limit is then solved at ``magnitude * (1 - 1e-6)``.
-        settings, overrides: Solver settings (see :class:`pinograsp.analysis.response.Settings`).
+        settings, overrides: Solver settings (see :class:`pinograsp.core.settings.Settings`).
 
     Raises:
         PreloadNotInEquilibriumError, SolverTimeoutError, SolverError, InvalidInputError.
@@ -111,356 +293,26 @@ def max_resistible_wrench(
     steps = whole_number("steps", steps)
     solver = solver_for(model, settings, **overrides)
     d = wrench_direction(model, direction)
-    solve_time, n_solves = 0.0, 0
+    tally = Tally()
     if check_preload_first:
-        pre = check_preload(solver, command, method)
-        solve_time += pre.solve_time
-        n_solves += pre.n_solves
-    evidence: list[tuple[float, bool]] = []
-    flagged: list[tuple[float, PassiveResponse]] = []  # resisted, but failing the audit
-
-    def test(mag: float, by: PassiveSolver | None = None) -> tuple[bool, PassiveResponse]:
-        """Verdict at ``mag`` (by this query's solver, or ``by`` another one), recorded."""
-        nonlocal solve_time, n_solves
-        with warnings.catch_warnings():  # summarised once, after the search
-            warnings.simplefilter("ignore", AuditWarning)
-            resp = (by or solver).response(command, mag * d, method)
-        solve_time += resp.solve_time
-        n_solves += resp.n_solves
-        ok = _check(resp, mag)
-        evidence.append((mag, ok))
-        if ok and resp.audit is not None and not resp.audit.ok:
-            flagged.append((mag, resp))
-        return ok, resp
-
-    search = Search(choice("search", search, [x.value for x in Search]))
-    if search is Search.AUTO:
-        search = Search.SECANT if method == "iterative" else Search.BISECTION
-    if search is Search.DIRECT and method != "prp":
-        raise InvalidInputError("search", "'direct' exists for method='prp' only (Alg. 3 is a trajectory)")
-    if search is Search.SECANT and method != "iterative":
-        raise InvalidInputError(
-            "search", "'secant' exists for method='iterative' only (PRP stages carry no residual)"
-        )
-
-    floor = float(upper) / 2**steps  # smallest magnitude distinguishable from zero
-    if method == "iterative":  # ... and the scheme's equilibrium tolerance along d
-        floor = max(
-            floor, solver.settings.eps / float(np.linalg.norm(model.reduce_wrench(d) * solver.form.wscale))
-        )
-
-    def result(magnitude: float, unbounded: bool, response: PassiveResponse | None) -> MaxWrench:
-        if unbounded:  # resisted at upper: unbounded only if the model says so in the limit
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore", AuditWarning)
-                limit = _resisted_without_preload(solver, command, d, method)
-            if limit.resistible and limit.audit is not None and not limit.audit.ok:
-                flagged.append((float("inf"), limit))
-            solve_time_add = limit.solve_time
-            status = "unbounded" if limit.resistible else "above_limit"
-            magnitude = float("inf") if limit.resistible else float(upper)
-            unbounded = limit.resistible
-        else:
-            solve_time_add = 0.0
-            status = "finite" if magnitude >= floor and magnitude > 0 else "below_resolution"
-        failures = tuple(sorted(m for m, _ in flagged))
-        if failures:
-            at, bad = min(flagged, key=lambda mr: mr[0])
-            e = bad.audit.energy
-            why = (
-                audit_message(method, e)
-                if e is not None and not (e.energy_ok and e.displacement_ok)
-                else "residuals above the audit tolerance"
-            )
-            warnings.warn(
-                f"{len(failures)} resisted magnitude(s) from {at:.6g} rest on solutions that fail "
-                f"the audit; at {at:.6g}: {why}",
-                AuditWarning,
-                stacklevel=4,
-            )
-        return MaxWrench(
-            direction=d,
-            magnitude=magnitude,
-            unbounded=unbounded,
-            status=status,
-            floor=floor,
-            upper=float(upper),
-            resolution=float(upper) / 2**steps,
-            evidence=tuple(evidence),
-            method=method,
-            solve_time=solve_time + solve_time_add,
-            wall_time=time.perf_counter() - t0,
-            n_solves=n_solves,
-            response=response,
-            search=search.value,
-            audit_failures=failures,
-        )
-
-    if search is Search.DIRECT:
-        # the upper limit first: an unbounded direction costs one (fast-path) solve, not a MILP
-        ok, resp = test(float(upper))
-        if ok:
-            return result(float("inf"), True, resp)
-        lf = solver.max_load_factor(command, d, float(upper))
-        status, mag = lf.status, lf.magnitude
-        solve_time += lf.solve_time
-        n_solves += 1
-        if status in (SolveStatus.TIMEOUT, SolveStatus.FAILED, SolveStatus.NODE_LIMIT):
-            cls = SolverTimeoutError if status is SolveStatus.TIMEOUT else SolverError
-            raise cls(
-                f"load-factor problem: {status.value}", solver=solver.settings.backend, status=status.value
-            )
-        if status is not SolveStatus.OPTIMAL:
-            raise PreloadNotInEquilibriumError(
-                model.command_vector(command).tolist(), "load-factor problem infeasible"
-            )
-        if np.isinf(mag):
-            raise SolverError(
-                f"load-factor problem reached the upper limit {upper:g} that the PRP did not resist",
-                solver=solver.settings.backend,
-                status="failed",
-            )
-        at = mag * (1.0 - 1e-6)
-        ok, resp = test(at)
-        if not ok:
-            raise SolverError(
-                f"load-factor problem found magnitude {mag:.9g} but the PRP at {at:.9g} is not resisted",
-                solver=solver.settings.backend,
-                status="failed",
-            )
-        return result(mag, bool(np.isinf(mag)), resp)
-
-    ok, resp = test(float(upper))
+        tally.add(check_preload(solver, command, method))
+    kind = _search_kind(search, method)
+    q = _Query(
+        solver, command, d, method, upper, steps, kind, _floor(solver, d, method, upper, steps), t0, tally
+    )
+    # the upper limit first: an unbounded direction costs one (fast-path) solve, not a search
+    ok, resp = q.test(float(upper))
     if ok:
-        return result(float("inf"), True, resp)
-    if search is Search.SECANT:
+        return _finish(q, float("inf"), True, resp)
+    if kind is Search.DIRECT:
+        mag, resp = _direct(q)
+        return _finish(q, mag, False, resp)
+    if kind is Search.SECANT:
         st = solver.settings
-        lo, best = secant(test, float(upper), int(steps), resp, lambda m: st.eps + st.eps_rel * m)
+        lo, best = secant(q.test, float(upper), int(steps), resp, lambda m: st.eps + st.eps_rel * m)
     else:
-        lo, best = bisection(test, float(upper), int(steps))
-    return result(lo, False, best)
+        lo, best = bisection(q.test, float(upper), int(steps))
+    return _finish(q, lo, False, best)
 
 
-def _resisted_without_preload(
-    solver: PassiveSolver, command: object, d: np.ndarray, method: str
-) -> PassiveResponse:
-    """The load ``d`` (unit) under a zero preload: the limit of ``t d`` under ``command`` as
-    ``t -> inf`` (the model is positively homogeneous: ``t d`` under ``f_c`` is ``d`` under
-    ``f_c / t``). Resisted means passively resisted without bound (docs/accuracy.md)."""
-    zero = np.zeros(solver.model.na)
-    resp = solver.response(zero, d, method)
-    _check(resp, float("inf"))
-    return resp
-
-
-def _worker_count(workers: int | None, n: int) -> int:
-    if workers is None:
-        return 1
-    if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 0:
-        raise InvalidInputError("workers", f"must be an integer >= 0, got {workers!r}")
-    w = int(workers) or (os.cpu_count() or 1)
-    return max(1, min(w, n))
-
-
-#: A direction whose query raised a :class:`~pinograsp.errors.SolverError` (``run_directions``
-#: with ``catch=True``): ``(index, message, status)``.
-DirectionFailure = tuple[int, str, str]
-
-
-def _directions_block(
-    args: tuple[GraspModel, object, np.ndarray, str, float, int, Settings, str, bool],
-) -> list[MaxWrench | tuple[str, str]]:
-    """Worker: max resistible wrench along each of a block of directions (with ``catch``, a
-    direction whose query raises a SolverError gives ``(message, status)`` instead)."""
-    model, command, dirs, method, upper, steps, settings, search, catch = args
-    out: list[MaxWrench | tuple[str, str]] = []
-    for d in dirs:
-        try:
-            out.append(
-                max_resistible_wrench(
-                    model,
-                    command,
-                    d,
-                    method,
-                    upper,
-                    steps,
-                    settings=settings,
-                    check_preload_first=False,
-                    search=search,
-                )
-            )
-        except SolverError as exc:
-            if not catch:
-                raise
-            out.append((" ".join(str(exc).split()), str(exc.status or "failed")))
-    return out
-
-
-def _parallel_directions(
-    model: GraspModel,
-    command: object,
-    dirs: np.ndarray,
-    method: str,
-    upper: float,
-    steps: int,
-    settings: Settings,
-    workers: int,
-    progress: Callable[[int, int], None] | None,
-    search: str = "bisection",
-    catch: bool = False,
-) -> list[MaxWrench | tuple[str, str]]:
-    """Directions in a process pool, in contiguous blocks (warm starts within a block)."""
-    import multiprocessing as mp
-    from concurrent.futures import ProcessPoolExecutor, as_completed
-
-    nblocks = min(len(dirs), 4 * workers)
-    blocks = [b for b in np.array_split(np.arange(len(dirs)), nblocks) if len(b)]
-    ctx = mp.get_context("fork" if "fork" in mp.get_all_start_methods() else "spawn")
-    out: list[MaxWrench | tuple[str, str] | None] = [None] * len(dirs)
-    done = 0
-    with ProcessPoolExecutor(max_workers=workers, mp_context=ctx) as pool:
-        futures = {
-            pool.submit(
-                _directions_block, (model, command, dirs[b], method, upper, steps, settings, search, catch)
-            ): b
-            for b in blocks
-        }
-        for fut in as_completed(futures):
-            b = futures[fut]
-            for i, r in zip(b, fut.result()):
-                out[i] = r
-            done += len(b)
-            if progress is not None:
-                progress(done, len(dirs))
-    return out  # type: ignore[return-value]
-
-
-def run_directions(
-    model: GraspModel,
-    command: object,
-    dirs: np.ndarray,
-    method: str,
-    upper: float,
-    steps: int,
-    settings: Settings,
-    *,
-    workers: int | None = None,
-    progress: Callable[[int, int], None] | None = None,
-    search: str = "auto",
-    catch: bool = False,
-) -> tuple[list[MaxWrench | None], list[DirectionFailure]]:
-    """Max resistible wrench along many directions: the machinery of :func:`resistance_profile`
-    and :func:`pinograsp.resistance_set` (the preload is *not* checked here).
-
-    Args:
-        dirs: Wrench directions, (k, 6) (each normalised by :func:`max_resistible_wrench`).
-        workers: Process-pool size (``0``: one per CPU; ``None``/``1``: in this process).
-        catch: Record a direction whose query raises a :class:`SolverError` as a failure
-            (its result is ``None``) instead of raising.
-        Other arguments: as :func:`max_resistible_wrench`.
-
-    Returns:
-        ``(results, failures)``: one :class:`MaxWrench` (or ``None`` for a failure) per
-        direction, in order, and the failures as ``(index, message, status)``.
-    """
-    nw = _worker_count(workers, len(dirs))
-    if nw > 1:
-        raw = _parallel_directions(
-            model, command, dirs, method, upper, steps, settings, nw, progress, search, catch
-        )
-    else:
-        raw = []
-        for i, d in enumerate(dirs):
-            raw += _directions_block(
-                (model, command, d[None, :], method, upper, steps, settings, search, catch)
-            )
-            if progress is not None:
-                progress(i + 1, len(dirs))
-    results = [r if isinstance(r, MaxWrench) else None for r in raw]
-    failures = [(i, r[0], r[1]) for i, r in enumerate(raw) if not isinstance(r, MaxWrench)]
-    return results, failures
-
-
-@single_threaded
-def resistance_profile(
-    model: GraspModel,
-    command: object,
-    plane: Sequence[object] = ("fx", "fy"),
-    n: int = 72,
-    method: str = "iterative",
-    upper: float = 1e3,
-    steps: int = 20,
-    *,
-    normalize: bool | str | None = None,
-    settings: Settings | None = None,
-    progress: Callable[[int, int], None] | None = None,
-    workers: int | None = None,
-    search: str = "auto",
-    **overrides: object,
-) -> ResistanceProfile:
-    """Max resistible magnitude over ``n`` directions in a plane of wrench space.
-
-    Directions are ``cos(a) b1 + sin(a) b2`` for ``a = 2πi/n`` with ``(b1, b2)`` the plane's
-    spanning directions (axis names like ``("fx", "fy")``, ``("fx", "fz")``, ``("mx", "my")``,
-    or any two wrench vectors, orthonormalised).
-
-    Args:
-        normalize: Divide magnitudes by the value along a reference direction, as the paper
-            does (``True``: along ``+b2``, i.e. ``+Y`` for the XY plane; or an axis name like
-            ``"fy"``). A reference direction that is unbounded raises ``InvalidInputError``.
-        progress: Called as ``progress(done, total)`` after each direction (after each chunk
-            of directions with ``workers``).
-        workers: Solve directions in a process pool of this many workers (``0``: one per CPU;
-            ``None``/``1``: in this process). Each worker takes a contiguous block of
-            directions, so neighbouring directions still warm-start each other.
-        Other arguments: as :func:`max_resistible_wrench`.
-    """
-    t0 = time.perf_counter()
-    n = whole_number("n", n)
-    basis, labels = plane_basis(model, plane)
-    solver = solver_for(model, settings, **overrides)
-    check_preload(solver, command, choice("method", method, METHODS))
-    angles, dirs = circle_directions(basis, n)
-    results, _ = run_directions(
-        model,
-        command,
-        dirs,
-        method,
-        upper,
-        steps,
-        solver.settings,
-        workers=workers,
-        progress=progress,
-        search=search,
-    )
-    mags = np.array([r.magnitude for r in results])
-    unb = np.array([r.unbounded for r in results])
-    norm_by = None
-    if normalize:
-        ref = basis[1] if normalize is True else wrench_direction(model, normalize, "normalize")
-        hit = [r for r, d in zip(results, dirs) if np.allclose(d, ref, atol=1e-12)]
-        ref_res = (
-            hit[0]
-            if hit
-            else max_resistible_wrench(
-                model, command, ref, method, upper, steps, settings=solver.settings, check_preload_first=False
-            )
-        )
-        if ref_res.unbounded or not ref_res.magnitude > 0:
-            raise InvalidInputError(
-                "normalize",
-                f"the reference direction is {'unbounded' if ref_res.unbounded else 'not resisted'}",
-            )
-        norm_by = ref_res.magnitude
-        mags = mags / norm_by
-    return ResistanceProfile(
-        plane=labels,
-        basis=basis,
-        angles=angles,
-        directions=dirs,
-        magnitudes=mags,
-        unbounded=unb,
-        normalized_by=norm_by,
-        results=tuple(results),
-        wall_time=time.perf_counter() - t0,
-    )
+__all__ = ["Tally", "check_preload", "max_resistible_wrench"]

@@ -27,11 +27,12 @@ from typing import Literal
 import numpy as np
 
 from ..core.model import GraspModel
-from ..core.validate import choice, positive_number, whole_number
+from ..core.settings import METHODS, Method, Settings, Variant
+from ..core.validate import choice, finite_array, positive_number, whole_number
 from ..errors import AuditWarning, InvalidInputError
 from .optimal_search import GRID, OBJECTIVES, RESISTANCES, DisturbanceCheck, Status, simplex_grid
 from .preload import command_bounds
-from .response import METHODS, Settings, solver_for
+from .response import solver_for
 
 
 @dataclass(frozen=True)
@@ -175,6 +176,16 @@ def _free(model: GraspModel, actuators: object) -> np.ndarray:
     return chosen
 
 
+def _direction_weights(direction_weights: Sequence[float] | None, k: int) -> np.ndarray:
+    """The (k,) weights of ``resistance="sum"`` (default 1), each > 0."""
+    if direction_weights is None:
+        return np.ones(k)
+    dw = finite_array("direction_weights", direction_weights, (k,))
+    if np.any(dw <= 0):
+        raise InvalidInputError("direction_weights", "every weight must be > 0")
+    return dw
+
+
 def optimal_preload(
     model: GraspModel,
     disturbances: object,
@@ -235,13 +246,7 @@ def optimal_preload(
     bound = np.where(free, command_bounds(model, max_command), 0.0)
     if budget is not None:
         budget = positive_number("budget", budget)
-    dw = np.ones(len(loads))
-    if direction_weights is not None:
-        from ..core.validate import finite_array
-
-        dw = finite_array("direction_weights", direction_weights, (len(loads),))
-        if np.any(dw <= 0):
-            raise InvalidInputError("direction_weights", "every weight must be > 0")
+    dw = _direction_weights(direction_weights, len(loads))
     nfree = int(free.sum())
     grid = whole_number("grid", grid) if grid is not None else GRID.get(nfree, 2)
     refine = whole_number("refine", refine, minimum=0)
@@ -251,7 +256,7 @@ def optimal_preload(
     spec = dict(objective=objective, budget=budget, resistance=resistance, cost=cost, bound=bound, dw=dw)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", AuditWarning)
-        if method == "prp" and solver.settings.variant_for("prp") == "single-step":
+        if method == Method.PRP and solver.settings.variant_for(Method.PRP) is Variant.SINGLE_STEP:
             out = exact_prp(solver, loads, free, spec, upper)
         else:
             out = search(solver, method, loads, free, spec, grid, refine, upper, steps)

@@ -14,6 +14,7 @@ from typing import Literal
 
 import numpy as np
 
+from ..core.settings import Method
 from ..errors import PinograspError, PreloadNotInEquilibriumError, SolverError
 from ..solvers.base import INFEASIBLE, OPTIMAL
 from .response import PassiveSolver
@@ -216,7 +217,7 @@ def _infeasible(bad: list, why: str, n_solves: int, common: dict) -> dict:
 def exact_prp(solver: PassiveSolver, loads: np.ndarray, free: np.ndarray, spec: dict, upper: float) -> dict:
     """The PRP's exact answer (module docstring of :mod:`pinograsp.solvers.preload_problem`)."""
     count = _Count()
-    needs = _needs_preload(solver, "prp", loads, count)
+    needs = _needs_preload(solver, Method.PRP, loads, count)
     split = spec["budget"] is not None
     if not split and not needs.any():
         return {
@@ -262,12 +263,12 @@ def exact_prp(solver: PassiveSolver, loads: np.ndarray, free: np.ndarray, spec: 
         factors = np.full(len(loads), t[0]) if spec["resistance"] == "min" else t.copy()
         value = float(t[0] if spec["resistance"] == "min" else spec["dw"] @ t)
         limits = _limits(solver, f, loads, upper, count)
-        checks = _checks(solver, "prp", f, loads, needs, factors * (1.0 - MARGIN), limits, count)
+        checks = _checks(solver, Method.PRP, f, loads, needs, factors * (1.0 - MARGIN), limits, count)
     else:
         f = np.minimum(f * (1.0 + MARGIN), spec["bound"])
         value = _phi(f, spec["cost"], spec["objective"])
         limits = _limits(solver, f, loads, upper, count)
-        checks = _checks(solver, "prp", f, loads, needs, np.ones(len(loads)), limits, count)
+        checks = _checks(solver, Method.PRP, f, loads, needs, np.ones(len(loads)), limits, count)
     return _finish(solver, f, value, free, spec, checks, common, count, "exact program")
 
 

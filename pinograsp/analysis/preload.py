@@ -27,9 +27,10 @@ import numpy as np
 
 from ..core.model import GraspModel
 from ..core.results import PassiveResponse
+from ..core.settings import METHODS, Method, Settings
 from ..core.validate import choice, positive_number
 from ..errors import InvalidInputError, UnknownNameError
-from .response import METHODS, Settings, passive_response
+from .response import passive_response
 
 Objective = Literal["balanced", "least_norm"]
 OBJECTIVES: tuple[str, ...] = ("balanced", "least_norm")
@@ -260,7 +261,7 @@ def equilibrium_preload(
         return PreloadChoice(
             "unverified", command, cn, method, objective, resp, (), (),
             f"the design balances, but the {method} preload stage ends {resp.status!r} with it"
-            + ("; method='prp' lets the object settle" if method == "iterative" else ""),
+            + ("; method='prp' lets the object settle" if method == Method.ITERATIVE else ""),
         )  # fmt: skip
     if objective == "least_norm":  # bounded by max_command?
         best = _design(model, fmax, method, "balanced", grip, False)

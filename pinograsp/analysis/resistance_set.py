@@ -25,10 +25,11 @@ from typing import Any, Literal
 
 import numpy as np
 
-from ..core.axes import PLANAR_AXES, direction_text
+from ..core.axes import PLANAR_AXES, direction_text, wrench_direction
 from ..core.model import GraspModel
 from ..core.results import MaxWrench, ResistanceProfile
 from ..core.serialize import format_magnitude, jsonable, vector_text
+from ..core.settings import METHODS
 from ..core.validate import choice, finite_array, positive_number, whole_number
 from ..errors import InvalidInputError
 
@@ -311,7 +312,7 @@ class ResistanceSet:
 
 @dataclass(frozen=True)
 class _PlaneModel:
-    """The part of a model :func:`pinograsp.analysis.max_wrench._plane_basis` needs (wrench validation)."""
+    """The part of a model :func:`pinograsp.core.axes.plane_basis` needs (wrench validation)."""
 
     planar: bool
 
@@ -338,6 +339,17 @@ def _sphere_directions(model: GraspModel, n: int, seed: int, length: float) -> t
     u6 = np.zeros((n, 6))
     u6[:, list(PLANAR_AXES) if model.planar else slice(None)] = u
     return u6 * np.r_[1.0, 1.0, 1.0, length, length, length], u6
+
+
+def _requested_directions(
+    model: GraspModel, n: int | None, seed: int, length: float, directions: object
+) -> tuple[np.ndarray, int | None]:
+    """The wrenches (k, 6) of :func:`resistance_set`: ``directions`` as given, or ``n`` points
+    of the sphere of ``seed`` (then also the seed used)."""
+    if directions is None:
+        raw, _ = _sphere_directions(model, whole_number("n", 500 if n is None else n), seed, length)
+        return raw, whole_number("seed", seed, 0)
+    return wrench_rows(model, directions, "directions"), None
 
 
 def resistance_set(
@@ -376,22 +388,17 @@ def resistance_set(
         PreloadNotInEquilibriumError, InvalidInputError. A :class:`~pinograsp.SolverError` of one
         direction is recorded in ``failures``, not raised.
     """
-    from ..core.axes import wrench_direction
     from ..solvers.solve import single_threaded_blas
-    from .max_wrench import check_preload, run_directions
-    from .response import METHODS, solver_for
+    from .directions import run_directions
+    from .max_wrench import check_preload
+    from .response import solver_for
 
     t0 = time.perf_counter()
     choice("method", method, METHODS)
     upper, steps = positive_number("upper", upper), whole_number("steps", steps)
     source = "model.length_scale" if length is None else "given"
     length = float(model.length_scale) if length is None else positive_number("length", length)
-    if directions is None:
-        raw, _ = _sphere_directions(model, whole_number("n", 500 if n is None else n), seed, length)
-        seed_used: int | None = whole_number("seed", seed, 0)
-    else:
-        raw = wrench_rows(model, directions, "directions")
-        seed_used = None
+    raw, seed_used = _requested_directions(model, n, seed, length, directions)
     dirs = np.array([wrench_direction(model, w, f"directions[{i}]") for i, w in enumerate(raw)])
     with single_threaded_blas():  # as every public query: one BLAS thread, one reduction order
         solver = solver_for(model, settings, **overrides)

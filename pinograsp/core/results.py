@@ -7,8 +7,19 @@ from typing import Any, Literal
 
 import numpy as np
 
+from ..errors import InvalidInputError
 from . import serialize as _ser
 from .audit import EnergyCheck
+from .axes import direction_text
+
+#: Largest per-component difference between two unit wrench directions (6,) that are taken to
+#: be the same (:meth:`ResistanceProfile.result_along`). A profile's directions
+#: ``cos(a) b1 + sin(a) b2`` and a reference parsed from an axis name or vector agree to
+#: rounding (~1e-16) when they are the same direction, while two distinct directions of an
+#: ``n``-direction profile differ by ``2 sin(pi / n)`` (above 1e-9 for any ``n`` below 6e9): every
+#: tolerance between those picks the same direction. 1e-9 also admits a reference written with
+#: nine significant digits (a vector in a scene file).
+DIRECTION_ATOL = 1e-9
 
 
 @dataclass(frozen=True)
@@ -227,6 +238,20 @@ class MaxWrench:
         good = [m for m, ok in self.evidence if ok]
         return not bad or not good or max(good) < min(bad)
 
+    def as_reference(self, name: str = "normalize") -> float:
+        """This magnitude as the reference of a normalisation [N or N·m].
+
+        Raises:
+            InvalidInputError: (named ``name``) the direction is unbounded or not resisted
+                (nothing to divide by).
+        """
+        if self.unbounded or not self.magnitude > 0:
+            why = "unbounded" if self.unbounded else "not resisted"
+            raise InvalidInputError(
+                name, f"the reference direction {direction_text(self.direction)} is {why}"
+            )
+        return float(self.magnitude)
+
     def to_dict(self, label: str | None = None, *, response: bool = True) -> dict[str, Any]:
         """Plain JSON-ready data, the ``pinograsp max-wrench --json`` schema (``docs/cli.md``):
         ``magnitude`` [N or N·m] is ``None`` when unbounded.
@@ -282,6 +307,17 @@ class ResistanceProfile:
     def statuses(self) -> tuple[str, ...]:
         """:attr:`MaxWrench.status` per direction, (n,)."""
         return tuple(r.status for r in self.results)
+
+    def result_along(self, direction: np.ndarray, atol: float = DIRECTION_ATOL) -> MaxWrench | None:
+        """The profile's own result along the unit ``direction`` (6,): the first sampled
+        direction within ``atol`` of it in every component (:data:`DIRECTION_ATOL`), or None
+        when the profile has no such direction. With :meth:`MaxWrench.as_reference`, the value
+        a profile is normalised by (e.g. along ``+b2``: ``result_along(basis[1])``)."""
+        ref = np.asarray(direction, dtype=float)
+        for result, d in zip(self.results, self.directions):
+            if np.allclose(d, ref, rtol=0.0, atol=atol):
+                return result
+        return None
 
     def to_dict(self, normalized_by: float | None = None, *, results: bool = False) -> dict[str, Any]:
         """Plain JSON-ready data, the profile part of ``pinograsp profile --json``

@@ -212,7 +212,7 @@ class Scene:
     def profile(self, plane: object = None, command: object = None, **overrides: Any) -> Any:
         """:func:`pinograsp.resistance_profile` with the scene's method, ``upper``, ``steps``,
         ``n``, ``normalize`` and settings; ``plane`` may name one of ``analysis.planes``."""
-        from ..analysis.max_wrench import resistance_profile
+        from ..analysis.profile import resistance_profile
 
         kw = self._query_args(overrides)
         if plane is None:

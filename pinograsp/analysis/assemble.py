@@ -1,0 +1,229 @@
+"""From solved stages to a :class:`~pinograsp.core.results.PassiveResponse`: physical units,
+the preload stage added on, modes and the post-solve audit (docs/accuracy.md)."""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..core.audit import EnergyCheck, audit_message, energy_check, friction_use
+from ..core.results import Audit, PassiveResponse
+from ..core.settings import Method
+from ..errors import AuditWarning
+from .stages import Stage
+
+if TYPE_CHECKING:
+    from .response import PassiveSolver
+
+
+@dataclass(frozen=True, eq=False)
+class _Physical:
+    """A stage's solution in physical units (shapes as :class:`PassiveResponse`)."""
+
+    beta: np.ndarray  # friction-cone edge weights [N]
+    c: np.ndarray  # contact forces, contact frames, (nc*d,)
+    cf: np.ndarray  # (nc, 3)
+    fa: np.ndarray  # actuator forces (na,)
+    lam: np.ndarray  # coupling reactions (ncp,)
+    q: np.ndarray  # joint displacements from the touching configuration (nq,)
+    x_load: np.ndarray  # object displacement of this stage alone (6,)
+    x: np.ndarray  # object displacement including the preload stage (reduced)
+    u: np.ndarray  # actuator displacements (na,)
+    net: np.ndarray  # net wrench on the object (reduced)
+
+
+def layout_of(solver: PassiveSolver, method: str) -> dict[str, slice]:
+    """Variable slices of ``method``'s problem (PRP: the object displacement; else a step)."""
+    return solver.form.layout("prp" if method == Method.PRP else "move")
+
+
+def _nan_response(solver: PassiveSolver, status: str, common: dict) -> PassiveResponse:
+    """No solution: every quantity is NaN."""
+    m = solver.model
+
+    def nan(*shape: int) -> np.ndarray:
+        return np.full(shape, np.nan)
+
+    return PassiveResponse(
+        resistible=False,
+        status=status,
+        contact_forces=nan(m.nc, 3),
+        contact_forces_world=nan(m.nc, 3),
+        joint_torques=nan(m.nq),
+        actuator_forces=nan(m.na),
+        coupling_forces=nan(m.ncp),
+        object_displacement=nan(6),
+        joint_displacements=nan(m.nq),
+        actuator_displacements=nan(m.na),
+        contact_modes=(),
+        actuator_modes=(),
+        net_wrench=nan(6),
+        audit=None,
+        friction_use=nan(m.nc),
+        converged=False,
+        solver=solver.settings.backend,
+        **common,
+    )
+
+
+def _physical(
+    solver: PassiveSolver, lay: dict, w6: np.ndarray, st: Stage, pre: Stage | None, pre_lay: dict
+) -> _Physical:
+    """Unscale the stage's solution and add the preload stage's displacements (when solved)."""
+    m, f = solver.model, solver.form
+    z, F = st.raw.z, st.data.F
+    beta = z[lay["beta"]] * F
+    c = m.D @ beta  # (nc*d,)
+    cf = np.zeros((m.nc, 3))
+    cf[:, : m.d] = c.reshape(m.nc, m.d)
+    fa = z[lay["fh"]] * F / f.rho if m.na else np.zeros(0)
+    lam = z[lay["lam"]] * F / f.cl_norm if m.ncp else np.zeros(0)
+    q = z[lay["qh"]] * F / f.qscale if m.nq else np.zeros(0)
+    x = f.unscale_x(st.xh, F)
+    x_load = m.expand_twist(x)
+    if pre is not None and pre.raw is not None and pre.raw.z is not None:
+        q = q + pre.raw.z[pre_lay["qh"]] * pre.data.F / f.qscale
+        x = x + f.unscale_x(pre.xh, pre.data.F)
+    u = m.R.T @ q
+    net = m.G @ c + m.reduce_wrench(w6)
+    return _Physical(beta, c, cf, fa, lam, q, x_load, x, u, net)
+
+
+def _complementarity(solver: PassiveSolver, lay: dict, st: Stage, ph: _Physical) -> float:
+    """Largest ``min(a, b)`` of the complementary pairs [N] (contact force / spring gap,
+    actuator motion / over-force)."""
+    f, z, F = solver.form, st.raw.z, st.data.F
+    qh = z[lay["qh"]]
+    gap = f.spring_gap(z[lay["beta"]], st.xh, qh, st.data.p) * F
+    cn = f.E @ ph.beta
+    comp = np.minimum(np.abs(cn), np.abs(gap)).max(initial=0.0)
+    if solver.model.na:
+        uh = f.Ru @ qh * F
+        over = (z[lay["fh"]] - st.data.fc) * F
+        nbd = f.nbd
+        comp = max(comp, np.minimum(np.abs(uh[nbd]), np.abs(over[nbd])).max(initial=0.0))
+    return float(comp)
+
+
+def _energy(
+    solver: PassiveSolver, w6: np.ndarray, fc: np.ndarray, st: Stage, pre: Stage | None, ph: _Physical
+) -> EnergyCheck:
+    """Energy balance of an equilibrium, rounding relative to the larger of this stage's and
+    the preload stage's scale."""
+    m = solver.model
+    return energy_check(
+        ph.cf[:, 0],
+        m.k,
+        w6,
+        ph.x_load,
+        fc,
+        ph.u,
+        m.expand_twist(ph.x),
+        ph.q,
+        m.length_scale,
+        solver.form.lever,
+        m.contact_names,
+        solver.settings.tolerance * max(st.data.F, pre.data.F if pre is not None else 0.0),
+    )
+
+
+def _audit(solver: PassiveSolver, lay: dict, st: Stage, ph: _Physical, energy: EnergyCheck | None) -> Audit:
+    """Residual checks of the solution in force units [N]."""
+    m, f, raw = solver.model, solver.form, st.raw
+    hand = (
+        (m.J.T @ ph.c - m.R @ ph.fa - m.C.T @ ph.lam) / np.where(f.lever > 0, f.lever, 1.0)
+        if m.nq
+        else np.zeros(0)
+    )
+    return Audit(
+        equilibrium=float(np.linalg.norm(ph.net * f.wscale)),
+        hand=float(np.abs(hand).max(initial=0.0)),
+        complementarity=_complementarity(solver, lay, st, ph),
+        friction=float(max(0.0, -ph.beta.min(initial=0.0))),
+        bigm_ratio=raw.bigm_ratio,
+        bigm_retries=raw.bigm_retries,
+        polished=raw.polished,
+        tolerance=solver.settings.tolerance * max(st.data.F, 1e-300),
+        energy=energy,
+    )
+
+
+def build_response(
+    solver: PassiveSolver,
+    method: str,
+    variant: str,
+    w6: np.ndarray,
+    fc: np.ndarray,
+    st: Stage,
+    pre: Stage | None,
+    *,
+    note: str = "",
+    pre_fresh: bool = True,
+    pre_kind: str | None = None,
+) -> PassiveResponse:
+    """The :class:`PassiveResponse` of the load stage ``st`` on top of the preload stage ``pre``.
+
+    Args:
+        solver: The session that solved the stages.
+        method: ``Method`` of the load stage; variant: the ``Variant`` used.
+        w6: Applied wrench (6,) [N, N·m]; fc: commands (na,) [N·m or N].
+        note: Non-empty when the preload failed (the answer is then not resisted).
+        pre_fresh: The preload stage was solved by this query (it counts in time and solves).
+        pre_kind: ``Method`` of the preload stage (default ``method``).
+    """
+    m = solver.model
+    status = "not_resisted" if note and st.status == "resisted" else st.status
+    counted = pre if (pre is not None and pre_fresh) else None  # a cached preload costs nothing
+    common = dict(
+        method=method,
+        variant=variant,
+        wrench=w6,
+        command=fc,
+        iterations=st.iterations,
+        residual_history=st.history,
+        solve_time=st.solve_time + (counted.solve_time if counted is not None else 0.0),
+        n_solves=st.n_solves + (counted.n_solves if counted is not None else 0),
+        contact_names=m.contact_names,
+        joint_names=m.joint_names,
+        actuator_names=m.actuator_names,
+        contact_mu=np.array(m.mu, dtype=float),
+        actuator_kinds=tuple(m.kinds),
+    )
+    raw = st.raw
+    if raw is None or raw.z is None:
+        return _nan_response(solver, status, common)
+    lay = layout_of(solver, method)
+    ph = _physical(solver, lay, w6, st, pre, layout_of(solver, pre_kind or method))
+    energy = _energy(solver, w6, fc, st, pre, ph) if status == "resisted" else None  # an equilibrium
+    audit = _audit(solver, lay, st, ph, energy)
+    if energy is not None and not (energy.energy_ok and energy.displacement_ok):
+        warnings.warn(audit_message(method, energy), AuditWarning, stacklevel=4)
+    resistible = status == "resisted"
+    if method == Method.PRP and resistible and audit.equilibrium > 1e-6 * max(st.data.F, 1e-300):
+        status, resistible = "failed", False
+    return PassiveResponse(
+        resistible=resistible,
+        status=status,
+        contact_forces=ph.cf,
+        contact_forces_world=m.world_forces(ph.c),
+        joint_torques=m.J.T @ ph.c,
+        actuator_forces=ph.fa,
+        coupling_forces=ph.lam,
+        object_displacement=m.expand_twist(ph.x),
+        joint_displacements=ph.q,
+        actuator_displacements=ph.u,
+        contact_modes=tuple("touching" if t else "separated" for t in raw.mode.touching),
+        actuator_modes=tuple(
+            ("moving" if mv else "holding") if k == "non-backdrivable" else k
+            for k, mv in zip(m.kinds, raw.mode.moving)
+        ),
+        net_wrench=m.expand_wrench(ph.net),
+        audit=audit,
+        friction_use=friction_use(ph.cf, m.mu, raw.mode.touching, audit.tolerance),
+        converged=st.converged,
+        solver=raw.backend,
+        **common,
+    )
