@@ -79,36 +79,23 @@ def _normalization(
     """The +b2 value to divide by (``None``: absolute). The scene's ``normalize`` is the default;
     it is dropped with a warning when the reference is unbounded or zero, an explicit
     ``--normalize`` then fails."""
-    from ..analysis.max_wrench import max_resistible_wrench
-    from ..core.axes import wrench_direction
+    from ..analysis.profile import reference_magnitude
 
     want = args.normalize if args.normalize is not None else scene.analysis.normalize
     if not want:
         return None
-    ref = profile.basis[1] if want is True or args.normalize else want
-    ref = wrench_direction(scene.model, ref, "normalize")
-    hit = None
-    for r, d in zip(profile.results, profile.directions):
-        if np.allclose(d, ref, atol=1e-9):
-            hit = r
-            break
-    if hit is None:
-        hit = max_resistible_wrench(
-            scene.model, command, ref, method, upper, steps, settings=opt.settings(args, scene)
-        )
-    if hit.unbounded or not hit.magnitude > 0:
-        why = "unbounded" if hit.unbounded else "not resisted"
+    reference = True if (want is True or args.normalize) else want
+    settings = opt.settings(args, scene)
+    try:
+        return reference_magnitude(scene.model, command, profile, reference, method, upper, steps, settings)
+    except InvalidInputError as exc:
+        if exc.name != "normalize":
+            raise
+        why = str(exc).removeprefix("normalize: ")
         if args.normalize:
-            raise InvalidInputError(
-                "--normalize", f"the reference direction {direction_text(hit.direction)} is {why}"
-            )
-        print(
-            f"pinograsp: warning: not normalised: the reference direction "
-            f"{direction_text(hit.direction)} is {why}",
-            file=sys.stderr,
-        )
+            raise InvalidInputError("--normalize", why) from None
+        print(f"pinograsp: warning: not normalised: {why}", file=sys.stderr)
         return None
-    return float(hit.magnitude)
 
 
 def _profile_lines(sweep: _Sweep, p: Any, norm: float | None, wall: float, runs: list) -> list[str]:
