@@ -110,7 +110,7 @@ def test_planar_urdf_grasp_equals_hand_built_model(tmp_path: Path, flip_right: b
             )
         assert urdf_model.contact_names == ref.contact_names
         assert urdf_model.kinds == ref.kinds
-    # the analytic pinch (DESIGN §6): closing moves each contact along its normal with arm L
+    # the analytic pinch (docs/analytic_cases.md): closing moves each contact along its normal with arm L
     np.testing.assert_allclose(urdf_model.J[[0, 3]], [[L, 0], [0, L]], atol=1e-12)
 
 

@@ -18,6 +18,9 @@ patch. The default tolerance :data:`DEFAULT_TOLERANCE` is **1 mm**; distances be
 Non-convex meshes (object or hand) are Coal BVH *surfaces*: a shape entirely inside one is not
 detected, and Coal may return a zero normal for deep overlaps; such a pair is reported as
 penetrating.
+
+The public functions take ``(hand, q, obj)``; their ``*_at`` versions take a
+:class:`~pinograsp.robots.kinematics.HandConfiguration` whose kinematics is already computed.
 """
 
 from __future__ import annotations
@@ -84,6 +87,7 @@ class ContactReport:
         contacts: Geometry pairs within tolerance (the contacts), in geometry order.
         pairs: Every hand geometry's distance to the object.
         tolerance: Contact tolerance used [m].
+        link_distances: Closest signed distance [m] per link (over ``pairs``).
     """
 
     contacts: tuple[PairDistance, ...]

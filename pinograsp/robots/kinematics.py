@@ -3,9 +3,10 @@
 :class:`HandConfiguration` holds a hand, a configuration ``q`` (URDF coordinates [rad or m]) and
 the result of **one** forward-kinematics pass at ``q``: joint placements, joint Jacobians, frame
 placements and collision-geometry placements, all in the hand base frame. Collision
-(:mod:`pinograsp.robots.collision`), Jacobians (:mod:`pinograsp.robots.grasp`) and auto-close
-(:mod:`pinograsp.robots.closing`) read it instead of recomputing the kinematics; the Pinocchio
-``Data`` lives in the configuration, so a :class:`~pinograsp.robots.hand.Hand` has no mutable state.
+(:mod:`pinograsp.robots.collision`), contact Jacobians (:mod:`pinograsp.robots.grasp`), auto-close
+(:mod:`pinograsp.robots.autoclose`) and the closing check (:mod:`pinograsp.robots.closing`) read
+it instead of recomputing the kinematics. The Pinocchio ``Data`` lives in the configuration, so a
+:class:`~pinograsp.robots.hand.Hand` keeps no kinematic state between calls.
 """
 
 from __future__ import annotations
