@@ -111,8 +111,8 @@ from .errors import ModelFileError, NoContactError, PenetrationError, UrdfError 
 _URDF_SIDE = {
     **_LAZY,
     "Hand": "robots.hand",
-    "HandDescription": "robots.hand",
-    "example_robot_data_dir": "robots.hand",
+    "HandDescription": "robots.description",
+    "example_robot_data_dir": "robots.description",
     "RigidObject": "robots.objects",
     "detect_contacts": "robots.collision",
     "link_distances": "robots.collision",

@@ -91,14 +91,14 @@ def test_jacobian_of_a_one_joint_hand_matches_finite_differences(so101):
     import pinocchio as pin
 
     from pinograsp.robots.grasp import contact_jacobian
+    from pinograsp.robots.kinematics import HandConfiguration
 
     hand, q, _ = so101
     jid = hand.model.getJointId("gripper")
     p = np.array([0.012, 0.0, -0.086])  # a point on the moving jaw [m]
-    hand.forward(q)
     J = contact_jacobian(hand, q, jid, p)
     assert J.shape == (3, 1)
-    local = hand.data.oMi[jid].actInv(p)
+    local = HandConfiguration.at(hand, q).data.oMi[jid].actInv(p)
     h = 1e-6
     moved = []
     for dq in (h, -h):

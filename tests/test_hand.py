@@ -10,7 +10,8 @@ import pytest
 
 import pinograsp as pg
 from pinograsp.robots.collision import DEFAULT_TOLERANCE, link_distances
-from pinograsp.robots.hand import DATA_DIR
+from pinograsp.robots.description import DATA_DIR
+from pinograsp.robots.kinematics import HandConfiguration
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -62,8 +63,7 @@ def test_barrett_description(barrett):
     np.testing.assert_allclose(barrett.closing_direction(), [0, 1, 1 / 3, 0, 1, 1 / 3, 1, 1 / 3])
     # geometry facts: flexion axes 50 mm from the spread axes at x = +-25 mm; finger 3 opposite
     hand = barrett
-    hand.forward(np.zeros(8))
-    oMi = hand.data.oMi
+    oMi = HandConfiguration.at(hand, np.zeros(8)).data.oMi
     np.testing.assert_allclose(
         oMi[hand.model.getJointId("bh_j12")].translation, [0.025, -0.05, 0], atol=1e-12
     )
@@ -72,7 +72,7 @@ def test_barrett_description(barrett):
     )
     np.testing.assert_allclose(oMi[hand.model.getJointId("bh_j32")].translation, [0, 0.05, 0], atol=1e-12)
     # spread 90 deg: fingers 1 and 2 face each other across x, symmetrically
-    hand.forward(np.array([np.pi / 2, 0, 0, np.pi / 2, 0, 0, 0, 0]))
+    oMi = HandConfiguration.at(hand, [np.pi / 2, 0, 0, np.pi / 2, 0, 0, 0, 0]).data.oMi
     np.testing.assert_allclose(oMi[hand.model.getJointId("bh_j12")].translation, [0.075, 0, 0], atol=1e-12)
     np.testing.assert_allclose(oMi[hand.model.getJointId("bh_j22")].translation, [-0.075, 0, 0], atol=1e-12)
 
@@ -86,9 +86,9 @@ def test_panda_reduced_to_hand_joints_with_mimic_coupling(panda):
     assert cp.weights == {"panda_finger_joint2": 1.0, "panda_finger_joint1": -1.0}
     assert panda.actuator_names == ("gripper",)
     # world frame = panda_hand: fingers slide along +-y at z = 58.4 mm whatever the arm pose
-    panda.forward(np.array([0.04, 0.04]))
-    np.testing.assert_allclose(panda.data.oMi[1].translation, [0, 0.04, 0.0584], atol=1e-9)
-    np.testing.assert_allclose(panda.data.oMi[2].translation, [0, -0.04, 0.0584], atol=1e-9)
+    oMi = HandConfiguration.at(panda, [0.04, 0.04]).data.oMi
+    np.testing.assert_allclose(oMi[1].translation, [0, 0.04, 0.0584], atol=1e-9)
+    np.testing.assert_allclose(oMi[2].translation, [0, -0.04, 0.0584], atol=1e-9)
     # only hand links carry contact geometry (arm links reduced away and filtered out)
     assert panda.contact_link_names == ("panda_hand", "panda_leftfinger", "panda_rightfinger")
 

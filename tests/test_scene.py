@@ -11,24 +11,21 @@ import pytest
 
 import pinograsp as pg
 from pinograsp.robots.grasp import contact_jacobian, scene_contacts
+from pinograsp.robots.kinematics import HandConfiguration
 
 
 def _fd_jacobian(
     hand: pg.Hand, q: np.ndarray, joint_id: int, point: np.ndarray, eps: float = 1e-6
 ) -> np.ndarray:
     """Central differences of the hand point's position under closing joint motion, (3, nq)."""
-    hand.forward(q)
-    p_local = hand.data.oMi[joint_id].actInv(point)  # the point, fixed on the link
+    p_local = HandConfiguration.at(hand, q).data.oMi[joint_id].actInv(point)  # the point, fixed on the link
     out = np.zeros((3, hand.nq))
     for j in range(hand.nq):
         dq = np.zeros(hand.nq)
         dq[j] = hand.closing_signs[j] * eps  # +eps of closing motion
-        hand.forward(q + dq)
-        plus = hand.data.oMi[joint_id].act(p_local)
-        hand.forward(q - dq)
-        minus = hand.data.oMi[joint_id].act(p_local)
+        plus = HandConfiguration.at(hand, q + dq).data.oMi[joint_id].act(p_local)
+        minus = HandConfiguration.at(hand, q - dq).data.oMi[joint_id].act(p_local)
         out[:, j] = (plus - minus) / (2 * eps)
-    hand.forward(q)
     return out
 
 
@@ -41,12 +38,12 @@ def test_contact_jacobian_matches_finite_differences(name):
     worst = 0.0
     for _ in range(3):
         q = hand.lower + rng.uniform(0.1, 0.9, hand.nq) * (hand.upper - hand.lower)
-        hand.forward(q)
+        config = HandConfiguration.at(hand, q)
         for go in hand.geometry.geometryObjects:
             if go.parentJoint == 0:
                 continue
             # a point near the geometry, expressed in the base frame
-            point = hand.geometry_data.oMg[hand.geometry.getGeometryId(go.name)].act(rng.normal(0, 0.01, 3))
+            point = config.geometry_data.oMg[hand.geometry.getGeometryId(go.name)].act(rng.normal(0, 0.01, 3))
             J = contact_jacobian(hand, q, go.parentJoint, point)
             J_fd = _fd_jacobian(hand, q, go.parentJoint, point)
             worst = max(worst, np.abs(J - J_fd).max())
@@ -113,7 +110,7 @@ def test_planar_urdf_grasp_equals_hand_built_model(tmp_path: Path, flip_right: b
             )
         assert urdf_model.contact_names == ref.contact_names
         assert urdf_model.kinds == ref.kinds
-    # the analytic pinch (DESIGN §6): closing moves each contact along its normal with arm L
+    # the analytic pinch (docs/analytic_cases.md): closing moves each contact along its normal with arm L
     np.testing.assert_allclose(urdf_model.J[[0, 3]], [[L, 0], [0, L]], atol=1e-12)
 
 

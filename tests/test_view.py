@@ -9,6 +9,7 @@ import yaml
 import pinograsp as pg
 from pinograsp.robots.collision import link_distances
 from pinograsp.robots.hand import DATA_DIR
+from pinograsp.robots.kinematics import HandConfiguration
 from pinograsp.viz import plots, view3d, viewer
 
 plt = plots.pyplot()
@@ -80,12 +81,10 @@ def test_closing_arrows_point_towards_the_object_and_match_finite_differences(uf
         # velocity = finite difference of the link-fixed point [m/rad]
         j, h = uf.joint_index(a.joint), 1e-6
         k = next(i for i, g in enumerate(uf.geometry.geometryObjects) if uf.link_of_geometry(i) == a.link)
-        uf.forward(np.array(uf.q_open))
-        local = uf.geometry_data.oMg[k].actInv(a.point)
+        local = HandConfiguration.at(uf, uf.q_open).geometry_data.oMg[k].actInv(a.point)
         q1 = np.array(uf.q_open)
         q1[j] += uf.closing_signs[j] * h
-        uf.forward(q1)
-        fd = (uf.geometry_data.oMg[k].act(local) - a.point) / h
+        fd = (HandConfiguration.at(uf, q1).geometry_data.oMg[k].act(local) - a.point) / h
         np.testing.assert_allclose(a.velocity, fd, atol=1e-6)
 
 

@@ -25,6 +25,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..core.validate import finite_number, positive_number
+from ..errors import InvalidInputError, UnknownNameError
+from .collision import PairDistance, closest_per_link, geometry_distances, pair_distances_at
+from .kinematics import HandConfiguration
 
 if TYPE_CHECKING:  # pragma: no cover
     from .hand import Hand
@@ -158,8 +161,6 @@ class ClosingCheck:
         return {j.joint: j.suggested_sign for j in self.joints}
 
     def __getitem__(self, joint: str) -> JointClosing:
-        from ..errors import UnknownNameError
-
         for j in self.joints:
             if j.joint == joint:
                 return j
@@ -191,6 +192,59 @@ class ClosingCheck:
 
     def __str__(self) -> str:
         return self.summary()
+
+
+def _joint_step(hand: Hand, q0: np.ndarray, j: int, step: float) -> tuple[float, float]:
+    """Sense (``+1`` closing, ``-1`` opening) and length [rad or m] of joint ``j``'s check step.
+
+    A joint at its closing limit is stepped the other way; the length is clipped to the limits.
+    """
+    sign = hand.closing_signs[j]
+    h = step / 10.0 if hand.prismatic[j] else step
+    room_close = (hand.upper[j] - q0[j]) if sign > 0 else (q0[j] - hand.lower[j])
+    room_open = (q0[j] - hand.lower[j]) if sign > 0 else (hand.upper[j] - q0[j])
+    if room_close < 0.5 * h and room_open > room_close:
+        return -1.0, min(h, max(room_open, 0.0))
+    return 1.0, min(h, max(room_close, 0.0))
+
+
+def _check_joint(
+    config: HandConfiguration,
+    obj: RigidObject,
+    pairs: tuple[PairDistance, ...],
+    j: int,
+    geoms: list[int],
+    step: float,
+    threshold: float,
+) -> JointClosing:
+    """:class:`JointClosing` of hand joint ``j`` (moving the geometries ``geoms``) at ``config``."""
+    hand, q0 = config.hand, config.q
+    name, sign = hand.joint_names[j], int(hand.closing_signs[j])
+    if not geoms:
+        return JointClosing(name, sign, "no effect", None, np.inf, np.inf, 0.0, 0.0, 0.0)
+    direction, h = _joint_step(hand, q0, j, step)
+    k0 = min(geoms, key=lambda k: pairs[k].distance)
+    before = float(pairs[k0].distance)
+    if h <= 0.0:  # the joint cannot move at all (lower == upper)
+        return JointClosing(name, sign, "no effect", pairs[k0].link, before, before, 0.0, 0.0, 0.0)
+    q1 = q0.copy()
+    q1[j] += direction * sign * h
+    mask = np.zeros(len(pairs), bool)
+    mask[geoms] = True
+    moved = HandConfiguration.at(hand, q1)
+    after = float(geometry_distances(moved, obj, mask=mask)[geoms].min())
+    # displacement of the closest hand point, carried rigidly with its link
+    local = config.geometry_data.oMg[k0].actInv(pairs[k0].point_hand)
+    moved_point = moved.geometry_data.oMg[k0].act(local)
+    displacement = float(np.linalg.norm(moved_point - pairs[k0].point_hand))
+    change = direction * (after - before)
+    if displacement <= 1e-12 or abs(change) <= threshold * displacement:
+        verdict = "no effect"
+    else:
+        verdict = "closes" if change < 0 else "opens"
+    return JointClosing(
+        name, sign, verdict, pairs[k0].link, before, after, direction * h, change, displacement
+    )
 
 
 def check_closing(
@@ -226,10 +280,7 @@ def check_closing(
     Raises:
         InvalidInputError: ``hand``, ``obj``, ``q``, ``step`` or ``threshold`` malformed.
     """
-    from ..errors import InvalidInputError
-    from .collision import geometry_distances, pair_distances
-
-    if not (hasattr(hand, "geometry") and hasattr(hand, "closing_signs") and hasattr(hand, "forward")):
+    if not (hasattr(hand, "geometry") and hasattr(hand, "closing_signs") and hasattr(hand, "configuration")):
         raise InvalidInputError("hand", f"expected a pinograsp Hand, got {type(hand).__name__}")
     if not (hasattr(obj, "geometry") and hasattr(obj, "transform")):
         raise InvalidInputError("obj", f"expected a pinograsp RigidObject, got {type(obj).__name__}")
@@ -237,60 +288,17 @@ def check_closing(
     threshold = finite_number("threshold", threshold)
     if not 0.0 <= threshold < 1.0:
         raise InvalidInputError("threshold", f"must be in [0, 1), got {threshold}")
-    q0 = hand.configuration(q)
-    pairs = pair_distances(hand, q0, obj)
-    d0 = np.array([p.distance for p in pairs])
+    config = HandConfiguration.at(hand, q)
+    pairs = pair_distances_at(config, obj)
     moved = moved_geometries(hand)
-    results = []
-    for j, name in enumerate(hand.joint_names):
-        sign = int(hand.closing_signs[j])
-        geoms = moved[j]
-        if not geoms:
-            results.append(JointClosing(name, sign, "no effect", None, np.inf, np.inf, 0.0, 0.0, 0.0))
-            continue
-        h = step / 10.0 if hand._is_prismatic[j] else step
-        room_close = (hand.upper[j] - q0[j]) if sign > 0 else (q0[j] - hand.lower[j])
-        room_open = (q0[j] - hand.lower[j]) if sign > 0 else (hand.upper[j] - q0[j])
-        direction = 1.0
-        if room_close < 0.5 * h and room_open > room_close:
-            direction, h = -1.0, min(h, max(room_open, 0.0))
-        else:
-            h = min(h, max(room_close, 0.0))
-        k0 = min(geoms, key=lambda k: d0[k])
-        before = float(d0[k0])
-        if h <= 0.0:  # the joint cannot move at all (lower == upper)
-            link = pairs[k0].link
-            results.append(JointClosing(name, sign, "no effect", link, before, before, 0.0, 0.0, 0.0))
-            continue
-        q1 = q0.copy()
-        q1[j] += direction * sign * h
-        mask = np.zeros(len(pairs), bool)
-        mask[geoms] = True
-        d1 = geometry_distances(hand, q1, obj, mask=mask)
-        after = float(d1[geoms].min())
-        # displacement of the closest hand point, carried rigidly with its link
-        hand.forward(q0)
-        M0 = hand.geometry_data.oMg[k0]
-        local = M0.actInv(pairs[k0].point_hand)
-        hand.forward(q1)
-        moved_point = hand.geometry_data.oMg[k0].act(local)
-        displacement = float(np.linalg.norm(moved_point - pairs[k0].point_hand))
-        change = direction * (after - before)
-        if displacement <= 1e-12 or abs(change) <= threshold * displacement:
-            verdict = "no effect"
-        else:
-            verdict = "closes" if change < 0 else "opens"
-        results.append(
-            JointClosing(
-                name, sign, verdict, pairs[k0].link, before, after, direction * h, change, displacement
-            )
-        )
-    hand.forward(q0)
-    dist: dict[str, float] = {}
-    for p in pairs:
-        dist[p.link] = min(dist.get(p.link, np.inf), float(p.distance))
+    results = tuple(_check_joint(config, obj, pairs, j, moved[j], step, threshold) for j in range(hand.nq))
+    q0 = tuple(float(v) for v in config.q)
     return ClosingCheck(
-        str(hand.name), str(getattr(obj, "name", "object")), tuple(float(v) for v in q0), tuple(results), dist
+        str(hand.name),
+        str(getattr(obj, "name", "object")),
+        q0,
+        results,
+        closest_per_link((p.link for p in pairs), (p.distance for p in pairs)),
     )
 
 

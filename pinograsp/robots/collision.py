@@ -18,10 +18,14 @@ patch. The default tolerance :data:`DEFAULT_TOLERANCE` is **1 mm**; distances be
 Non-convex meshes (object or hand) are Coal BVH *surfaces*: a shape entirely inside one is not
 detected, and Coal may return a zero normal for deep overlaps; such a pair is reported as
 penetrating.
+
+The public functions take ``(hand, q, obj)``; their ``*_at`` versions take a
+:class:`~pinograsp.robots.kinematics.HandConfiguration` whose kinematics is already computed.
 """
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
@@ -29,7 +33,9 @@ import coal
 import numpy as np
 
 from ..core import serialize as _ser
-from ..errors import NoContactError, PenetrationError
+from ..core.validate import finite_number
+from ..errors import InvalidInputError, NoContactError, PenetrationError, UnknownNameError
+from .kinematics import HandConfiguration
 
 if TYPE_CHECKING:
     from .hand import Hand
@@ -81,6 +87,7 @@ class ContactReport:
         contacts: Geometry pairs within tolerance (the contacts), in geometry order.
         pairs: Every hand geometry's distance to the object.
         tolerance: Contact tolerance used [m].
+        link_distances: Closest signed distance [m] per link (over ``pairs``).
     """
 
     contacts: tuple[PairDistance, ...]
@@ -121,6 +128,20 @@ def _signed_distance(
     )
 
 
+def pair_distances_at(config: HandConfiguration, obj: RigidObject) -> tuple[PairDistance, ...]:
+    """Signed distance of every hand collision geometry to the object, at a computed configuration."""
+    hand = config.hand
+    T_obj = obj.transform
+    out = []
+    for k, go in enumerate(hand.geometry.geometryObjects):
+        oMg = config.geometry_data.oMg[k]
+        d, p1, p2, n = _signed_distance(
+            go.geometry, coal.Transform3s(oMg.rotation, oMg.translation), obj.geometry, T_obj
+        )
+        out.append(PairDistance(hand.link_of_geometry(k), go.name, k, d, p1, p2, n))
+    return tuple(out)
+
+
 def pair_distances(hand: Hand, q: object, obj: RigidObject) -> tuple[PairDistance, ...]:
     """Signed distance of every hand collision geometry to the object.
 
@@ -129,36 +150,24 @@ def pair_distances(hand: Hand, q: object, obj: RigidObject) -> tuple[PairDistanc
         q: Hand configuration (URDF coordinates, see :meth:`Hand.configuration`).
         obj: The object, pose in the hand base frame.
     """
-    qv = hand.configuration(q)
-    hand.forward(qv)
-    T_obj = obj.transform
-    out = []
-    for k, go in enumerate(hand.geometry.geometryObjects):
-        oMg = hand.geometry_data.oMg[k]
-        d, p1, p2, n = _signed_distance(
-            go.geometry, coal.Transform3s(oMg.rotation, oMg.translation), obj.geometry, T_obj
-        )
-        out.append(PairDistance(hand.link_of_geometry(k), go.name, k, d, p1, p2, n))
-    return tuple(out)
+    return pair_distances_at(HandConfiguration.at(hand, q), obj)
 
 
 def geometry_distances(
-    hand: Hand, q: np.ndarray, obj: RigidObject, mask: np.ndarray | None = None
+    config: HandConfiguration, obj: RigidObject, mask: np.ndarray | None = None
 ) -> np.ndarray:
     """Signed distances [m] of the hand collision geometries to the object, (ngeom,).
 
     Geometries outside ``mask`` get ``+inf`` (not computed). A pair for which Coal gives no
     normal while overlapping (deep overlap with a BVH surface) gets ``-inf``.
     """
-    hand.forward(q)
+    geometries = config.hand.geometry.geometryObjects
     T_obj = obj.transform
-    n_geo = len(hand.geometry.geometryObjects)
-    out = np.full(n_geo, np.inf)
-    for k in range(n_geo):
+    out = np.full(len(geometries), np.inf)
+    for k, go in enumerate(geometries):
         if mask is not None and not mask[k]:
             continue
-        oMg = hand.geometry_data.oMg[k]
-        go = hand.geometry.geometryObjects[k]
+        oMg = config.geometry_data.oMg[k]
         d, _, _, n = _signed_distance(
             go.geometry, coal.Transform3s(oMg.rotation, oMg.translation), obj.geometry, T_obj
         )
@@ -166,12 +175,65 @@ def geometry_distances(
     return out
 
 
+def closest_per_link(links: Iterable[str], distances: Iterable[float]) -> dict[str, float]:
+    """Closest signed distance [m] of each link, from the distances of its geometries."""
+    out: dict[str, float] = {}
+    for link, d in zip(links, distances):
+        out[link] = min(out.get(link, np.inf), float(d))
+    return out
+
+
 def link_distances(hand: Hand, q: object, obj: RigidObject) -> dict[str, float]:
     """Closest signed distance [m] of each hand link (over its geometries) to the object."""
-    out: dict[str, float] = {}
-    for p in pair_distances(hand, q, obj):
-        out[p.link] = min(out.get(p.link, np.inf), p.distance)
-    return out
+    pairs = pair_distances(hand, q, obj)
+    return closest_per_link((p.link for p in pairs), (p.distance for p in pairs))
+
+
+def contact_options(
+    hand: Hand, tolerance: object, max_penetration: object, links: object
+) -> tuple[float, float, tuple[str, ...] | None]:
+    """Validated ``tolerance`` [m], ``max_penetration`` [m] and ``links`` of :func:`detect_contacts`."""
+    tolerance = finite_number("tolerance", tolerance)
+    if tolerance < 0:
+        raise InvalidInputError("tolerance", f"must be finite and >= 0, got {tolerance}")
+    max_penetration = finite_number("max_penetration", max_penetration)
+    if max_penetration < 0:
+        raise InvalidInputError("max_penetration", f"must be finite and >= 0, got {max_penetration}")
+    if links is None:
+        return tolerance, max_penetration, None
+    if isinstance(links, (str, bytes)) or not isinstance(links, (list, tuple)):
+        raise InvalidInputError("links", f"expected a list of link names, got {links!r}")
+    valid = hand.contact_link_names
+    for ln in links:
+        if not isinstance(ln, str) or ln not in valid:
+            raise UnknownNameError("link", ln, valid)
+    return tolerance, max_penetration, tuple(links)
+
+
+def detect_contacts_at(
+    config: HandConfiguration,
+    obj: RigidObject,
+    tolerance: float,
+    max_penetration: float,
+    links: tuple[str, ...] | None,
+    require: bool = True,
+) -> ContactReport:
+    """:func:`detect_contacts` at a computed configuration, options validated by :func:`contact_options`."""
+    pairs = pair_distances_at(config, obj)
+    if links is not None:
+        pairs = tuple(p for p in pairs if p.link in links)
+    dist = closest_per_link((p.link for p in pairs), (p.distance for p in pairs))
+    deep = {
+        p.link: p.distance
+        for p in pairs
+        if p.distance < -max_penetration or (p.distance <= 0 and not np.any(p.normal))
+    }
+    if deep:
+        raise PenetrationError(deep, max_penetration, dist)
+    contacts = tuple(p for p in pairs if p.distance <= tolerance)
+    if require and not contacts:
+        raise NoContactError(dist, tolerance)
+    return ContactReport(contacts, pairs, float(tolerance), dist)
 
 
 def detect_contacts(
@@ -205,36 +267,5 @@ def detect_contacts(
             BVH pair overlaps without a usable normal.
         UnknownNameError: ``links`` names a link without contact geometry.
     """
-    from ..core.validate import finite_number
-    from ..errors import InvalidInputError, UnknownNameError
-
-    tolerance = finite_number("tolerance", tolerance)
-    if tolerance < 0:
-        raise InvalidInputError("tolerance", f"must be finite and >= 0, got {tolerance}")
-    max_penetration = finite_number("max_penetration", max_penetration)
-    if max_penetration < 0:
-        raise InvalidInputError("max_penetration", f"must be finite and >= 0, got {max_penetration}")
-    if links is not None:
-        if isinstance(links, (str, bytes)) or not isinstance(links, (list, tuple)):
-            raise InvalidInputError("links", f"expected a list of link names, got {links!r}")
-        valid = hand.contact_link_names
-        for ln in links:
-            if not isinstance(ln, str) or ln not in valid:
-                raise UnknownNameError("link", ln, valid)
-    pairs = pair_distances(hand, q, obj)
-    if links is not None:
-        pairs = tuple(p for p in pairs if p.link in links)
-    dist: dict[str, float] = {}
-    for p in pairs:
-        dist[p.link] = min(dist.get(p.link, np.inf), p.distance)
-    deep = {
-        p.link: p.distance
-        for p in pairs
-        if p.distance < -max_penetration or (p.distance <= 0 and not np.any(p.normal))
-    }
-    if deep:
-        raise PenetrationError(deep, max_penetration, dist)
-    contacts = tuple(p for p in pairs if p.distance <= tolerance)
-    if require and not contacts:
-        raise NoContactError(dist, tolerance)
-    return ContactReport(contacts, pairs, float(tolerance), dist)
+    options = contact_options(hand, tolerance, max_penetration, links)
+    return detect_contacts_at(HandConfiguration.at(hand, q), obj, *options, require=require)

@@ -24,32 +24,82 @@ from ..core.actuation import Actuator, Coupling
 from ..core.contact import Contact
 from ..core.model import GraspModel
 from ..errors import InvalidInputError, UnknownNameError
-from .collision import DEFAULT_MAX_PENETRATION, DEFAULT_TOLERANCE, ContactReport, detect_contacts
+from .collision import (
+    DEFAULT_MAX_PENETRATION,
+    DEFAULT_TOLERANCE,
+    ContactReport,
+    contact_options,
+    detect_contacts_at,
+)
+from .kinematics import HandConfiguration
 
 if TYPE_CHECKING:
     from .hand import Hand
     from .objects import RigidObject
 
 
-def contact_jacobian(hand: Hand, q: np.ndarray, joint_id: int, point: np.ndarray) -> np.ndarray:
+def closing_jacobian(config: HandConfiguration, joint_id: int, point: np.ndarray) -> np.ndarray:
     """World linear velocity of the hand point at ``point`` per closing joint velocity, (3, nq) [m/rad].
 
     Args:
-        hand: The hand (its kinematics must already be at ``q``: call ``hand.forward(q)``).
+        config: The hand at its configuration (kinematics computed once).
+        joint_id: Pinocchio joint carrying the link (0 = base: a zero Jacobian).
+        point: The point, base frame [m], (3,).
+    """
+    hand = config.hand
+    if joint_id == 0:
+        return np.zeros((3, hand.nq))
+    oMi = config.data.oMi[joint_id]
+    placement = oMi.inverse() * pin.SE3(
+        np.eye(3), np.asarray(point, dtype=float)
+    )  # point frame in joint frame
+    J6 = pin.getFrameJacobian(hand.model, config.data, joint_id, placement, pin.LOCAL_WORLD_ALIGNED)
+    J6 = np.asarray(J6, dtype=float).reshape(6, hand.model.nv)  # a 1-DoF model gives shape (6,)
+    return J6[:3] * hand.closing_signs[None, :]
+
+
+def contact_jacobian(hand: Hand, q: object, joint_id: int, point: np.ndarray) -> np.ndarray:
+    """World linear velocity of the hand point at ``point`` per closing joint velocity, (3, nq) [m/rad].
+
+    Args:
+        hand: The hand.
         q: Hand configuration (URDF coordinates).
         joint_id: Pinocchio joint carrying the link (0 = base: a zero Jacobian).
         point: The point, base frame [m], (3,).
     """
-    if joint_id == 0:
-        return np.zeros((3, hand.nq))
-    pin.computeJointJacobians(hand.model, hand.data, q)
-    oMi = hand.data.oMi[joint_id]
-    placement = oMi.inverse() * pin.SE3(
-        np.eye(3), np.asarray(point, dtype=float)
-    )  # point frame in joint frame
-    J6 = pin.getFrameJacobian(hand.model, hand.data, joint_id, placement, pin.LOCAL_WORLD_ALIGNED)
-    J6 = np.asarray(J6, dtype=float).reshape(6, hand.model.nv)  # a 1-DoF model gives shape (6,)
-    return J6[:3] * hand.closing_signs[None, :]
+    return closing_jacobian(HandConfiguration.at(hand, q), joint_id, point)
+
+
+def _per_contact(hand: Hand, report: ContactReport, name: str, value: object, default: float) -> list[float]:
+    """``mu`` or ``stiffness`` per detected contact: a scalar, one value per contact, or ``{link: value}``."""
+    nc = len(report.contacts)
+
+    def number(key: str, v: object) -> float:
+        try:
+            return float(v)  # type: ignore[arg-type]
+        except (TypeError, ValueError):
+            raise InvalidInputError(
+                key, f"must be a number [or a {{link: number}} mapping], got {v!r}"
+            ) from None
+
+    if isinstance(value, dict):
+        for key in value:
+            if key not in hand.link_names:
+                raise UnknownNameError(f"{name} link", key, list(hand.link_names))
+        return [number(f"{name}[{c.link!r}]", value.get(c.link, default)) for c in report.contacts]
+    try:
+        arr = np.asarray(value, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        raise InvalidInputError(
+            name, f"expected a number, a {{link: number}} mapping or {nc} numbers, got {value!r}"
+        ) from None
+    if arr.size == 1:
+        return [float(arr[0])] * nc
+    if arr.size != nc:
+        raise InvalidInputError(
+            name, f"expected a scalar, a {{link: value}} mapping or {nc} values, got {arr.size}"
+        )
+    return [float(v) for v in arr]
 
 
 def scene_contacts(
@@ -65,49 +115,20 @@ def scene_contacts(
 ) -> tuple[list[Contact], ContactReport]:
     """The :class:`Contact` objects of a scene (with Jacobians) and the detection report.
 
-    ``mu`` and ``stiffness`` are a scalar, one value per detected contact, or a mapping
-    ``{link: value}`` (links not named get the defaults 0.5 and 1).
+    The hand's kinematics at ``q`` is computed once (:class:`HandConfiguration`) and serves both
+    the contact detection and the Jacobians. ``mu`` and ``stiffness`` are a scalar, one value per
+    detected contact, or a mapping ``{link: value}`` (links not named get the defaults 0.5 and 1).
     """
-    qv = hand.configuration(q)
-    report = detect_contacts(hand, qv, obj, tolerance=tolerance, max_penetration=max_penetration, links=links)
-    hand.forward(qv)
-    nc = len(report.contacts)
-
-    def number(name: str, value: object) -> float:
-        try:
-            return float(value)  # type: ignore[arg-type]
-        except (TypeError, ValueError):
-            raise InvalidInputError(
-                name, f"must be a number [or a {{link: number}} mapping], got {value!r}"
-            ) from None
-
-    def per_contact(name: str, value: object, default: float) -> list[float]:
-        if isinstance(value, dict):
-            for key in value:
-                if key not in hand.link_names:
-                    raise UnknownNameError(f"{name} link", key, list(hand.link_names))
-            return [number(f"{name}[{c.link!r}]", value.get(c.link, default)) for c in report.contacts]
-        try:
-            arr = np.asarray(value, dtype=float).reshape(-1)
-        except (TypeError, ValueError):
-            raise InvalidInputError(
-                name, f"expected a number, a {{link: number}} mapping or {nc} numbers, got {value!r}"
-            ) from None
-        if arr.size == 1:
-            return [float(arr[0])] * nc
-        if arr.size != nc:
-            raise InvalidInputError(
-                name, f"expected a scalar, a {{link: value}} mapping or {nc} values, got {arr.size}"
-            )
-        return [float(v) for v in arr]
-
-    mus = per_contact("mu", mu, 0.5)
-    ks = per_contact("stiffness", stiffness, 1.0)
+    config = HandConfiguration.at(hand, q)
+    options = contact_options(hand, tolerance, max_penetration, links)
+    report = detect_contacts_at(config, obj, *options)
+    mus = _per_contact(hand, report, "mu", mu, 0.5)
+    ks = _per_contact(hand, report, "stiffness", stiffness, 1.0)
     contacts = []
     for i, pc in enumerate(report.contacts):
         joint_id = hand.geometry.geometryObjects[pc.index].parentJoint
         p = pc.point
-        jac = contact_jacobian(hand, qv, joint_id, p)
+        jac = closing_jacobian(config, joint_id, p)
         contacts.append(
             Contact(point=p, normal=pc.normal, mu=mus[i], jacobian=jac, stiffness=ks[i], name=pc.link)
         )

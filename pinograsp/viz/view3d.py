@@ -103,14 +103,14 @@ def closing_arrows(
     the link's joint (origin ``o``).
     """
     from ..robots.closing import moved_geometries
+    from ..robots.kinematics import HandConfiguration
 
-    hand.forward(q)
-    pin.computeJointJacobians(hand.model, hand.data, q)
+    config = HandConfiguration.at(hand, q)
     geoms = hand.geometry.geometryObjects
     if obj is not None:
-        from ..robots.collision import pair_distances
+        from ..robots.collision import pair_distances_at
 
-        pairs = pair_distances(hand, q, obj)
+        pairs = pair_distances_at(config, obj)
     R = to_model[:3, :3]
     out = []
     for j, name in enumerate(hand.joint_names):
@@ -125,12 +125,12 @@ def closing_arrows(
             k = own[0]
             m = geometry_mesh(geoms[k].geometry)
             centre = np.zeros(3) if m is None else 0.5 * (m.bounds[0] + m.bounds[1])
-            p, target = hand.geometry_data.oMg[k].act(centre), None
+            p, target = config.geometry_data.oMg[k].act(centre), None
         jid = int(geoms[k].parentJoint)
         J = np.asarray(
-            pin.getJointJacobian(hand.model, hand.data, jid, pin.ReferenceFrame.LOCAL_WORLD_ALIGNED), float
+            pin.getJointJacobian(hand.model, config.data, jid, pin.ReferenceFrame.LOCAL_WORLD_ALIGNED), float
         ).reshape(6, -1)
-        o = hand.data.oMi[jid].translation
+        o = config.data.oMi[jid].translation
         s = float(hand.closing_signs[j])
         v = s * (J[:3, j] + np.cross(J[3:, j], p - o))
         if np.linalg.norm(v) < 1e-12:

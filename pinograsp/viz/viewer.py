@@ -217,7 +217,7 @@ def _resolve(
         frame = frame if frame is not None else getattr(model, "frame", None)
         model = inner
     if hand is not None:
-        if not (hasattr(hand, "geometry") and hasattr(hand, "forward") and hasattr(hand, "configuration")):
+        if not (hasattr(hand, "geometry") and hasattr(hand, "model") and hasattr(hand, "configuration")):
             raise InvalidInputError("hand", f"expected a pinograsp Hand, got {type(hand).__name__}")
         if q is None:
             raise InvalidInputError("q", "drawing a hand needs its configuration q (URDF joint values)")
@@ -312,15 +312,16 @@ def scene_elements(
     meshes: list[Mesh] = []
     skipped: list[str] = []
     if hand is not None:
-        qv = hand.configuration(q)
-        hand.forward(qv)
+        from ..robots.kinematics import HandConfiguration
+
+        config = HandConfiguration.at(hand, q)
         parts = []
         for k, go in enumerate(hand.geometry.geometryObjects):
             m = geometry_mesh(go.geometry)
             if m is None:
                 skipped.append(go.name)
                 continue
-            T = to_model @ np.asarray(hand.geometry_data.oMg[k].homogeneous, dtype=float)
+            T = to_model @ np.asarray(config.geometry_data.oMg[k].homogeneous, dtype=float)
             parts.append(
                 (
                     _transform(np.asarray(m.vertices, float), T),
