@@ -137,7 +137,7 @@ def test_no_import_cycles():
 
 
 def test_every_layer_is_a_folder_with_a_docstring():
-    for layer, rank in RANKS.items():
+    for layer in RANKS:
         if layer in ("errors", "__init__"):
             continue
         init = PACKAGE / layer / "__init__.py"

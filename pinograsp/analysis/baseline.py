@@ -20,6 +20,7 @@ import numpy as np
 import proxsuite
 
 from ..core import serialize as _ser
+from ..core import summaries as _sum
 from ..core.model import GraspModel
 from ..core.validate import finite_array, finite_number, positive_number
 from ..errors import InvalidInputError, SolverError
@@ -63,7 +64,7 @@ class LinearComplianceResult:
 
     def summary(self) -> str:
         """Validity, the violating contacts, normal forces [N] and friction use, as text."""
-        return _ser.linear_compliance_summary(self)
+        return _sum.linear_compliance_summary(self)
 
 
 def _tangential_stiffness(m: GraspModel, tangential_stiffness: object | None) -> np.ndarray:

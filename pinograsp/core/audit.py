@@ -29,6 +29,7 @@ from typing import Any
 import numpy as np
 
 from . import serialize as _ser
+from . import summaries as _sum
 
 #: Relative slack of the energy inequality (rounding of the solution's forces and displacements).
 ENERGY_RTOL = 1e-6
@@ -80,7 +81,7 @@ class EnergyCheck:
 
     def summary(self) -> str:
         """The energy balance [J] and displacement ratio with their verdicts, on one line."""
-        return _ser.energy_summary(self)
+        return _sum.energy_summary(self)
 
 
 def energy_check(

@@ -9,6 +9,7 @@ import numpy as np
 
 from ..errors import InvalidInputError
 from . import serialize as _ser
+from . import summaries as _sum
 from .audit import EnergyCheck
 from .axes import direction_text
 
@@ -71,7 +72,7 @@ class Audit:
 
     def summary(self) -> str:
         """The verdict and residuals [N] as text (and the energy balance [J] when checked)."""
-        return _ser.audit_summary(self)
+        return _sum.audit_summary(self)
 
 
 @dataclass(frozen=True, repr=False)
@@ -166,10 +167,10 @@ class PassiveResponse:
 
     def summary(self) -> str:
         """Status, wrench, normal contact forces [N], actuator modes and the audit, as text."""
-        return _ser.response_summary(self)
+        return _sum.response_summary(self)
 
     def __repr__(self) -> str:
-        return _ser.response_repr(self)
+        return _sum.response_repr(self)
 
 
 #: How a max-wrench search ended (see :class:`MaxWrench`).
@@ -265,10 +266,10 @@ class MaxWrench:
     def summary(self, label: str | None = None) -> str:
         """Status and magnitude to the resolution with its unit, the search, and the normal
         contact forces [N] at the limit, as text."""
-        return _ser.max_wrench_summary(self, label)
+        return _sum.max_wrench_summary(self, label)
 
     def __repr__(self) -> str:
-        return _ser.max_wrench_repr(self)
+        return _sum.max_wrench_repr(self)
 
 
 @dataclass(frozen=True, repr=False)
@@ -332,10 +333,10 @@ class ResistanceProfile:
 
     def summary(self) -> str:
         """Plane, directions per status, the finite range to the resolution, unbounded runs."""
-        return _ser.profile_summary(self)
+        return _sum.profile_summary(self)
 
     def __repr__(self) -> str:
-        return _ser.profile_repr(self)
+        return _sum.profile_repr(self)
 
     def rows(self) -> list[dict[str, Any]]:
         """One dict per direction (the CSV columns, :data:`pinograsp.core.tables.PROFILE_COLUMNS`)."""

@@ -33,6 +33,7 @@ import coal
 import numpy as np
 
 from ..core import serialize as _ser
+from ..core import summaries as _sum
 from ..core.validate import finite_number
 from ..errors import InvalidInputError, NoContactError, PenetrationError, UnknownNameError
 from .kinematics import HandConfiguration
@@ -107,7 +108,7 @@ class ContactReport:
 
     def summary(self) -> str:
         """The contacts (link, signed distance [mm]) and the closest links without contact."""
-        return _ser.contact_report_summary(self)
+        return _sum.contact_report_summary(self)
 
 
 def _signed_distance(
