@@ -9,9 +9,10 @@ import yaml
 import pinograsp as pg
 from pinograsp.robots.collision import link_distances
 from pinograsp.robots.hand import DATA_DIR
-from pinograsp.viz import plots, view3d, viewer
+from pinograsp.viz import figures, view3d, viewer
+from pinograsp.viz.scene_elements import scene_elements
 
-plt = plots.pyplot()
+plt = figures.pyplot()
 UF_URDF = DATA_DIR / "urdf" / "underactuated_2f.urdf"
 
 
@@ -73,7 +74,7 @@ def test_png_and_figure_without_contact_draw_closing_arrows(uf, uf_box, tmp_path
 
 
 def test_closing_arrows_point_towards_the_object_and_match_finite_differences(uf, uf_box):
-    el = viewer.scene_elements(None, hand=uf, q=uf.q_open, obj=uf_box)
+    el = scene_elements(None, hand=uf, q=uf.q_open, obj=uf_box)
     assert [a.joint for a in el.closing] == list(uf.joint_names)
     for a in el.closing:
         assert a.approach > 0  # right signs: every joint moves its link towards the box
@@ -91,7 +92,7 @@ def test_closing_arrows_point_towards_the_object_and_match_finite_differences(uf
 
 def test_reported_distances_equal_link_distances(uf, uf_box):
     q = [0.2, 0.1, 0.3, 0.0]
-    el = viewer.scene_elements(None, hand=uf, q=q, obj=uf_box)
+    el = scene_elements(None, hand=uf, q=q, obj=uf_box)
     expected = link_distances(uf, q, uf_box)
     assert el.link_distances.keys() == expected.keys()
     for k, v in expected.items():
@@ -106,9 +107,9 @@ def test_reported_distances_equal_link_distances(uf, uf_box):
 
 def test_without_model_bad_input(uf, uf_box):
     with pytest.raises(pg.InvalidInputError, match="model=None needs"):
-        viewer.scene_elements(None)
+        scene_elements(None)
     with pytest.raises(pg.InvalidInputError, match="response"):
-        viewer.scene_elements(None, np.zeros((1, 3)), hand=uf, obj=uf_box)
+        scene_elements(None, np.zeros((1, 3)), hand=uf, obj=uf_box)
     with pytest.raises(pg.InvalidInputError, match="show_distances"):
         viewer.scene_axes(None, hand=uf, obj=uf_box, show_distances=-1)
 
@@ -116,7 +117,7 @@ def test_without_model_bad_input(uf, uf_box):
 # ----------------------------------------------------------------------------- upright view
 def test_upright_view_puts_the_hand_up_axis_up():
     case1 = pg.load_scene("case1")
-    el = viewer.scene_elements(case1)
+    el = scene_elements(case1)
     v = el.view
     # analysis frame: Y = hand z (palm normal, towards the object)
     assert v.vertical_axis == "y" and v.roll == 0.0 and v.elev > 0

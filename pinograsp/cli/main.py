@@ -876,7 +876,8 @@ def _profile_report(
     steps: int,
     kind: str,
 ) -> int:
-    from ..viz.plots import plot_profile, save_figure
+    from ..viz.figures import save_figure
+    from ..viz.profile_plots import plot_profile
 
     if n < 1:
         raise InvalidInputError("-n", f"must be >= 1, got {n}")
@@ -978,7 +979,8 @@ def cmd_demo(args: argparse.Namespace) -> int:
 
 def cmd_compare_preloads(args: argparse.Namespace) -> int:
     from ..analysis.max_wrench import max_resistible_wrench
-    from ..viz.plots import plot_preload_comparison, pyplot, save_figure
+    from ..viz.comparison_plots import plot_preload_comparison
+    from ..viz.figures import pyplot, save_figure
 
     scene = _load(args.scene)
     out = _Output(args)
@@ -1293,7 +1295,7 @@ def cmd_resistance_set(args: argparse.Namespace) -> int:
     out.write_json("resistance_set.json", data)
 
     def draw(path: Path) -> None:
-        from ..viz.plots import save_figure
+        from ..viz.figures import save_figure
         from ..viz.set_plots import plot_resistance_set
 
         fig = plot_resistance_set(rset, title=f"{scene.name}: resistance set ({method})")
