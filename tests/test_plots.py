@@ -12,8 +12,9 @@ import pytest
 
 import pinograsp as pg
 from pinograsp import examples
-from pinograsp.viz import comparison_plots, figures, profile_plots, view3d, viewer
+from pinograsp.viz import comparison_plots, figures, meshes, profile_plots, viewer
 from pinograsp.viz.scene_elements import scene_elements
+from pinograsp.viz.scene_mpl import scene_axes
 
 MU, TAU = 0.5, 1.0  # the conftest pinch (a = 0.05 m, L = 0.1 m)
 
@@ -291,17 +292,17 @@ def test_geometry_meshes_of_primitives(tmp_path):
         "ellipsoid": (coal.Ellipsoid(0.01, 0.02, 0.03), [[-0.01, -0.02, -0.03], [0.01, 0.02, 0.03]]),
     }
     for name, (geom, bounds) in cases.items():
-        np.testing.assert_allclose(view3d.geometry_mesh(geom).bounds, bounds, atol=1e-9, err_msg=name)
+        np.testing.assert_allclose(meshes.geometry_mesh(geom).bounds, bounds, atol=1e-9, err_msg=name)
     trimesh.creation.box(extents=[0.01, 0.02, 0.03]).export(tmp_path / "box.stl")
     trimesh.creation.annulus(0.01, 0.02, 0.01).export(tmp_path / "ring.stl")
     convex = pg.RigidObject.from_mesh(tmp_path / "box.stl", convex=True)
     bvh = pg.RigidObject.from_mesh(tmp_path / "ring.stl", convex=False)
     assert bvh.kind == "mesh"
     np.testing.assert_allclose(
-        view3d.geometry_mesh(convex.geometry).bounds, [[-0.005, -0.01, -0.015], [0.005, 0.01, 0.015]]
+        meshes.geometry_mesh(convex.geometry).bounds, [[-0.005, -0.01, -0.015], [0.005, 0.01, 0.015]]
     )
-    assert len(view3d.geometry_mesh(bvh.geometry).faces) == bvh.geometry.num_tris
-    assert view3d.geometry_mesh(coal.Halfspace(np.array([0.0, 0.0, 1.0]), 0.0)) is None
+    assert len(meshes.geometry_mesh(bvh.geometry).faces) == bvh.geometry.num_tris
+    assert meshes.geometry_mesh(coal.Halfspace(np.array([0.0, 0.0, 1.0]), 0.0)) is None
 
 
 def test_scene_figure_of_explicit_contacts(pinch, tmp_path):
@@ -390,7 +391,7 @@ def test_scene_view_bad_input(barrett_grasp, pinch, monkeypatch, tmp_path):
         viewer.save_html("fig", tmp_path / "x.html")
     with pytest.raises(pg.InvalidInputError, match="3D Axes"):
         _, ax = plt.subplots()
-        viewer.scene_axes(pinch, ax=ax)
+        scene_axes(pinch, ax=ax)
     # a response that did not resist (NaN forces) draws no arrows rather than failing
     bad = pg.passive_response(pinch, TAU, [0.0, 50.0, 0.0], method="prp")
     assert not bad.resistible

@@ -20,7 +20,6 @@ scene's analysis axes — says otherwise; hand and object are then re-expressed 
 from __future__ import annotations
 
 import warnings
-from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
@@ -28,6 +27,7 @@ import numpy as np
 
 from ..core.model import GraspModel
 from ..errors import PinograspWarning
+from .meshes import cone, geometry_mesh, merge, transform
 from .scene_inputs import positive_or_none, resolve_scene, response_forces
 from .view3d import (
     ClosingArrow,
@@ -35,7 +35,6 @@ from .view3d import (
     closest_points,
     closing_arrows,
     distance_title,
-    geometry_mesh,
     hand_up,
     upright_view,
 )
@@ -147,39 +146,7 @@ class _Contacts:
     ref_point: np.ndarray
 
 
-# ----------------------------------------------------------------------------- geometry
-def _transform(vertices: np.ndarray, T: np.ndarray) -> np.ndarray:
-    return vertices @ T[:3, :3].T + T[:3, 3]
-
-
-def _cone(apex: np.ndarray, axis: np.ndarray, height: float, radius: float, sections: int = 24):
-    """Open cone surface: apex, unit axis; returns vertices (sections + 1, 3), faces (sections, 3)."""
-    a = axis / np.linalg.norm(axis)
-    helper = np.array([1.0, 0.0, 0.0]) if abs(a[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
-    u = np.cross(a, helper)
-    u /= np.linalg.norm(u)
-    v = np.cross(a, u)
-    t = 2.0 * np.pi * np.arange(sections) / sections
-    ring = apex + height * a + radius * (np.cos(t)[:, None] * u + np.sin(t)[:, None] * v)
-    verts = np.vstack([apex, ring])
-    k = np.arange(sections)
-    faces = np.column_stack([np.zeros(sections, int), 1 + k, 1 + (k + 1) % sections])
-    return verts, faces
-
-
-def _merge(parts: Sequence[tuple[np.ndarray, np.ndarray, str]]) -> tuple[np.ndarray, np.ndarray, list[str]]:
-    """One mesh of several ``(vertices, faces, label)`` parts, one label per vertex."""
-    verts, faces, labels, off = [], [], [], 0
-    for v, f, lab in parts:
-        verts.append(v)
-        faces.append(f + off)
-        labels += [lab] * len(v)
-        off += len(v)
-    if not verts:
-        return np.zeros((0, 3)), np.zeros((0, 3), int), []
-    return np.vstack(verts), np.vstack(faces), labels
-
-
+# ----------------------------------------------------------------------------- arrows
 def _arrow(
     tail: np.ndarray, tip: np.ndarray, force: np.ndarray, scale: float, size: float, label: str
 ) -> tuple[np.ndarray, tuple[np.ndarray, np.ndarray, str]]:
@@ -187,7 +154,7 @@ def _arrow(
     length = float(np.linalg.norm(scale * force))
     u = force / np.linalg.norm(force)
     hl = min(0.3 * length, 0.08 * size)
-    return np.array([tail, tip - hl * u]), _cone(tip, -u, hl, 0.4 * hl, 12) + (label,)
+    return np.array([tail, tip - hl * u]), cone(tip, -u, hl, 0.4 * hl, 12) + (label,)
 
 
 # ----------------------------------------------------------------------------- hand and object
@@ -204,12 +171,12 @@ def _hand_mesh(hand: Hand, q: object, to_model: np.ndarray, skipped: list[str]) 
         T = to_model @ np.asarray(hand.geometry_data.oMg[k].homogeneous, dtype=float)
         parts.append(
             (
-                _transform(np.asarray(m.vertices, float), T),
+                transform(np.asarray(m.vertices, float), T),
                 np.asarray(m.faces, int),
                 hand.link_of_geometry(k),
             )
         )
-    v, f, lab = _merge(parts)
+    v, f, lab = merge(parts)
     return Mesh("hand", v, f, COLORS["hand"], 1.0, lab) if len(v) else None
 
 
@@ -219,7 +186,7 @@ def _object_mesh(obj: RigidObject, to_model: np.ndarray, skipped: list[str]) -> 
     if m is None:
         skipped.append(str(obj.name))
         return None
-    v = _transform(np.asarray(m.vertices, float), to_model @ np.asarray(obj.pose, float))
+    v = transform(np.asarray(m.vertices, float), to_model @ np.asarray(obj.pose, float))
     return Mesh("object", v, np.asarray(m.faces, int), COLORS["object"], 0.45, [str(obj.name)] * len(v))
 
 
@@ -227,7 +194,7 @@ def _contacts(model: GraspModel | None, obj: RigidObject | None, to_model: np.nd
     """The model's contacts; without a model none, the reference point at the object's centre of mass."""
     if model is None:
         ref_point = (
-            _transform(np.asarray(obj.center_of_mass, float).reshape(1, 3), to_model)[0]
+            transform(np.asarray(obj.center_of_mass, float).reshape(1, 3), to_model)[0]
             if obj is not None
             else np.zeros(3)
         )
@@ -293,7 +260,7 @@ def _force_arrows(
         heads.append(head)
     if shafts:
         segments.append(Segments("contact forces", np.array(shafts), COLORS["forces"], 6.0))
-        v, f_, lab = _merge(heads)
+        v, f_, lab = merge(heads)
         meshes.append(Mesh("contact forces", v, f_, COLORS["forces"], 1.0, lab))
     if wrench is not None and np.all(np.isfinite(wrench)) and np.linalg.norm(wrench[:3]) * s > 1e-9 * size:
         o = c.ref_point
@@ -353,11 +320,11 @@ def scene_elements(
         )
     if show_cones and nc:
         parts = [
-            _cone(p, -n, h, h * float(m)) + (name,)
+            cone(p, -n, h, h * float(m)) + (name,)
             for p, n, m, name in zip(c.points, c.normals, c.mu, c.names)
             if m > 0
         ]
-        v, f, lab = _merge(parts)
+        v, f, lab = merge(parts)
         if len(v):
             meshes.append(Mesh("friction cones", v, f, COLORS["cones"], 0.3, lab))
     fmax = _largest_force(forces, wrench)

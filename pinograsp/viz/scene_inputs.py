@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..core.model import GraspModel
-from ..core.validate import positive_number
+from ..core.validate import positive_number, whole_number
 from ..errors import InvalidInputError
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -24,6 +24,14 @@ if TYPE_CHECKING:  # pragma: no cover
 def positive_or_none(name: str, value: object) -> float | None:
     """``None``, or a finite number ``> 0`` (:func:`~pinograsp.core.validate.positive_number`)."""
     return None if value is None else positive_number(name, value)
+
+
+def distance_count(value: object, has_contacts: bool) -> int:
+    """How many nearest links to annotate with their distance: ``value`` (an integer >= 0), by
+    default 3 before contact and none when contacts are drawn."""
+    if value is None:
+        return 0 if has_contacts else 3
+    return whole_number("show_distances", value, minimum=0)
 
 
 def resolve_scene(
@@ -113,4 +121,4 @@ def response_forces(
     return f, w, status
 
 
-__all__ = ["positive_or_none", "resolve_scene", "response_forces"]
+__all__ = ["distance_count", "positive_or_none", "resolve_scene", "response_forces"]

@@ -23,6 +23,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import pinocchio as pin
 
+from .meshes import geometry_mesh
+
 if TYPE_CHECKING:  # pragma: no cover
     from ..robots.hand import Hand
     from ..robots.objects import RigidObject
@@ -342,7 +344,6 @@ def distance_title(distances: dict[str, float], tolerance: float, n: int = 3) ->
 
 
 __all__ = [
-    "geometry_mesh",
     "CLOSING_COLOR",
     "CLOSING_COLORS",
     "CLOSING_GROUP",
@@ -361,44 +362,3 @@ __all__ = [
     "hand_up",
     "upright_view",
 ]
-
-
-def geometry_mesh(geometry: object) -> Any:
-    """A ``trimesh.Trimesh`` of a Coal collision geometry in its own frame (``None`` if unsupported).
-
-    Boxes, spheres, cylinders, capsules, cones, ellipsoids, convex hulls and BVH meshes are
-    supported; planes and half-spaces (unbounded) are not.
-    """
-    import coal
-    import trimesh
-
-    g = geometry
-    if isinstance(g, coal.Box):
-        return trimesh.creation.box(extents=2.0 * np.asarray(g.halfSide, dtype=float))
-    if isinstance(g, coal.Sphere):
-        return trimesh.creation.icosphere(subdivisions=2, radius=float(g.radius))
-    if isinstance(g, coal.Ellipsoid):
-        m = trimesh.creation.icosphere(subdivisions=2, radius=1.0)
-        m.vertices = m.vertices * np.asarray(g.radii, dtype=float)
-        return m
-    if isinstance(g, coal.Capsule):
-        return trimesh.creation.capsule(
-            height=2.0 * float(g.halfLength), radius=float(g.radius), count=[16, 16]
-        )
-    if isinstance(g, coal.Cylinder):
-        return trimesh.creation.cylinder(
-            radius=float(g.radius), height=2.0 * float(g.halfLength), sections=24
-        )
-    if isinstance(g, coal.Cone):
-        m = trimesh.creation.cone(radius=float(g.radius), height=2.0 * float(g.halfLength), sections=24)
-        m.apply_translation([0.0, 0.0, -float(g.halfLength)])
-        return m
-    if isinstance(g, coal.ConvexBase):
-        pts = np.asarray(g.points(), dtype=float).reshape(-1, 3)
-        return trimesh.convex.convex_hull(pts)
-    if isinstance(g, coal.BVHModelBase):
-        verts = np.asarray(g.vertices(), dtype=float).reshape(-1, 3)
-        tris = [g.tri_indices(i) for i in range(int(g.num_tris))]
-        faces = np.array([[t[0], t[1], t[2]] for t in tris], dtype=int).reshape(-1, 3)
-        return trimesh.Trimesh(verts, faces, process=False)
-    return None
