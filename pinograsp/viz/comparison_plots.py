@@ -59,9 +59,10 @@ def _bar_unit(dirs: np.ndarray) -> str:
     return units.pop() if len(units) == 1 else "N, N·m"
 
 
-def _bars_title(names: list[str], dirs: np.ndarray, mags: np.ndarray, unb: np.ndarray, ratio: bool) -> str:
-    """Default title: the direction, and the ratio of two finite results if ``ratio``."""
-    same_dir = all(np.allclose(d, dirs[0], atol=1e-9) for d in dirs)
+def _bars_title(
+    names: list[str], dirs: np.ndarray, same_dir: bool, mags: np.ndarray, unb: np.ndarray, ratio: bool
+) -> str:
+    """Default title: the direction (or "per direction"), and the ratio of two finite results if ``ratio``."""
     where = f"along {direction_label(dirs[0])}" if same_dir else "per direction"
     title = f"max resistible wrench {where}"
     if ratio and len(names) == 2 and not unb.any() and mags[1] > 0:
@@ -132,7 +133,7 @@ def plot_preload_comparison(
     ax.set_ylabel(f"max resistible magnitude [{_bar_unit(dirs)}]")
     ax.grid(True, axis="y", alpha=0.4)
     if title is None:
-        title = _bars_title(names, dirs, mags, unb, show_ratio)
+        title = _bars_title(names, dirs, same_dir, mags, unb, show_ratio)
     ax.set_title(title, fontsize=10)
     return ax
 

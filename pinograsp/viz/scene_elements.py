@@ -364,7 +364,7 @@ def _hand_extras(
     out: dict[str, Any] = {"title": "hand and object" if hand is not None and obj is not None else "scene"}
     qv = None if hand is None else hand.configuration(q)
     if hand is not None and obj is not None:
-        dist, points, _, _ = closest_points(hand, qv, obj, to_model)
+        dist, points = closest_points(hand, qv, obj, to_model)
         out.update(link_distances=dist, distance_points=points, title=distance_title(dist, tol))
     if hand is not None and show_closing:
         out["closing"] = closing_arrows(hand, qv, obj, to_model)
