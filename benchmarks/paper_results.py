@@ -30,13 +30,9 @@ from typing import Any
 import numpy as np
 
 import pinograsp as pg
-from pinograsp.viz.plots import (
-    plot_force_comparison,
-    plot_preload_comparison,
-    plot_profile,
-    pyplot,
-    save_figure,
-)
+from pinograsp.viz.comparison_plots import plot_force_comparison, plot_preload_comparison
+from pinograsp.viz.figures import pyplot, save_figure
+from pinograsp.viz.profile_plots import plot_profile
 
 ROOT = Path(__file__).resolve().parents[1]
 START, END = "<!-- results:start -->", "<!-- results:end -->"

@@ -126,11 +126,11 @@ from .errors import MissingDependencyError  # noqa: E402
 
 _URDF_SIDE.update(
     {
-        "plot_profile": "viz.plots",
-        "plot_preload_comparison": "viz.plots",
-        "plot_force_comparison": "viz.plots",
+        "plot_profile": "viz.profile_plots",
+        "plot_preload_comparison": "viz.comparison_plots",
+        "plot_force_comparison": "viz.comparison_plots",
         "plot_resistance_set": "viz.set_plots",
-        "save_figure": "viz.plots",
+        "save_figure": "viz.figures",
         "scene_figure": "viz.viewer",
         "save_html": "viz.viewer",
         "save_png": "viz.viewer",

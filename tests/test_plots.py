@@ -12,11 +12,13 @@ import pytest
 
 import pinograsp as pg
 from pinograsp import examples
-from pinograsp.viz import plots, viewer
+from pinograsp.viz import comparison_plots, figures, meshes, profile_plots, viewer
+from pinograsp.viz.scene_elements import scene_elements
+from pinograsp.viz.scene_mpl import scene_axes
 
 MU, TAU = 0.5, 1.0  # the conftest pinch (a = 0.05 m, L = 0.1 m)
 
-plt = plots.pyplot()
+plt = figures.pyplot()
 
 
 @pytest.fixture(autouse=True)
@@ -64,14 +66,14 @@ def profiles(pinch):
 
 
 def unbounded_wedges(ax):
-    return [p for p in ax.patches if p.get_gid() == plots.GID_UNBOUNDED]
+    return [p for p in ax.patches if p.get_gid() == figures.GID_UNBOUNDED]
 
 
 # ----------------------------------------------------------------------------- profile
 def test_profile_curve_and_unbounded_wedges(profiles, tmp_path):
     p, _ = profiles
     assert p.unbounded.tolist() == [True, False, False, False, True, False, False, False]  # ±fx
-    ax = plots.plot_profile(p)
+    ax = profile_plots.plot_profile(p)
     wedges = unbounded_wedges(ax)
     assert len(wedges) == 2
     rmax = ax.get_ylim()[1]
@@ -90,16 +92,16 @@ def test_profile_curve_and_unbounded_wedges(profiles, tmp_path):
     assert np.isnan(r[p.unbounded]).all()
     np.testing.assert_allclose(r[~p.unbounded], finite)
     # infinity markers at the edge, and a legend entry for them
-    marks = [ln for ln in ax.lines if ln.get_gid() == plots.GID_UNBOUNDED]
+    marks = [ln for ln in ax.lines if ln.get_gid() == figures.GID_UNBOUNDED]
     np.testing.assert_allclose(np.sort(np.asarray(marks[0].get_xdata())), [0.0, np.pi])
     assert "unbounded (∞)" in [t.get_text() for t in ax.get_legend().get_texts()]
     assert "[N]" in ax.get_title()
-    assert_image(plots.save_figure(ax, tmp_path / "profile.png"))
+    assert_image(figures.save_figure(ax, tmp_path / "profile.png"))
 
 
 def test_profile_overlay_and_normalisation(profiles, tmp_path):
     p, low = profiles
-    ax = plots.plot_profile({"mu 0.5": p, "mu 0.3": low}, normalize=True, title="pinch")
+    ax = profile_plots.plot_profile({"mu 0.5": p, "mu 0.3": low}, normalize=True, title="pinch")
     legend = [t.get_text() for t in ax.get_legend().get_texts()]
     assert legend[:2] == ["mu 0.5", "mu 0.3"]
     assert len(unbounded_wedges(ax)) == 4
@@ -109,31 +111,33 @@ def test_profile_overlay_and_normalisation(profiles, tmp_path):
         assert r[2] == pytest.approx(1.0)  # +fy is the reference
         np.testing.assert_allclose(r[~prof.unbounded], prof.magnitudes[~prof.unbounded] / prof.magnitudes[2])
     assert ax.get_title() == "pinch"
-    assert_image(plots.save_figure(ax.figure, tmp_path / "nested" / "dir" / "overlay.png"))
+    assert_image(figures.save_figure(ax.figure, tmp_path / "nested" / "dir" / "overlay.png"))
     # a numeric normalisation and the unit of a torque plane
-    ax = plots.plot_profile(synthetic_profile([2.0, 4.0, 2.0, 4.0], plane=("mx", "my")), normalize=2.0)
+    ax = profile_plots.plot_profile(
+        synthetic_profile([2.0, 4.0, 2.0, 4.0], plane=("mx", "my")), normalize=2.0
+    )
     np.testing.assert_allclose(np.asarray(ax.lines[0].get_ydata())[:-1], [1.0, 2.0, 1.0, 2.0])
     assert "normalised" in ax.get_title()
-    assert "[N·m]" in plots.plot_profile(synthetic_profile([1.0] * 4, plane=("mx", "my"))).get_title()
+    assert "[N·m]" in profile_plots.plot_profile(synthetic_profile([1.0] * 4, plane=("mx", "my"))).get_title()
 
 
 def test_profile_already_normalised_is_not_divided_again():
     pre = synthetic_profile([1.5, 1.0, 1.5, 1.0], normalized_by=10.0)
-    ax = plots.plot_profile(pre, normalize=True)
+    ax = profile_plots.plot_profile(pre, normalize=True)
     np.testing.assert_allclose(np.asarray(ax.lines[0].get_ydata())[:-1], [1.5, 1.0, 1.5, 1.0])
     assert "normalised" in ax.get_title()
     raw = synthetic_profile([15.0, 10.0, 15.0, 10.0])
     with pytest.raises(pg.InvalidInputError, match="normalised and others are not"):
-        plots.plot_profile([pre, raw])
-    ax = plots.plot_profile([pre, raw], normalize=True)  # the raw one is normalised by its +fy
+        profile_plots.plot_profile([pre, raw])
+    ax = profile_plots.plot_profile([pre, raw], normalize=True)  # the raw one is normalised by its +fy
     np.testing.assert_allclose(np.asarray(ax.lines[1].get_ydata())[:-1], [1.5, 1.0, 1.5, 1.0])
 
 
 def test_profile_all_unbounded_and_single_direction():
-    ax = plots.plot_profile(synthetic_profile([1, 1, 1, 1], unbounded=[True] * 4))
+    ax = profile_plots.plot_profile(synthetic_profile([1, 1, 1, 1], unbounded=[True] * 4))
     assert len(unbounded_wedges(ax)) == 4
     assert ax.get_ylim()[1] == pytest.approx(1.15)
-    ax = plots.plot_profile(synthetic_profile([3.0], unbounded=[True]))
+    ax = profile_plots.plot_profile(synthetic_profile([3.0], unbounded=[True]))
     (w,) = unbounded_wedges(ax)
     assert w.get_width() == pytest.approx(2 * np.pi)
 
@@ -141,28 +145,30 @@ def test_profile_all_unbounded_and_single_direction():
 def test_profile_bad_input():
     ok = synthetic_profile([1.0, 2.0, 1.0, 2.0])
     with pytest.raises(pg.InvalidInputError, match="ResistanceProfile"):
-        plots.plot_profile("not a profile")
+        profile_plots.plot_profile("not a profile")
     with pytest.raises(pg.InvalidInputError, match="no profile"):
-        plots.plot_profile([])
+        profile_plots.plot_profile([])
     with pytest.raises(pg.InvalidInputError, match="profile\\[1\\]"):
-        plots.plot_profile([ok, 3.0])
+        profile_plots.plot_profile([ok, 3.0])
     with pytest.raises(pg.InvalidInputError, match="polar"):
         _, ax = plt.subplots()
-        plots.plot_profile(ok, ax=ax)
+        profile_plots.plot_profile(ok, ax=ax)
     with pytest.raises(pg.InvalidInputError, match="one plane"):
-        plots.plot_profile([ok, synthetic_profile([1.0] * 4, plane=("fx", "fz"), basis=np.eye(6)[[0, 2]])])
+        profile_plots.plot_profile(
+            [ok, synthetic_profile([1.0] * 4, plane=("fx", "fz"), basis=np.eye(6)[[0, 2]])]
+        )
     with pytest.raises(pg.InvalidInputError, match="labels"):
-        plots.plot_profile(ok, labels=["a", "b"])
+        profile_plots.plot_profile(ok, labels=["a", "b"])
     with pytest.raises(pg.InvalidInputError, match="no direction along \\+fy"):
-        plots.plot_profile(synthetic_profile([1.0, 2.0, 3.0]), normalize=True)
+        profile_plots.plot_profile(synthetic_profile([1.0, 2.0, 3.0]), normalize=True)
     with pytest.raises(pg.InvalidInputError, match="unbounded along \\+fy"):
-        plots.plot_profile(
+        profile_plots.plot_profile(
             synthetic_profile([1.0] * 4, unbounded=[False, True, False, False]), normalize=True
         )
     with pytest.raises(pg.InvalidInputError, match="normalize"):
-        plots.plot_profile(ok, normalize=-1.0)
+        profile_plots.plot_profile(ok, normalize=-1.0)
     with pytest.raises(pg.InvalidInputError, match="rmax"):
-        plots.plot_profile(ok, rmax=0.0)
+        profile_plots.plot_profile(ok, rmax=0.0)
 
 
 # ----------------------------------------------------------------------------- preloads
@@ -182,33 +188,33 @@ def test_preload_comparison_bars(preload_results, tmp_path):
     assert m1 == pytest.approx(2 * MU * 1.0 / 0.1, abs=0.1) and m2 == pytest.approx(
         2 * MU * 0.5 / 0.1, abs=0.1
     )
-    ax = plots.plot_preload_comparison(two)
+    ax = comparison_plots.plot_preload_comparison(two)
     heights = [p.get_height() for p in ax.patches]
     np.testing.assert_allclose(heights, [m1, m2])
     assert f"= {m1 / m2:.3g}" in ax.get_title() and "+fy" in ax.get_title()
     assert ax.get_ylabel() == "max resistible magnitude [N]"
-    assert_image(plots.save_figure(ax, tmp_path / "bars.png"))
+    assert_image(figures.save_figure(ax, tmp_path / "bars.png"))
     # with an unbounded direction: hatched bar above the finite ones, labelled ∞
-    ax = plots.plot_preload_comparison(preload_results)
+    ax = comparison_plots.plot_preload_comparison(preload_results)
     (inf_bar,) = unbounded_wedges(ax)
     assert inf_bar.get_hatch() == "//" and inf_bar.get_height() > max(m1, m2)
     assert "∞" in [t.get_text() for t in ax.texts]
     ticks = [t.get_text() for t in ax.get_xticklabels()]
     assert ticks[2] == "along fx\n+fx"  # directions differ: named per bar
-    assert_image(plots.save_figure(ax, tmp_path / "bars_inf.png"))
+    assert_image(figures.save_figure(ax, tmp_path / "bars_inf.png"))
 
 
 def test_preload_comparison_profiles_and_bad_input(profiles, preload_results):
     p, low = profiles
-    ax = plots.plot_preload_comparison({"a": p, "b": low})
+    ax = comparison_plots.plot_preload_comparison({"a": p, "b": low})
     assert ax.name == "polar" and len(unbounded_wedges(ax)) == 4
     with pytest.raises(pg.InvalidInputError, match="only MaxWrench or only ResistanceProfile"):
-        plots.plot_preload_comparison({"a": p, "b": preload_results["along fx"]})
+        comparison_plots.plot_preload_comparison({"a": p, "b": preload_results["along fx"]})
     with pytest.raises(pg.InvalidInputError, match="non-empty"):
-        plots.plot_preload_comparison({})
+        comparison_plots.plot_preload_comparison({})
     with pytest.raises(pg.InvalidInputError, match="rectilinear"):
         _, ax = plt.subplots(subplot_kw={"projection": "polar"})
-        plots.plot_preload_comparison({"a": preload_results["along fx"]}, ax=ax)
+        comparison_plots.plot_preload_comparison({"a": preload_results["along fx"]}, ax=ax)
 
 
 # ----------------------------------------------------------------------------- Fig. 1
@@ -221,8 +227,8 @@ def test_force_comparison_marks_contacts_outside_their_cone(pinch, tmp_path):
     # linear compliance: fx shifts 6 N of normal force from left to right, fy adds 4 N each
     np.testing.assert_allclose(lc.contact_forces[:, :2], [[4.0, -4.0], [16.0, 4.0]], atol=1e-6)
     assert lc.friction_violations == ("left",)
-    ax = plots.plot_force_comparison(pinch, passive, lc)
-    (marks,) = [c for c in ax.collections if c.get_gid() == plots.GID_OUTSIDE_CONE]
+    ax = comparison_plots.plot_force_comparison(pinch, passive, lc)
+    (marks,) = [c for c in ax.collections if c.get_gid() == comparison_plots.GID_OUTSIDE_CONE]
     bad = [pinch.contact_names.index(n) for n in lc.friction_violations]
     expected = np.column_stack(
         [lc.contact_forces[bad, 0], np.linalg.norm(lc.contact_forces[bad, 1:], axis=1)]
@@ -239,8 +245,8 @@ def test_force_comparison_marks_contacts_outside_their_cone(pinch, tmp_path):
     red = [t.get_text() for t in ax.texts if t.get_color() == "red"]
     assert red == ["left"]
     assert "1 of 2 contacts outside" in ax.get_title()
-    assert_image(plots.save_figure(ax, tmp_path / "fig1.png"))
-    np.testing.assert_array_equal(plots.outside_cone(pinch, lc.contact_forces), [True, False])
+    assert_image(figures.save_figure(ax, tmp_path / "fig1.png"))
+    np.testing.assert_array_equal(comparison_plots.outside_cone(pinch, lc.contact_forces), [True, False])
 
 
 def test_force_comparison_bad_input(pinch):
@@ -248,19 +254,19 @@ def test_force_comparison_bad_input(pinch):
     palm = examples.palm_pinch()
     lc_palm = pg.linear_compliance(palm, [0.0, 1.0, 0.0])
     with pytest.raises(pg.InvalidInputError, match="compliance.*3 contacts|2 contacts"):
-        plots.plot_force_comparison(pinch, passive, lc_palm)
+        comparison_plots.plot_force_comparison(pinch, passive, lc_palm)
     with pytest.raises(pg.InvalidInputError, match="passive"):
-        plots.plot_force_comparison(pinch, object(), lc_palm)
+        comparison_plots.plot_force_comparison(pinch, object(), lc_palm)
 
 
 def test_save_figure_errors(tmp_path):
     _, ax = plt.subplots()
     ax.plot([0, 1], [0, 1])
     with pytest.raises(pg.InvalidInputError, match="suffix"):
-        plots.save_figure(ax, tmp_path / "noext")
+        figures.save_figure(ax, tmp_path / "noext")
     with pytest.raises(pg.InvalidInputError, match="Figure or Axes"):
-        plots.save_figure("figure", tmp_path / "x.png")
-    out = plots.save_figure(ax.figure, tmp_path / "a" / "b.svg", close=True)
+        figures.save_figure("figure", tmp_path / "x.png")
+    out = figures.save_figure(ax.figure, tmp_path / "a" / "b.svg", close=True)
     assert out.suffix == ".svg" and out.stat().st_size > 0
 
 
@@ -286,17 +292,17 @@ def test_geometry_meshes_of_primitives(tmp_path):
         "ellipsoid": (coal.Ellipsoid(0.01, 0.02, 0.03), [[-0.01, -0.02, -0.03], [0.01, 0.02, 0.03]]),
     }
     for name, (geom, bounds) in cases.items():
-        np.testing.assert_allclose(viewer.geometry_mesh(geom).bounds, bounds, atol=1e-9, err_msg=name)
+        np.testing.assert_allclose(meshes.geometry_mesh(geom).bounds, bounds, atol=1e-9, err_msg=name)
     trimesh.creation.box(extents=[0.01, 0.02, 0.03]).export(tmp_path / "box.stl")
     trimesh.creation.annulus(0.01, 0.02, 0.01).export(tmp_path / "ring.stl")
     convex = pg.RigidObject.from_mesh(tmp_path / "box.stl", convex=True)
     bvh = pg.RigidObject.from_mesh(tmp_path / "ring.stl", convex=False)
     assert bvh.kind == "mesh"
     np.testing.assert_allclose(
-        viewer.geometry_mesh(convex.geometry).bounds, [[-0.005, -0.01, -0.015], [0.005, 0.01, 0.015]]
+        meshes.geometry_mesh(convex.geometry).bounds, [[-0.005, -0.01, -0.015], [0.005, 0.01, 0.015]]
     )
-    assert len(viewer.geometry_mesh(bvh.geometry).faces) == bvh.geometry.num_tris
-    assert viewer.geometry_mesh(coal.Halfspace(np.array([0.0, 0.0, 1.0]), 0.0)) is None
+    assert len(meshes.geometry_mesh(bvh.geometry).faces) == bvh.geometry.num_tris
+    assert meshes.geometry_mesh(coal.Halfspace(np.array([0.0, 0.0, 1.0]), 0.0)) is None
 
 
 def test_scene_figure_of_explicit_contacts(pinch, tmp_path):
@@ -372,24 +378,24 @@ def test_scene_figure_with_hand_and_object(barrett_grasp, tmp_path):
 def test_scene_view_bad_input(barrett_grasp, pinch, monkeypatch, tmp_path):
     g = barrett_grasp
     with pytest.raises(pg.InvalidInputError, match="needs its configuration q"):
-        viewer.scene_elements(g.model, hand=g.hand)
+        scene_elements(g.model, hand=g.hand)
     with pytest.raises(pg.InvalidInputError, match="GraspModel"):
-        viewer.scene_elements(SimpleNamespace(hand=g.hand))
+        scene_elements(SimpleNamespace(hand=g.hand))
     with pytest.raises(pg.InvalidInputError, match=r"shape \(4, 3\)"):
-        viewer.scene_elements(g.model, np.zeros((2, 3)))
+        scene_elements(g.model, np.zeros((2, 3)))
     with pytest.raises(pg.InvalidInputError, match="joint values"):
-        viewer.scene_elements(g.model, hand=g.hand, q=[0.0, 1.0])
+        scene_elements(g.model, hand=g.hand, q=[0.0, 1.0])
     with pytest.raises(pg.InvalidInputError, match="force_scale"):
-        viewer.scene_elements(pinch, force_scale=-1.0)
+        scene_elements(pinch, force_scale=-1.0)
     with pytest.raises(pg.InvalidInputError, match="plotly Figure"):
         viewer.save_html("fig", tmp_path / "x.html")
     with pytest.raises(pg.InvalidInputError, match="3D Axes"):
         _, ax = plt.subplots()
-        viewer.scene_axes(pinch, ax=ax)
+        scene_axes(pinch, ax=ax)
     # a response that did not resist (NaN forces) draws no arrows rather than failing
     bad = pg.passive_response(pinch, TAU, [0.0, 50.0, 0.0], method="prp")
     assert not bad.resistible
-    el = viewer.scene_elements(pinch, bad)
+    el = scene_elements(pinch, bad)
     assert "contact forces" not in [s.name for s in el.segments]
     # plotly missing -> a pinograsp error naming the extra
     monkeypatch.setitem(sys.modules, "plotly.graph_objects", None)
@@ -405,16 +411,16 @@ def test_scene_view_in_a_scene_analysis_frame(barrett_grasp):
     T[:3, :3] = [[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]]  # paper axes: y_a = z_base
     T[:3, 3] = [0.0, 0.0, 0.01]
     scene = SimpleNamespace(model=g.model, hand=g.hand, q=g.q, object=g.object, frame=T)
-    el = viewer.scene_elements(scene)
+    el = scene_elements(scene)
     (obj,) = [m for m in el.meshes if m.name == "object"]
     # box (0.05, 0.06, 0.08) centred at z_base = 0.04 -> y_a in [-0.01, 0.07], z_a = -y_base
     np.testing.assert_allclose(obj.vertices.min(axis=0), [-0.025, -0.01, -0.03], atol=1e-12)
     np.testing.assert_allclose(obj.vertices.max(axis=0), [0.025, 0.07, 0.03], atol=1e-12)
     with pytest.raises(pg.InvalidInputError, match="frame"):
-        viewer.scene_elements(g.model, frame=np.ones((4, 4)))
+        scene_elements(g.model, frame=np.ones((4, 4)))
     scenes = pytest.importorskip("pinograsp.scenes.loading")
     case1 = scenes.load_scene("case1")
-    el = viewer.scene_elements(case1)
+    el = scene_elements(case1)
     (obj,) = [m for m in el.meshes if m.name == "object"]
     lo, hi = obj.vertices.min(axis=0), obj.vertices.max(axis=0)
     for p in case1.model.points:  # every contact lies on the drawn box's surface (1 mm tolerance)

@@ -183,7 +183,7 @@ def test_cli_resistance_set(tmp_path, capsys):
 
 
 def test_plot_resistance_set(rset):
-    from pinograsp.viz.plots import GID_UNBOUNDED
+    from pinograsp.viz.figures import GID_UNBOUNDED
 
     fig = pg.plot_resistance_set(rset)
     assert len(fig.axes) >= 2

@@ -10,9 +10,11 @@ import pinograsp as pg
 from pinograsp.robots.collision import link_distances
 from pinograsp.robots.hand import DATA_DIR
 from pinograsp.robots.kinematics import HandConfiguration
-from pinograsp.viz import plots, view3d, viewer
+from pinograsp.viz import figures, view3d, viewer
+from pinograsp.viz.scene_elements import scene_elements
+from pinograsp.viz.scene_mpl import scene_axes
 
-plt = plots.pyplot()
+plt = figures.pyplot()
 UF_URDF = DATA_DIR / "urdf" / "underactuated_2f.urdf"
 
 
@@ -59,7 +61,7 @@ def test_png_and_figure_without_contact_draw_closing_arrows(uf, uf_box, tmp_path
     assert min(link_distances(uf, uf.q_open, uf_box).values()) > 5e-3  # nothing touches
     path = viewer.save_png(None, hand=uf, obj=uf_box, path=tmp_path / "open.png")
     assert path.is_file() and path.stat().st_size > 5000
-    ax = viewer.scene_axes(None, hand=uf, q=uf.q_open, obj=uf_box)
+    ax = scene_axes(None, hand=uf, q=uf.q_open, obj=uf_box)
     arrows = [c for c in ax.collections if str(c.get_gid()).startswith(view3d.GID_CLOSING)]
     assert sorted(c.get_gid() for c in arrows) == sorted(view3d.GID_CLOSING + j for j in uf.joint_names)
     labels = [t for t in ax.texts if t.get_gid() == view3d.GID_DISTANCE]
@@ -74,7 +76,7 @@ def test_png_and_figure_without_contact_draw_closing_arrows(uf, uf_box, tmp_path
 
 
 def test_closing_arrows_point_towards_the_object_and_match_finite_differences(uf, uf_box):
-    el = viewer.scene_elements(None, hand=uf, q=uf.q_open, obj=uf_box)
+    el = scene_elements(None, hand=uf, q=uf.q_open, obj=uf_box)
     assert [a.joint for a in el.closing] == list(uf.joint_names)
     for a in el.closing:
         assert a.approach > 0  # right signs: every joint moves its link towards the box
@@ -90,7 +92,7 @@ def test_closing_arrows_point_towards_the_object_and_match_finite_differences(uf
 
 def test_reported_distances_equal_link_distances(uf, uf_box):
     q = [0.2, 0.1, 0.3, 0.0]
-    el = viewer.scene_elements(None, hand=uf, q=q, obj=uf_box)
+    el = scene_elements(None, hand=uf, q=q, obj=uf_box)
     expected = link_distances(uf, q, uf_box)
     assert el.link_distances.keys() == expected.keys()
     for k, v in expected.items():
@@ -98,28 +100,28 @@ def test_reported_distances_equal_link_distances(uf, uf_box):
     nearest = sorted(expected, key=expected.get)[:3]
     for ln in nearest:
         assert f"{ln} {1e3 * expected[ln]:.1f} mm" in el.title
-    ax = viewer.scene_axes(None, hand=uf, q=q, obj=uf_box)
+    ax = scene_axes(None, hand=uf, q=q, obj=uf_box)
     texts = {t.get_text().strip() for t in ax.texts if t.get_gid() == view3d.GID_DISTANCE}
     assert texts == {f"{ln}: {1e3 * expected[ln]:.1f} mm" for ln in nearest}
 
 
 def test_without_model_bad_input(uf, uf_box):
     with pytest.raises(pg.InvalidInputError, match="model=None needs"):
-        viewer.scene_elements(None)
+        scene_elements(None)
     with pytest.raises(pg.InvalidInputError, match="response"):
-        viewer.scene_elements(None, np.zeros((1, 3)), hand=uf, obj=uf_box)
+        scene_elements(None, np.zeros((1, 3)), hand=uf, obj=uf_box)
     with pytest.raises(pg.InvalidInputError, match="show_distances"):
-        viewer.scene_axes(None, hand=uf, obj=uf_box, show_distances=-1)
+        scene_axes(None, hand=uf, obj=uf_box, show_distances=-1)
 
 
 # ----------------------------------------------------------------------------- upright view
 def test_upright_view_puts_the_hand_up_axis_up():
     case1 = pg.load_scene("case1")
-    el = viewer.scene_elements(case1)
+    el = scene_elements(case1)
     v = el.view
     # analysis frame: Y = hand z (palm normal, towards the object)
     assert v.vertical_axis == "y" and v.roll == 0.0 and v.elev > 0
-    ax = viewer.scene_axes(case1)
+    ax = scene_axes(case1)
     assert (ax.elev, ax.azim, ax.roll) == (v.elev, v.azim, v.roll)
     centre = np.asarray(case1.model.reference_point)
     up = screen_direction(ax, centre, np.array([0.0, 0.05, 0.0]))
@@ -129,12 +131,12 @@ def test_upright_view_puts_the_hand_up_axis_up():
     assert (centre - palm) @ v.eye > 0
     # SO-101: the jaws point along -z of gripper_link -> -z up (roll 180°)
     hand = so101(-1)
-    ax = viewer.scene_axes(None, hand=hand, q=SO_Q, obj=SO_BALL)
+    ax = scene_axes(None, hand=hand, q=SO_Q, obj=SO_BALL)
     assert ax.roll == 180.0 and ax.elev < 0
     up = screen_direction(ax, SO_BALL.center_of_mass, np.array([0.0, 0.0, -0.05]))
     assert up[1] > 0.95
     # explicit angles still win
-    ax = viewer.scene_axes(case1, elev=10, azim=20)
+    ax = scene_axes(case1, elev=10, azim=20)
     assert (ax.elev, ax.azim) == (10, 20)
 
 

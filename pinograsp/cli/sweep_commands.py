@@ -249,7 +249,7 @@ def _compare_lines(scene: Any, names: list[str], rows: list, head: str) -> list[
 
 def _plot_comparison(scene: Any, rows: list, method: str, path: Path) -> None:
     """One bar plot per direction (at most three a row), as ``path``."""
-    from ..viz.plots import pyplot
+    from ..viz.figures import pyplot
 
     plt = pyplot()
     k = len(rows)

@@ -309,16 +309,21 @@ class ResistanceProfile:
         """:attr:`MaxWrench.status` per direction, (n,)."""
         return tuple(r.status for r in self.results)
 
-    def result_along(self, direction: np.ndarray, atol: float = DIRECTION_ATOL) -> MaxWrench | None:
-        """The profile's own result along the unit ``direction`` (6,): the first sampled
-        direction within ``atol`` of it in every component (:data:`DIRECTION_ATOL`), or None
-        when the profile has no such direction. With :meth:`MaxWrench.as_reference`, the value
-        a profile is normalised by (e.g. along ``+b2``: ``result_along(basis[1])``)."""
+    def index_along(self, direction: np.ndarray, atol: float = DIRECTION_ATOL) -> int | None:
+        """Index of the first sampled direction within ``atol`` of the unit ``direction`` (6,) in
+        every component (:data:`DIRECTION_ATOL`), or None when the profile has no such direction."""
         ref = np.asarray(direction, dtype=float)
-        for result, d in zip(self.results, self.directions):
+        for i, d in enumerate(self.directions):
             if np.allclose(d, ref, rtol=0.0, atol=atol):
-                return result
+                return i
         return None
+
+    def result_along(self, direction: np.ndarray, atol: float = DIRECTION_ATOL) -> MaxWrench | None:
+        """The profile's own result along the unit ``direction`` (6,) (:meth:`index_along`), or
+        None. With :meth:`MaxWrench.as_reference`, the value a profile is normalised by (e.g.
+        along ``+b2``: ``result_along(basis[1])``)."""
+        i = self.index_along(direction, atol)
+        return None if i is None or i >= len(self.results) else self.results[i]
 
     def to_dict(self, normalized_by: float | None = None, *, results: bool = False) -> dict[str, Any]:
         """Plain JSON-ready data, the profile part of ``pinograsp profile --json``

@@ -4,8 +4,8 @@
 * ``*_dict`` — each result record as JSON-ready data: the schema of the command line's JSON
   (``docs/cli.md``); the records' ``to_dict()`` methods and ``pinograsp`` CLI call these.
 * :func:`format_magnitude`, :func:`format_max_wrench` — a value printed to its resolution.
-* ``*_summary`` / ``*_repr`` — in :mod:`pinograsp.core.summaries`: short text (``summary()``) and compact ``repr``
-  strings that never dump arrays.
+* ``*_summary`` / ``*_repr`` live in :mod:`pinograsp.core.summaries`: short text
+  (``summary()``) and compact ``repr`` strings that never dump arrays.
 
 NumPy and the standard library only; the records are duck-typed (no import of
 :mod:`pinograsp.core.results`, which imports this module).

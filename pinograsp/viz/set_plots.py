@@ -20,7 +20,7 @@ import numpy as np
 
 from ..analysis.resistance_set import QUANTILES, ResistanceSet
 from ..errors import InvalidInputError
-from .plots import GID_UNBOUNDED, pyplot
+from .figures import GID_UNBOUNDED, pyplot
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure

@@ -1,6 +1,7 @@
 """Scene-view additions for hands that do not (yet) touch the object, and the upright 3D view.
 
-Used by :mod:`pinograsp.viz.viewer` (``scene_figure``, ``save_png``, ``scene_axes``):
+Used by :mod:`pinograsp.viz.scene_elements` and the views drawn from it (``scene_figure``,
+``save_png``, ``scene_axes``):
 
 * :func:`closing_arrows` — for each hand joint, the velocity of the point of its link closest to
   the object when that joint alone closes at unit rate (``s_j`` × the URDF velocity), from
@@ -12,7 +13,7 @@ Used by :mod:`pinograsp.viz.viewer` (``scene_figure``, ``save_png``, ``scene_axe
   the palm (so the palm does not hide the object) and from the horizontal direction in which
   the fewest hand points stand in front of the object.
 
-Positions are in the drawing frame (the model's frame, see :mod:`pinograsp.viz.viewer`) [m].
+Positions are in the drawing frame (the model's frame, see :mod:`pinograsp.viz.scene_elements`) [m].
 """
 
 from __future__ import annotations
@@ -23,12 +24,12 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import pinocchio as pin
 
+from .meshes import geometry_mesh
+
 if TYPE_CHECKING:  # pragma: no cover
     from ..robots.hand import Hand
     from ..robots.objects import RigidObject
 
-#: Colour of the first closing-direction arrow (the legend's swatch).
-CLOSING_COLOR = "#2b9348"
 #: Colours of the closing arrows, one per joint (cycled).
 CLOSING_COLORS = ("#2b9348", "#0077b6", "#e85d04", "#9d4edd", "#c9184a", "#6a994e", "#3a86ff", "#8d6e63")
 #: ``gid`` prefix of the matplotlib closing arrows (one artist per joint: ``prefix + joint``).
@@ -69,26 +70,22 @@ def _apply(T: np.ndarray, p: np.ndarray) -> np.ndarray:
 
 def closest_points(
     hand: Hand, q: np.ndarray, obj: RigidObject, to_model: np.ndarray
-) -> tuple[dict[str, float], dict[str, np.ndarray], dict[str, np.ndarray], dict[str, int]]:
+) -> tuple[dict[str, float], dict[str, np.ndarray]]:
     """Closest signed distance per link and where it is reached.
 
     Returns:
-        ``distances`` {link: [m]} (as :func:`pinograsp.link_distances`), ``hand_points`` and
-        ``object_points`` {link: (3,) drawing frame [m]}, ``geometry`` {link: geometry index}.
+        ``distances`` {link: [m]} (as :func:`pinograsp.link_distances`) and ``hand_points``
+        {link: (3,) drawing frame [m]}, the link's point closest to the object.
     """
     from ..robots.collision import pair_distances
 
     dist: dict[str, float] = {}
     hp: dict[str, np.ndarray] = {}
-    op: dict[str, np.ndarray] = {}
-    geo: dict[str, int] = {}
     for p in pair_distances(hand, q, obj):
         if p.distance < dist.get(p.link, np.inf):
             dist[p.link] = float(p.distance)
             hp[p.link] = _apply(to_model, p.point_hand)
-            op[p.link] = _apply(to_model, p.point_object)
-            geo[p.link] = p.index
-    return dist, hp, op, geo
+    return dist, hp
 
 
 def closing_arrows(
@@ -342,8 +339,6 @@ def distance_title(distances: dict[str, float], tolerance: float, n: int = 3) ->
 
 
 __all__ = [
-    "geometry_mesh",
-    "CLOSING_COLOR",
     "CLOSING_COLORS",
     "CLOSING_GROUP",
     "GID_CLOSING",
@@ -361,44 +356,3 @@ __all__ = [
     "hand_up",
     "upright_view",
 ]
-
-
-def geometry_mesh(geometry: object) -> Any:
-    """A ``trimesh.Trimesh`` of a Coal collision geometry in its own frame (``None`` if unsupported).
-
-    Boxes, spheres, cylinders, capsules, cones, ellipsoids, convex hulls and BVH meshes are
-    supported; planes and half-spaces (unbounded) are not.
-    """
-    import coal
-    import trimesh
-
-    g = geometry
-    if isinstance(g, coal.Box):
-        return trimesh.creation.box(extents=2.0 * np.asarray(g.halfSide, dtype=float))
-    if isinstance(g, coal.Sphere):
-        return trimesh.creation.icosphere(subdivisions=2, radius=float(g.radius))
-    if isinstance(g, coal.Ellipsoid):
-        m = trimesh.creation.icosphere(subdivisions=2, radius=1.0)
-        m.vertices = m.vertices * np.asarray(g.radii, dtype=float)
-        return m
-    if isinstance(g, coal.Capsule):
-        return trimesh.creation.capsule(
-            height=2.0 * float(g.halfLength), radius=float(g.radius), count=[16, 16]
-        )
-    if isinstance(g, coal.Cylinder):
-        return trimesh.creation.cylinder(
-            radius=float(g.radius), height=2.0 * float(g.halfLength), sections=24
-        )
-    if isinstance(g, coal.Cone):
-        m = trimesh.creation.cone(radius=float(g.radius), height=2.0 * float(g.halfLength), sections=24)
-        m.apply_translation([0.0, 0.0, -float(g.halfLength)])
-        return m
-    if isinstance(g, coal.ConvexBase):
-        pts = np.asarray(g.points(), dtype=float).reshape(-1, 3)
-        return trimesh.convex.convex_hull(pts)
-    if isinstance(g, coal.BVHModelBase):
-        verts = np.asarray(g.vertices(), dtype=float).reshape(-1, 3)
-        tris = [g.tri_indices(i) for i in range(int(g.num_tris))]
-        faces = np.array([[t[0], t[1], t[2]] for t in tris], dtype=int).reshape(-1, 3)
-        return trimesh.Trimesh(verts, faces, process=False)
-    return None

@@ -1,0 +1,124 @@
+"""What a 3D scene view is given, checked: the grasp model (or a scene), hand, configuration,
+object and frame, and the contact forces of a response (``docs/plots.md``).
+
+A *scene* is any object with a ``.model`` :class:`~pinograsp.GraspModel` (and optionally
+``.hand``, ``.q``, ``.object``, ``.frame``), such as the result of ``pinograsp.load_scene``;
+arguments given explicitly win over its attributes.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..core.model import GraspModel
+from ..core.validate import positive_number, whole_number
+from ..errors import InvalidInputError
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..robots.hand import Hand
+    from ..robots.objects import RigidObject
+
+
+def positive_or_none(name: str, value: object) -> float | None:
+    """``None``, or a finite number ``> 0`` (:func:`~pinograsp.core.validate.positive_number`)."""
+    return None if value is None else positive_number(name, value)
+
+
+def distance_count(value: object, has_contacts: bool) -> int:
+    """How many nearest links to annotate with their distance: ``value`` (an integer >= 0), by
+    default 3 before contact and none when contacts are drawn."""
+    if value is None:
+        return 0 if has_contacts else 3
+    return whole_number("show_distances", value, minimum=0)
+
+
+def resolve_scene(
+    model: object, hand: Hand | None, q: object, obj: RigidObject | None, frame: object
+) -> tuple[GraspModel | None, Hand | None, object, RigidObject | None, np.ndarray]:
+    """The model, hand, configuration, object and the 4×4 transform from the hand base frame to
+    the model's frame (the inverse of ``frame``), checked.
+
+    ``model=None`` needs a hand or an object; the hand's configuration then defaults to its open
+    one (before any contact).
+    """
+    if model is None:
+        if hand is None and obj is None:
+            raise InvalidInputError("model", "model=None needs a hand= and/or an obj= to draw")
+        if hand is not None and q is None and hasattr(hand, "q_open"):
+            q = np.array(hand.q_open)  # before any contact: the open configuration
+    elif not isinstance(model, GraspModel):
+        inner = getattr(model, "model", None)
+        if not isinstance(inner, GraspModel):
+            raise InvalidInputError(
+                "model",
+                f"expected a GraspModel or a scene with a .model GraspModel, got {type(model).__name__}",
+            )
+        hand = hand if hand is not None else getattr(model, "hand", None)
+        q = q if q is not None else getattr(model, "q", None)
+        if obj is None:
+            obj = getattr(model, "object", None)
+            obj = obj if obj is not None else getattr(model, "obj", None)
+        frame = frame if frame is not None else getattr(model, "frame", None)
+        model = inner
+    if hand is not None:
+        if not (hasattr(hand, "geometry") and hasattr(hand, "model") and hasattr(hand, "configuration")):
+            raise InvalidInputError("hand", f"expected a pinograsp Hand, got {type(hand).__name__}")
+        if q is None:
+            raise InvalidInputError("q", "drawing a hand needs its configuration q (URDF joint values)")
+    if obj is not None and not (hasattr(obj, "geometry") and hasattr(obj, "pose")):
+        raise InvalidInputError("obj", f"expected a pinograsp RigidObject, got {type(obj).__name__}")
+    from ..robots.objects import pose_matrix
+
+    T = pose_matrix(frame, "frame")
+    # hand-base coordinates -> the model's (analysis) frame: p_a = R^T (p - t)
+    to_model = np.eye(4)
+    to_model[:3, :3] = T[:3, :3].T
+    to_model[:3, 3] = -T[:3, :3].T @ T[:3, 3]
+    return model, hand, q, obj, to_model
+
+
+def response_forces(
+    model: GraspModel | None, response: object
+) -> tuple[np.ndarray | None, np.ndarray | None, str]:
+    """World contact forces (nc, 3) [N], the applied wrench (6,) or ``None``, and a status label.
+
+    ``response``: a :class:`~pinograsp.PassiveResponse`, a
+    :class:`~pinograsp.LinearComplianceResult`, a :class:`~pinograsp.MaxWrench` (its response),
+    world forces (nc, 3) [N], or ``None`` (no forces).
+    """
+    if response is None:
+        return None, None, ""
+    if model is None:
+        raise InvalidInputError(
+            "response", "forces need contacts: pass the grasp model (model=None draws none)"
+        )
+    if hasattr(response, "response") and hasattr(response, "unbounded"):  # MaxWrench
+        response = response.response
+        if response is None:
+            raise InvalidInputError("response", "the MaxWrench carries no passive response")
+    if hasattr(response, "contact_forces_world"):
+        f = np.asarray(response.contact_forces_world, dtype=float)
+        w = getattr(response, "wrench", None)
+        w = None if w is None else np.asarray(w, dtype=float).reshape(-1)
+        status = str(getattr(response, "status", "linear compliance"))
+    else:
+        try:
+            f = np.asarray(response, dtype=float)
+        except (TypeError, ValueError) as exc:
+            raise InvalidInputError(
+                "response",
+                f"expected a PassiveResponse, a LinearComplianceResult or an (nc, 3) array, got {response!r}",
+            ) from exc
+        w, status = None, ""
+    if f.shape != (model.nc, 3):
+        raise InvalidInputError(
+            "response", f"expected world contact forces of shape ({model.nc}, 3), got {f.shape}"
+        )
+    if w is not None and w.shape != (6,):
+        w = None
+    return f, w, status
+
+
+__all__ = ["distance_count", "positive_or_none", "resolve_scene", "response_forces"]
