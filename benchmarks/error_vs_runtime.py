@@ -39,7 +39,6 @@ import numpy as np  # noqa: E402
 
 import pinograsp as pg  # noqa: E402
 from pinograsp import examples  # noqa: E402
-from pinograsp.core.examples import random_grasp  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 UPPER = 1e3
@@ -94,7 +93,7 @@ def models(quick: bool) -> dict[str, tuple]:
             True,
         ),
         "random 3D (4 contacts)": (
-            lambda: random_grasp(3, n_pairs=2, planar=False),
+            lambda: examples.random_grasp(3, n_pairs=2, planar=False),
             1.0,
             [[1.0, 0.3, -0.2, 0, 0, 0]],
             {},
@@ -235,7 +234,7 @@ def error_table(repeat: int, quick: bool) -> tuple[list[dict], str]:
 def targets(quick: bool) -> str:
     out = ["| target (issue 4) | measured here | seed paper |", "|---|---|---|"]
     rng = np.random.default_rng(0)
-    m8 = random_grasp(0, n_pairs=2, contacts_per_finger=2)  # 8 contacts, Barrett-like fingers
+    m8 = examples.random_grasp(0, n_pairs=2, contacts_per_finger=2)  # 8 contacts, Barrett-like fingers
     pg.passive_response(m8, 1.0, [0, 0, 0.5, 0, 0, 0], method="prp")
     ts, walls = [], []
     for _ in range(30):

@@ -54,6 +54,7 @@ import statistics  # noqa: E402
 import subprocess  # noqa: E402
 import tempfile  # noqa: E402
 import time  # noqa: E402
+from collections import Counter  # noqa: E402
 from importlib.metadata import version  # noqa: E402
 from pathlib import Path  # noqa: E402
 
@@ -112,102 +113,136 @@ def api_worker(job_file: str, out_file: str) -> None:
     if not where.startswith(str(Path(job["root"]).resolve())):
         raise SystemExit(f"worker imported pinograsp from {where}, not {job['root']}")
     out: dict = {"pinograsp_file": where}
-    task = job["task"]
-    if task == "case1":
-        sc = pg.load_scene("case1")
-        rows = []
-        for ang in job["angles"]:
-            t0, c0 = time.perf_counter(), time.process_time()
-            r = pg.max_resistible_wrench(sc.model, sc.command, xy(ang), "iterative", upper=1e3, steps=20)
+    task = WORKER_TASKS.get(job["task"])
+    if task is not None:
+        out.update(task(job))
+    Path(out_file).write_text(json.dumps(out))
+
+
+def _task_case1(job: dict) -> dict:
+    """Case 1, iterative max wrench along ``job["angles"]`` (upper 1e3, 20 steps)."""
+    import pinograsp as pg
+
+    sc = pg.load_scene("case1")
+    rows = []
+    for ang in job["angles"]:
+        t0, c0 = time.perf_counter(), time.process_time()
+        r = pg.max_resistible_wrench(sc.model, sc.command, xy(ang), "iterative", upper=1e3, steps=20)
+        rows.append(
+            dict(
+                angle=ang,
+                wall=time.perf_counter() - t0,
+                cpu=time.process_time() - c0,
+                magnitude=float(r.magnitude),
+                unbounded=bool(r.unbounded),
+                status=status_of(r),
+                stages=len(r.evidence),
+                n_solves=int(r.n_solves),
+                n_miqp=int(getattr(r, "n_miqp", -1)),
+            )
+        )
+        print(f"    {job['tag']} case1 {ang:4d} deg: {rows[-1]['wall']:.2f} s", flush=True)
+    return {"rows": rows}
+
+
+def _task_prp(job: dict) -> dict:
+    """Single PRP solves on random grasps: wall and solve times, verdicts."""
+    import pinograsp as pg
+    from pinograsp import examples
+
+    res = {}
+    for cfg in job["configs"]:
+        m = examples.random_grasp(
+            cfg["seed"], n_pairs=cfg["n_pairs"], contacts_per_finger=cfg["cpf"], planar=False
+        )
+        pg.passive_response(m, 1.0, np.zeros(6), method="prp")  # warm-up (cvxpy compile)
+        walls, solves, ok, miqp = [], [], [], []
+        for w in cfg["wrenches"]:
+            t0 = time.perf_counter()
+            r = pg.passive_response(m, 1.0, w, method="prp")
+            walls.append(time.perf_counter() - t0)
+            solves.append(r.solve_time)
+            ok.append(bool(r.resistible))
+            miqp.append(int(getattr(r, "n_miqp", -1)))
+        res[cfg["label"]] = dict(wall=walls, solve=solves, resisted=ok, n_miqp=miqp)
+    return {"prp": res}
+
+
+def _task_prp_bnb(job: dict) -> dict:
+    """New tree only: the solver layer's PRP time (branch-and-bound alone)."""
+    from pinograsp import examples
+    from pinograsp.solvers import BranchAndBound, Formulation, build_problem
+
+    res = {}
+    for cfg in job["configs"]:
+        m = examples.random_grasp(
+            cfg["seed"], n_pairs=cfg["n_pairs"], contacts_per_finger=cfg["cpf"], planar=False
+        )
+        form = Formulation(m)
+        ts = []
+        for w in cfg["wrenches"]:
+            data = form.scale_data(m.reduce_wrench(np.asarray(w)), m.command_vector(1.0))
+            t0 = time.perf_counter()
+            BranchAndBound(build_problem(form, "prp", data)).solve()
+            ts.append(time.perf_counter() - t0)
+        res[cfg["label"]] = ts
+    return {"prp": res}
+
+
+def _task_pinch(job: dict) -> dict:
+    """The analytic pinch along ``job["dirs"]``, iterative and PRP (upper 100, 20 steps)."""
+    import pinograsp as pg
+    from pinograsp import examples
+
+    rows = []
+    for name, d in job["dirs"].items():
+        for method in ("iterative", "prp"):
+            ts, mag = [], None
+            for _ in range(job["repeat"]):
+                m = examples.pinch()
+                t0 = time.perf_counter()
+                r = pg.max_resistible_wrench(m, 1.0, d, method, upper=100.0, steps=20)
+                ts.append(time.perf_counter() - t0)
+                mag, unb, st = float(r.magnitude), bool(r.unbounded), len(r.evidence)
             rows.append(
                 dict(
-                    angle=ang,
-                    wall=time.perf_counter() - t0,
-                    cpu=time.process_time() - c0,
-                    magnitude=float(r.magnitude),
-                    unbounded=bool(r.unbounded),
+                    dir=name,
+                    method=method,
+                    walls=ts,
+                    magnitude=mag,
+                    unbounded=unb,
+                    stages=st,
                     status=status_of(r),
-                    stages=len(r.evidence),
-                    n_solves=int(r.n_solves),
-                    n_miqp=int(getattr(r, "n_miqp", -1)),
                 )
             )
-            print(f"    {job['tag']} case1 {ang:4d} deg: {rows[-1]['wall']:.2f} s", flush=True)
-        out["rows"] = rows
-    elif task == "prp":
-        from pinograsp.core.examples import random_grasp
+    return {"rows": rows}
 
-        res = {}
-        for cfg in job["configs"]:
-            m = random_grasp(
-                cfg["seed"], n_pairs=cfg["n_pairs"], contacts_per_finger=cfg["cpf"], planar=False
-            )
-            pg.passive_response(m, 1.0, np.zeros(6), method="prp")  # warm-up (cvxpy compile)
-            walls, solves, ok, miqp = [], [], [], []
-            for w in cfg["wrenches"]:
-                t0 = time.perf_counter()
-                r = pg.passive_response(m, 1.0, w, method="prp")
-                walls.append(time.perf_counter() - t0)
-                solves.append(r.solve_time)
-                ok.append(bool(r.resistible))
-                miqp.append(int(getattr(r, "n_miqp", -1)))
-            res[cfg["label"]] = dict(wall=walls, solve=solves, resisted=ok, n_miqp=miqp)
-        out["prp"] = res
-    elif task == "prp_bnb":  # new tree only: the solver layer's PRP time
-        from pinograsp.core.examples import random_grasp
-        from pinograsp.solvers import BranchAndBound, Formulation, build_problem
 
-        res = {}
-        for cfg in job["configs"]:
-            m = random_grasp(
-                cfg["seed"], n_pairs=cfg["n_pairs"], contacts_per_finger=cfg["cpf"], planar=False
-            )
-            form = Formulation(m)
-            ts = []
-            for w in cfg["wrenches"]:
-                data = form.scale_data(m.reduce_wrench(np.asarray(w)), m.command_vector(1.0))
-                t0 = time.perf_counter()
-                BranchAndBound(build_problem(form, "prp", data)).solve()
-                ts.append(time.perf_counter() - t0)
-            res[cfg["label"]] = ts
-        out["prp"] = res
-    elif task == "pinch":
-        from pinograsp import examples
+def _task_case2(job: dict) -> dict:
+    """Case 2's iterative XY profile (preload ``finger1_only``, upper 50, 20 steps)."""
+    import pinograsp as pg
 
-        rows = []
-        for name, d in job["dirs"].items():
-            for method in ("iterative", "prp"):
-                ts, mag = [], None
-                for _ in range(job["repeat"]):
-                    m = examples.pinch()
-                    t0 = time.perf_counter()
-                    r = pg.max_resistible_wrench(m, 1.0, d, method, upper=100.0, steps=20)
-                    ts.append(time.perf_counter() - t0)
-                    mag, unb, st = float(r.magnitude), bool(r.unbounded), len(r.evidence)
-                rows.append(
-                    dict(
-                        dir=name,
-                        method=method,
-                        walls=ts,
-                        magnitude=mag,
-                        unbounded=unb,
-                        stages=st,
-                        status=status_of(r),
-                    )
-                )
-        out["rows"] = rows
-    elif task == "case2":
-        sc = pg.load_scene("case2")
-        cmd = sc.preload("finger1_only")
-        t0 = time.perf_counter()
-        prof = pg.resistance_profile(sc.model, cmd, ("fx", "fy"), n=job["n"], upper=50.0, steps=20)
-        out["wall"] = time.perf_counter() - t0
-        out["angles"] = [float(np.degrees(a)) for a in prof.angles]
-        out["magnitudes"] = [float(x) for x in prof.magnitudes]
-        out["unbounded"] = [bool(x) for x in prof.unbounded]
-        out["status"] = [status_of(r) for r in prof.results]
-        out["dir_walls"] = [float(r.wall_time) for r in prof.results]
-    Path(out_file).write_text(json.dumps(out))
+    sc = pg.load_scene("case2")
+    cmd = sc.preload("finger1_only")
+    t0 = time.perf_counter()
+    prof = pg.resistance_profile(sc.model, cmd, ("fx", "fy"), n=job["n"], upper=50.0, steps=20)
+    return {
+        "wall": time.perf_counter() - t0,
+        "angles": [float(np.degrees(a)) for a in prof.angles],
+        "magnitudes": [float(x) for x in prof.magnitudes],
+        "unbounded": [bool(x) for x in prof.unbounded],
+        "status": [status_of(r) for r in prof.results],
+        "dir_walls": [float(r.wall_time) for r in prof.results],
+    }
+
+
+WORKER_TASKS = {
+    "case1": _task_case1,
+    "prp": _task_prp,
+    "prp_bnb": _task_prp_bnb,
+    "pinch": _task_pinch,
+    "case2": _task_case2,
+}
 
 
 def old_root(arg: str | None) -> Path:
@@ -1122,26 +1157,32 @@ def diagnose(r: dict) -> str:
     return ""
 
 
-def md_agreement(ag: dict) -> str:
-    rows = ag["rows"]
-    from collections import Counter
+def _agreement_kind(r: dict) -> str:
+    """The problem family of an agreement row (a line of the agreement table)."""
+    if r["kind"] == "prp":
+        return (
+            f"PRP at the exact limit × (1 ± 1e-{r['name'][-1]})"
+            if "edge" in r["name"]
+            else "PRP, random data"
+        )
+    return "movement step, real trajectory" if r["name"].startswith("traj") else "movement step, random data"
 
+
+def _diagnosis_counts(rows: list[dict]) -> Counter:
+    return Counter(diagnose(r).split(" by ")[0].split(" (")[0].split(":")[0].replace("**", "") for r in rows)
+
+
+def _relative_excess(r: dict) -> float:
+    return (r["bnb_obj"] - r["scip_obj"]) / max(abs(r["scip_obj"]), 1e-300)
+
+
+def md_agreement(ag: dict) -> str:
+    """The agreement section of the report: counts per problem family, then the details."""
+    rows = ag["rows"]
     cls = Counter(r["cls"] for r in rows)
-    by_kind = {}
+    by_kind: dict[str, Counter] = {}
     for r in rows:
-        if r["kind"] == "prp":
-            key = (
-                f"PRP at the exact limit × (1 ± 1e-{r['name'][-1]})"
-                if "edge" in r["name"]
-                else "PRP, random data"
-            )
-        else:
-            key = (
-                "movement step, real trajectory"
-                if r["name"].startswith("traj")
-                else "movement step, random data"
-            )
-        by_kind.setdefault(key, Counter())[r["cls"]] += 1
+        by_kind.setdefault(_agreement_kind(r), Counter())[r["cls"]] += 1
     cats = ["agree", "B&B lower", "B&B higher", "status mismatch"]
     cats += sorted(c for c in cls if c not in cats)
     L = [
@@ -1159,107 +1200,114 @@ def md_agreement(ag: dict) -> str:
     L.append("| **all** | " + " | ".join(f"**{cls.get(k, 0)}**" for k in cats) + f" | **{len(rows)}** |")
     higher = [r for r in rows if r["cls"] == "B&B higher"]
     if higher:
-        from collections import Counter as _C
-
-        kinds = _C(
-            diagnose(r).split(" by ")[0].split(" (")[0].split(":")[0].replace("**", "") for r in higher
-        )
-        worst = max((r["bnb_obj"] - r["scip_obj"]) / max(abs(r["scip_obj"]), 1e-300) for r in higher)
+        worst = max(_relative_excess(r) for r in higher)
         L += [
             "",
             f'"B&B higher": {len(higher)} (largest relative excess {worst:.1e}): '
-            + "; ".join(f"{k}: {v}" for k, v in kinds.most_common())
+            + "; ".join(f"{k}: {v}" for k, v in _diagnosis_counts(higher).most_common())
             + ". SCIP's point is checked against every row of the problem (max violation) and its own mode "
             "is re-solved exactly by the B&B's convex QP.",
         ]
+    L += _loose_text(rows) + _timing_text(rows) + _disagreements(rows) + _lower_table(rows)
+    return "\n".join(L)
+
+
+def _loose_text(rows: list[dict]) -> list[str]:
+    """B&B "optimal" answers whose point violates a row beyond the B&B's own tolerance."""
     loose = sorted(
         (r for r in rows if r.get("bnb_status") == "optimal" and r.get("bnb_viol", 0.0) > 1e-9),
         key=lambda r: -r["bnb_viol"],
     )
     nopt = sum(r.get("bnb_status") == "optimal" for r in rows)
-    L += [
+    if loose:
+        listed = " (" + ", ".join(f"{r['id']}-{r['name']} {r['bnb_viol']:.1e}" for r in loose) + ")"
+        if all("edge+" in r["name"] for r in loose):
+            listed += ": every one a PRP just beyond the exact limit, which is then called resisted."
+        else:
+            listed += "."
+    else:
+        listed = "."
+    return [
         "",
         f'B&B answers "optimal" whose point violates some row by more than the B&B\'s own feasibility '
-        f"tolerance 1e-9: {len(loose)} of {nopt}"
-        + (
-            " ("
-            + ", ".join(f"{r['id']}-{r['name']} {r['bnb_viol']:.1e}" for r in loose)
-            + ")"
-            + (
-                ": every one a PRP just beyond the exact limit, which is then called resisted."
-                if all("edge+" in r["name"] for r in loose)
-                else "."
-            )
-            if loose
-            else "."
-        ),
+        f"tolerance 1e-9: {len(loose)} of {nopt}" + listed,
     ]
-    opt = [r for r in rows if r.get("bnb_status") == "optimal" and r.get("scip_status") == "optimal"]
-    if opt:
-        rel = [
-            abs(r["bnb_obj"] - r["scip_obj"]) / max(abs(r["scip_obj"]), 1e-300)
-            for r in opt
-            if r["scip_obj"] > 1e-9
-        ]
-        bt = [r["bnb_time"] for r in rows if "bnb_time" in r]
-        st = [r["scip_time"] for r in rows if "scip_time" in r]
-        L += [
-            "",
-            f"Both optimal: {len(opt)}; relative objective difference where SCIP's objective > 1e-9: median "
-            f"{statistics.median(rel):.1e}, max {max(rel):.1e}. Time per problem: B&B median "
-            f"{1e3 * statistics.median(bt):.1f} ms (p90 {1e3 * q(bt, 90):.1f}, max {1e3 * max(bt):.0f}); "
-            "SCIP median "
-            f"{1e3 * statistics.median(st):.1f} ms (p90 {1e3 * q(st, 90):.1f}, max {1e3 * max(st):.0f}). "
-            f"Largest B&B node count: {max(r.get('bnb_nodes', 0) for r in rows)}.",
-        ]
-    bad = [r for r in rows if r["cls"] in ("B&B higher", "status mismatch", "crash")]
-    if bad:
-        L += [
-            "",
-            "Disagreements (reproduce one with `python benchmarks/solver_core.py --reproduce ID`):",
-            "",
-            "| ID | grasp | class | B&B status / objective | SCIP status / objective | relative excess "
-            "| B&B point: max violation | SCIP point: max violation | SCIP's mode solved exactly by the B&B "
-            "| diagnosis | B&B message |",
-            "|---|---|---|---|---|---:|---:|---:|---|---|---|",
-        ]
-        for r in bad:
-            exc = ""
-            if r["cls"] == "B&B higher":
-                exc = f"{(r['bnb_obj'] - r['scip_obj']) / max(abs(r['scip_obj']), 1e-300):.2e}"
-            me = r.get("scip_mode_exact", "—")
-            me = f"{me:.10g}" if isinstance(me, float) else str(me)
-            L.append(
-                f"| {r['id']}-{r['name']} | {r['label']} | {r['cls']} | {r['bnb_status']} / "
-                f"{r.get('bnb_obj', float('nan')):.10g} "
-                f"| {r.get('scip_status', '?')} / {r.get('scip_obj', float('nan')):.10g} | {exc} "
-                f"| {r.get('bnb_viol', float('nan')):.1e} | {r.get('scip_viol', float('nan')):.1e} | {me} "
-                f"| {diagnose(r)} | {r.get('bnb_msg', '')[:80]} |"
-            )
-    if bad:
-        from collections import Counter as _C
 
-        keys = _C(diagnose(r).split(" by ")[0].split(" (")[0].split(":")[0].replace("**", "") for r in bad)
-        L += ["", "Diagnoses: " + "; ".join(f"{k}: {v}" for k, v in keys.most_common()) + "."]
+
+def _timing_text(rows: list[dict]) -> list[str]:
+    """Objective differences and times where both solvers are optimal."""
+    opt = [r for r in rows if r.get("bnb_status") == "optimal" and r.get("scip_status") == "optimal"]
+    if not opt:
+        return []
+    rel = [
+        abs(r["bnb_obj"] - r["scip_obj"]) / max(abs(r["scip_obj"]), 1e-300)
+        for r in opt
+        if r["scip_obj"] > 1e-9
+    ]
+    bt = [r["bnb_time"] for r in rows if "bnb_time" in r]
+    st = [r["scip_time"] for r in rows if "scip_time" in r]
+    return [
+        "",
+        f"Both optimal: {len(opt)}; relative objective difference where SCIP's objective > 1e-9: median "
+        f"{statistics.median(rel):.1e}, max {max(rel):.1e}. Time per problem: B&B median "
+        f"{1e3 * statistics.median(bt):.1f} ms (p90 {1e3 * q(bt, 90):.1f}, max {1e3 * max(bt):.0f}); "
+        "SCIP median "
+        f"{1e3 * statistics.median(st):.1f} ms (p90 {1e3 * q(st, 90):.1f}, max {1e3 * max(st):.0f}). "
+        f"Largest B&B node count: {max(r.get('bnb_nodes', 0) for r in rows)}.",
+    ]
+
+
+def _disagreements(rows: list[dict]) -> list[str]:
+    """The table of problems where the B&B is higher, the statuses differ or a solver crashed."""
+    bad = [r for r in rows if r["cls"] in ("B&B higher", "status mismatch", "crash")]
+    if not bad:
+        return []
+    L = [
+        "",
+        "Disagreements (reproduce one with `python benchmarks/solver_core.py --reproduce ID`):",
+        "",
+        "| ID | grasp | class | B&B status / objective | SCIP status / objective | relative excess "
+        "| B&B point: max violation | SCIP point: max violation | SCIP's mode solved exactly by the B&B "
+        "| diagnosis | B&B message |",
+        "|---|---|---|---|---|---:|---:|---:|---|---|---|",
+    ]
+    for r in bad:
+        exc = f"{_relative_excess(r):.2e}" if r["cls"] == "B&B higher" else ""
+        me = r.get("scip_mode_exact", "—")
+        me = f"{me:.10g}" if isinstance(me, float) else str(me)
+        L.append(
+            f"| {r['id']}-{r['name']} | {r['label']} | {r['cls']} | {r['bnb_status']} / "
+            f"{r.get('bnb_obj', float('nan')):.10g} "
+            f"| {r.get('scip_status', '?')} / {r.get('scip_obj', float('nan')):.10g} | {exc} "
+            f"| {r.get('bnb_viol', float('nan')):.1e} | {r.get('scip_viol', float('nan')):.1e} | {me} "
+            f"| {diagnose(r)} | {r.get('bnb_msg', '')[:80]} |"
+        )
+    return L + [
+        "",
+        "Diagnoses: " + "; ".join(f"{k}: {v}" for k, v in _diagnosis_counts(bad).most_common()) + ".",
+    ]
+
+
+def _lower_table(rows: list[dict]) -> list[str]:
+    """The five largest "B&B lower" cases."""
     low = [r for r in rows if r["cls"] == "B&B lower"]
-    if low:
-        worst = sorted(low, key=lambda r: -(r["scip_obj"] - r["bnb_obj"]) / max(abs(r["scip_obj"]), 1e-300))[
-            :5
-        ]
-        L += [
-            "",
-            "Largest \"B&B lower\" cases (SCIP's point worse than the B&B's optimum):",
-            "",
-            "| ID | grasp | B&B objective | SCIP objective | SCIP's mode solved exactly |",
-            "|---|---|---:|---:|---|",
-        ]
-        for r in worst:
-            me = r.get("scip_mode_exact", "—")
-            me = f"{me:.6g}" if isinstance(me, float) else str(me)
-            L.append(
-                f"| {r['id']}-{r['name']} | {r['label']} | {r['bnb_obj']:.6g} | {r['scip_obj']:.6g} | {me} |"
-            )
-    return "\n".join(L)
+    if not low:
+        return []
+    worst = sorted(low, key=lambda r: -(r["scip_obj"] - r["bnb_obj"]) / max(abs(r["scip_obj"]), 1e-300))[:5]
+    L = [
+        "",
+        "Largest \"B&B lower\" cases (SCIP's point worse than the B&B's optimum):",
+        "",
+        "| ID | grasp | B&B objective | SCIP objective | SCIP's mode solved exactly |",
+        "|---|---|---:|---:|---|",
+    ]
+    for r in worst:
+        me = r.get("scip_mode_exact", "—")
+        me = f"{me:.6g}" if isinstance(me, float) else str(me)
+        L.append(
+            f"| {r['id']}-{r['name']} | {r['label']} | {r['bnb_obj']:.6g} | {r['scip_obj']:.6g} | {me} |"
+        )
+    return L
 
 
 def plot(res: dict, path: Path) -> None:
