@@ -119,6 +119,18 @@ def api_worker(job_file: str, out_file: str) -> None:
     Path(out_file).write_text(json.dumps(out))
 
 
+def _example_grasps() -> tuple:
+    """``(pinch, random_grasp)``: from ``pinograsp.examples``, or in the old tree (fc3d54a), which
+    has no such module, from its ``analytic`` and ``synthetic`` modules."""
+    try:
+        from pinograsp import examples
+    except ImportError:
+        from pinograsp import analytic, synthetic
+
+        return analytic.pinch, synthetic.random_grasp
+    return examples.pinch, examples.random_grasp
+
+
 def _task_case1(job: dict) -> dict:
     """Case 1, iterative max wrench along ``job["angles"]`` (upper 1e3, 20 steps)."""
     import pinograsp as pg
@@ -148,13 +160,11 @@ def _task_case1(job: dict) -> dict:
 def _task_prp(job: dict) -> dict:
     """Single PRP solves on random grasps: wall and solve times, verdicts."""
     import pinograsp as pg
-    from pinograsp import examples
 
+    _, random_grasp = _example_grasps()
     res = {}
     for cfg in job["configs"]:
-        m = examples.random_grasp(
-            cfg["seed"], n_pairs=cfg["n_pairs"], contacts_per_finger=cfg["cpf"], planar=False
-        )
+        m = random_grasp(cfg["seed"], n_pairs=cfg["n_pairs"], contacts_per_finger=cfg["cpf"], planar=False)
         pg.passive_response(m, 1.0, np.zeros(6), method="prp")  # warm-up (cvxpy compile)
         walls, solves, ok, miqp = [], [], [], []
         for w in cfg["wrenches"]:
@@ -192,14 +202,14 @@ def _task_prp_bnb(job: dict) -> dict:
 def _task_pinch(job: dict) -> dict:
     """The analytic pinch along ``job["dirs"]``, iterative and PRP (upper 100, 20 steps)."""
     import pinograsp as pg
-    from pinograsp import examples
 
+    pinch, _ = _example_grasps()
     rows = []
     for name, d in job["dirs"].items():
         for method in ("iterative", "prp"):
             ts, mag = [], None
             for _ in range(job["repeat"]):
-                m = examples.pinch()
+                m = pinch()
                 t0 = time.perf_counter()
                 r = pg.max_resistible_wrench(m, 1.0, d, method, upper=100.0, steps=20)
                 ts.append(time.perf_counter() - t0)
