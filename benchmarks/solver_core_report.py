@@ -283,7 +283,7 @@ READING = """## Reading guide
   (compared in section 1).
 * **stages** = magnitudes tried (`len(evidence)`): the bisection tries `steps + 1`, the secant
   usually fewer. A direction whose magnitude differs between columns is a different answer, not a
-  timing effect: the old fast path's verdicts rested on inexact step optima (SOLVER_NOTES), and
+  timing effect: the old fast path's verdicts rested on inexact step optima, and
   `accelerate=False` is the paper's scheme step by step, which stalls under the 1 % rule in narrow
   valleys and then calls a resisted load "not resisted" (a smaller finite magnitude, or finite
   instead of unbounded).
