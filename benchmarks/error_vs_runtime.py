@@ -36,10 +36,10 @@ from importlib.metadata import version  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
+from error_vs_runtime_report import fill_readme, plot, reading, write  # noqa: E402
 
 import pinograsp as pg  # noqa: E402
 from pinograsp import examples  # noqa: E402
-from pinograsp.core.examples import random_grasp  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 UPPER = 1e3
@@ -94,7 +94,7 @@ def models(quick: bool) -> dict[str, tuple]:
             True,
         ),
         "random 3D (4 contacts)": (
-            lambda: random_grasp(3, n_pairs=2, planar=False),
+            lambda: examples.random_grasp(3, n_pairs=2, planar=False),
             1.0,
             [[1.0, 0.3, -0.2, 0, 0, 0]],
             {},
@@ -235,7 +235,7 @@ def error_table(repeat: int, quick: bool) -> tuple[list[dict], str]:
 def targets(quick: bool) -> str:
     out = ["| target (issue 4) | measured here | seed paper |", "|---|---|---|"]
     rng = np.random.default_rng(0)
-    m8 = random_grasp(0, n_pairs=2, contacts_per_finger=2)  # 8 contacts, Barrett-like fingers
+    m8 = examples.random_grasp(0, n_pairs=2, contacts_per_finger=2)  # 8 contacts, Barrett-like fingers
     pg.passive_response(m8, 1.0, [0, 0, 0.5, 0, 0, 0], method="prp")
     ts, walls = [], []
     for _ in range(30):
@@ -313,41 +313,6 @@ def targets(quick: bool) -> str:
     return "\n".join(out)
 
 
-def plot(rows: list[dict], path: Path) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(8, 5.5))
-    markers = dict(zip(sorted({r["model"] for r in rows}), "osD^v<>"))
-    cmap = plt.get_cmap("tab20")
-    cfgs = list(CONFIGS)
-    for r in rows:
-        e = r["err"] if np.isfinite(r["err"]) else 1.0
-        ax.scatter(
-            1e3 * r["time"],
-            max(e, 1e-9),
-            marker=markers[r["model"]],
-            color=cmap(cfgs.index(r["config"]) % 20),
-            s=40,
-        )
-    for c in cfgs:
-        ax.scatter([], [], color=cmap(cfgs.index(c) % 20), label=c, s=25)
-    for mname, mk in markers.items():
-        ax.scatter([], [], marker=mk, color="k", label=mname, s=25)
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    ax.set_xlabel("median time per direction query [ms]")
-    ax.set_ylabel("max relative error vs reference (floor 1e-9; 1 = classification differs)")
-    ax.axvline(50, color="gray", ls=":", lw=1)
-    ax.legend(fontsize=6, loc="center left", bbox_to_anchor=(1.0, 0.5))
-    ax.set_title("pinograsp: error against run time (this machine)")
-    fig.tight_layout()
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=110)
-
-
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--repeat", type=int, default=3)
@@ -387,8 +352,8 @@ def main() -> None:
     rows, table = error_table(args.repeat, args.quick)
     print(table, flush=True)
     img = (ROOT / "docs" if official else Path(args.out).parent) / "img" / "error_vs_runtime.png"
-    plot(rows, img)
-    read = reading(rows)
+    plot(rows, img, CONFIGS)
+    read = reading(rows, CONFIGS, REF_FAILURES)
     print(read)
     write(args, head, table, "(running)", time.perf_counter() - t_start, read)
     tg = targets(args.quick)
@@ -398,123 +363,6 @@ def main() -> None:
     if official:
         fill_readme(Path(args.out))
     print(f"wrote {args.out}, {img}{' and the README block' if official else ''} in {total:.0f} s")
-
-
-def reading(rows: list[dict]) -> str:
-    """The "Reading it" section, from the measured rows (nothing in it is hard-coded)."""
-
-    def rows_of(cfg):
-        return [r for r in rows if r["config"] == cfg]
-
-    def worst(cfg):
-        rr = rows_of(cfg)
-        bad = [f"{r['model']} ({r['n_class']} of {r['n_dirs']})" for r in rr if r["n_class"]]
-        fails = [r["model"] for r in rr if r["n_failed"]]
-        fin = max((r["max_finite"] for r in rr), default=0.0)
-        txt = f"max finite error {fin:.1e}"
-        if bad:
-            txt += "; unbounded vs finite differs on " + ", ".join(bad)
-        if fails:
-            txt += "; solver failures on " + ", ".join(fails)
-        return txt
-
-    def tmed(cfg):
-        rr = rows_of(cfg)
-        return statistics.median(r["time"] for r in rr) if rr else float("nan")
-
-    base = "iter. secant, 20 steps (default)"
-    out = ["## Reading it", ""]
-    out.append(
-        "* Reference: the closed form (pinch, wedge), else the exact core's finest answer — PRP: the direct "
-        "load-factor search, so `PRP direct` is 0 by construction there; iterative: the paper's bisection at "
-        "30 steps. Every configuration below runs the same exact branch-and-bound unless it names the "
-        "reference "
-        "MIQP backend; differences are the search's resolution, the scheme's settings, or the backend."
-    )
-    for cfg in CONFIGS:
-        if rows_of(cfg):
-            out.append(f"* `{cfg}`: {worst(cfg)}; median time over models {1e3 * tmed(cfg):.0f} ms.")
-    if rows_of(base) and rows_of("iter. bisection, 20 steps"):
-        out.append(
-            f"* The secant vs the bisection at 20 steps: median {1e3 * tmed(base):.0f} ms vs "
-            f"{1e3 * tmed('iter. bisection, 20 steps'):.0f} ms per direction."
-        )
-    nacc = [r for r in rows_of("iter. accelerate=False, 20 steps") if r["n_class"] or r["max_finite"] > 1e-3]
-    if nacc:
-        out.append(
-            "* `accelerate=False` (the paper's scheme step by step) gives other answers on "
-            + ", ".join(
-                f"{r['model']} ({', '.join(f'{m:.4g}' for m in r['mags'])} vs "
-                f"{', '.join(f'{x:.4g}' for x in r['refs'])})"
-                for r in nacc
-            )
-            + ": it stalls under the 1 % improvement rule in narrow valleys and calls a resisted load "
-            '"not resisted" (docs/solvers.md).'
-        )
-    for f in REF_FAILURES:
-        out.append(f"* A reference run failed (its rows compare against NaN): {f}.")
-    return "\n".join(out) + "\n\n"
-
-
-def write(args: argparse.Namespace, head: str, table: str, tg: str, total: float, read: str = "") -> None:
-    Path(args.out).write_text(
-        "# Error against run time\n\n"
-        "Generated by `python benchmarks/error_vs_runtime.py` "
-        f"({'--quick, ' if args.quick else ''}repeat {args.repeat}; total {total:.0f} s). {head}.\n\n"
-        "Error: largest relative deviation of the max resistible magnitude over the model's "
-        "directions from the reference: the closed form (pinch, wedge), else the exact core's finest "
-        "answer of the same method and variant (PRP: direct load-factor search; iterative: the paper's "
-        "bisection with 30 steps, default settings otherwise). `1 (classification differs)`: one says "
-        "unbounded, the other finite. Upper limit 1e3 N. Times are medians of fresh-model queries, "
-        "including the preload check; the reference MIQP backend's iterative scheme (a SCIP solve per "
-        "movement step) runs on the pinch only. Other jobs may share the 2 cores (load average at start "
-        "above), so absolute times can be pessimistic; ratios within a model hold. The new core against "
-        "the previous implementation: [`solver_core.md`](solver_core.md)."
-        "\n\n"
-        "![error vs run time](img/error_vs_runtime.png)\n\n"
-        + read
-        + "## Per configuration\n\n"
-        + table
-        + "\n\n## Targets\n\n"
-        + tg
-        + "\n"
-    )
-
-
-README_CONFIGS = (
-    "PRP bisection, 20 steps",
-    "PRP direct (1 load-factor solve)",
-    "PRP reference MIQP (SCIP), 20 steps",
-    "iter. secant, 20 steps (default)",
-    "iter. bisection, 20 steps",
-    "iter. accelerate=False, 20 steps",
-)
-
-
-def fill_readme(
-    report: Path = ROOT / "docs" / "error_vs_runtime.md", readme: Path = ROOT / "README.md"
-) -> None:
-    """Copy the key rows of the generated report into README.md between the perf markers."""
-    rows: dict[str, dict[str, str]] = {}
-    for line in report.read_text().splitlines():
-        cells = [c.strip() for c in line.strip().strip("|").split("|")]
-        if len(cells) == 4 and cells[1] in README_CONFIGS:
-            rows.setdefault(cells[0], {})[cells[1]] = f"{cells[2]} ms, err {cells[3]}"
-    head = "| model | " + " | ".join(README_CONFIGS) + " |"
-    out = [head, "|---" * (len(README_CONFIGS) + 1) + "|"]
-    for model, r in rows.items():
-        out.append(f"| {model} | " + " | ".join(r.get(c, "—") for c in README_CONFIGS) + " |")
-    block = (
-        "Median time per direction query and max relative error against the closed form, else the exact "
-        "core's finest answer (PRP: direct load-factor search; iterative: 30-step bisection), "
-        "single-threaded "
-        "BLAS (generated from `docs/error_vs_runtime.md` by `benchmarks/error_vs_runtime.py`):\n\n"
-        + "\n".join(out)
-    )
-    text = readme.read_text()
-    a, b = "<!-- perf:start -->", "<!-- perf:end -->"
-    i, j = text.index(a) + len(a), text.index(b)
-    readme.write_text(text[:i] + "\n" + block + "\n" + text[j:])
 
 
 if __name__ == "__main__":

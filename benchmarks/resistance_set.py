@@ -32,10 +32,10 @@ def run(scene_name: str, n: int, workers: int) -> tuple[pg.ResistanceSet, float]
         scene.model,
         scene.command,
         n,
-        a["method"],
+        a.method,
         workers=workers,
-        upper=a["upper"],
-        steps=a["steps"],
+        upper=a.upper,
+        steps=a.steps,
         settings=scene.settings,
     )
     return rs, time.perf_counter() - t0

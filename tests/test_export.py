@@ -11,20 +11,15 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+from grasps import MU, L
 
 import pinograsp as pg
-from pinograsp import examples
 from pinograsp.cli import main
 from pinograsp.core import tables
 from pinograsp.core.serialize import decimals, format_magnitude, format_max_wrench
 from pinograsp.core.tables import PROFILE_COLUMNS, RESULT_COLUMNS
 
-MU, L = 0.5, 0.1  # the analytic pinch: +Y limit 2 mu tau0 / L = 10 N at tau0 = 1
-
-
-@pytest.fixture(scope="module")
-def pinch():
-    return examples.pinch()
+# the analytic pinch (conftest ``pinch`` fixture): +Y limit 2 MU tau0 / L = 10 N at tau0 = 1
 
 
 @pytest.fixture(scope="module")

@@ -3,6 +3,7 @@ contact permutation, and agreement of the two iterative variants on the analytic
 
 import numpy as np
 import pytest
+from grasps import pinch_contacts
 
 import pinograsp as pg
 from pinograsp import examples
@@ -19,15 +20,6 @@ RES = UPPER / 2**STEPS
 TAU = 1.0
 
 
-def pinch_contacts(h=0.0):
-    m = examples.pinch(h=h)
-    EZ = np.array([0, 0, 1.0])
-    a, L = 0.05, 0.1
-    left = pg.Contact.revolute([-a, -h, 0], [1, 0, 0], {0: ([-a, -h - L, 0], -EZ)}, nq=2, mu=0.5, name="left")
-    right = pg.Contact.revolute([a, h, 0], [-1, 0, 0], {1: ([a, h - L, 0], EZ)}, nq=2, mu=0.5, name="right")
-    return m, [left, right]
-
-
 def build(contacts, **kw):
     return pg.GraspModel.from_contacts(contacts, joint_names=("left", "right"), **kw)
 
@@ -39,7 +31,7 @@ def maxw(m, d, method, command=TAU, **kw):
 @pytest.mark.parametrize("method", ["prp", "iterative"])
 def test_rigid_motion_rotates_the_answers(method):
     """Rotating and translating the whole 3D scene (object reference point included)."""
-    _, cs = pinch_contacts()
+    cs = pinch_contacts()
     base = build(cs)
     Rm = rot_z(0.7) @ np.array([[1, 0, 0], [0, np.cos(0.4), -np.sin(0.4)], [0, np.sin(0.4), np.cos(0.4)]])
     t = np.array([0.3, -0.2, 0.5])
@@ -75,7 +67,7 @@ def test_rigid_motion_rotates_the_answers(method):
 @pytest.mark.parametrize("method", ["prp", "iterative"])
 def test_metres_to_millimetres(method):
     """Lengths x1000, stiffness /1000 (N/mm), torque commands and moments x1000: forces equal."""
-    _, cs = pinch_contacts(h=0.01)
+    cs = pinch_contacts(h=0.01)
     m_m = build(cs, planar=True)
     cs_mm = [
         pg.Contact(
@@ -103,7 +95,7 @@ def test_metres_to_millimetres(method):
 
 
 def test_uniform_stiffness_scaling_keeps_prp_feasibility():
-    _, cs = pinch_contacts(h=0.01)
+    cs = pinch_contacts(h=0.01)
     for k in (1e-3, 1e3):
         scaled = build(
             [
@@ -133,7 +125,7 @@ def test_mirror_symmetric_profile(pinch, method):
 
 
 def test_contact_permutation(pinch):
-    _, cs = pinch_contacts(h=0.01)
+    cs = pinch_contacts(h=0.01)
     a = build(cs, planar=True)
     b = pg.GraspModel.from_contacts(cs[::-1], joint_names=("left", "right"), planar=True)
     for w in ([0, 5.0, 0], [2.0, -3.0, 0.05]):

@@ -1,10 +1,11 @@
-"""Numerical stability on stiff and extreme cases (issue 6).
+"""Numerical stability on stiff and extreme cases.
 
-The stress catalogue lives in ``benchmarks/stability.py`` (which also writes
-``docs/stability.md``): every case has a closed-form nominal answer and must be answered within
-the stated tolerance or flagged (error, warning, audit) — never silently wrong. The ``quick``
-cases run by default, the full grid with ``pytest -m slow``. Cases marked ``known`` are silent
-errors whose fix lies outside the solver files (see docs/stability.md); they are ``xfail``.
+The stress catalogue is ``tests/data/stress_catalogue.yaml``, read and judged by
+``tests/stress.py`` (``benchmarks/stability.py`` writes its report, ``docs/stability.md``): every
+case has a closed-form nominal answer and must be answered within the stated tolerance or flagged
+(error, warning, audit) — never silently wrong. The ``quick`` cases run by default, the full grid
+with ``pytest -m slow``. Cases marked ``known`` are silent errors whose fix lies outside the
+solvers (see docs/stability.md); they are ``xfail``.
 
 Below the catalogue: the MIQP's own safeguards (per-row big-M, verified infeasibility,
 integrality artefacts, empty equilibrium rows, indicator constraints, SCIP's stdout line).
@@ -12,27 +13,20 @@ integrality artefacts, empty equilibrium rows, indicator constraints, SCIP's std
 
 from __future__ import annotations
 
-import importlib.util
 import itertools
 import os
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
+from grasps import double_pinch, pinch_contacts, with_stiffness
+from stress import catalogue, run_case
 
 import pinograsp as pg
 from pinograsp import examples
 from pinograsp.solvers import BranchAndBound, Formulation, Mode, ScaledData, build_problem
 from pinograsp.solvers.miqp import CvxpyMIQP, quiet_stdout
 
-_PATH = Path(__file__).resolve().parents[1] / "benchmarks" / "stability.py"
-_spec = importlib.util.spec_from_file_location("pinograsp_stability_benchmark", _PATH)
-stability = importlib.util.module_from_spec(_spec)
-sys.modules[_spec.name] = stability
-_spec.loader.exec_module(stability)
-
-CASES = stability.catalogue()
+CASES = catalogue()
 
 
 def _param(i, case):
@@ -47,14 +41,14 @@ def _param(i, case):
 
 @pytest.mark.parametrize("case", [_param(i, c) for i, c in enumerate(CASES)])
 def test_stress_case(case):
-    out = stability.run_case(case)
+    out = run_case(case)
     assert out.verdict != "WRONG", (
         f"silently wrong: {out.case} ({out.method}, {out.query}): {out.answer} vs nominal {out.nominal} "
         f"(relative deviation {out.deviation:.3g}) {out.notes}"
     )
 
 
-def test_catalogue_covers_the_issue():
+def test_catalogue_covers_every_stress_group():
     groups = {c.group for c in CASES}
     assert groups >= {
         "uniform stiffness",
@@ -73,7 +67,7 @@ def test_catalogue_covers_the_issue():
 
 # ------------------------------------------------------------------------------ MIQP safeguards
 def _stiff_pinch(kl, kr):
-    return stability.pinch((kl, kr))
+    return with_stiffness(examples.pinch(), (kl, kr))
 
 
 def test_bigm_rows_scale_with_the_stiffness_spread():
@@ -92,7 +86,7 @@ def test_bigm_rows_scale_with_the_stiffness_spread():
 @pytest.mark.parametrize("ratio", [1e4, 1e6])
 @pytest.mark.filterwarnings("ignore::pinograsp.ConditioningWarning")
 def test_stiff_left_contact_without_verification(ratio):
-    """Before issue 6 the MIQP said 'infeasible' here: every solution moved the stiff finger's
+    """Before the per-row big-M the MIQP said 'infeasible' here: every solution moved the stiff finger's
     actuator beyond M = 1e3 (scaled). The per-row M alone (no verification) fixes it."""
     m = _stiff_pinch(ratio, 1.0)
     f = Formulation(m)
@@ -131,15 +125,10 @@ def test_integrality_artefact_of_the_verification_is_rejected():
     """The rotated 3D pinch 0.1 % above its limit: with 100 M, SCIP returns a point whose
     complementarity leaks (integrality tolerance x M); it fits inside the first M, so it is an
     artefact and the verdict stays 'not resisted'."""
-    a, L = 0.05, 0.1
-    ez = np.array([0, 0, 1.0])
     Rm = np.array([[np.cos(0.7), -np.sin(0.7), 0], [np.sin(0.7), np.cos(0.7), 0], [0, 0, 1]])
     Rm = Rm @ np.array([[1, 0, 0], [0, np.cos(0.4), -np.sin(0.4)], [0, np.sin(0.4), np.cos(0.4)]])
     t = np.array([0.3, -0.2, 0.5])
-    base = [
-        pg.Contact.revolute([-a, 0, 0], [1, 0, 0], {0: ([-a, -L, 0], -ez)}, nq=2, name="left"),
-        pg.Contact.revolute([a, 0, 0], [-1, 0, 0], {1: ([a, -L, 0], ez)}, nq=2, name="right"),
-    ]
+    base = pinch_contacts()
     moved = [
         pg.Contact(
             Rm @ c.point + t, Rm @ c.normal, jacobian=Rm @ c.jacobian, tangent=Rm @ c.tangent, name=c.name
@@ -158,7 +147,7 @@ def test_integrality_artefact_of_the_verification_is_rejected():
 def test_wrench_component_no_contact_can_produce(method):
     """cvxpy's SCIP interface drops a constraint row without variables: a mu = 0 pinch under a
     tangential load was 'optimal' (then 'failed', and the bisection raised SolverError)."""
-    m = stability.pinch(mu=0.0)
+    m = examples.pinch(mu=0.0)
     r = pg.passive_response(m, 1.0, [0.0, 1.0, 0.0], method=method)
     assert r.status == "not_resisted" and not r.resistible
     mw = pg.max_resistible_wrench(m, 1.0, "fy", method=method, upper=10, steps=8)
@@ -205,7 +194,7 @@ def test_indicator_constraints_match_bigm(seed, spread):
 
 def test_indicator_constraints_match_brute_force():
     """... and both match brute force over all modes with the exact fixed-mode QP."""
-    m = stability.pinch((1e3, 1.0), h=0.01)  # the wedge with a stiffness ratio
+    m = with_stiffness(examples.pinch(h=0.01), (1e3, 1.0))  # the wedge with a stiffness ratio
     f = Formulation(m)
     ind = CvxpyMIQP(f, "prp", complementarity="indicator")
     for w in ([3.0, -4.0, 0.02], [-1.5, 12.0, -0.3]):
@@ -268,8 +257,8 @@ def test_scip_gmp_line_is_dropped_and_other_output_kept(capfd):
 def test_solves_print_nothing(capfd):
     """The double pinch at offset 1e-4 and a mu = 1e-3 pinch made SCIP (SoPlex) print its GMP
     line on stderr during iterative solves."""
-    pg.max_resistible_wrench(stability.quad(1e-4), 1.0, "fy", method="iterative", upper=100, steps=6)
-    pg.max_resistible_wrench(stability.pinch(mu=1e-3), 1.0, "fy", method="iterative", upper=0.2, steps=12)
+    pg.max_resistible_wrench(double_pinch(1e-4), 1.0, "fy", method="iterative", upper=100, steps=6)
+    pg.max_resistible_wrench(examples.pinch(mu=1e-3), 1.0, "fy", method="iterative", upper=0.2, steps=12)
     cap = capfd.readouterr()
     assert cap.out == "" and "GMP" not in cap.err
 

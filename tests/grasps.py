@@ -1,0 +1,138 @@
+"""Test grasps that ``pinograsp.examples`` does not build, and their closed forms.
+
+* :func:`pinch_contacts` — the contacts of ``examples.pinch`` (tests move, rescale and reorder
+  them), with the variants the example lacks: a tilted left normal and several coincident right
+  contacts;
+* :func:`pinch_variant` — a model from those contacts, with pyramid edges of choice;
+* :func:`with_stiffness` — any model with other contact stiffnesses;
+* :func:`double_pinch` and :func:`ring` — the stress catalogue's own geometries.
+
+The pinch: half width ``A`` [m], finger length ``L`` [m], friction ``MU``, preload ``TAU``
+[N·m] (docs/analytic_cases.md).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+import pinograsp as pg
+
+EZ = np.array([0.0, 0.0, 1.0])
+A, L, MU, TAU = 0.05, 0.1, 0.5, 1.0
+#: Preload normal force of ``examples.coupled_finger`` [N]: ``TAU`` over its moment arm.
+COUPLED_CN = TAU / (0.06 + 4 * 0.04 / 3)
+
+
+def pinch_contacts(h: float = 0.0, mu: float = MU, tilt: float = 0.0, right=None) -> list[pg.Contact]:
+    """The contacts of ``examples.pinch(h=h, mu=mu)``.
+
+    Args:
+        h: Diagonal offset of the contacts [m] (the wedge).
+        mu: Friction coefficient.
+        tilt: The left normal rotated by this angle [rad] about z (near-parallel normals).
+        right: ``(stiffness [N/m], normal_tilt [rad])`` of each of several right contacts at the
+            same point on the same finger (coincident contacts, named ``right0, right1, …``);
+            default one unit-stiffness contact named ``right``.
+    """
+    left = pg.Contact.revolute(
+        [-A, -h, 0],
+        [math.cos(tilt), math.sin(tilt), 0.0],
+        {0: ([-A, -h - L, 0], -EZ)},
+        nq=2,
+        mu=mu,
+        name="left",
+    )
+    rights = [
+        pg.Contact.revolute(
+            [A, h, 0],
+            [-math.cos(t), math.sin(t), 0.0],
+            {1: ([A, h - L, 0], EZ)},
+            nq=2,
+            mu=mu,
+            stiffness=k,
+            name=f"right{i}" if right else "right",
+        )
+        for i, (k, t) in enumerate(right or [(1.0, 0.0)])
+    ]
+    return [left, *rights]
+
+
+def pinch_variant(
+    planar: bool = True, edges: int | None = None, circumscribed: bool = False, **kw
+) -> pg.GraspModel:
+    """The pinch from :func:`pinch_contacts` (``**kw``), with ``edges`` pyramid edges."""
+    acts = [pg.Actuator({0: 1.0}, name="left"), pg.Actuator({1: 1.0}, name="right")]
+    return pg.GraspModel.from_contacts(
+        pinch_contacts(**kw),
+        acts,
+        planar=planar,
+        joint_names=("left", "right"),
+        edges=edges,
+        circumscribed=circumscribed,
+    )
+
+
+def with_stiffness(model: pg.GraspModel, stiffness) -> pg.GraspModel:
+    """``model`` with the normal stiffness of its contacts replaced, (nc,) [N/m]."""
+    k = np.array(stiffness, dtype=float)
+    k.flags.writeable = False
+    return dataclasses.replace(model, k=k)
+
+
+def double_pinch(delta: float) -> pg.GraspModel:
+    """3D double pinch: fingers at (∓A, 0, ±delta); G's smallest singular value ~ delta.
+
+    A torque about x is resisted only by tangential (y) forces with lever ``delta``:
+    ``mx_max = 4 delta MU TAU / L``.
+    """
+    cs, j = [], 0
+    for z in (delta, -delta):
+        for x, n, axis in ((-A, 1.0, -EZ), (A, -1.0, EZ)):
+            name = f"{'l' if x < 0 else 'r'}{j}"
+            cs.append(
+                pg.Contact.revolute([x, 0, z], [n, 0, 0], {j: ([x, -L, z], axis)}, nq=4, mu=MU, name=name)
+            )
+            j += 1
+    return pg.GraspModel.from_contacts(cs)
+
+
+def ring(n=20, kind="non-backdrivable", planar=True, edges=None, ks=None, r=0.05) -> pg.GraspModel:
+    """``n`` fingers around a disc of radius ``r`` [m], each pushing radially inward with ``TAU / L``.
+
+    Closed forms (every finger's Jacobian is along its normal): ``mz_max = n MU (TAU/L) r``;
+    non-backdrivable: every force direction is resisted without bound (the fingers hold);
+    backdrivable (normal forces fixed at ``TAU/L``): ``F_max(y) = MU (TAU/L) sum_i |cos a_i|``
+    (:func:`ring_fy`). ``ks``: contact stiffnesses, (n,) [N/m] (default 1).
+    """
+    cs = []
+    for i in range(n):
+        ang = 2 * np.pi * i / n
+        p = r * np.array([np.cos(ang), np.sin(ang), 0.0])
+        nrm = -p / r
+        piv = p + L * np.array([-np.sin(ang), np.cos(ang), 0.0])
+        axis = EZ if np.cross(EZ, p - piv) @ nrm > 0 else -EZ
+        k = 1.0 if ks is None else float(ks[i])
+        cs.append(pg.Contact.revolute(p, nrm, {i: (piv, axis)}, nq=n, mu=MU, stiffness=k, name=f"c{i}"))
+    acts = [pg.Actuator({i: 1.0}, kind=kind, name=f"a{i}") for i in range(n)]
+    return pg.GraspModel.from_contacts(cs, acts, planar=planar, edges=edges)
+
+
+def ring_fy(n: int) -> float:
+    """Largest force along y [N] that the backdrivable :func:`ring` of ``n`` fingers resists."""
+    ang = 2 * np.pi * np.arange(n) / n
+    return float(MU * TAU / L * np.abs(np.cos(ang)).sum())
+
+
+def pyramid_fmax(m: int, phi: float, circumscribed: bool) -> float:
+    """3D pinch with ``m``-edge pyramids, load along (0, cos phi, sin phi): the limit [N].
+
+    Twice the pyramid's reach along ``phi`` times ``TAU / L``.
+    """
+    half = np.pi / m
+    k = np.floor(phi / (2 * half))
+    mid = (k + 0.5) * 2 * half
+    mu_v = MU / np.cos(half) if circumscribed else MU
+    return float(2 * TAU / L * mu_v * np.cos(half) / np.cos(phi - mid))
