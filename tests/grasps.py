@@ -1,9 +1,7 @@
 """Test grasps that ``pinograsp.examples`` does not build, and their closed forms.
 
-* :func:`pinch_contacts` — the contacts of ``examples.pinch`` (tests move, rescale and reorder
-  them), with the variants the example lacks: a tilted left normal and several coincident right
-  contacts;
-* :func:`pinch_variant` — a model from those contacts, with pyramid edges of choice;
+* :func:`pinch_contacts`, :func:`pinch_variant` — ``examples.pinch_contacts`` / ``examples.pinch``
+  with this module's constants (tests move, rescale and reorder the contacts);
 * :func:`with_stiffness` — any model with other contact stiffnesses;
 * :func:`double_pinch` and :func:`ring` — the stress catalogue's own geometries.
 
@@ -14,7 +12,6 @@ The pinch: half width ``A`` [m], finger length ``L`` [m], friction ``MU``, prelo
 from __future__ import annotations
 
 import dataclasses
-import math
 
 import numpy as np
 
@@ -27,52 +24,15 @@ COUPLED_CN = TAU / (0.06 + 4 * 0.04 / 3)
 
 
 def pinch_contacts(h: float = 0.0, mu: float = MU, tilt: float = 0.0, right=None) -> list[pg.Contact]:
-    """The contacts of ``examples.pinch(h=h, mu=mu)``.
-
-    Args:
-        h: Diagonal offset of the contacts [m] (the wedge).
-        mu: Friction coefficient.
-        tilt: The left normal rotated by this angle [rad] about z (near-parallel normals).
-        right: ``(stiffness [N/m], normal_tilt [rad])`` of each of several right contacts at the
-            same point on the same finger (coincident contacts, named ``right0, right1, …``);
-            default one unit-stiffness contact named ``right``.
-    """
-    left = pg.Contact.revolute(
-        [-A, -h, 0],
-        [math.cos(tilt), math.sin(tilt), 0.0],
-        {0: ([-A, -h - L, 0], -EZ)},
-        nq=2,
-        mu=mu,
-        name="left",
-    )
-    rights = [
-        pg.Contact.revolute(
-            [A, h, 0],
-            [-math.cos(t), math.sin(t), 0.0],
-            {1: ([A, h - L, 0], EZ)},
-            nq=2,
-            mu=mu,
-            stiffness=k,
-            name=f"right{i}" if right else "right",
-        )
-        for i, (k, t) in enumerate(right or [(1.0, 0.0)])
-    ]
-    return [left, *rights]
+    """The contacts of ``examples.pinch(h=h, mu=mu, tilt=tilt, right=right)``."""
+    return pg.examples.pinch_contacts(A, L, mu, 1.0, h, tilt=tilt, right=right)
 
 
 def pinch_variant(
     planar: bool = True, edges: int | None = None, circumscribed: bool = False, **kw
 ) -> pg.GraspModel:
-    """The pinch from :func:`pinch_contacts` (``**kw``), with ``edges`` pyramid edges."""
-    acts = [pg.Actuator({0: 1.0}, name="left"), pg.Actuator({1: 1.0}, name="right")]
-    return pg.GraspModel.from_contacts(
-        pinch_contacts(**kw),
-        acts,
-        planar=planar,
-        joint_names=("left", "right"),
-        edges=edges,
-        circumscribed=circumscribed,
-    )
+    """``examples.pinch`` with ``edges`` pyramid edges and the variants of :func:`pinch_contacts`."""
+    return pg.examples.pinch(planar=planar, edges=edges, circumscribed=circumscribed, **kw)
 
 
 def with_stiffness(model: pg.GraspModel, stiffness) -> pg.GraspModel:

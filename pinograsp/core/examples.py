@@ -16,6 +16,9 @@ All lengths in [m], torques and commands in [N·m].
 
 from __future__ import annotations
 
+import math
+from collections.abc import Sequence
+
 import numpy as np
 
 from ..errors import InvalidInputError
@@ -32,6 +35,49 @@ def _finger_contact(point, normal, pivot_below: float, joint: int, nq: int, clos
     return Contact.revolute(p, normal, {joint: (pivot, closing_axis)}, nq=nq, **kw)
 
 
+def pinch_contacts(
+    a: float = 0.05,
+    L: float = 0.1,
+    mu: float = 0.5,
+    k: float = 1.0,
+    h: float = 0.0,
+    *,
+    tilt: float = 0.0,
+    right: Sequence[tuple[float, float]] | None = None,
+) -> list[Contact]:
+    """The contacts of :func:`pinch`: ``left`` at ``(-a, -h)`` on joint 0, ``right`` at ``(a, h)``
+    on joint 1, each finger's revolute joint ``L`` below its contact.
+
+    Args:
+        a: Half width of the object [m].
+        L: Finger length (moment arm of the closing joint) [m].
+        mu: Friction coefficient.
+        k: Normal stiffness of every contact [N/m].
+        h: Diagonal offset of the contacts [m] (the wedge).
+        tilt: The left normal rotated by this angle [rad] about z (near-parallel normals).
+        right: ``(stiffness [N/m], normal tilt [rad])`` of each of several right contacts at the
+            same point of the same finger (coincident contacts ``right0, right1, …``); default
+            one contact ``right`` of stiffness ``k``.
+    """
+    normal = [math.cos(tilt), math.sin(tilt), 0.0] if tilt else [1.0, 0.0, 0.0]
+    left = _finger_contact([-a, -h, 0.0], normal, L, 0, 2, -EZ, mu=mu, stiffness=k, name="left")
+    rights = [
+        _finger_contact(
+            [a, h, 0.0],
+            [-math.cos(t), math.sin(t), 0.0] if t else [-1.0, 0.0, 0.0],
+            L,
+            1,
+            2,
+            EZ,
+            mu=mu,
+            stiffness=kr,
+            name=f"right{i}" if right else "right",
+        )
+        for i, (kr, t) in enumerate(right or [(k, 0.0)])
+    ]
+    return [left, *rights]
+
+
 def pinch(
     a: float = 0.05,
     L: float = 0.1,
@@ -41,6 +87,11 @@ def pinch(
     differential: bool = False,
     planar: bool = True,
     kind: str = "non-backdrivable",
+    *,
+    tilt: float = 0.0,
+    right: Sequence[tuple[float, float]] | None = None,
+    edges: int | None = None,
+    circumscribed: bool = False,
 ) -> GraspModel:
     """Two single-link fingers pinching an object centred at the origin.
 
@@ -48,16 +99,22 @@ def pinch(
     revolute joint lies ``L`` below its contact, so closing moves the contact along its normal
     with moment arm ``L``. ``h != 0`` offsets the contacts diagonally (the *wedge* case: a
     clockwise object rotation squeezes both contacts). ``differential=True`` drives both
-    joints with one actuator through a differential (``R = [1, 1]^T``).
+    joints with one actuator through a differential (``R = [1, 1]^T``). ``tilt`` and ``right``:
+    see :func:`pinch_contacts`; ``edges``, ``circumscribed``: the friction pyramids
+    (:meth:`GraspModel.from_contacts`).
     """
-    left = _finger_contact([-a, -h, 0.0], [1.0, 0.0, 0.0], L, 0, 2, -EZ, mu=mu, stiffness=k, name="left")
-    right = _finger_contact([a, h, 0.0], [-1.0, 0.0, 0.0], L, 1, 2, EZ, mu=mu, stiffness=k, name="right")
+    contacts = pinch_contacts(a, L, mu, k, h, tilt=tilt, right=right)
     if differential:
         acts = [Actuator({0: 1.0, 1: 1.0}, kind=kind, name="tendon")]
     else:
         acts = [Actuator({0: 1.0}, kind=kind, name="left"), Actuator({1: 1.0}, kind=kind, name="right")]
     return GraspModel.from_contacts(
-        [left, right], actuators=acts, planar=planar, joint_names=("left", "right")
+        contacts,
+        actuators=acts,
+        planar=planar,
+        joint_names=("left", "right"),
+        edges=edges,
+        circumscribed=circumscribed,
     )
 
 
