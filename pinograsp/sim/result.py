@@ -1,0 +1,137 @@
+"""The record of one simulated give-way test (:func:`pinograsp.simulate_max_wrench`)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, Literal
+
+import numpy as np
+
+#: ``"gave_way"``: the object moved past a threshold after a sharp break; ``"gradual"``: it
+#: moved past a threshold while its resistance kept rising (no sharp break load, e.g. a
+#: differential's sway); ``"held"``: it held up to the upper load.
+SimulationStatus = Literal["gave_way", "held", "gradual"]
+
+
+@dataclass(frozen=True)
+class SimulationTrace:
+    """Samples of the load phase (every ``trace_every`` steps), each (ns,).
+
+    Attributes:
+        time: Time since the load started [s].
+        applied: Applied load along the direction [N or N·m].
+        resisted: Load the contacts resist along the direction, ``-d · (contact wrench)``
+            [N or N·m] (equal to ``applied`` at rest).
+        translation: Distance of the reference point from its preloaded position [m].
+        rotation: Rotation angle of the object from its preloaded orientation [rad].
+    """
+
+    time: np.ndarray
+    applied: np.ndarray
+    resisted: np.ndarray
+    translation: np.ndarray
+    rotation: np.ndarray
+
+    def to_dict(self) -> dict[str, list[float]]:
+        """The samples as plain lists."""
+        return {k: [float(x) for x in getattr(self, k)] for k in self.__dataclass_fields__}
+
+
+@dataclass(frozen=True)
+class SimulationResult:
+    """Outcome of ramping a load along one direction on the simulated, preloaded grasp.
+
+    Attributes:
+        status: :data:`SimulationStatus`.
+        load: Largest load the grasp resisted before the object moved past a threshold [N or
+            N·m along ``direction``]; ``None`` when ``"held"``. For ``"gradual"`` the upper end
+            of the give-way range ``[onset_load, load]``.
+        onset_load: Largest resisted load before the object first moved a tenth of a threshold
+            [N or N·m]; ``None`` when it never did.
+        applied_load: Applied load when the run stopped [N or N·m] (exceeds ``load`` by the
+            inertia of the sliding object).
+        direction: Unit load direction (6,) (plain Euclidean norm of force [N] and torque [N·m]).
+        unit: ``"N"``, ``"N·m"`` or ``"N, N·m"``.
+        upper: Largest applied load [N or N·m]; held there for ``hold_time``.
+        slip_threshold: Translation of the reference point that counts as giving way [m].
+        rotation_threshold: Rotation that counts as giving way [rad].
+        gradual_ratio: ``load / onset_load`` above which the give-way is ``"gradual"``.
+        stiffness: Contact stiffness of the stiffest contact [N/m].
+        mass: Object mass [kg] (inertia ``mass * length_scale**2`` about every axis).
+        timestep: Integration step [s].
+        ramp_time: e-folding time of the exponential load ramp [s].
+        preload: ``"held"`` (object held still while the motors close) or ``"settled"``.
+        steps: Integration steps taken (preload and load phases).
+        sim_time: Simulated time [s].
+        wall_time: Wall time of the run, model building included [s].
+        trace: Samples of the load phase.
+        command: Actuator commands of the preload, (na,) [N·m or N].
+        predicted: The analysis' prediction along the same direction [N or N·m] (``inf`` when
+            unbounded), when asked for (:func:`pinograsp.sim.simulate.simulate_command`).
+        predicted_status: Its status (``"finite"``, ``"unbounded"``, ...), when asked for.
+    """
+
+    status: SimulationStatus
+    load: float | None
+    onset_load: float | None
+    applied_load: float
+    direction: np.ndarray
+    unit: str
+    upper: float
+    slip_threshold: float
+    rotation_threshold: float
+    gradual_ratio: float
+    stiffness: float
+    mass: float
+    timestep: float
+    ramp_time: float
+    preload: str
+    steps: int
+    sim_time: float
+    wall_time: float
+    trace: SimulationTrace = field(repr=False)
+    command: np.ndarray = field(repr=False)
+    predicted: float | None = None
+    predicted_status: str | None = None
+
+    @property
+    def agreement(self) -> float | None:
+        """``load / predicted - 1`` when both are finite numbers, else ``None``."""
+        if self.load is None or self.predicted is None or not np.isfinite(self.predicted):
+            return None
+        return self.load / self.predicted - 1.0 if self.predicted else None
+
+    def to_dict(self, trace: bool = False) -> dict[str, Any]:
+        """Plain JSON-ready data (``None`` for missing or infinite numbers); the trace when
+        ``trace`` is true."""
+        out: dict[str, Any] = {}
+        for name in self.__dataclass_fields__:
+            value = getattr(self, name)
+            if name == "trace":
+                if trace:
+                    out[name] = value.to_dict()
+            elif isinstance(value, np.ndarray):
+                out[name] = [float(x) for x in value]
+            elif isinstance(value, float) and not np.isfinite(value):
+                out[name] = None
+            else:
+                out[name] = value
+        out["agreement"] = self.agreement
+        return out
+
+    def summary(self) -> str:
+        """One line: status, load, thresholds and time."""
+        u = self.unit
+        if self.status == "held":
+            head = f"held up to {self.upper:g} {u}"
+        elif self.status == "gradual":
+            head = f"gave way gradually between {self.onset_load:.4g} and {self.load:.4g} {u}"
+        else:
+            head = f"gave way at {self.load:.4g} {u}"
+        if self.predicted is not None:
+            head += f" (predicted {self.predicted:.4g} {u}, {self.predicted_status})"
+        return (
+            f"{head}; thresholds {self.slip_threshold * 1e3:.3g} mm, "
+            f"{np.degrees(self.rotation_threshold):.3g}°;"
+            f" {self.steps} steps of {self.timestep:g} s, {self.wall_time:.2f} s"
+        )
