@@ -25,6 +25,23 @@ from dataclasses import dataclass, field
 import numpy as np
 
 
+def skew(v: np.ndarray) -> np.ndarray:
+    """The matrix ``S`` with ``S @ x = v × x``, (3, 3)."""
+    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
+
+
+def moment(arms: np.ndarray, forces: np.ndarray) -> np.ndarray:
+    """``sum_i arms_i × forces_i``, (3,), for (n, 3) arrays."""
+    a, f = arms, forces
+    return np.array(
+        [
+            a[:, 1] @ f[:, 2] - a[:, 2] @ f[:, 1],
+            a[:, 2] @ f[:, 0] - a[:, 0] @ f[:, 2],
+            a[:, 0] @ f[:, 1] - a[:, 1] @ f[:, 0],
+        ]
+    )
+
+
 @dataclass
 class ContactLaw:
     """Contact state and force law of one simulated grasp.
@@ -103,7 +120,7 @@ class ContactLaw:
         """
         arms = self.arms @ rot.T
         g = shift + arms - self.arms - self.jacobian @ q
-        gd = vel + np.cross(omega, arms) - self.jacobian @ qd
+        gd = vel + arms @ skew(omega).T - self.jacobian @ qd
         n = self.normals
         gn = np.einsum("ij,ij->i", n, g)
         gdn = np.einsum("ij,ij->i", n, gd)
@@ -113,11 +130,11 @@ class ContactLaw:
         gdt = gd - gdn[:, None] * n
         spring = -self.k[:, None] * (gt - self.anchors)
         cap = self.mu * cn
-        size = np.linalg.norm(spring, axis=1)
+        size = np.sqrt(np.einsum("ij,ij->i", spring, spring))
         sliding = size > cap
         unit = spring / np.maximum(size, 1e-300)[:, None]
         ft = np.where(sliding[:, None], cap[:, None] * unit, spring - self.b[:, None] * gdt)
-        size_t = np.linalg.norm(ft, axis=1)
+        size_t = np.sqrt(np.einsum("ij,ij->i", ft, ft))
         ft *= np.minimum(1.0, cap / np.maximum(size_t, 1e-300))[:, None]
         slid = np.where(sliding[:, None], gt + (cap / self.k)[:, None] * unit, self.anchors)
         self.anchors = np.where(touching[:, None], slid, gt)

@@ -7,9 +7,10 @@ from typing import Any, Literal
 
 import numpy as np
 
-#: ``"gave_way"``: the object moved past a threshold after a sharp break; ``"gradual"``: it
-#: moved past a threshold while its resistance kept rising (no sharp break load, e.g. a
-#: differential's sway); ``"held"``: it held up to the upper load.
+#: ``"gave_way"``: a sharp break: at the largest load it holds the object is still within a
+#: tenth of a threshold; ``"gradual"``: at that load it has already moved more (it sways under
+#: a growing load, e.g. through a differential: no sharp break load); ``"held"``: it held up to
+#: the upper load.
 SimulationStatus = Literal["gave_way", "held", "gradual"]
 
 
@@ -43,19 +44,19 @@ class SimulationResult:
 
     Attributes:
         status: :data:`SimulationStatus`.
-        load: Largest load the grasp resisted before the object moved past a threshold [N or
-            N·m along ``direction``]; ``None`` when ``"held"``. For ``"gradual"`` the upper end
-            of the give-way range ``[onset_load, load]``.
-        onset_load: Largest resisted load before the object first moved a tenth of a threshold
-            [N or N·m]; ``None`` when it never did.
-        applied_load: Applied load when the run stopped [N or N·m] (exceeds ``load`` by the
-            inertia of the sliding object).
+        load: Largest constant load under which the object comes to rest within the thresholds
+            (to ``tolerance``) [N or N·m along ``direction``]; ``None`` when ``"held"``. For
+            ``"gradual"`` the upper end of the give-way range ``[onset_load, load]``.
+        onset_load: Applied load of the ramp when the object had first moved a tenth of a
+            threshold (at most ``load``) [N or N·m]; ``None`` when it never did.
+        applied_load: Applied load when the ramp stopped [N or N·m] (above ``load`` by the
+            sliding object's inertia).
         direction: Unit load direction (6,) (plain Euclidean norm of force [N] and torque [N·m]).
         unit: ``"N"``, ``"N·m"`` or ``"N, N·m"``.
         upper: Largest applied load [N or N·m]; held there for ``hold_time``.
         slip_threshold: Translation of the reference point that counts as giving way [m].
         rotation_threshold: Rotation that counts as giving way [rad].
-        gradual_ratio: ``load / onset_load`` above which the give-way is ``"gradual"``.
+        tolerance: Relative resolution of ``load``.
         stiffness: Contact stiffness of the stiffest contact [N/m].
         mass: Object mass [kg] (inertia ``mass * length_scale**2`` about every axis).
         timestep: Integration step [s].
@@ -64,7 +65,8 @@ class SimulationResult:
         steps: Integration steps taken (preload and load phases).
         sim_time: Simulated time [s].
         wall_time: Wall time of the run, model building included [s].
-        trace: Samples of the load phase.
+        trace: Samples of the load ramp.
+        evidence: Every constant-load test ``(load, held)`` of the refinement, in order.
         command: Actuator commands of the preload, (na,) [N·m or N].
         predicted: The analysis' prediction along the same direction [N or N·m] (``inf`` when
             unbounded), when asked for (:func:`pinograsp.sim.simulate.simulate_command`).
@@ -80,7 +82,7 @@ class SimulationResult:
     upper: float
     slip_threshold: float
     rotation_threshold: float
-    gradual_ratio: float
+    tolerance: float
     stiffness: float
     mass: float
     timestep: float
@@ -90,6 +92,7 @@ class SimulationResult:
     sim_time: float
     wall_time: float
     trace: SimulationTrace = field(repr=False)
+    evidence: tuple[tuple[float, bool], ...] = field(repr=False)
     command: np.ndarray = field(repr=False)
     predicted: float | None = None
     predicted_status: str | None = None
@@ -110,6 +113,8 @@ class SimulationResult:
             if name == "trace":
                 if trace:
                     out[name] = value.to_dict()
+            elif name == "evidence":
+                out[name] = [[float(x), bool(ok)] for x, ok in value]
             elif isinstance(value, np.ndarray):
                 out[name] = [float(x) for x in value]
             elif isinstance(value, float) and not np.isfinite(value):
