@@ -26,6 +26,8 @@ import numpy as np
 import pinograsp as pg
 
 HERE = Path(__file__).resolve().parents[1]
+#: Below this fraction of the upper load both answers count as "not resisted" (≈ 0).
+ZERO = 1e-3
 
 
 def _label(d: np.ndarray, plane_basis: tuple[np.ndarray, np.ndarray] | None) -> str:
@@ -46,6 +48,8 @@ def _compare(pred: object, sim: object) -> tuple[str, float | None]:
         return "both hold", None
     if p_holds != s_holds:
         return "DISAGREE", None
+    if pred.magnitude <= ZERO * pred.upper and sim.load <= ZERO * sim.upper:
+        return "both ≈ 0", None
     rel = sim.load / pred.magnitude - 1.0 if pred.magnitude > 0 else None
     return ("gradual" if sim.status == "gradual" else "both finite"), rel
 

@@ -57,6 +57,8 @@ class ContactLaw:
         mu: Friction coefficients, (nc,).
         anchors: Stuck position of each contact (tangential ``g`` at which the friction spring
             is relaxed), (nc, 3) [m].
+        relax: When set, the next :meth:`forces` first moves every anchor to the contact's
+            current tangential position (no friction force is stored), then clears the flag.
     """
 
     arms: np.ndarray
@@ -66,6 +68,7 @@ class ContactLaw:
     b: np.ndarray
     mu: np.ndarray
     anchors: np.ndarray = field(init=False)
+    relax: bool = field(init=False, default=False)
 
     def __post_init__(self) -> None:
         self.anchors = np.zeros_like(self.arms)
@@ -128,6 +131,8 @@ class ContactLaw:
         cn = np.where(touching, np.maximum(0.0, -self.k * gn - self.b * gdn), 0.0)
         gt = g - gn[:, None] * n
         gdt = gd - gdn[:, None] * n
+        if self.relax:
+            self.anchors, self.relax = gt.copy(), False
         spring = -self.k[:, None] * (gt - self.anchors)
         cap = self.mu * cn
         size = np.sqrt(np.einsum("ij,ij->i", spring, spring))

@@ -44,6 +44,8 @@ class SimOptions:
         trace_every: Steps between trace samples.
         filter_time: Time constant of the low-pass filter on the actuator displacement whose
             running maximum is the limit [s] (0: the raw displacement).
+        relax: Close the motors without friction (the model's friction is free inside the
+            cone, not wound up by the closing; docs/simulation.md).
     """
 
     upper: float
@@ -61,6 +63,7 @@ class SimOptions:
     preload_time: float
     trace_every: int
     filter_time: float = 0.0
+    relax: bool = True
 
 
 class Engine:
@@ -139,16 +142,19 @@ class Engine:
 
 
 def preload(run: Engine) -> None:
-    """Close the motors (smooth ramp over half of ``preload_time``), settle, release the object
-    when it was held and check that the preload alone holds it."""
+    """Close the motors (smooth ramp over half of ``preload_time``, then steady; without
+    friction when ``relax``), release the object when it was held, settle for half of
+    ``preload_time`` with friction and check that the preload alone holds the object."""
     o = run.opts
     n = max(2, round(o.preload_time / o.timestep))
     zero = np.zeros(6)
     for i in range(n):
         s = min(1.0, 2.0 * i / n)
+        run.law.relax = o.relax
         run.step(s * s * (3.0 - 2.0 * s), zero)
         if o.preload == "held":
             run.hold_object()
+    run.law.relax = o.relax
     for _ in range(n // 2):
         run.step(1.0, zero)
     moved, turned = run.displacement(run.rest[:3], np.eye(3))

@@ -54,6 +54,8 @@ class SimulationResult:
         direction: Unit load direction (6,) (plain Euclidean norm of force [N] and torque [N·m]).
         unit: ``"N"``, ``"N·m"`` or ``"N, N·m"``.
         upper: Largest applied load [N or N·m]; held there for ``hold_time``.
+        start: First load of the ramp as a fraction of ``upper``; ``load`` is 0 when the object
+            does not hold even that.
         slip_threshold: Translation of the reference point that counts as giving way [m].
         rotation_threshold: Rotation that counts as giving way [rad].
         tolerance: Relative resolution of ``load``.
@@ -80,6 +82,7 @@ class SimulationResult:
     direction: np.ndarray
     unit: str
     upper: float
+    start: float
     slip_threshold: float
     rotation_threshold: float
     tolerance: float
@@ -131,6 +134,8 @@ class SimulationResult:
             head = f"held up to {self.upper:g} {u}"
         elif self.status == "gradual":
             head = f"gave way gradually between {self.onset_load:.4g} and {self.load:.4g} {u}"
+        elif self.load == 0.0:
+            head = f"gave way below the first load of the ramp, {self.upper * self.start:.3g} {u}"
         else:
             head = f"gave way at {self.load:.4g} {u}"
         if self.predicted is not None:

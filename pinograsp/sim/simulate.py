@@ -87,6 +87,7 @@ def _options(grasp: Any, direction: np.ndarray, upper: float, kw: dict[str, Any]
         preload_time=_positive("preload_time", kw.pop("preload_time", 0.05)),
         trace_every=int(_positive("trace_every", kw.pop("trace_every", 10))),
         filter_time=float(kw.pop("filter_time", 2.0 * math.pi * math.sqrt(mass / stiffness))),
+        relax=bool(kw.pop("relax", True)),
     )
     if kw:
         raise InvalidInputError("options", f"unknown simulation option(s) {sorted(kw)}")
@@ -157,6 +158,7 @@ def simulate_max_wrench(
         direction=d,
         unit=_unit(d),
         upper=opts.upper,
+        start=opts.start,
         slip_threshold=opts.slip,
         rotation_threshold=opts.rotation,
         tolerance=opts.tolerance,
