@@ -48,9 +48,9 @@ def _compare(pred: object, sim: object) -> tuple[str, float | None]:
         return "both hold", None
     if p_holds != s_holds:
         return "DISAGREE", None
+    rel = sim.load / pred.magnitude - 1.0 if pred.magnitude > 0 and sim.load > 0 else None
     if pred.magnitude <= ZERO * pred.upper and sim.load <= ZERO * sim.upper:
-        return "both ≈ 0", None
-    rel = sim.load / pred.magnitude - 1.0 if pred.magnitude > 0 else None
+        return "both ≈ 0", rel
     return ("gradual" if sim.status == "gradual" else "both finite"), rel
 
 
@@ -102,12 +102,13 @@ def run_scene(name: str, n: int) -> tuple[list[dict], dict]:
             f"t_sim {sim.wall_time:5.2f} s",
             flush=True,
         )
-    rels = np.array([abs(r["rel"]) for r in rows if r["rel"] is not None])
+    rels = np.array([abs(r["rel"]) for r in rows if r["rel"] is not None and r["verdict"] != "both ≈ 0"])
     summary = {
         "scene": name,
         "method": str(scene.analysis.method),
         "directions": len(rows),
         "agree": sum(r["verdict"] != "DISAGREE" for r in rows),
+        "zero": sum(r["verdict"] == "both ≈ 0" for r in rows),
         "finite": len(rels),
         "median": float(np.median(rels)) if rels.size else None,
         "max": float(np.max(rels)) if rels.size else None,
@@ -136,13 +137,14 @@ def write_markdown(path: Path, results: dict, n: int, elapsed: float) -> None:
         "",
         "## Summary",
         "",
-        "| scene | method | directions | same class | finite in both | median \\|diff\\| | max \\|diff\\|"
+        "| scene | method | directions | same class | both ≈ 0 | finite in both | median \\|diff\\|"
+        " | max \\|diff\\|"
         " | sim time / direction [s] | prediction time / direction [s] |",
-        "|---|---|---:|---:|---:|---:|---:|---:|---:|",
+        "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|",
     ]
     for _, summ in results.values():
         lines.append(
-            f"| {summ['scene']} | {summ['method']} | {summ['directions']} | {summ['agree']}"
+            f"| {summ['scene']} | {summ['method']} | {summ['directions']} | {summ['agree']} | {summ['zero']}"
             f" | {summ['finite']}"
             f" | {_pct(summ['median'])} | {_pct(summ['max'])} | {summ['t_sim']:.2f} | {summ['t_pred']:.2f} |"
         )

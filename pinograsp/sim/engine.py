@@ -18,6 +18,7 @@ from .mjcf import ReducedModel, build, import_mujoco
 from .result import SimulationTrace
 
 PRELOADS = ("held", "settled")
+FRICTIONS = ("cone", "pyramid")
 #: Motion over the second half of a constant-load test, as a fraction of the threshold, above
 #: which the object is still moving (has not come to rest).
 CREEP = 1e-3
@@ -46,6 +47,7 @@ class SimOptions:
             running maximum is the limit [s] (0: the raw displacement).
         relax: Close the motors without friction (the model's friction is free inside the
             cone, not wound up by the closing; docs/simulation.md).
+        friction: ``"cone"`` (exact Coulomb) or ``"pyramid"`` (the model's linearised cone).
     """
 
     upper: float
@@ -64,6 +66,7 @@ class SimOptions:
     trace_every: int
     filter_time: float = 0.0
     relax: bool = True
+    friction: str = "cone"
 
 
 class Engine:
@@ -72,7 +75,9 @@ class Engine:
     def __init__(self, grasp: Any, command: np.ndarray, opts: SimOptions) -> None:
         self.mj = import_mujoco()
         self.grasp, self.opts = grasp, opts
-        self.law = ContactLaw.from_model(grasp, opts.stiffness, opts.damping, opts.mass)
+        self.law = ContactLaw.from_model(
+            grasp, opts.stiffness, opts.damping, opts.mass, pyramid=opts.friction == "pyramid"
+        )
         reach = np.max(np.linalg.norm(self.law.jacobian, axis=1), axis=0)  # (nq,) [m/rad]
         inertia = opts.mass * grasp.length_scale**2
         self.red: ReducedModel = build(

@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import InvalidInputError
-from .engine import PRELOADS, Engine, SimOptions, preload, ramp, refine
+from .engine import FRICTIONS, PRELOADS, Engine, SimOptions, preload, ramp, refine
 from .result import SimulationResult
 
 
@@ -71,6 +71,9 @@ def _options(grasp: Any, direction: np.ndarray, upper: float, kw: dict[str, Any]
     preload = kw.pop("preload", "held")
     if preload not in PRELOADS:
         raise InvalidInputError("preload", f"expected one of {PRELOADS}, got {preload!r}")
+    friction = kw.pop("friction", "cone")
+    if friction not in FRICTIONS:
+        raise InvalidInputError("friction", f"expected one of {FRICTIONS}, got {friction!r}")
     opts = SimOptions(
         upper=upper,
         stiffness=stiffness,
@@ -88,6 +91,7 @@ def _options(grasp: Any, direction: np.ndarray, upper: float, kw: dict[str, Any]
         trace_every=int(_positive("trace_every", kw.pop("trace_every", 10))),
         filter_time=float(kw.pop("filter_time", 2.0 * math.pi * math.sqrt(mass / stiffness))),
         relax=bool(kw.pop("relax", True)),
+        friction=friction,
     )
     if kw:
         raise InvalidInputError("options", f"unknown simulation option(s) {sorted(kw)}")
@@ -128,7 +132,9 @@ def simulate_max_wrench(
             ``slip`` [m] (1 mm, or 20 × one contact's elastic deflection at ``upper`` if
             larger), ``rotation`` [rad] (``slip / length_scale``), ``tolerance`` (2e-3), ``mass`` [kg]
             (``10 nc stiffness timestep²``), ``damping`` (0.7), ``preload`` (``"held"`` or
-            ``"settled"``), ``preload_time`` (0.05 s), ``trace_every`` (10).
+            ``"settled"``), ``preload_time`` (0.05 s), ``trace_every`` (10), ``filter_time``
+            [s] (one period of a contact spring with the object's mass), ``relax`` (True: close
+            without friction), ``friction`` (``"cone"``, or ``"pyramid"``: the model's pyramid).
 
     Returns:
         The :class:`SimulationResult`.
