@@ -127,14 +127,12 @@ def simulate_max_wrench(
         command: Actuator commands [N·m or N] as for :func:`pinograsp.max_resistible_wrench`,
             or a scene's named preload; default the scene's preload (required for a model).
         upper: Largest load [N or N·m]; default the scene's ``analysis.upper``, else 1e3.
-        **options: ``stiffness`` (1e6 N/m), ``timestep`` (1e-4 s), ``ramp_time`` (0.02 s),
-            ``start`` (1e-6), ``hold_time`` (5 ramp times; also each constant-load test),
-            ``slip`` [m] (1 mm, or 20 × one contact's elastic deflection at ``upper`` if
-            larger), ``rotation`` [rad] (``slip / length_scale``), ``tolerance`` (2e-3), ``mass`` [kg]
-            (``10 nc stiffness timestep²``), ``damping`` (0.7), ``preload`` (``"held"`` or
-            ``"settled"``), ``preload_time`` (0.05 s), ``trace_every`` (10), ``filter_time``
-            [s] (one period of a contact spring with the object's mass), ``relax`` (True: close
-            without friction), ``friction`` (``"cone"``, or ``"pyramid"``: the model's pyramid).
+        **options: Numerical settings and thresholds, with their defaults in
+            docs/simulation.md ("Thresholds and defaults"): ``stiffness``, ``timestep``,
+            ``ramp_time``, ``start``, ``hold_time``, ``slip`` [m], ``rotation`` [rad],
+            ``tolerance``, ``mass`` [kg], ``damping``, ``preload`` (``"held"`` or
+            ``"settled"``), ``relax``, ``friction`` (``"cone"`` or ``"pyramid"``),
+            ``preload_time``, ``filter_time``, ``trace_every``.
 
     Returns:
         The :class:`SimulationResult`.
