@@ -168,6 +168,10 @@ _URDF_SIDE.update(
 __all__ += ["evaluate_grasps", "WorstAxisScore", "save_results", "GraspSpec", "ObjectSpec"]
 __all__ += ["sample_grasps", "load_grasps", "GraspBatch"]
 
+# --- MuJoCo cross-check (issue 17): mujoco is imported only when a simulation is built.
+_URDF_SIDE.update({"simulate_max_wrench": "sim.simulate", "SimulationResult": "sim.result"})
+__all__ += ["simulate_max_wrench", "SimulationResult"]
+
 
 def __getattr__(name: str) -> object:
     import importlib

@@ -1,0 +1,208 @@
+"""Simulate a scene's prediction: preload the grasp in MuJoCo, ramp a load, find the give-way.
+
+:func:`simulate_max_wrench` is the public entry point (``pg.simulate_max_wrench``);
+:func:`simulate_command` is what the ``pinograsp simulate`` command calls. The method, its
+thresholds and their defaults are in docs/simulation.md.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from typing import Any
+
+import numpy as np
+
+from ..errors import InvalidInputError
+from .engine import FRICTIONS, PRELOADS, Engine, SimOptions, preload, ramp, refine
+from .result import SimulationResult
+
+
+def _unit(direction: np.ndarray) -> str:
+    force, torque = np.linalg.norm(direction[:3]) > 1e-12, np.linalg.norm(direction[3:]) > 1e-12
+    return "N" if not torque else ("N·m" if not force else "N, N·m")
+
+
+def _inputs(
+    scene_or_model: Any, direction: object, command: object
+) -> tuple[Any, np.ndarray, np.ndarray, float]:
+    """The GraspModel, unit direction (6,), command (na,) and default upper load of the inputs."""
+    import pinograsp as pg
+
+    if isinstance(scene_or_model, pg.GraspModel):
+        grasp, upper = scene_or_model, 1e3
+        if command is None:
+            raise InvalidInputError("command", "a GraspModel needs a command (a scene has its preload)")
+    elif hasattr(scene_or_model, "model") and hasattr(scene_or_model, "analysis"):
+        scene = scene_or_model
+        grasp, upper = scene.model, float(scene.analysis.upper)
+        if command is None or isinstance(command, str):
+            command = scene.preload(command)
+        if isinstance(direction, str) and direction in scene.analysis.directions:
+            direction = scene.direction(direction)
+    else:
+        raise InvalidInputError("scene_or_model", f"expected a Scene or a GraspModel, got {scene_or_model!r}")
+    return grasp, pg.wrench_direction(grasp, direction), grasp.command_vector(command), upper
+
+
+def _positive(name: str, value: object) -> float:
+    try:
+        v = float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError) as exc:
+        raise InvalidInputError(name, f"expected a positive number, got {value!r}") from exc
+    if not (math.isfinite(v) and v > 0):
+        raise InvalidInputError(name, f"expected a positive number, got {value!r}")
+    return v
+
+
+def _options(grasp: Any, direction: np.ndarray, upper: float, kw: dict[str, Any]) -> SimOptions:
+    """Defaults filled in and validated (docs/simulation.md, "Defaults")."""
+    ell = float(grasp.length_scale)
+    stiffness = _positive("stiffness", kw.pop("stiffness", 1e6))
+    timestep = _positive("timestep", kw.pop("timestep", 1e-4))
+    ramp = _positive("ramp_time", kw.pop("ramp_time", 0.02))
+    # elastic deflection of one contact spring at the upper load (torques as forces at ell)
+    elastic = upper * (np.linalg.norm(direction[:3]) + np.linalg.norm(direction[3:]) / ell) / stiffness
+    slip = kw.pop("slip", None)
+    slip = max(1e-3, 20.0 * elastic) if slip is None else _positive("slip", slip)
+    rotation = kw.pop("rotation", None)
+    mass = kw.pop("mass", None)
+    mass = 10.0 * grasp.nc * stiffness * timestep**2 if mass is None else _positive("mass", mass)
+    preload = kw.pop("preload", "held")
+    if preload not in PRELOADS:
+        raise InvalidInputError("preload", f"expected one of {PRELOADS}, got {preload!r}")
+    friction = kw.pop("friction", "cone")
+    if friction not in FRICTIONS:
+        raise InvalidInputError("friction", f"expected one of {FRICTIONS}, got {friction!r}")
+    opts = SimOptions(
+        upper=upper,
+        stiffness=stiffness,
+        timestep=timestep,
+        ramp_time=ramp,
+        start=_positive("start", kw.pop("start", 1e-6)),
+        hold_time=_positive("hold_time", kw.pop("hold_time", 5.0 * ramp)),
+        slip=slip,
+        rotation=slip / ell if rotation is None else _positive("rotation", rotation),
+        tolerance=_positive("tolerance", kw.pop("tolerance", 2e-3)),
+        mass=mass,
+        damping=_positive("damping", kw.pop("damping", 0.7)),
+        preload=preload,
+        preload_time=_positive("preload_time", kw.pop("preload_time", 0.05)),
+        trace_every=int(_positive("trace_every", kw.pop("trace_every", 10))),
+        filter_time=float(kw.pop("filter_time", 2.0 * math.pi * math.sqrt(mass / stiffness))),
+        relax=bool(kw.pop("relax", True)),
+        friction=friction,
+    )
+    if kw:
+        raise InvalidInputError("options", f"unknown simulation option(s) {sorted(kw)}")
+    if not opts.start < 1.0:
+        raise InvalidInputError("start", f"expected a fraction of upper below 1, got {opts.start!r}")
+    return opts
+
+
+def simulate_max_wrench(
+    scene_or_model: Any,
+    direction: object,
+    command: object = None,
+    *,
+    upper: float | None = None,
+    **options: Any,
+) -> SimulationResult:
+    """Simulate the preloaded grasp in MuJoCo and ramp a load until the object gives way.
+
+    The reduced model (docs/simulation.md): hand joints and the free object, linearised contact
+    kinematics ``J`` and ``G``, non-backdrivable actuators as motors with a one-sided limit at
+    their running maximum closing displacement, push-only normal springs and exact Coulomb
+    friction. The motors close on the object (held still by default) and settle; then the load
+    ``L d`` grows as ``upper * start * exp(t / ramp_time)`` up to ``upper`` and is held there.
+    The object gives way when its reference point has moved ``slip`` or it has turned
+    ``rotation`` from the preloaded pose; the reported load is the largest load the contacts
+    resisted until then.
+
+    Args:
+        scene_or_model: A :class:`~pinograsp.Scene` (its preload, ``analysis.upper`` and named
+            directions are used) or a :class:`~pinograsp.GraspModel`.
+        direction: Axis name (``"fy"``, ``"-mx"``), a scene's named direction or a wrench
+            vector, (6,) or (3,) for planar models; normalised with the Euclidean norm.
+        command: Actuator commands [N·m or N] as for :func:`pinograsp.max_resistible_wrench`,
+            or a scene's named preload; default the scene's preload (required for a model).
+        upper: Largest load [N or N·m]; default the scene's ``analysis.upper``, else 1e3.
+        **options: Numerical settings and thresholds, with their defaults in
+            docs/simulation.md ("Thresholds and defaults"): ``stiffness``, ``timestep``,
+            ``ramp_time``, ``start``, ``hold_time``, ``slip`` [m], ``rotation`` [rad],
+            ``tolerance``, ``mass`` [kg], ``damping``, ``preload`` (``"held"`` or
+            ``"settled"``), ``relax``, ``friction`` (``"cone"`` or ``"pyramid"``),
+            ``preload_time``, ``filter_time``, ``trace_every``.
+
+    Returns:
+        The :class:`SimulationResult`.
+
+    Raises:
+        MissingDependencyError: MuJoCo is not installed.
+        PreloadNotInEquilibriumError: The object moves past a threshold under the preload alone.
+        InvalidInputError: A bad direction, command or option.
+    """
+    t0 = time.perf_counter()
+    grasp, d, cmd, default_upper = _inputs(scene_or_model, direction, command)
+    up = default_upper if upper is None else _positive("upper", upper)
+    opts = _options(grasp, d, up, dict(options))
+    run = Engine(grasp, cmd, opts)
+    preload(run)
+    found = ramp(run, d)
+    status, load, onset, evidence = "held", None, found.onset, []
+    if found.crossed:
+        load, frac, evidence = refine(run, d, found)
+        status = "gradual" if frac >= 0.1 else "gave_way"
+        onset = None if onset is None else min(onset, load)
+    return SimulationResult(
+        status=status,
+        load=load,
+        onset_load=onset,
+        applied_load=found.applied,
+        direction=d,
+        unit=_unit(d),
+        upper=opts.upper,
+        start=opts.start,
+        slip_threshold=opts.slip,
+        rotation_threshold=opts.rotation,
+        tolerance=opts.tolerance,
+        stiffness=opts.stiffness,
+        mass=opts.mass,
+        timestep=opts.timestep,
+        ramp_time=opts.ramp_time,
+        preload=opts.preload,
+        steps=run.steps,
+        sim_time=run.steps * opts.timestep,
+        wall_time=time.perf_counter() - t0,
+        trace=found.trace,
+        evidence=tuple(evidence),
+        command=cmd,
+    )
+
+
+def simulate_command(
+    scene_name: str, direction: object, *, compare: bool = False, **opts: Any
+) -> SimulationResult:
+    """What ``pinograsp simulate SCENE -d DIRECTION`` runs (flags: docs/simulation.md).
+
+    Args:
+        scene_name: A built-in scene name or a scene YAML file.
+        direction: As for :func:`simulate_max_wrench`.
+        compare: Also run the scene's own analysis (``scene.max_resistible_wrench``) along the
+            same direction and command, and record it as ``predicted``.
+        **opts: ``command`` and the keyword arguments of :func:`simulate_max_wrench`.
+
+    Returns:
+        The :class:`SimulationResult` (with ``predicted`` when ``compare``).
+    """
+    import dataclasses
+
+    import pinograsp as pg
+
+    scene = pg.load_scene(scene_name)
+    command = opts.pop("command", None)
+    result = simulate_max_wrench(scene, direction, command, **opts)
+    if not compare:
+        return result
+    pred = scene.max_resistible_wrench(result.direction, command, upper=result.upper)
+    return dataclasses.replace(result, predicted=float(pred.magnitude), predicted_status=str(pred.status))
