@@ -21,11 +21,14 @@ RANKS = {
     "analysis": 3,
     "robots": 3,
     "scenes": 4,
+    "sim": 4.5,
     "batch": 5,
     "viz": 6,
     "cli": 7,
     "__init__": 8,
 }
+#: Layers that call the curated public API (``import pinograsp``) rather than the layers below.
+PUBLIC_API_USERS = ("cli",)
 #: Longest module [lines] and function [lines, def to last line]; plotting functions may be longer.
 MAX_MODULE = 500
 MAX_FUNCTION = 80
@@ -59,6 +62,8 @@ def _type_checking_lines(tree: ast.AST) -> set[int]:
 def _resolve(module: str, node: ast.ImportFrom | ast.Import) -> list[str]:
     """The package modules an import statement of ``module`` loads (relative or absolute)."""
     if isinstance(node, ast.Import):
+        if any(a.name == "pinograsp" for a in node.names):
+            return ["__init__"]
         names = [a.name.removeprefix("pinograsp.") for a in node.names if a.name.startswith("pinograsp.")]
         return [n for n in names if n in MODULES or f"{n}.__init__" in MODULES]
     if node.level:
@@ -70,6 +75,9 @@ def _resolve(module: str, node: ast.ImportFrom | ast.Import) -> list[str]:
         return []
     stem = (node.module or "").removeprefix("pinograsp").lstrip(".")
     target = ".".join(base + ([stem] if stem else []))
+    if not target:  # ``from pinograsp import X`` / ``from .. import X`` at the top: the public API
+        subs = [a.name for a in node.names if a.name in MODULES or f"{a.name}.__init__" in MODULES]
+        return [s if s in MODULES else f"{s}.__init__" for s in subs] or ["__init__"]
     out = []
     for alias in node.names:
         full = f"{target}.{alias.name}" if target else alias.name
@@ -110,7 +118,7 @@ def test_imports_point_down():
         me = _layer(module)
         for dep in deps:
             them = _layer(dep)
-            if them == me:
+            if them == me or (them == "__init__" and me in PUBLIC_API_USERS):
                 continue
             if RANKS[them] >= RANKS[me]:
                 upward.append(f"{module} -> {dep}")

@@ -13,8 +13,10 @@ from typing import Any
 
 import numpy as np
 
+from ..core.axes import wrench_direction
+from ..core.model import GraspModel
 from ..errors import InvalidInputError
-from .engine import FRICTIONS, PRELOADS, Engine, SimOptions, preload, ramp, refine
+from .integrator import FRICTIONS, PRELOADS, Engine, SimOptions, preload, ramp, refine
 from .result import SimulationResult
 
 
@@ -27,9 +29,7 @@ def _inputs(
     scene_or_model: Any, direction: object, command: object
 ) -> tuple[Any, np.ndarray, np.ndarray, float]:
     """The GraspModel, unit direction (6,), command (na,) and default upper load of the inputs."""
-    import pinograsp as pg
-
-    if isinstance(scene_or_model, pg.GraspModel):
+    if isinstance(scene_or_model, GraspModel):
         grasp, upper = scene_or_model, 1e3
         if command is None:
             raise InvalidInputError("command", "a GraspModel needs a command (a scene has its preload)")
@@ -42,7 +42,7 @@ def _inputs(
             direction = scene.direction(direction)
     else:
         raise InvalidInputError("scene_or_model", f"expected a Scene or a GraspModel, got {scene_or_model!r}")
-    return grasp, pg.wrench_direction(grasp, direction), grasp.command_vector(command), upper
+    return grasp, wrench_direction(grasp, direction), grasp.command_vector(command), upper
 
 
 def _positive(name: str, value: object) -> float:
@@ -197,9 +197,9 @@ def simulate_command(
     """
     import dataclasses
 
-    import pinograsp as pg
+    from ..scenes.loading import load_scene
 
-    scene = pg.load_scene(scene_name)
+    scene = load_scene(scene_name)
     command = opts.pop("command", None)
     result = simulate_max_wrench(scene, direction, command, **opts)
     if not compare:
