@@ -270,7 +270,7 @@ class ResistanceSet:
 
     def to_csv(self, path: object, *, name: str = "path") -> object:
         """Write :meth:`rows` to a CSV file (``inf`` where unbounded, empty cells for NaN);
-        returns the :class:`~pathlib.Path` written (through :func:`pinograsp.core.contact.writing`)."""
+        returns the :class:`~pathlib.Path` written (through :func:`pinograsp.core.validate.writing`)."""
         from ..core.tables import _write_csv
 
         return _write_csv(path, CSV_COLUMNS, self.rows(), name)
