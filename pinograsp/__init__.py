@@ -1,4 +1,10 @@
-"""pinograsp: passive reaction analysis for robot grasps."""
+"""pinograsp: passive reaction analysis for robot grasps.
+
+The curated public API (docs/design.md). The core layer (NumPy only: models, contacts,
+settings, results) is imported here; every other layer — the solvers and analyses, the URDF
+side (Pinocchio, Coal), scenes, batches, simulation and plots — is imported on first use of one
+of its names, so ``import pinograsp`` loads neither a solver, cvxpy, Pinocchio nor Coal.
+"""
 
 from .core.actuation import ACTUATOR_KINDS, Actuator, Coupling
 from .core.axes import WRENCH_AXES, plane_directions, wrench_direction
@@ -13,33 +19,33 @@ from .errors import (
     BigMWarning,
     ConditioningWarning,
     InvalidInputError,
+    MissingDependencyError,
     ModelError,
+    ModelFileError,
+    NoContactError,
+    PenetrationError,
     PinograspError,
     PinograspWarning,
     PreloadNotInEquilibriumError,
+    SceneError,
     SolverError,
     SolverNotAvailableError,
     SolverTimeoutError,
     UnknownNameError,
+    UrdfError,
 )
 
-# --- the solver side: imported on first use, so that `import pinograsp`, the URDF side and
-# `pinograsp scenes` / `--help` load neither the solvers nor cvxpy.
+__version__ = "0.1.0"
+
+#: Public names of the lazily imported layers -> their module (below ``pinograsp``).
 _LAZY = {
-    "max_resistible_wrench": "analysis.max_wrench",
-    "resistance_profile": "analysis.profile",
-    "LinearComplianceResult": "analysis.baseline",
-    "linear_compliance": "analysis.baseline",
-    "PreloadChoice": "analysis.preload",
-    "equilibrium_preload": "analysis.preload",
-    "OptimalPreload": "analysis.optimal",
-    "DisturbanceCheck": "analysis.optimal",
-    "optimal_preload": "analysis.optimal",
+    # analysis: passive response, max wrench, profiles, sets, scores, preloads, baseline
     "PassiveSolver": "analysis.response",
     "Session": "analysis.response",
     "passive_response": "analysis.response",
     "solver_for": "analysis.response",
-    "available_miqp_solvers": "solvers",
+    "max_resistible_wrench": "analysis.max_wrench",
+    "resistance_profile": "analysis.profile",
     "resistance_set": "analysis.resistance_set",
     "ResistanceSet": "analysis.resistance_set",
     "sphere_points": "analysis.resistance_set",
@@ -47,69 +53,15 @@ _LAZY = {
     "GraspScore": "analysis.metrics",
     "ferrari_canny": "analysis.metrics",
     "hull_reach": "analysis.metrics",
-}
-
-__version__ = "0.1.0"
-
-__all__ = [
-    "Backend",
-    "Method",
-    "Search",
-    "Variant",
-    "plane_directions",
-    "Audit",
-    "LinearComplianceResult",
-    "MaxWrench",
-    "PassiveResponse",
-    "PassiveSolver",
-    "ResistanceProfile",
-    "Session",
-    "Settings",
-    "available_miqp_solvers",
-    "equilibrium_preload",
-    "PreloadChoice",
-    "optimal_preload",
-    "OptimalPreload",
-    "DisturbanceCheck",
-    "format_magnitude",
-    "format_max_wrench",
-    "linear_compliance",
-    "max_resistible_wrench",
-    "passive_response",
-    "resistance_profile",
-    "results_rows",
-    "results_table",
-    "results_to_csv",
-    "solver_for",
-    "wrench_direction",
-    "ACTUATOR_KINDS",
-    "Actuator",
-    "AuditWarning",
-    "BigMWarning",
-    "ConditioningWarning",
-    "Contact",
-    "Coupling",
-    "GraspModel",
-    "InvalidInputError",
-    "ModelError",
-    "PinograspError",
-    "PinograspWarning",
-    "PreloadNotInEquilibriumError",
-    "PruneRecord",
-    "SolverError",
-    "SolverNotAvailableError",
-    "SolverTimeoutError",
-    "UnknownNameError",
-    "WRENCH_AXES",
-    "friction_edges",
-]
-
-# --- URDF side (issue 3): hands, objects, contact detection; imported lazily so that solvers and
-# analytic models never load Pinocchio or Coal.
-from .errors import ModelFileError, NoContactError, PenetrationError, UrdfError  # noqa: E402
-
-_URDF_SIDE = {
-    **_LAZY,
+    "equilibrium_preload": "analysis.preload",
+    "PreloadChoice": "analysis.preload",
+    "optimal_preload": "analysis.optimal",
+    "OptimalPreload": "analysis.optimal",
+    "DisturbanceCheck": "analysis.optimal",
+    "linear_compliance": "analysis.baseline",
+    "LinearComplianceResult": "analysis.baseline",
+    "available_miqp_solvers": "solvers",
+    # robots: the URDF side
     "Hand": "robots.hand",
     "HandDescription": "robots.description",
     "example_robot_data_dir": "robots.description",
@@ -117,67 +69,97 @@ _URDF_SIDE = {
     "detect_contacts": "robots.collision",
     "link_distances": "robots.collision",
     "grasp_model_from_scene": "robots.grasp",
+    "check_closing": "robots.closing",
+    "ClosingCheck": "robots.closing",
+    "JointClosing": "robots.closing",
+    # scenes
+    "load_scene": "scenes.loading",
+    "Scene": "scenes.loading",
+    "builtin_scenes": "scenes.loading",
+    # simulation (MuJoCo, an optional extra)
+    "simulate_max_wrench": "sim.simulate",
+    "SimulationResult": "sim.result",
+    # batches of grasps
+    "evaluate_grasps": "batch.evaluate",
+    "WorstAxisScore": "batch.evaluate",
+    "save_results": "batch.evaluate",
+    "GraspSpec": "batch.grasps",
+    "ObjectSpec": "batch.grasps",
+    "sample_grasps": "batch.grasps",
+    "load_grasps": "batch.files",
+    "GraspBatch": "batch.files",
+    # plots and the 3D scene view
+    "plot_profile": "viz.profile_plots",
+    "plot_preload_comparison": "viz.comparison_plots",
+    "plot_force_comparison": "viz.comparison_plots",
+    "plot_resistance_set": "viz.set_plots",
+    "save_figure": "viz.figures",
+    "scene_figure": "viz.viewer",
+    "save_html": "viz.viewer",
+    "save_png": "viz.viewer",
 }
-__all__ += ["ModelFileError", "NoContactError", "PenetrationError", "UrdfError"]
-__all__ += [k for k in _URDF_SIDE if k not in __all__]
+#: Modules offered as attributes: ``pg.examples`` (the analytic and synthetic example grasps).
+_MODULES = {"examples": "core.examples"}
 
-# --- plots and the 3D scene view (issue 5): matplotlib / plotly are imported only when used.
-from .errors import MissingDependencyError  # noqa: E402
-
-_URDF_SIDE.update(
-    {
-        "plot_profile": "viz.profile_plots",
-        "plot_preload_comparison": "viz.comparison_plots",
-        "plot_force_comparison": "viz.comparison_plots",
-        "plot_resistance_set": "viz.set_plots",
-        "save_figure": "viz.figures",
-        "scene_figure": "viz.viewer",
-        "save_html": "viz.viewer",
-        "save_png": "viz.viewer",
-    }
-)
-__all__ += ["MissingDependencyError", *[k for k in _URDF_SIDE if k not in __all__]]
-
-# --- scene files (issue 5): YAML scenes and the built-in paper scenes.
-from .errors import SceneError  # noqa: E402
-
-_URDF_SIDE.update(
-    {"load_scene": "scenes.loading", "Scene": "scenes.loading", "builtin_scenes": "scenes.loading"}
-)
-__all__ += ["SceneError", "load_scene", "Scene", "builtin_scenes"]
-
-# --- "check my description": closing signs against the geometry (no contact needed).
-_URDF_SIDE.update(
-    {"check_closing": "robots.closing", "ClosingCheck": "robots.closing", "JointClosing": "robots.closing"}
-)
-__all__ += ["check_closing", "ClosingCheck", "JointClosing"]
-
-# --- batches of grasps (local processes, Ray, Dask): records, sampling, evaluation, tables.
-_URDF_SIDE.update(
-    {
-        "evaluate_grasps": "batch.evaluate",
-        "WorstAxisScore": "batch.evaluate",
-        "save_results": "batch.evaluate",
-        "GraspSpec": "batch.grasps",
-        "ObjectSpec": "batch.grasps",
-        "sample_grasps": "batch.grasps",
-        "load_grasps": "batch.files",
-        "GraspBatch": "batch.files",
-    }
-)
-__all__ += ["evaluate_grasps", "WorstAxisScore", "save_results", "GraspSpec", "ObjectSpec"]
-__all__ += ["sample_grasps", "load_grasps", "GraspBatch"]
-
-# --- MuJoCo cross-check (issue 17): mujoco is imported only when a simulation is built.
-_URDF_SIDE.update({"simulate_max_wrench": "sim.simulate", "SimulationResult": "sim.result"})
-__all__ += ["simulate_max_wrench", "SimulationResult"]
+__all__ = [
+    # core
+    "ACTUATOR_KINDS",
+    "Actuator",
+    "Audit",
+    "Backend",
+    "Contact",
+    "Coupling",
+    "GraspModel",
+    "MaxWrench",
+    "Method",
+    "PassiveResponse",
+    "PruneRecord",
+    "ResistanceProfile",
+    "Search",
+    "Settings",
+    "Variant",
+    "WRENCH_AXES",
+    "format_magnitude",
+    "format_max_wrench",
+    "friction_edges",
+    "plane_directions",
+    "results_rows",
+    "results_table",
+    "results_to_csv",
+    "wrench_direction",
+    # errors and warnings
+    "AuditWarning",
+    "BigMWarning",
+    "ConditioningWarning",
+    "InvalidInputError",
+    "MissingDependencyError",
+    "ModelError",
+    "ModelFileError",
+    "NoContactError",
+    "PenetrationError",
+    "PinograspError",
+    "PinograspWarning",
+    "PreloadNotInEquilibriumError",
+    "SceneError",
+    "SolverError",
+    "SolverNotAvailableError",
+    "SolverTimeoutError",
+    "UnknownNameError",
+    "UrdfError",
+    # the lazily imported layers
+    *_LAZY,
+]
 
 
 def __getattr__(name: str) -> object:
     import importlib
 
-    if name == "examples":  # the analytic and synthetic example grasps (a module)
-        return importlib.import_module(".core.examples", __name__)
-    if name in _URDF_SIDE:
-        return getattr(importlib.import_module(f".{_URDF_SIDE[name]}", __name__), name)
+    if name in _MODULES:
+        return importlib.import_module(f".{_MODULES[name]}", __name__)
+    if name in _LAZY:
+        return getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
     raise AttributeError(f"module 'pinograsp' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *__all__, *_MODULES})
