@@ -144,7 +144,7 @@ __all__ += ["MissingDependencyError", *[k for k in _URDF_SIDE if k not in __all_
 from .errors import SceneError  # noqa: E402
 
 _URDF_SIDE.update(
-    {"load_scene": "scenes.loading", "Scene": "scenes.loading", "builtin_scenes": "scenes.loading"}
+    {"load_scene": "scenes.loading", "Scene": "scenes.schema", "builtin_scenes": "scenes.loading"}
 )
 __all__ += ["SceneError", "load_scene", "Scene", "builtin_scenes"]
 
