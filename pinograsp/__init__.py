@@ -74,7 +74,7 @@ _LAZY = {
     "JointClosing": "robots.closing",
     # scenes
     "load_scene": "scenes.loading",
-    "Scene": "scenes.loading",
+    "Scene": "scenes.schema",
     "builtin_scenes": "scenes.loading",
     # simulation (MuJoCo, an optional extra)
     "simulate_max_wrench": "sim.simulate",

@@ -266,6 +266,7 @@ def test_fuzz_passive_response(models, command, wrench, method):
 
 # ------------------------------------------------------------------------------ scene files
 from pinograsp.scenes import loading as _scenes  # noqa: E402
+from pinograsp.scenes import schema as _schema  # noqa: E402
 
 load_scene = _scenes.load_scene
 
@@ -279,7 +280,7 @@ yaml_values = st.recursive(
     ),
     max_leaves=12,
 )
-SCENE_KEYS = sorted(set(_scenes._URDF_KEYS + _scenes._EXPLICIT_KEYS))
+SCENE_KEYS = sorted(set(_schema.URDF_KEYS + _schema.EXPLICIT_KEYS))
 CONTACT = {
     "name": "left",
     "point": [-0.05, 0, 0],

@@ -195,6 +195,45 @@ def test_friction_and_stiffness_per_link(tmp_path):
     assert np.all(s.model.k == 2.0)
 
 
+def test_named_directions_planes_and_preloads_as_stored(tmp_path):
+    text = URDF_SCENE + textwrap.dedent(
+        """
+        analysis:
+          plane: "fx, -fy"
+          planes: {tilted: [[3, 4, 0, 0, 0, 0], fz]}
+          directions: {up: " -fy ", twist: tx, diagonal: [1, 1, 0, 0, 0, 0]}
+          wrenches: {push: [0, -20, 0, 0, 0, 0], unit: fz}
+          preloads: {both: 2.5, listed: [1, 2], proximal: {proximal_tendon: 4}}
+        """
+    )
+    a = pg.load_scene(write(tmp_path, text)).analysis
+    assert a.plane == ("fx", "-fy") and a.planes["tilted"] == ((0.6, 0.8, 0.0, 0.0, 0.0, 0.0), "fz")
+    assert np.array_equal(a.directions["up"], [0, -1, 0, 0, 0, 0])
+    assert np.array_equal(a.directions["twist"], [0, 0, 0, 1, 0, 0])
+    diagonal = np.array([1, 1, 0, 0, 0, 0]) / np.sqrt(2)
+    np.testing.assert_allclose(a.directions["diagonal"], diagonal, rtol=1e-15)
+    assert np.array_equal(a.wrenches["push"], [0, -20, 0, 0, 0, 0])
+    assert np.array_equal(a.wrenches["unit"], [0, 0, 1, 0, 0, 0])
+    assert a.preloads == {
+        "both": {"proximal_tendon": 2.5, "distal_tendon": 2.5},
+        "listed": {"proximal_tendon": 1.0, "distal_tendon": 2.0},
+        "proximal": {"proximal_tendon": 4.0, "distal_tendon": 0.0},
+    }
+
+
+def test_loading_a_scene_loads_no_solver():
+    import subprocess
+    import sys
+
+    code = (
+        "import sys, pinograsp as pg; pg.load_scene('pinch'); pg.load_scene('case3')\n"
+        "heavy = ('cvxpy', 'pinograsp.solvers', 'pinograsp.analysis')\n"
+        "print(sorted(m for m in sys.modules if m.startswith(heavy)))"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "[]"
+
+
 def test_overrides_and_named_preloads(scenes):
     s = pg.load_scene("case3", preload={"distal_tendon": 3.0})
     assert s.command == {"proximal_tendon": 0.0, "distal_tendon": 3.0}
@@ -291,6 +330,18 @@ def test_bad_yaml_and_missing_files(tmp_path):
         ("expect_contacts: 3", "expect_contacts", "expected 3 contacts, detected 4"),
         ("planar: yes please", "planar", "expected true or false"),
         ("frame: {rpy: [90 degrees, 0, 0]}", "frame.rpy[0]", "'60 deg'"),
+        ("analysis: {solver: 3}", "analysis.solver", "expected a string"),
+        ("analysis: {max_nodes: 0}", "analysis.max_nodes", "must be an integer >= 1"),
+        (
+            "analysis: {backend: miqp, complementarity: indicator, solver: gurobi}",
+            "analysis.complementarity",
+            "indicator constraints need solver='scip'",
+        ),
+        ("analysis: {directions: {up: [0, 0, 0, 0, 0, 0]}}", "analysis.directions.up", "zero-length"),
+        ("analysis: {normalize: fw}", "analysis.normalize", "unknown wrench axis 'fw'"),
+        ("analysis: {preloads: {a: [1, 2, 3]}}", "analysis.preloads.a", "expected 2 values"),
+        ("analysis: {preloads: {a: {proximal_tendon: -1}}}", "analysis.preloads.a", "negative command"),
+        ("analysis: {preloads: {a: {distal_tendon: true}}}", "analysis.preloads.a.distal_tendon", "a number"),
     ],
 )
 def test_value_errors_name_their_key(tmp_path, extra, key, fragment):
