@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import PinograspError
-from ..scenes.loading import _File, _read
+from ..scenes.loading import SceneFile, read_yaml
 from .grasps import SHAPES, GraspSpec, ObjectSpec, sample_grasps
 
 #: Keys of one grasp (and of ``defaults``).
@@ -56,7 +56,7 @@ class GraspBatch:
     score: dict[str, Any]
 
 
-def _object(f: _File, value: object, key: str) -> ObjectSpec:
+def _object(f: SceneFile, value: object, key: str) -> ObjectSpec:
     s = f.mapping(value, key)
     shape = f.string(f.require(s, "shape", key), f"{key}.shape")
     if shape not in SHAPES:
@@ -87,7 +87,7 @@ def _object(f: _File, value: object, key: str) -> ObjectSpec:
         raise f.error(f"{key}.{getattr(exc, 'name', '')}".rstrip("."), str(exc).split(": ", 1)[-1]) from exc
 
 
-def _values(f: _File, value: object, key: str) -> dict[str, float] | list[float]:
+def _values(f: SceneFile, value: object, key: str) -> dict[str, float] | list[float]:
     """``{joint: value}`` (angles may be 'N deg') or a list of values."""
     if isinstance(value, Mapping):
         return {str(k): f.number(v, f"{key}.{k}", angle=True) for k, v in value.items()}
@@ -96,14 +96,14 @@ def _values(f: _File, value: object, key: str) -> dict[str, float] | list[float]
     return [f.number(v, f"{key}[{i}]", angle=True) for i, v in enumerate(value)]
 
 
-def _hand_path(f: _File, value: str) -> str:
+def _hand_path(f: SceneFile, value: str) -> str:
     """A built-in name stays; anything that looks like a file is resolved against the file's folder."""
     if "/" in value or "\\" in value or value.endswith(".urdf"):
         return str(f.relpath(value, "hand"))
     return value
 
 
-def _grasp_fields(f: _File, g: Mapping, key: str) -> dict[str, Any]:
+def _grasp_fields(f: SceneFile, g: Mapping, key: str) -> dict[str, Any]:
     kw: dict[str, Any] = {}
     for k, v in g.items():
         kk = f"{key}.{k}" if key else str(k)
@@ -135,7 +135,7 @@ def _grasp_fields(f: _File, g: Mapping, key: str) -> dict[str, Any]:
     return kw
 
 
-def _spec(f: _File, fields: dict[str, Any], key: str) -> GraspSpec:
+def _spec(f: SceneFile, fields: dict[str, Any], key: str) -> GraspSpec:
     for need in ("hand", "object"):
         if need not in fields:
             raise f.error(f"{key}.{need}", "missing required key (here or in 'defaults')")
@@ -145,7 +145,7 @@ def _spec(f: _File, fields: dict[str, Any], key: str) -> GraspSpec:
         raise f.error(f"{key}.{getattr(exc, 'name', '')}".rstrip("."), str(exc).split(": ", 1)[-1]) from exc
 
 
-def _samples(f: _File, value: object, defaults: dict[str, Any]) -> list[GraspSpec]:
+def _samples(f: SceneFile, value: object, defaults: dict[str, Any]) -> list[GraspSpec]:
     if not isinstance(value, list):
         raise f.error("sample", "expected a list of sample blocks")
     out: list[GraspSpec] = []
@@ -188,8 +188,8 @@ def load_grasps(path: str | Path) -> GraspBatch:
         SceneError: The file is missing or malformed (the message names the file and key).
     """
     p = Path(path)
-    f = _File(p)
-    data = _read(p)
+    f = SceneFile(p)
+    data = read_yaml(p)
     f.keys(data, _TOP_KEYS, "")
     d = f.mapping(data.get("defaults") or {}, "defaults")
     f.keys(d, tuple(k for k in GRASP_KEYS if k != "id"), "defaults")

@@ -18,7 +18,7 @@ from ..core.axes import WRENCH_AXES, plane_basis, wrench_direction
 from ..core.model import GraspModel
 from ..core.settings import METHODS, Method, Settings, make_settings
 from ..errors import InvalidInputError, PinograspError, SolverNotAvailableError, UnknownNameError
-from .fields import _File, show
+from .fields import SceneFile, show
 from .schema import ANALYSIS_KEYS, SETTINGS_KEYS, Plane, SceneAnalysis
 
 #: Settings written as text, as ``true``/``false`` and as counts (checked here for their YAML
@@ -28,7 +28,7 @@ _FLAG_SETTINGS = ("accelerate", "verify_infeasible")
 _COUNT_SETTINGS = ("bigm_retries", "max_iterations", "max_nodes")
 
 
-def command(f: _File, model: GraspModel, value: object, key: str) -> dict[str, float]:
+def command(f: SceneFile, model: GraspModel, value: object, key: str) -> dict[str, float]:
     """A command: a number (every actuator), a list over ``model.all_actuator_names`` or
     ``{actuator: value}`` (others 0) -> ``{actuator: value}`` over every actuator [N·m or N]."""
     names = model.all_actuator_names
@@ -53,7 +53,7 @@ def command(f: _File, model: GraspModel, value: object, key: str) -> dict[str, f
     return {a: given.get(a, 0.0) for a in names}
 
 
-def _wrench(f: _File, model: GraspModel, value: object, key: str, unit: bool) -> np.ndarray:
+def _wrench(f: SceneFile, model: GraspModel, value: object, key: str, unit: bool) -> np.ndarray:
     """A wrench (6,) [N, N·m] from an axis name (``"-fy"``) or a vector (6 numbers, or 3 for a
     planar model); ``unit``: a direction, scaled to unit length."""
     w = value.strip() if isinstance(value, str) else f.vector(value, (3, 6) if model.planar else 6, key)
@@ -67,7 +67,7 @@ def _wrench(f: _File, model: GraspModel, value: object, key: str, unit: bool) ->
         raise f.error(key, str(exc).removeprefix(f"{exc.name}: ")) from exc
 
 
-def _plane(f: _File, model: GraspModel, value: object, key: str) -> Plane:
+def _plane(f: SceneFile, model: GraspModel, value: object, key: str) -> Plane:
     """A plane: two axis names (a list, or ``"fx, fy"``) or vectors; vectors are kept as unit
     6-vectors."""
     if isinstance(value, str):
@@ -83,12 +83,12 @@ def _plane(f: _File, model: GraspModel, value: object, key: str) -> Plane:
     return kept[0], kept[1]
 
 
-def _named(f: _File, value: object, key: str, what: str) -> Mapping:
+def _named(f: SceneFile, value: object, key: str, what: str) -> Mapping:
     """A mapping ``name -> what`` (``None``: empty)."""
     return f.mapping(value or {}, key, f"a mapping name -> {what}")
 
 
-def _block(f: _File, model: GraspModel, a: Mapping) -> SceneAnalysis:
+def _block(f: SceneFile, model: GraspModel, a: Mapping) -> SceneAnalysis:
     """The analysis keys of an ``analysis`` block (its settings aside)."""
     method = a.get("method", Method.ITERATIVE)
     if method not in METHODS:
@@ -135,7 +135,7 @@ def _blamed_setting(exc: PinograspError) -> str:
     return ""
 
 
-def _settings(f: _File, a: Mapping) -> Settings:
+def _settings(f: SceneFile, a: Mapping) -> Settings:
     """The solver settings of an ``analysis`` block."""
     overrides: dict[str, Any] = {k: a[k] for k in SETTINGS_KEYS if k in a}
     for k, v in overrides.items():
@@ -157,7 +157,7 @@ def _settings(f: _File, a: Mapping) -> Settings:
         raise f.error(f"analysis.{bad}", str(exc).removeprefix(f"{bad}: ")) from exc
 
 
-def analysis(f: _File, model: GraspModel, value: object) -> tuple[SceneAnalysis, Settings]:
+def analysis(f: SceneFile, model: GraspModel, value: object) -> tuple[SceneAnalysis, Settings]:
     """A scene's ``analysis`` block (``None``: every default)."""
     a = f.mapping(value if value is not None else {}, "analysis")
     f.keys(a, ANALYSIS_KEYS, "analysis")

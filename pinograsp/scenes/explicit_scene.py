@@ -13,14 +13,14 @@ import numpy as np
 from ..core.actuation import ACTUATOR_KINDS, Actuator, Coupling
 from ..core.contact import Contact
 from ..errors import PinograspError
-from .fields import _File, show
+from .fields import SceneFile, show
 from .schema import EXPLICIT_KEYS, GraspParts
 
 #: Keys of one entry of ``contacts``.
 _CONTACT_KEYS = ("name", "point", "normal", "mu", "stiffness", "tangent", "revolute", "jacobian")
 
 
-def _actuators(f: _File, value: object, key: str) -> list[Actuator]:
+def _actuators(f: SceneFile, value: object, key: str) -> list[Actuator]:
     """The ``actuators`` list: ``{name, kind, transmission: {joint: arm}, bidirectional}``."""
     if isinstance(value, (str, bytes)) or not isinstance(value, Sequence):
         raise f.error(key, f"expected a list of actuators, got {show(value)}")
@@ -41,7 +41,7 @@ def _actuators(f: _File, value: object, key: str) -> list[Actuator]:
     return out
 
 
-def _couplings(f: _File, value: object, key: str) -> list[Coupling]:
+def _couplings(f: SceneFile, value: object, key: str) -> list[Coupling]:
     """The ``couplings`` list: ``{name, weights}`` or ``{name, follower, leader, ratio}``."""
     if isinstance(value, (str, bytes)) or not isinstance(value, Sequence):
         raise f.error(key, f"expected a list of couplings, got {show(value)}")
@@ -66,11 +66,11 @@ def _couplings(f: _File, value: object, key: str) -> list[Coupling]:
 
 
 def _pick(value: float | dict[str, float], name: str) -> float:
-    """A per-name value (:meth:`_File.per_name`) for ``name``."""
+    """A per-name value (:meth:`SceneFile.per_name`) for ``name``."""
     return float(value[name]) if isinstance(value, dict) else float(value)
 
 
-def _jacobian(f: _File, c: Mapping, kc: str, joints: list[str], p: np.ndarray) -> np.ndarray:
+def _jacobian(f: SceneFile, c: Mapping, kc: str, joints: list[str], p: np.ndarray) -> np.ndarray:
     """A contact's Jacobian (3, nq) from ``revolute: {joint: {pivot, axis}}`` or ``jacobian`` rows
     (``p``: the contact point [m]); zero without either."""
     nq = len(joints)
@@ -99,7 +99,7 @@ def _jacobian(f: _File, c: Mapping, kc: str, joints: list[str], p: np.ndarray) -
 
 
 def _contact(
-    f: _File,
+    f: SceneFile,
     c: Mapping,
     kc: str,
     name: str,
@@ -129,7 +129,7 @@ def _contact(
         raise f.error(kc, str(exc)) from exc
 
 
-def build_explicit(f: _File, d: Mapping) -> GraspParts:
+def build_explicit(f: SceneFile, d: Mapping) -> GraspParts:
     """The parts of an explicit-contact scene's grasp (``d``: the scene's top-level keys)."""
     f.keys(d, EXPLICIT_KEYS, "")
     joints = f.names(d["joints"], "joints") if d.get("joints") is not None else []

@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..core.poses import rotation_rpy
 from ..errors import SceneError
 
 #: An angle written in degrees: ``"60 deg"``.
@@ -35,19 +36,7 @@ def mtime(path: Path) -> float:
         return -1.0
 
 
-def rotation_rpy(r: float, p: float, y: float) -> np.ndarray:
-    """URDF roll, pitch, yaw [rad] -> rotation ``R = Rz(y) Ry(p) Rx(r)`` (fixed axes), (3, 3)."""
-    cr, sr, cp, sp, cy, sy = math.cos(r), math.sin(r), math.cos(p), math.sin(p), math.cos(y), math.sin(y)
-    return np.array(
-        [
-            [cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
-            [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
-            [-sp, cp * sr, cp * cr],
-        ]
-    )
-
-
-class _File:
+class SceneFile:
     """The values of one YAML file, checked one key at a time.
 
     Every method takes the key path of the value it checks (``"object.pose.xyz"``) and raises
@@ -157,7 +146,7 @@ class _File:
         if "xyz" in v:
             T[:3, 3] = self.vector(v["xyz"], 3, f"{key}.xyz")
         if "rpy" in v:
-            T[:3, :3] = rotation_rpy(*self.vector(v["rpy"], 3, f"{key}.rpy", angle=True))
+            T[:3, :3] = rotation_rpy(self.vector(v["rpy"], 3, f"{key}.rpy", angle=True))
         return T
 
     def per_name(

@@ -34,7 +34,7 @@ from ..core.model import GraspModel
 from ..errors import PinograspError, UnknownNameError
 from .analysis_block import analysis, command
 from .explicit_scene import build_explicit
-from .fields import _File, mtime, show
+from .fields import SceneFile, mtime, show
 from .schema import GraspParts, Scene
 from .urdf_scene import build_urdf
 
@@ -44,11 +44,11 @@ SCENE_DIR = Path(__file__).resolve().parents[1] / "data" / "scenes"
 _BUILTIN_CACHE: dict[str, tuple[float, str]] = {}
 
 
-def _read(path: Path) -> dict[str, Any]:
+def read_yaml(path: Path) -> dict[str, Any]:
     """A YAML file's top-level mapping."""
     import yaml
 
-    f = _File(path)
+    f = SceneFile(path)
     if not path.is_file():
         raise f.error("", "scene file not found")
     try:
@@ -62,7 +62,7 @@ def _read(path: Path) -> dict[str, Any]:
     return dict(data)
 
 
-def _extended(f: _File, data: dict[str, Any], seen: list[Path]) -> dict[str, Any]:
+def _extended(f: SceneFile, data: dict[str, Any], seen: list[Path]) -> dict[str, Any]:
     """Apply ``extends: <scene name or file>``: the base's top-level keys, replaced by ours."""
     if data.get("extends") is None:
         data.pop("extends", None)
@@ -74,7 +74,7 @@ def _extended(f: _File, data: dict[str, Any], seen: list[Path]) -> dict[str, Any
         raise f.error("extends", f"no scene file {local} and no built-in scene {ref!r}")
     if base.resolve() in seen:
         raise f.error("extends", f"circular 'extends' through {base.name}")
-    merged = _extended(_File(base), _read(base), [*seen, base.resolve()])
+    merged = _extended(SceneFile(base), read_yaml(base), [*seen, base.resolve()])
     merged.update(data)
     return merged
 
@@ -93,7 +93,7 @@ def _resolve(name_or_path: str | Path) -> Path:
     return Path(s)
 
 
-def _model(f: _File, data: Mapping, parts: GraspParts) -> GraspModel:
+def _model(f: SceneFile, data: Mapping, parts: GraspParts) -> GraspModel:
     """The grasp model of the parts, with the scene's ``planar``, ``edges`` and ``circumscribed``."""
     planar = f.boolean(data.get("planar", False), "planar")
     edges = None if data.get("edges") is None else f.integer(data["edges"], "edges", minimum=3)
@@ -130,8 +130,8 @@ def load_scene(name_or_path: str | Path, **overrides: object) -> Scene:
         UnknownNameError: ``name_or_path`` is neither a built-in scene nor a file.
     """
     path = _resolve(name_or_path)
-    f = _File(path)
-    data = _extended(f, _read(path), [path.resolve()])
+    f = SceneFile(path)
+    data = _extended(f, read_yaml(path), [path.resolve()])
     data.update(overrides)
     if "hand" in data and "contacts" in data:
         raise f.error("", "a scene has either 'hand' (URDF scene) or 'contacts' (explicit scene), not both")

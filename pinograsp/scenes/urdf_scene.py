@@ -17,7 +17,7 @@ import numpy as np
 from ..core.actuation import Actuator, Coupling
 from ..core.contact import Contact
 from ..errors import PinograspError
-from .fields import _File, mtime
+from .fields import SceneFile, mtime
 from .schema import URDF_KEYS, GraspParts
 
 if TYPE_CHECKING:  # the URDF side is imported when a URDF scene is built
@@ -40,7 +40,7 @@ def clear_cache() -> None:
 
 
 # ---------------------------------------------------------------------------- the hand
-def _urdf_hand(f: _File, s: Mapping) -> Hand:
+def _urdf_hand(f: SceneFile, s: Mapping) -> Hand:
     """A hand from ``{urdf, description, package_dirs}`` (cached per file version)."""
     from ..robots.hand import Hand
 
@@ -73,7 +73,7 @@ def _urdf_hand(f: _File, s: Mapping) -> Hand:
     return _HAND_CACHE[key]
 
 
-def _load_hand(f: _File, spec: object) -> tuple[Hand, list[str]]:
+def _load_hand(f: SceneFile, spec: object) -> tuple[Hand, list[str]]:
     """The scene's hand (cached per process) and its locked joints."""
     from ..robots.hand import BUILTIN_HANDS, Hand
 
@@ -98,7 +98,7 @@ def _load_hand(f: _File, spec: object) -> tuple[Hand, list[str]]:
 
 
 # ---------------------------------------------------------------------------- the object
-def _load_object(f: _File, spec: object) -> RigidObject:
+def _load_object(f: SceneFile, spec: object) -> RigidObject:
     """The ``object`` block: a box, cylinder, sphere or mesh [m] at its pose."""
     from ..robots.objects import RigidObject
 
@@ -139,7 +139,7 @@ def _load_object(f: _File, spec: object) -> RigidObject:
 
 
 # ---------------------------------------------------------------------------- the configuration
-def _joint_values(f: _File, hand: Hand, value: object, key: str) -> dict[str, float]:
+def _joint_values(f: SceneFile, hand: Hand, value: object, key: str) -> dict[str, float]:
     """``{joint: value [rad or m]}``; a URDF mimic follower not given follows its leader."""
     v = f.mapping(value, key, "a mapping joint -> value [rad or m]")
     out = {}
@@ -153,7 +153,7 @@ def _joint_values(f: _File, hand: Hand, value: object, key: str) -> dict[str, fl
     return out
 
 
-def _configuration(f: _File, hand: Hand, obj: RigidObject, value: object, tol: float) -> np.ndarray:
+def _configuration(f: SceneFile, hand: Hand, obj: RigidObject, value: object, tol: float) -> np.ndarray:
     """The hand configuration: joint values, or ``auto_close`` on the object (tolerance [m])."""
     if value is None:
         raise f.error("configuration", "missing required key (joint values, or auto_close)")
@@ -177,7 +177,7 @@ def _configuration(f: _File, hand: Hand, obj: RigidObject, value: object, tol: f
 
 # ---------------------------------------------------------------------------- frame and locked joints
 def _lock_joints(
-    f: _File,
+    f: SceneFile,
     lock: Sequence[str],
     joint_names: Sequence[str],
     contacts: Sequence[Contact],
@@ -232,7 +232,7 @@ def _to_frame(c: Contact, T: np.ndarray) -> Contact:
 
 
 # ---------------------------------------------------------------------------- the builder
-def build_urdf(f: _File, d: Mapping) -> GraspParts:
+def build_urdf(f: SceneFile, d: Mapping) -> GraspParts:
     """The parts of a URDF scene's grasp (``d``: the scene's top-level keys)."""
     from ..robots.collision import DEFAULT_MAX_PENETRATION, DEFAULT_TOLERANCE
     from ..robots.grasp import scene_contacts
