@@ -50,7 +50,17 @@ class UnknownNameError(PinograspError, KeyError):
 
 
 class ModelError(PinograspError, ValueError):
-    """A grasp model cannot be built from the given contacts, actuators and couplings."""
+    """A grasp model cannot be built from the given contacts, actuators and couplings.
+
+    Attributes:
+        argument: The argument of :meth:`~pinograsp.GraspModel.from_contacts` at fault
+            (``"contacts"``, ``"joint_names"``, ``"planar"``, ``"actuators"``, ``"couplings"``),
+            or ``None``.
+    """
+
+    def __init__(self, message: str, argument: str | None = None) -> None:
+        super().__init__(message)
+        self.argument = argument
 
 
 class SolverError(PinograspError, RuntimeError):

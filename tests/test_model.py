@@ -131,3 +131,23 @@ def test_model_validation_names_the_culprit():
         m.wrench_vector([0, 0, 1, 0, 0, 0])
     with pytest.raises(pg.InvalidInputError, match="NaN"):
         m.wrench_vector([0, np.nan, 0])
+
+
+def test_model_errors_name_the_argument_at_fault():
+    import pinograsp as pg
+
+    contacts = pg.examples.pinch_contacts()
+    with pytest.raises(pg.ModelError) as exc:
+        pg.GraspModel.from_contacts([])
+    assert exc.value.argument == "contacts"
+    with pytest.raises(pg.ModelError) as exc:
+        pg.GraspModel.from_contacts(contacts, joint_names=("a", "a"))
+    assert exc.value.argument == "joint_names"
+    tilted = [contacts[0], pg.Contact([0.05, 0.0, 0.01], [-1.0, 0.0, 0.0], jacobian=contacts[1].jacobian)]
+    with pytest.raises(pg.ModelError) as exc:
+        pg.GraspModel.from_contacts(tilted, planar=True)
+    assert exc.value.argument == "planar"
+    twins = [pg.Actuator({0: 1.0}, name="m"), pg.Actuator({1: 1.0}, name="m")]
+    with pytest.raises(pg.ModelError) as exc:
+        pg.GraspModel.from_contacts(contacts, twins)
+    assert exc.value.argument == "actuators"

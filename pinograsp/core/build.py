@@ -93,7 +93,7 @@ def _checked_contacts(contacts: object) -> list[Contact]:
     """The contacts as a list, at least one, all :class:`Contact`."""
     contacts = sequence("contacts", contacts)
     if not contacts:
-        raise ModelError("a grasp needs at least one contact")
+        raise ModelError("a grasp needs at least one contact", argument="contacts")
     for i, c in enumerate(contacts):
         if not isinstance(c, Contact):
             raise InvalidInputError(f"contacts[{i}]", f"expected pinograsp.Contact, got {type(c).__name__}")
@@ -107,7 +107,9 @@ def _jacobian_columns(contacts: list[Contact]) -> int | None:
         detail = ", ".join(
             f"{c.name or i}: {c.jacobian.shape[1]}" for i, c in enumerate(contacts) if c.jacobian is not None
         )
-        raise ModelError(f"contact Jacobians disagree on the number of joints ({detail})")
+        raise ModelError(
+            f"contact Jacobians disagree on the number of joints ({detail})", argument="contacts"
+        )
     return nqs.pop() if nqs else None
 
 
@@ -132,9 +134,9 @@ def _joint_names(joint_names: list[str] | None, nq_jacobian: int | None) -> tupl
         joint_names = [f"q{j}" for j in range(nq)]
     names = tuple(str(n) for n in joint_names)
     if len(names) != nq:
-        raise ModelError(f"{len(names)} joint names for {nq} Jacobian columns")
+        raise ModelError(f"{len(names)} joint names for {nq} Jacobian columns", argument="joint_names")
     if len(set(names)) != nq:
-        raise ModelError(f"duplicate joint names in {names}")
+        raise ModelError(f"duplicate joint names in {names}", argument="joint_names")
     return names
 
 
@@ -181,7 +183,8 @@ def _world_jacobians(contacts: list[Contact], nq: int) -> np.ndarray:
     if nq == 0 or not np.any(jw):
         raise ModelError(
             "no contact moves with a joint (every contact is fixed): passive reaction needs at "
-            f"least one finger joint that reaches a contact; contacts: {[c.name for c in contacts]}"
+            f"least one finger joint that reaches a contact; contacts: {[c.name for c in contacts]}",
+            argument="contacts",
         )
     return jw
 
@@ -196,11 +199,13 @@ def _check_planar(
         if abs(c.point[2] - o[2]) > 1e-9 * scale or abs(c.normal[2]) > 1e-9 or abs(c.tangent[2]) > 1e-9:
             raise ModelError(
                 f"contact {names[i]!r} is not in the XY plane (point z, normal z or tangent z "
-                "non-zero); use planar=False"
+                "non-zero); use planar=False",
+                argument="planar",
             )
         if np.any(np.abs(jw[i, 2]) > 1e-9 * jscale):
             raise ModelError(
-                f"contact {names[i]!r}: its Jacobian moves it out of the XY plane; use planar=False"
+                f"contact {names[i]!r}: its Jacobian moves it out of the XY plane; use planar=False",
+                argument="planar",
             )
 
 
@@ -229,7 +234,7 @@ def _transmission(
             raise InvalidInputError(f"actuators[{i}]", f"expected pinograsp.Actuator, got {type(a).__name__}")
         names.append(a.name if a.name is not None else f"a{i}")
     if len(set(names)) != len(names):
-        raise ModelError(f"duplicate actuator names in {names}")
+        raise ModelError(f"duplicate actuator names in {names}", argument="actuators")
     R = np.zeros((len(joint_names), len(actuators)))
     for i, a in enumerate(actuators):
         for key, arm in a.transmission.items():
@@ -271,7 +276,7 @@ def _actuation(actuators: object, couplings: object, joint_names: tuple[str, ...
     actuators, actuator_names, R = _transmission(actuators, joint_names)
     C, coupling_names = _coupling_matrix(couplings, joint_names)
     if C.shape[0] and np.any(np.all(C == 0, axis=1)):
-        raise ModelError("a coupling has all-zero weights")
+        raise ModelError("a coupling has all-zero weights", argument="couplings")
     return _Actuation(R, C, actuators, actuator_names, coupling_names)
 
 

@@ -93,6 +93,10 @@ def _resolve(name_or_path: str | Path) -> Path:
     return Path(s)
 
 
+#: The scene key to blame for a ``from_contacts`` argument at fault.
+_MODEL_KEYS = {"planar": "planar", "actuators": "actuators", "couplings": "couplings"}
+
+
 def _model(f: SceneFile, data: Mapping, parts: GraspParts) -> GraspModel:
     """The grasp model of the parts, with the scene's ``planar``, ``edges`` and ``circumscribed``."""
     planar = f.boolean(data.get("planar", False), "planar")
@@ -109,8 +113,10 @@ def _model(f: SceneFile, data: Mapping, parts: GraspParts) -> GraspModel:
             edges=edges,
             circumscribed=circ,
         )
-    except PinograspError as exc:  # a ModelError carries no attribute naming its cause
-        key = "planar" if planar and "plane" in str(exc) else ("actuators" if "actuator" in str(exc) else "")
+    except PinograspError as exc:
+        key = _MODEL_KEYS.get(
+            getattr(exc, "argument", None) or str(getattr(exc, "name", "")).split("[")[0], ""
+        )
         raise f.error(key, f"cannot build the grasp model: {exc}") from exc
 
 
