@@ -23,6 +23,14 @@ from .axes import direction_text
 DIRECTION_ATOL = 1e-9
 
 
+#: Verdict of one passive response: the model's (``resisted``, ``not_resisted``), the iterative
+#: scheme's cap (``not_converged``), or a solver's limit or failure (the values of
+#: ``pinograsp.solvers.base.SolveStatus`` that are not optimal or infeasible).
+ResponseStatus = Literal["resisted", "not_resisted", "not_converged", "timeout", "node_limit", "failed"]
+#: Name of an analysis method (the values of :class:`~pinograsp.core.settings.Method`).
+MethodName = Literal["prp", "iterative"]
+
+
 @dataclass(frozen=True)
 class Audit:
     """Post-solve check of a solution, in physical force units [N] (torques divided by the
@@ -87,7 +95,7 @@ class PassiveResponse:
         resistible: Whether the wrench is resisted passively (PRP: feasible; iterative:
             converged to equilibrium below ``eps``).
         status: ``"resisted"``, ``"not_resisted"`` (infeasible / converged above ``eps``),
-            ``"not_converged"`` (iteration cap), ``"timeout"`` or ``"failed"``.
+            ``"not_converged"`` (iteration cap), ``"timeout"``, ``"node_limit"`` or ``"failed"``.
         method: ``"prp"`` or ``"iterative"``.
         variant: ``"single-step"``, ``"preload-first"`` or ``"settled-preload"``.
         wrench: Applied wrench ``(fx, fy, fz, mx, my, mz)`` about the object reference point.
@@ -120,8 +128,8 @@ class PassiveResponse:
     """
 
     resistible: bool
-    status: str
-    method: str
+    status: ResponseStatus
+    method: MethodName
     variant: str
     wrench: np.ndarray
     command: np.ndarray
@@ -219,7 +227,7 @@ class MaxWrench:
     upper: float
     resolution: float
     evidence: tuple[tuple[float, bool], ...]
-    method: str
+    method: MethodName
     solve_time: float
     wall_time: float
     n_solves: int
