@@ -87,7 +87,8 @@ def _predict(scene: object, d: np.ndarray, method: str) -> dict:
         warnings.simplefilter("ignore")
         mw = scene.max_resistible_wrench(d, method=method)
     return {"status": str(mw.status), "magnitude": float(mw.magnitude), "upper": float(mw.upper),
-            "wedging": bool(mw.audit_failures), "t": time.perf_counter() - t0}  # fmt: skip
+            "wedging": bool(mw.audit_failures), "wedge_from": min(mw.audit_failures, default=None),
+            "t": time.perf_counter() - t0}  # fmt: skip
 
 
 def run_scene(name: str, n: int) -> list[dict]:
@@ -125,6 +126,7 @@ def summarize(name: str, method: str, rows: list[dict]) -> dict:
         "pred_holds": sum(p["verdict"] == "predicted holds" for p in preds),
         "pred_holds_wedging": sum(p["verdict"] == "predicted holds" and p["wedging"] for p in preds),
         "sim_holds": sum(p["verdict"] == "simulation holds" for p in preds),
+        "flagged": sum(p["wedging"] for p in preds),
         "t_sim": float(np.mean([r["sim"]["t"] for r in rows])),
         "t_pred": float(np.mean([p["t"] for p in preds])),
     }
@@ -155,7 +157,9 @@ def _pred_text(p: dict) -> str:
         text = "≈ 0"
     else:
         text = f"{p['magnitude']:.4g}"
-    return text + (" (audit: wedging)" if p["wedging"] and p["status"] in HOLDS else "")
+    if p.get("wedge_from") is not None and p["status"] not in HOLDS:
+        return text + f" (audit: wedging from {p['wedge_from']:.3g})"
+    return text + (" (audit: wedging)" if p["wedging"] else "")
 
 
 def summary_line(s: dict) -> str:
@@ -167,6 +171,8 @@ def summary_line(s: dict) -> str:
         text += f" ({s['pred_holds_wedging']} flagged by the energy audit)"
     if s["sim_holds"]:
         text += f"; simulation holds where the prediction gives way: {s['sim_holds']}"
+    if s["flagged"]:
+        text += f"; {s['flagged']} predictions rest on solutions failing the energy audit"
     return text + f"; {s['t_sim']:.2f} s simulation, {s['t_pred']:.2f} s prediction per direction"
 
 
@@ -288,7 +294,54 @@ def main() -> None:
 NOTES = """
 ## Where they differ, and why
 
-(to be written from the run)
+- **Pinch, case 1 and fig. 1 in the XY plane, iterative**: the same class in every direction and
+  < 1 % apart where both are finite (the simulation's `tolerance` is 0.2 %), including case 1 at
+  30°/150°, where the simulation and the iterative scheme give way at 35.4 N and 35.7 N.
+- **The PRP's wedging artefact (expected)**: the PRP holds where the simulation gives way —
+  the wedge in 20 of 24 directions (PRP unbounded, every one flagged by the energy audit; the
+  simulation gives way at 5.9–30 N, gradually at 445–965 N at 45° and 225°, +Y 5.99 N
+  against the closed form 6 N of
+  [`analytic_cases.md`](analytic_cases.md) §3), case 1 and fig. 1 at 30° and 150° (PRP ≥ 50 N,
+  flagged; simulation 35.4 N), case 3 along +Y (PRP unbounded, flagged; simulation 1.48 N) and
+  case 2 (see below). Where the PRP's verdicts are finite they can rest on wedged solutions
+  too: case 3 with an X component, PRP 6.0–23 N on solutions failing the audit from 3.1 N up,
+  the simulation ≤ 0.04 N (−99.8 %).
+- **Case 1 out of plane (+fz)**: the simulation gives way ≈ 19 % below the iterative
+  prediction (1.13 N vs 1.40 N; 1.12 N with `friction="pyramid"`). The load is carried by
+  friction alone; the simulated friction is dissipative (a spring–slider: a sliding contact's
+  force opposes its slip) while the model's friction is free inside the pyramid, limited only
+  by equilibrium ([`accuracy.md`](accuracy.md) §2), so the model can distribute it more
+  favourably. With friction during the closing (`relax=False`) the simulation gives ≈ 1.67 N.
+- **Case 3, loads with an X component**: "not resisted" in both for the iterative scheme (the
+  differential lets the fingers shift together): 0.009–0.035 N predicted, 0 (below the ramp's
+  first load, 5e-5 N) to 0.04 N simulated, both below 0.1 % of `upper` ("both ≈ 0"; their
+  relative differences, ≈ +15 %, are not counted). The agreement needs the preload closed
+  without friction (`relax=True`, the default), see [`simulation.md`](simulation.md).
+- **Case 3 at 255° and 285°** (15° off −Y, towards the palm): the simulation holds up to
+  `upper`, the iterative scheme gives way at 0.035 N (PRP 23 N). The load pushes the object
+  onto the proximal links, whose tendon holds; in the simulation the object settles there,
+  while the iterative scheme moves it along the unbalanced wrench and lets the differential
+  sway. Not resolved.
+- **Wedge at 15°, 30° (and 195°, 210°)**: the simulation holds up to 1000 N, the iterative
+  scheme gives way at 213 N and 42.9 N; at 45° (225°) the simulation gives way gradually
+  between 445 and 965 N, the iterative scheme at 24.8 N. At 30° and 1000 N the simulated
+  object has turned 6.5° clockwise and moved 6.1 mm, squeezing the contacts to 0.41 and
+  1.27 kN (preload 10 N): the wedge mechanism of [`analytic_cases.md`](analytic_cases.md) §3
+  reached physically, the energy supplied by the load (3.4 J of work against ≈ 0.9 J in the
+  normal springs). The iterative scheme excludes it by moving the object only along the net
+  wrench; with its step bound `gamma = 100` instead of 1 it reports 30° unbounded too (45°
+  unchanged). The motion stays within the thresholds at `upper = 1000` N (20 mm, 23°) but is
+  beyond the small motions both models linearise.
+- **Case 2, iterative**: the simulation holds where the iterative scheme gives way in 8
+  directions (30°–120°, 210°, 240°; e.g. +Y 22.3 N predicted) and gives way gradually well
+  above the prediction in 10 more (+15 % to +418 %); they agree along +X (−3.0 %) and 345°
+  (+3.2 %). The iterative verdicts depend on its step bound (`gamma`, [`accuracy.md`](accuracy.md)
+  §2): with `gamma = 100` it resists +Y and 60° without bound, as the simulation does, with
+  contact forces at 50 N along +Y close to the simulated ones (finger 3: 23.5 and 42.5 N vs
+  22.3 and 43.7 N), but 30°, 150° and 180° stay finite (26.1, 10.3, 10.7 N) against the
+  simulation's ≥ 50 N and gradual 20–38 N and 17–38 N. Not resolved; the case-2 scene is being
+  re-derived (issue 17, item 1), so these rows will change with it. The PRP holds in 12 of
+  these 24 directions where the simulation gives way (7 flagged by the audit).
 """
 
 
