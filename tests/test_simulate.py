@@ -83,3 +83,34 @@ def test_case1_pull_within_five_percent_of_the_iterative_prediction():
     assert predicted.status == "finite" and predicted.magnitude == pytest.approx(4.30, abs=0.01)
     assert r.status == "gave_way"
     assert r.load == pytest.approx(predicted.magnitude, rel=0.05)
+
+
+# ---------------------------------------------------------------------------- the CLI command
+def test_cli_simulate_pinch_compare_json(pinch, capsys):
+    from pinograsp.cli import main
+
+    assert main(["simulate", "pinch", "-d", "fy", "--compare", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)  # stdout holds exactly one JSON document
+    assert data["scene"] == "pinch" and data["label"] == "+fy" and data["method"] == "iterative"
+    assert data["status"] == "gave_way" and data["same_class"] is True
+    assert data["load"] == pytest.approx(PINCH_Y, rel=0.02)
+    assert data["predicted"] == pytest.approx(PINCH_Y, rel=1e-3) and data["predicted_status"] == "finite"
+    assert abs(data["agreement"]) < 0.02 and data["direction"] == [0.0, 1.0, 0.0, 0.0, 0.0, 0.0]
+
+
+def test_cli_simulate_text_held_along_x(pinch, capsys):
+    from pinograsp.cli import main
+
+    assert main(["simulate", "pinch", "-d", "-fx", "--compare", "--upper", "100"]) == 0
+    out = capsys.readouterr().out
+    assert "status: held" in out and "held up to the upper load 100 N" in out
+    assert "predicted (iterative): unbounded; class agrees" in out
+
+
+def test_cli_simulate_without_mujoco_names_the_extra(monkeypatch, capsys):
+    from pinograsp.cli import main
+
+    monkeypatch.setitem(sys.modules, "mujoco", None)
+    assert main(["simulate", "pinch", "-d", "fy"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("pinograsp: error:") and 'pip install "pinograsp[mujoco]"' in err

@@ -12,6 +12,7 @@ Sub-commands::
     pinograsp preload SCENE [--objective balanced|least_norm]
     pinograsp optimal-preload SCENE -w W [-w W ...] [--budget B]
     pinograsp batch GRASPS.yaml [--executor local|ray|dask] [--workers N] [--out results.parquet]
+    pinograsp simulate SCENE -d DIRECTION [--compare] [--upper N] [--preload NAME]
 
 ``SCENE`` is a built-in scene name (``pinograsp scenes``) or the path of a scene YAML file.
 Common options: ``--method prp|iterative``, ``--upper``, ``--steps``, ``--json`` (the result as
@@ -19,8 +20,8 @@ JSON on stdout and nothing else), ``--out DIR`` (plots and JSON files), ``--debu
 tracebacks). Errors are one line ``pinograsp: error: ...`` on stderr; bad input
 (:class:`~pinograsp.errors.PinograspError`, bad options) exits with code 2.
 
-The parser is in :mod:`.parse`, the commands in :mod:`.commands` and :mod:`.sweep_commands`
-(heavy modules imported inside them), text output in :mod:`.report`.
+The parser is in :mod:`.parse`, the commands in :mod:`.commands`, :mod:`.sweep_commands` and
+:mod:`.sim_commands` (heavy modules imported inside them), text output in :mod:`.report`.
 """
 
 from __future__ import annotations
@@ -33,7 +34,7 @@ import warnings
 from collections.abc import Callable, Iterator, Sequence
 
 from ..errors import PinograspError
-from . import commands, sweep_commands
+from . import commands, sim_commands, sweep_commands
 from .parse import UsageError, build_parser, join_dash_values
 
 #: Sub-command -> its function (parsed arguments -> exit code).
@@ -48,6 +49,7 @@ COMMANDS: dict[str, Callable[..., int]] = {
     "preload": commands.cmd_preload,
     "optimal-preload": commands.cmd_optimal_preload,
     "batch": commands.cmd_batch,
+    "simulate": sim_commands.cmd_simulate,
 }
 
 

@@ -290,6 +290,46 @@ def _add_batch(sub: argparse._SubParsersAction) -> None:
     _debug_option(b)
 
 
+def _add_simulate(sub: argparse._SubParsersAction) -> None:
+    sm = sub.add_parser(
+        "simulate",
+        help="MuJoCo cross-check: ramp a load along a direction until the object gives way",
+        description="Simulate the preloaded grasp in MuJoCo (pinograsp[mujoco]), ramp a load along a "
+        "direction and report the load at which the object gives way, or that it held up to --upper "
+        "(pg.simulate_max_wrench; docs/simulation.md). --compare also runs the scene's analysis.",
+    )
+    sm.add_argument("scene", metavar="SCENE")
+    sm.add_argument(
+        "--direction",
+        "-d",
+        required=True,
+        help="an axis with sign (fy, -fy, mx), a wrench vector 1,0,0,0,0,0, or a scene direction name",
+    )
+    sm.add_argument("--preload", help=_PRELOAD_HELP)
+    sm.add_argument("--upper", type=float, help="largest load [N or N·m]; default: the scene's")
+    sm.add_argument(
+        "--compare", action="store_true", help="also predict (the scene's analysis) and print the difference"
+    )
+    sm.add_argument("--method", choices=_METHODS, help="method of --compare; default: the scene's")
+    g = sm.add_argument_group("simulation options (defaults: docs/simulation.md)")
+    g.add_argument("--stiffness", type=float, help="stiffest contact's stiffness [N/m] (default 1e6)")
+    g.add_argument("--timestep", type=float, help="integration step [s] (default 1e-4)")
+    g.add_argument("--ramp-time", type=float, help="e-folding time of the load ramp [s] (default 0.02)")
+    g.add_argument("--slip", type=float, help="translation that counts as giving way [m]")
+    g.add_argument("--rotation", type=float, help="rotation that counts as giving way [rad]")
+    g.add_argument("--tolerance", type=float, help="relative resolution of the load (default 2e-3)")
+    g.add_argument(
+        "--settled",
+        action="store_true",
+        help="let the object move while the fingers close (default: held still, as preload-first)",
+    )
+    g.add_argument(
+        "--friction", choices=("cone", "pyramid"), help="Coulomb cone (default) or the model's pyramid"
+    )
+    sm.add_argument("--json", action="store_true", help="print the result as JSON on stdout (nothing else)")
+    _debug_option(sm)
+
+
 #: The sub-commands in the order of ``pinograsp --help``; ``args.cmd`` holds the chosen one.
 _SUBCOMMANDS = (
     _add_demo,
@@ -302,6 +342,7 @@ _SUBCOMMANDS = (
     _add_preload,
     _add_optimal_preload,
     _add_batch,
+    _add_simulate,
 )
 
 

@@ -13,6 +13,10 @@ import numpy as np
 #: the upper load.
 SimulationStatus = Literal["gave_way", "held", "gradual"]
 
+#: Statuses of a prediction (:class:`~pinograsp.MaxWrench`) that mean "resisted up to the upper
+#: load", the class of the simulation's ``"held"``.
+PREDICTED_HOLDS = ("unbounded", "above_limit")
+
 
 @dataclass(frozen=True)
 class SimulationTrace:
@@ -107,6 +111,15 @@ class SimulationResult:
             return None
         return self.load / self.predicted - 1.0 if self.predicted else None
 
+    @property
+    def same_class(self) -> bool | None:
+        """Whether simulation and prediction agree on the class: both hold up to ``upper``
+        (``"held"`` and ``"unbounded"`` or ``"above_limit"``) or both give way; ``None``
+        without a prediction."""
+        if self.predicted_status is None:
+            return None
+        return (self.status == "held") == (self.predicted_status in PREDICTED_HOLDS)
+
     def to_dict(self, trace: bool = False) -> dict[str, Any]:
         """Plain JSON-ready data (``None`` for missing or infinite numbers); the trace when
         ``trace`` is true."""
@@ -125,6 +138,7 @@ class SimulationResult:
             else:
                 out[name] = value
         out["agreement"] = self.agreement
+        out["same_class"] = self.same_class
         return out
 
     def summary(self) -> str:

@@ -8,6 +8,7 @@ thresholds and their defaults are in docs/simulation.md.
 from __future__ import annotations
 
 import math
+import os
 import time
 from typing import Any
 
@@ -181,15 +182,18 @@ def simulate_max_wrench(
 
 
 def simulate_command(
-    scene_name: str, direction: object, *, compare: bool = False, **opts: Any
+    scene: Any, direction: object, *, compare: bool = False, method: str | None = None, **opts: Any
 ) -> SimulationResult:
-    """What ``pinograsp simulate SCENE -d DIRECTION`` runs (flags: docs/simulation.md).
+    """What ``pinograsp simulate SCENE -d DIRECTION`` runs (flags: docs/cli.md).
 
     Args:
-        scene_name: A built-in scene name or a scene YAML file.
+        scene: A :class:`~pinograsp.Scene`, a built-in scene name or a scene YAML file.
         direction: As for :func:`simulate_max_wrench`.
         compare: Also run the scene's own analysis (``scene.max_resistible_wrench``) along the
-            same direction and command, and record it as ``predicted``.
+            same direction, with the same command and upper load, and record it as
+            ``predicted``.
+        method: The analysis method of the comparison (``"iterative"`` or ``"prp"``); default
+            the scene's ``analysis.method``.
         **opts: ``command`` and the keyword arguments of :func:`simulate_max_wrench`.
 
     Returns:
@@ -199,10 +203,12 @@ def simulate_command(
 
     from ..scenes.loading import load_scene
 
-    scene = load_scene(scene_name)
+    if isinstance(scene, (str, os.PathLike)):
+        scene = load_scene(scene)
     command = opts.pop("command", None)
     result = simulate_max_wrench(scene, direction, command, **opts)
     if not compare:
         return result
-    pred = scene.max_resistible_wrench(result.direction, command, upper=result.upper)
+    over = {} if method is None else {"method": method}
+    pred = scene.max_resistible_wrench(result.direction, command, upper=result.upper, **over)
     return dataclasses.replace(result, predicted=float(pred.magnitude), predicted_status=str(pred.status))
