@@ -259,6 +259,7 @@ def add_case2_family(c: Case, args: argparse.Namespace) -> None:
     )
     c.seconds += sum(m.seconds for m in members)
     c.details += [
+        "",
         "### The case-2 family",
         "",
         "The paper publishes no geometry for Fig. 6, and the ratio is sensitive to it. The family: the "
@@ -273,7 +274,6 @@ def add_case2_family(c: Case, args: argparse.Namespace) -> None:
         f"+X ratio over the family: {lo:.2f}–{hi:.2f} (paper {PAPER_RATIO[1]:g} predicted, "
         f"{PAPER_RATIO[0]:g} measured); {within} of {n} members within the paper's figures; {failed} "
         f"of {n} with a preload not in equilibrium. Family solves {sum(m.seconds for m in members):.0f} s.",
-        "",
     ]
 
 
@@ -343,7 +343,6 @@ def add_case3_family(c: Case, args: argparse.Namespace) -> None:
         "distal / proximal ≈ 2 (distal better); the ±X pushes use the scene preload (paper: not resisted).",
         "",
         *lines,
-        "",
     ]
 
 
