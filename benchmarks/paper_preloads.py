@@ -102,13 +102,18 @@ def _case2_details(
     d.append(f"Ratio {t_ratio:.0f} s, both XY profiles {t_prof:.0f} s.")
     d.append("")
     d.append(
-        "Why our ratio differs from 2.48: the paper gives no dimensions for the Fig. 6 grasp (object, "
+        "Why a family, not one number: the paper gives no dimensions for the Fig. 6 grasp (object, "
         "spread angle, finger angles, contact locations), so the scene is a reconstruction from the "
         "figure; the ratio depends on the contact moment arms about the flexion axes, which the "
         "paper itself names as the cause (finger 1's contact has the shorter moment arm, so the same "
-        "torque squeezes harder, and the other fingers react passively). It also depends on the "
-        "friction coefficient, on the contacts found (one point per link), on the rigid spread "
-        "joint, and on the paper's unpublished absolute torques (it reports only the ratio)."
+        "torque squeezes harder, and the other fingers react passively), and on the friction "
+        "coefficient, the contacts found (one point per link), the rigid spread joint and the "
+        "paper's unpublished absolute torques (it reports only the ratio). A degree of box yaw or a "
+        "change of friction moves it far (the family below gives the range). The headline scene uses "
+        "friction "
+        f"{scene.data.get('friction')}: the authors' own simulator models the Barrett links as rubber, "
+        "with friction 1.0 against glass, metal, plastic and wood — a principled value for this "
+        "grasp, not a fit to the paper's ratio."
     )
 
 

@@ -2,6 +2,7 @@
 
 Writes ``docs/results.md`` (tables, per-case details, run times, plots in ``docs/img/case*.png``)
 and rewrites the README section between ``<!-- results:start -->`` and ``<!-- results:end -->``.
+Cases 2 and 3 are reported as families of plausible reconstructions (``paper_families.py``).
 Every number comes from the scene files' own analysis settings (method, upper limit, bisection
 steps, n) unless ``--fast`` is given (few directions and steps: a quick check, not the table).
 
@@ -25,6 +26,7 @@ from pathlib import Path
 
 from paper_case1 import case1, fig1
 from paper_common import CACHE, Case, log
+from paper_families import add_case2_family, add_case3_family
 from paper_preloads import case2, case3
 
 import pinograsp as pg
@@ -62,7 +64,8 @@ def write_results(cases: list[Case], args: argparse.Namespace, docs: Path, total
         + (f", profiles with {args.workers or os.cpu_count()} worker processes" if args.workers != 1 else "")
         + ". Do not edit by hand.",
         "",
-        "Scenes: the built-in `case1`, `case2`, `case3` and `fig1` (`pinograsp scenes`); every number "
+        "Scenes: the built-in `case1`, `case2`, `case3` and `fig1` (`pinograsp scenes`) and the case-2 "
+        "family members in `pinograsp/data/scenes/case2_family/`; every number "
         "uses the scene file's analysis settings (method, upper limit, bisection steps, directions)"
         + (" — except that this is a **--fast** run (n ≤ 16, ≤ 8 steps)." if args.fast else "."),
         "Time per row: the computation that row needed (wall clock).",
@@ -149,8 +152,10 @@ def main(argv: list[str] | None = None) -> int:
             c = case1(args, img)
         elif name == "case2":
             c = case2(args, img)
+            add_case2_family(c, args)  # the headline and its family of reconstructions
         elif name == "case3":
             c = case3(args, img, done.get("case1"))
+            add_case3_family(c, args)  # held-still against settled preload
         elif name == "fig1":
             c = fig1(args, img)
         else:

@@ -458,7 +458,7 @@ def test_case2_finger1_preload_resists_more_along_x(scenes):
         w = [magnitude, 0, 0, 0, 0, 0]
         return pg.passive_response(s.model, s.preload(preload), w, method="iterative").resistible
 
-    # exact core, upper 50, 16 steps: finger 1 9.77 N, finger 2 6.65 N along +X
+    # friction 1.0, upper 50, 20 steps: finger 1 9.21 N, finger 2 3.91 N along +X
     assert resists("finger1_only", 8.0) and not resists("finger2_only", 8.0)
     assert resists("finger2_only", 1.0)  # finite, not zero
     # the finger-1 preload squeezes harder (the paper's explanation)
@@ -473,7 +473,7 @@ def test_case2_ratio_along_x(scenes):
     f1 = _mw(s, "fx", s.preload("finger1_only"), method="iterative", upper=50.0, steps=20)
     f2 = _mw(s, "fx", s.preload("finger2_only"), method="iterative", upper=50.0, steps=20)
     assert not f1.unbounded and not f2.unbounded
-    assert f1.magnitude / f2.magnitude == pytest.approx(7.4, rel=0.05)  # paper: 2.48 (measured 2.23)
+    assert f1.magnitude / f2.magnitude == pytest.approx(2.36, rel=0.01)  # paper: 2.48 (measured 2.23)
 
 
 def test_case3_pushing_against_one_finger_is_not_resisted(scenes):
