@@ -130,14 +130,28 @@ def missing(name: str) -> Case:
 CACHE: dict[str, Any] = {"dir": None, "reuse": False}
 
 
+def _source_digest() -> str:
+    """Digest of the package's source and data: a cached answer is reused only for the same code."""
+    h = hashlib.sha256()
+    root = Path(pg.__file__).resolve().parent
+    for f in sorted(root.rglob("*")):
+        if f.is_file() and f.suffix in (".py", ".yaml", ".urdf"):
+            h.update(f.relative_to(root).as_posix().encode())
+            h.update(f.read_bytes())
+    return h.hexdigest()
+
+
 def _cache_key(scene: Any, *parts: Any) -> str:
     h = hashlib.sha256()
     h.update(Path(scene.path).read_bytes())
-    for extra in scene.data.get("extends", ()), pg.__version__:
+    for extra in scene.data.get("extends", ()), pg.__version__, SOURCE_DIGEST:
         h.update(repr(extra).encode())
     for p in parts:
         h.update(repr(np.round(np.asarray(p, dtype=float), 12).tolist() if _numeric(p) else p).encode())
     return f"{scene.name}-{h.hexdigest()[:16]}"
+
+
+SOURCE_DIGEST = _source_digest()
 
 
 def _numeric(p: Any) -> bool:
