@@ -26,6 +26,7 @@ from pathlib import Path
 import coal
 import numpy as np
 
+from ..core.validate import positive_number
 from ..errors import InvalidInputError, ModelFileError
 
 #: Tolerance on the orthonormality of a pose's rotation block.
@@ -75,18 +76,6 @@ def coal_transform(T: np.ndarray) -> coal.Transform3s:
     out.setRotation(np.ascontiguousarray(T[:3, :3]))
     out.setTranslation(np.ascontiguousarray(T[:3, 3]))
     return out
-
-
-def _positive(name: str, value: object) -> float:
-    if isinstance(value, (str, bytes)):
-        raise InvalidInputError(name, f"expected a positive number, got {value!r}")
-    try:
-        v = float(value)  # type: ignore[arg-type]
-    except (TypeError, ValueError, OverflowError) as exc:
-        raise InvalidInputError(name, f"expected a positive number, got {value!r}") from exc
-    if not np.isfinite(v) or v <= 0:
-        raise InvalidInputError(name, f"must be finite and > 0, got {value!r}")
-    return v
 
 
 def _vector3(name: str, value: object) -> np.ndarray:
@@ -159,7 +148,7 @@ class RigidObject:
             s = np.full(3, float(s))
         if s.shape != (3,):
             raise InvalidInputError("size", f"expected 3 edge lengths, got {size!r}")
-        sx, sy, sz = (_positive(f"size[{i}]", v) for i, v in enumerate(s))
+        sx, sy, sz = (positive_number(f"size[{i}]", v) for i, v in enumerate(s))
         return cls(coal.Box(sx, sy, sz), pose_matrix(pose), np.zeros(3), "box", name, {"size": (sx, sy, sz)})
 
     @classmethod
@@ -174,7 +163,7 @@ class RigidObject:
             pose: Cylinder frame in the hand base frame.
             name: Label.
         """
-        r, h = _positive("radius", radius), _positive("length", length)
+        r, h = positive_number("radius", radius), positive_number("length", length)
         return cls(
             coal.Cylinder(r, h), pose_matrix(pose), np.zeros(3), "cylinder", name, {"radius": r, "length": h}
         )
@@ -182,7 +171,7 @@ class RigidObject:
     @classmethod
     def sphere(cls, radius: float, pose: object = None, name: str = "sphere") -> RigidObject:
         """A solid sphere centred on its frame (``pose`` may be a 3-vector: the centre [m])."""
-        r = _positive("radius", radius)
+        r = positive_number("radius", radius)
         return cls(coal.Sphere(r), pose_matrix(pose), np.zeros(3), "sphere", name, {"radius": r})
 
     @classmethod
@@ -224,7 +213,7 @@ class RigidObject:
             raise ModelFileError(p, f"cannot read mesh: {exc}") from exc
         if not isinstance(mesh, trimesh.Trimesh) or len(mesh.faces) == 0:
             raise ModelFileError(p, "the file contains no triangle mesh")
-        s = _positive("scale", scale)
+        s = positive_number("scale", scale)
         if s != 1.0:
             mesh.apply_scale(s)
         use_hull = bool(mesh.is_convex) if convex is None else bool(convex)
