@@ -22,6 +22,9 @@ FRICTIONS = ("cone", "pyramid")
 #: Motion over the second half of a constant-load test, as a fraction of the threshold, above
 #: which the object is still moving (has not come to rest).
 CREEP = 1e-3
+#: Longest hold at ``upper``, in ``hold_time`` periods: a grasp still creeping after it is not
+#: reported as held (the give-way is then refined like a crossing).
+MAX_HOLDS = 20
 
 
 @dataclass(frozen=True)
@@ -223,8 +226,28 @@ def ramp(run: Engine, direction: np.ndarray, spacing: float = 0.05) -> Ramp:
         if frac >= 1.0:
             crossed = True
             break
+    if not crossed:
+        crossed = not settles(run, direction * applied, pose)
     trace = SimulationTrace(*np.array(samples, dtype=float).reshape(-1, 5).T)
     return Ramp(crossed, applied, onset, trace, snapshots, pose)
+
+
+def settles(run: Engine, wrench: np.ndarray, pose: tuple) -> bool:
+    """Hold ``wrench`` for up to :data:`MAX_HOLDS` periods of ``hold_time`` until the object comes
+    to rest (it moves less than :data:`CREEP` of a threshold in one period). False when it crosses
+    a threshold or still creeps at the end: a creeping grasp is never reported as held."""
+    n_hold = math.ceil(run.opts.hold_time / run.opts.timestep)
+    before = moved(run, pose)
+    for _ in range(MAX_HOLDS):
+        for _ in range(n_hold):
+            run.step(1.0, wrench)
+        now = moved(run, pose)
+        if now >= 1.0:
+            return False
+        if now - before <= CREEP:
+            return True
+        before = now
+    return False
 
 
 def holds(
