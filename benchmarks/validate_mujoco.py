@@ -307,21 +307,29 @@ NOTES = """
   too: case 3 with an X component, PRP 6.0–23 N on solutions failing the audit from 3.1 N up,
   the simulation ≤ 0.04 N (−99.8 %).
 - **Case 1 out of plane (+fz)**: the simulation gives way ≈ 19 % below the iterative
-  prediction (1.13 N vs 1.40 N; 1.12 N with `friction="pyramid"`). The load is carried by
-  friction alone; the simulated friction is dissipative (a spring–slider: a sliding contact's
-  force opposes its slip) while the model's friction is free inside the pyramid, limited only
-  by equilibrium ([`accuracy.md`](accuracy.md) §2), so the model can distribute it more
-  favourably. With friction during the closing (`relax=False`) the simulation gives ≈ 1.67 N.
+  prediction (1.13 N vs 1.40 N; 1.12 N with `friction="pyramid"`, since +Z lies on a pyramid
+  edge). Not a solver setting: the scheme resists in one step and gives 1.398 N under every
+  setting. Equilibrium fixes each proximal contact's share of the Z friction (0.196 N per N of
+  load) in both; the model's friction has no memory, so the in-plane friction of the preload
+  drops from 0.27 N to 0.002 N and the whole 0.5 × 0.548 N is available along Z (1.40 N),
+  while the simulated spring–slider keeps the 0.087 N of in-plane friction it settled with at
+  0.473 N normal force, leaving 0.220 N (1.12 N). The friction history decides it: with
+  friction during the closing (`relax=False`) the simulation gives 1.67 N, so the two simulated
+  histories bracket the prediction. A model limitation (history-free friction), stated in
+  [`accuracy.md`](accuracy.md) §2; the load-carrying contacts show `friction_use` ≈ 1.
 - **Case 3, loads with an X component**: "not resisted" in both for the iterative scheme (the
   differential lets the fingers shift together): 0.009–0.035 N predicted, 0 (below the ramp's
   first load, 5e-5 N) to 0.04 N simulated, both below 0.1 % of `upper` ("both ≈ 0"; their
   relative differences, ≈ +15 %, are not counted). The agreement needs the preload closed
   without friction (`relax=True`, the default), see [`simulation.md`](simulation.md).
-- **Case 3 at 255° and 285°** (15° off −Y, towards the palm): the simulation holds up to
-  `upper`, the iterative scheme gives way at 0.035 N (PRP 23 N). The load pushes the object
-  onto the proximal links, whose tendon holds; in the simulation the object settles there,
-  while the iterative scheme moves it along the unbalanced wrench and lets the differential
-  sway. Not resolved.
+- **Case 3 at 255° and 285°** (15° off −Y, towards the palm): the simulation gives way at
+  ≈ 26 N once a held load must come to rest (a single 0.1 s hold had reported "held ≥ 50 N"
+  while the object was still creeping, 0.10 → 0.68 mm; fixed: docs/simulation.md, step 2).
+  The PRP gives 23.2 N (−12 %). The iterative scheme's 0.035 N is not a mechanical limit: its
+  first step stalls with a residual of 2.9 % of the load, and 0.035 N is where that residual
+  falls below `eps`; with `accelerate=False` or `gamma=100` it reaches 23.18 N (the latter on a
+  solution failing the audit). A defect of the iterative scheme: its verdict depends on
+  solver settings (see case 2).
 - **Wedge at 15°, 30° (and 195°, 210°)**: the simulation holds up to 1000 N, the iterative
   scheme gives way at 213 N and 42.9 N; at 45° (225°) the simulation gives way gradually
   between 445 and 965 N, the iterative scheme at 24.8 N. At 30° and 1000 N the simulated
@@ -332,16 +340,22 @@ NOTES = """
   wrench; with its step bound `gamma = 100` instead of 1 it reports 30° unbounded too (45°
   unchanged). The motion stays within the thresholds at `upper = 1000` N (20 mm, 23°) but is
   beyond the small motions both models linearise.
-- **Case 2, iterative**: the simulation holds where the iterative scheme gives way in 8
-  directions (30°–120°, 210°, 240°; e.g. +Y 22.3 N predicted) and gives way gradually well
-  above the prediction in 10 more (+15 % to +418 %); they agree along +X (−3.0 %) and 345°
-  (+3.2 %). The iterative verdicts depend on its step bound (`gamma`, [`accuracy.md`](accuracy.md)
-  §2): with `gamma = 100` it resists +Y and 60° without bound, as the simulation does, with
-  contact forces at 50 N along +Y close to the simulated ones (finger 3: 23.5 and 42.5 N vs
-  22.3 and 43.7 N), but 30°, 150° and 180° stay finite (26.1, 10.3, 10.7 N) against the
-  simulation's ≥ 50 N and gradual 20–38 N and 17–38 N. Not resolved; the case-2 scene is being
-  re-derived (issue 17, item 1), so these rows will change with it. The PRP holds in 12 of
-  these 24 directions where the simulation gives way (7 flagged by the audit).
+- **Case 2, iterative** (friction 1.0): the simulation holds 50 N where the iterative scheme
+  gives way (13.6–49.9 N) in 13 of 24 directions, with small elastic motions (0.03–0.24 mm,
+  ≤ 0.14°, no creep over 0.5 s), so large motion is ruled out. An equilibrium exists: the PRP
+  resists in all 13, on solutions that pass the energy audit at 50 N in 9 of them and up to the
+  iterative prediction in the other 4. The iterative scheme stalls before reaching it: in 10 of
+  the 13 the net wrench is exactly the same from one step to the next (`|r|` 1.3–33 N; 180° at
+  50 N: 33.4 N after 2 steps) — one finger contact is separated, fingers 1 and 2 close at their
+  command force with friction at the cone limit, and a step along the net wrench loads nothing;
+  in 3 (30°, 210°, 330°) the 1 % improvement rule stops it (`improvement=0`,
+  `max_iterations=1000`: 30° at 40 N reaches equilibrium in 8 steps). Settings change the
+  verdict: 3 of 13 directions agree with the simulation with `improvement=0`, 6 with
+  `gamma=100`, 10 with both (165°, 180°, 330° stay finite: 25.7, 25.9, 33.8 N), and at 30° with
+  `improvement=0` 15 N and 20 N are not resisted while 17.9, 30 and 40 N are. **A defect of the
+  iterative scheme** (its verdict depends on `improvement`, `gamma`, `accelerate`, and is not
+  monotone along a ray), reported to the solver owners; a user sees it in the response at the
+  predicted limit: `residual_history` ends flat and a PRP solution at that load passes `audit`.
 """
 
 
