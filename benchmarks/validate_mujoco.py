@@ -327,9 +327,9 @@ NOTES = """
   while the object was still creeping, 0.10 → 0.68 mm; fixed: docs/simulation.md, step 2).
   The PRP gives 23.2 N (the simulation 14 % above it). The iterative scheme's 0.035 N is
   not a mechanical limit: its first step stalls with a residual of 2.9 % of the load, and
-  0.035 N is where that residual falls below `eps`; with `accelerate=False` or `gamma=100` it reaches 23.18 N (the latter on a
-  solution failing the audit). A defect of the iterative scheme: its verdict depends on
-  solver settings (see case 2).
+  0.035 N is where that residual falls below `eps`; with `accelerate=False` or `gamma=100`
+  it reaches 23.18 N (the latter on a solution failing the audit). A defect of the iterative
+  scheme: its verdict depends on solver settings (see case 2).
 - **Wedge at 15°, 30° (and 195°, 210°)**: the simulation holds up to 1000 N, the iterative
   scheme gives way at 213 N and 42.9 N; at 45° (225°) the simulation gives way gradually
   between 445 and 965 N, the iterative scheme at 24.8 N. At 30° and 1000 N the simulated
