@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import Any
 
 import numpy as np
 
@@ -15,8 +15,8 @@ from ..core.settings import Method
 from ..errors import AuditWarning
 from .stages import Stage
 
-if TYPE_CHECKING:
-    from .response import PassiveSolver
+#: A :class:`~pinograsp.analysis.response.PassiveSolver` (response.py imports this module).
+Solver = Any
 
 
 @dataclass(frozen=True, eq=False)
@@ -35,12 +35,12 @@ class _Physical:
     net: np.ndarray  # net wrench on the object (reduced)
 
 
-def layout_of(solver: PassiveSolver, method: str) -> dict[str, slice]:
+def layout_of(solver: Solver, method: str) -> dict[str, slice]:
     """Variable slices of ``method``'s problem (PRP: the object displacement; else a step)."""
     return solver.form.layout("prp" if method == Method.PRP else "move")
 
 
-def _nan_response(solver: PassiveSolver, status: str, common: dict) -> PassiveResponse:
+def _nan_response(solver: Solver, status: str, common: dict) -> PassiveResponse:
     """No solution: every quantity is NaN."""
     m = solver.model
 
@@ -70,7 +70,7 @@ def _nan_response(solver: PassiveSolver, status: str, common: dict) -> PassiveRe
 
 
 def _physical(
-    solver: PassiveSolver, lay: dict, w6: np.ndarray, st: Stage, pre: Stage | None, pre_lay: dict
+    solver: Solver, lay: dict, w6: np.ndarray, st: Stage, pre: Stage | None, pre_lay: dict
 ) -> _Physical:
     """Unscale the stage's solution and add the preload stage's displacements (when solved)."""
     m, f = solver.model, solver.form
@@ -92,7 +92,7 @@ def _physical(
     return _Physical(beta, c, cf, fa, lam, q, x_load, x, u, net)
 
 
-def _complementarity(solver: PassiveSolver, lay: dict, st: Stage, ph: _Physical) -> float:
+def _complementarity(solver: Solver, lay: dict, st: Stage, ph: _Physical) -> float:
     """Largest ``min(a, b)`` of the complementary pairs [N] (contact force / spring gap,
     actuator motion / over-force)."""
     f, z, F = solver.form, st.raw.z, st.data.F
@@ -109,7 +109,7 @@ def _complementarity(solver: PassiveSolver, lay: dict, st: Stage, ph: _Physical)
 
 
 def _energy(
-    solver: PassiveSolver, w6: np.ndarray, fc: np.ndarray, st: Stage, pre: Stage | None, ph: _Physical
+    solver: Solver, w6: np.ndarray, fc: np.ndarray, st: Stage, pre: Stage | None, ph: _Physical
 ) -> EnergyCheck:
     """Energy balance of an equilibrium, rounding relative to the larger of this stage's and
     the preload stage's scale."""
@@ -130,7 +130,7 @@ def _energy(
     )
 
 
-def _audit(solver: PassiveSolver, lay: dict, st: Stage, ph: _Physical, energy: EnergyCheck | None) -> Audit:
+def _audit(solver: Solver, lay: dict, st: Stage, ph: _Physical, energy: EnergyCheck | None) -> Audit:
     """Residual checks of the solution in force units [N]."""
     m, f, raw = solver.model, solver.form, st.raw
     hand = (
@@ -152,7 +152,7 @@ def _audit(solver: PassiveSolver, lay: dict, st: Stage, ph: _Physical, energy: E
 
 
 def build_response(
-    solver: PassiveSolver,
+    solver: Solver,
     method: str,
     variant: str,
     w6: np.ndarray,

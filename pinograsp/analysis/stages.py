@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import Any
 
 import numpy as np
 
@@ -27,8 +27,8 @@ from ..solvers.base import INFEASIBLE, Mode, RawSolution
 from ..solvers.bnb import BranchAndBound
 from ..solvers.problem import INF, ProblemKind, build_problem
 
-if TYPE_CHECKING:
-    from .response import PassiveSolver
+#: A :class:`~pinograsp.analysis.response.PassiveSolver` (response.py imports this module).
+Solver = Any
 
 #: Subspace jump of the iterative scheme: tried after this many real steps in one mode ...
 JUMP_AFTER = 3
@@ -68,7 +68,7 @@ def _failed_status(raw: RawSolution) -> str:
     return "not_resisted" if raw.status == INFEASIBLE else raw.status.value
 
 
-def prp_stage(solver: PassiveSolver, w: np.ndarray, fc: np.ndarray, p: np.ndarray) -> Stage:
+def prp_stage(solver: Solver, w: np.ndarray, fc: np.ndarray, p: np.ndarray) -> Stage:
     """Alg. 1 for the (reduced) wrench ``w`` [N, N·m], commands ``fc`` (na,) and
     pre-compression ``p`` (nc,) [N]."""
     form = solver.form
@@ -81,7 +81,7 @@ def prp_stage(solver: PassiveSolver, w: np.ndarray, fc: np.ndarray, p: np.ndarra
 
 
 def iterative_stage(
-    solver: PassiveSolver, w: np.ndarray, fc: np.ndarray, p: np.ndarray, start: Mode | None = None
+    solver: Solver, w: np.ndarray, fc: np.ndarray, p: np.ndarray, start: Mode | None = None
 ) -> Stage:
     """Alg. 3 from the (pre)loaded state (arguments as :func:`prp_stage`); ``start`` is the mode
     the grasp is in before the first step (the preload's), the first step's incumbent."""
@@ -136,7 +136,7 @@ def iterative_stage(
 
 
 def jump(
-    solver: PassiveSolver, base: ScaledData, xh: np.ndarray, streak: list[np.ndarray], mode: Mode
+    solver: Solver, base: ScaledData, xh: np.ndarray, streak: list[np.ndarray], mode: Mode
 ) -> tuple[np.ndarray | None, np.ndarray, float]:
     """Subspace jump of the iterative scheme (``Settings.accelerate``, docs/solvers.md).
 

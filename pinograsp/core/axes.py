@@ -9,15 +9,22 @@ accepted for ``mx`` …) or a vector; a plane is two of them.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import TYPE_CHECKING
+from typing import Protocol
 
 import numpy as np
 
 from ..errors import InvalidInputError, UnknownNameError
 from .validate import whole_number
 
-if TYPE_CHECKING:  # the model only passes through: no import of model.py at run time
-    from .model import GraspModel
+
+class WrenchSpace(Protocol):
+    """What these functions read of a :class:`~pinograsp.core.model.GraspModel` (model.py imports
+    this module, so the model is described, not imported)."""
+
+    planar: bool
+
+    def wrench_vector(self, wrench: object, name: str = "wrench") -> np.ndarray: ...
+
 
 #: Wrench component names, world axes, torques about the object reference point.
 WRENCH_AXES = ("fx", "fy", "fz", "mx", "my", "mz")
@@ -34,7 +41,7 @@ def axis_index(name: str) -> int:
     return WRENCH_AXES.index(key)
 
 
-def wrench_direction(model: GraspModel, direction: object, name: str = "direction") -> np.ndarray:
+def wrench_direction(model: WrenchSpace, direction: object, name: str = "direction") -> np.ndarray:
     """A unit 6-vector from an axis name (``"fx"``, ``"-fy"``, ``"mz"``) or a wrench vector.
 
     The norm is the plain Euclidean norm of ``(force [N], torque [N·m])`` as given.
@@ -79,7 +86,7 @@ def direction_text(direction: object) -> str:
     return direction_label(direction).replace("−", "-")
 
 
-def plane_basis(model: GraspModel, plane: Sequence[object]) -> tuple[np.ndarray, tuple[str, str]]:
+def plane_basis(model: WrenchSpace, plane: Sequence[object]) -> tuple[np.ndarray, tuple[str, str]]:
     """An orthonormal basis (2, 6) of a plane of wrench space given by two axis names or vectors
     (the second is orthogonalised against the first), and the plane's two labels."""
     given = plane
@@ -106,7 +113,7 @@ def circle_directions(basis: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray
     return angles, np.cos(angles)[:, None] * basis[0] + np.sin(angles)[:, None] * basis[1]
 
 
-def plane_directions(model: GraspModel, plane: Sequence[object] = ("fx", "fy"), n: int = 72) -> np.ndarray:
+def plane_directions(model: WrenchSpace, plane: Sequence[object] = ("fx", "fy"), n: int = 72) -> np.ndarray:
     """The ``n`` directions of :func:`resistance_profile` in ``plane``, (n, 6): bit-identical
     to ``resistance_profile(...).directions`` (e.g. for ``pg.resistance_set(directions=...)``)."""
     n = whole_number("n", n)

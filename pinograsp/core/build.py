@@ -22,7 +22,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
-from typing import TYPE_CHECKING
+from typing import TypeVar
 
 import numpy as np
 
@@ -31,8 +31,8 @@ from .actuation import Actuator, Coupling
 from .contact import Contact, friction_edges
 from .validate import finite_number, flag, sequence
 
-if TYPE_CHECKING:
-    from .model import GraspModel
+#: The model class being built (``GraspModel``; model.py imports this module).
+M = TypeVar("M")
 
 #: Relative threshold below which Jacobian entries count as zero (pruning).
 ZERO_TOL = 1e-12
@@ -388,7 +388,7 @@ def _check_finite(G: np.ndarray, J: np.ndarray, D: np.ndarray, length_scale: flo
 
 # ------------------------------------------------------------------------------ all steps
 def build_model(
-    model_class: type[GraspModel],
+    model_class: type[M],
     contacts: Sequence[Contact],
     actuators: Sequence[Actuator] | None,
     couplings: Sequence[Coupling] | np.ndarray | None,
@@ -400,7 +400,7 @@ def build_model(
     circumscribed: bool,
     prune: bool,
     length_scale: float | None,
-) -> GraspModel:
+) -> M:
     """A ``model_class`` built from explicit contacts; arguments and errors as in
     :meth:`GraspModel.from_contacts <pinograsp.core.model.GraspModel.from_contacts>`."""
     contacts = _checked_contacts(contacts)

@@ -9,7 +9,7 @@ forward-kinematics pass per trial configuration (:class:`~pinograsp.robots.kinem
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -19,8 +19,10 @@ from .collision import DEFAULT_TOLERANCE, closest_per_link, geometry_distances
 from .kinematics import HandConfiguration
 
 if TYPE_CHECKING:  # pragma: no cover
-    from .hand import Hand
     from .objects import RigidObject
+
+#: A :class:`~pinograsp.robots.hand.Hand` (hand.py imports this module for ``Hand.close_on``).
+Hand = Any
 
 
 class _Stops:
