@@ -1,19 +1,14 @@
 """Lazy imports: `import pinograsp`, the URDF side, `pinograsp scenes` and `--help` load neither
 the solvers nor cvxpy (cvxpy alone took 1.0–1.5 s of a 2.0–2.4 s `import pinograsp`)."""
 
-import subprocess
-import sys
-
 import pytest
+from probes import loaded
 
 HEAVY = ("cvxpy", "pinograsp.solvers", "pinograsp.analysis.response", "pinograsp.analysis.max_wrench")
 
 
 def _loaded(code: str) -> list[str]:
-    probe = f"{code}\nimport sys\nprint('LOADED:' + ','.join(m for m in {HEAVY!r} if m in sys.modules))"
-    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
-    line = [x for x in out.stdout.splitlines() if x.startswith("LOADED:")][-1]
-    return [m for m in line.removeprefix("LOADED:").split(",") if m]
+    return loaded(code, HEAVY)
 
 
 @pytest.mark.parametrize(

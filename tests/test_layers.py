@@ -4,11 +4,10 @@ light entry points load no solver, and no module or function outgrows a newcomer
 from __future__ import annotations
 
 import ast
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
+from probes import loaded
 
 PACKAGE = Path(__file__).resolve().parents[1] / "pinograsp"
 
@@ -181,13 +180,6 @@ def test_modules_and_functions_stay_small():
     assert long_functions == []
 
 
-def _loaded(code: str, watch: tuple[str, ...]) -> list[str]:
-    probe = f"{code}\nimport sys\nprint('LOADED:' + ','.join(m for m in {watch!r} if m in sys.modules))"
-    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
-    line = [x for x in out.stdout.splitlines() if x.startswith("LOADED:")][-1]
-    return [m for m in line.removeprefix("LOADED:").split(",") if m]
-
-
 @pytest.mark.parametrize(
     "code",
     [
@@ -198,11 +190,11 @@ def _loaded(code: str, watch: tuple[str, ...]) -> list[str]:
     ],
 )
 def test_light_entry_points_load_no_cvxpy(code):
-    assert _loaded(code, ("cvxpy",)) == []
+    assert loaded(code, ("cvxpy",)) == []
 
 
 def test_core_and_robots_load_no_solver():
     heavy = ("pinograsp.solvers", "pinograsp.analysis", "cvxpy", "daqp", "proxsuite")
-    assert _loaded("import pinograsp.core.model, pinograsp.core.examples", heavy) == []
-    assert _loaded("import pinograsp.robots.grasp, pinograsp.robots.closing", heavy) == []
-    assert _loaded("import pinograsp.core.model", ("pinocchio", "coal")) == []
+    assert loaded("import pinograsp.core.model, pinograsp.core.examples", heavy) == []
+    assert loaded("import pinograsp.robots.grasp, pinograsp.robots.closing", heavy) == []
+    assert loaded("import pinograsp.core.model", ("pinocchio", "coal")) == []
