@@ -123,6 +123,10 @@ class ConditioningWarning(PinograspWarning):
     ratio above 1e5 between contacts): use the reference backend (``backend="miqp"``)."""
 
 
+class RefinementWarning(PinograspWarning):
+    """Friction-cone refinement stopped at its edge limit before reaching its tolerance."""
+
+
 class AuditWarning(PinograspWarning):
     """A solution fails a physical check the optimisation does not impose: its springs store
     more energy than the load and the actuators supply (the wedging artefact of the PRP), or its

@@ -36,7 +36,10 @@ class _Physical:
 
 
 def layout_of(solver: Solver, method: str) -> dict[str, slice]:
-    """Variable slices of ``method``'s problem (PRP: the object displacement; else a step)."""
+    """Variable slices of ``method``'s problem (PRP: the object displacement; energetic: that
+    and the slip magnitudes; iterative: a step)."""
+    if method == Method.ENERGETIC:
+        return solver.form.layout("energetic")
     return solver.form.layout("prp" if method == Method.PRP else "move")
 
 
@@ -97,9 +100,14 @@ def _complementarity(solver: Solver, lay: dict, st: Stage, ph: _Physical) -> flo
     actuator motion / over-force)."""
     f, z, F = solver.form, st.raw.z, st.data.F
     qh = z[lay["qh"]]
-    gap = f.spring_gap(z[lay["beta"]], st.xh, qh, st.data.p) * F
+    slip = z[lay["slip"]] if lay["slip"].stop > lay["slip"].start else None
+    gap = f.spring_gap(z[lay["beta"]], st.xh, qh, st.data.p, slip) * F
     cn = f.E @ ph.beta
     comp = np.minimum(np.abs(cn), np.abs(gap)).max(initial=0.0)
+    if slip is not None:  # maximum dissipation: edge weight / dissipation row
+        diss = f.dissipation(st.xh, qh, slip) * F
+        edge = ph.beta[f.fric_edges]
+        comp = max(comp, np.minimum(np.abs(edge), np.abs(diss)).max(initial=0.0))
     if solver.model.na:
         uh = f.Ru @ qh * F
         over = (z[lay["fh"]] - st.data.fc) * F
@@ -199,10 +207,11 @@ def build_response(
     ph = _physical(solver, lay, w6, st, pre, layout_of(solver, pre_kind or method))
     energy = _energy(solver, w6, fc, st, pre, ph) if status == "resisted" else None  # an equilibrium
     audit = _audit(solver, lay, st, ph, energy)
+    slip = _slip(solver, lay, st, ph)
     if energy is not None and not (energy.energy_ok and energy.displacement_ok):
         warnings.warn(audit_message(method, energy), AuditWarning, stacklevel=4)
     resistible = status == "resisted"
-    if method == Method.PRP and resistible and audit.equilibrium > 1e-6 * max(st.data.F, 1e-300):
+    if method != Method.ITERATIVE and resistible and audit.equilibrium > 1e-6 * max(st.data.F, 1e-300):
         status, resistible = "failed", False
     return PassiveResponse(
         resistible=resistible,
@@ -225,5 +234,35 @@ def build_response(
         friction_use=friction_use(ph.cf, m.mu, raw.mode.touching, audit.tolerance),
         converged=st.converged,
         solver=raw.backend,
+        contact_states=contact_states(ph.cf[:, 0], slip, m.k, raw.mode.touching, audit.tolerance),
+        contact_slip=slip,
+        edge_counts=m.edge_counts,
         **common,
     )
+
+
+def _slip(solver: Solver, lay: dict, st: Stage, ph: _Physical) -> np.ndarray:
+    """Slip of the object over the hand at each contact during the load stage, world frame
+    (nc, 3) [m]: the tangential part of ``G^T x - J q``."""
+    m = solver.model
+    q_stage = st.raw.z[lay["qh"]] * st.data.F / solver.form.qscale if m.nq else np.zeros(0)
+    v = m.G.T @ m.reduce_wrench(ph.x_load)
+    if m.nq:
+        v = v - m.J @ q_stage
+    v = v.reshape(m.nc, m.d).copy()
+    v[:, 0] = 0.0
+    return np.einsum("ijk,ik->ij", m.frames[:, :, : m.d], v)
+
+
+def contact_states(
+    cn: np.ndarray, slip: np.ndarray, k: np.ndarray, touching: tuple[bool, ...], tol: float
+) -> tuple[str, ...]:
+    """``"separated"`` (not touching or no normal force), ``"sliding"`` (slip above ``tol`` in
+    spring-force units ``k |s|``) or ``"sticking"`` per contact."""
+    out = []
+    for i, on in enumerate(touching):
+        if not on or cn[i] <= tol:
+            out.append("separated")
+        else:
+            out.append("sliding" if k[i] * np.linalg.norm(slip[i]) > tol else "sticking")
+    return tuple(out)

@@ -128,9 +128,12 @@ def _search_kind(search: object, method: str) -> Search:
     """The search ``search`` names for ``method`` (``"auto"`` resolved)."""
     kind = Search(choice("search", search, [x.value for x in Search]))
     if kind is Search.AUTO:
-        kind = Search.SECANT if method == Method.ITERATIVE else Search.BISECTION
-    if kind is Search.DIRECT and method != Method.PRP:
-        raise InvalidInputError("search", "'direct' exists for method='prp' only (Alg. 3 is a trajectory)")
+        auto = {Method.ITERATIVE: Search.SECANT, Method.ENERGETIC: Search.DIRECT}
+        kind = auto.get(Method(method), Search.BISECTION)
+    if kind is Search.DIRECT and method == Method.ITERATIVE:
+        raise InvalidInputError(
+            "search", "'direct' exists for method='prp' and 'energetic' only (Alg. 3 is a trajectory)"
+        )
     if kind is Search.SECANT and method != Method.ITERATIVE:
         raise InvalidInputError(
             "search", "'secant' exists for method='iterative' only (PRP stages carry no residual)"
@@ -218,7 +221,7 @@ def _finish(q: _Query, magnitude: float, at_upper: bool, response: PassiveRespon
 def _direct(q: _Query) -> tuple[float, PassiveResponse]:
     """The PRP's exact limit by one load-factor problem, and the response just below it."""
     solver, upper = q.solver, float(q.upper)
-    lf = solver.max_load_factor(q.command, q.direction, upper)
+    lf = solver.max_load_factor(q.command, q.direction, upper, q.method)
     status, mag = lf.status, lf.magnitude
     q.tally.solve_time += lf.solve_time
     q.tally.n_solves += 1
@@ -240,7 +243,8 @@ def _direct(q: _Query) -> tuple[float, PassiveResponse]:
     ok, resp = q.test(at)
     if not ok:
         raise SolverError(
-            f"load-factor problem found magnitude {mag:.9g} but the PRP at {at:.9g} is not resisted",
+            f"load-factor problem found magnitude {mag:.9g} but the {q.method} problem at {at:.9g} "
+            "is not resisted",
             solver=backend,
             status="failed",
         )
@@ -273,13 +277,14 @@ def max_resistible_wrench(
         command: Actuator commands (see :func:`pinograsp.passive_response`).
         direction: Wrench direction: axis name (``"fx"``, ``"-fy"``, ``"mz"``) or vector
             (normalised here).
-        method: ``"iterative"`` (default; no wedging artefact) or ``"prp"``.
+        method: ``"iterative"`` (default; no wedging artefact), ``"energetic"`` (maximum
+            dissipation, one solve per direction; docs/methods.md) or ``"prp"``.
         upper: Upper limit of the search [N or N·m along the unit direction].
         steps: Bisection steps; resolution ``upper / 2**steps``.
-        search: ``"auto"`` (default: ``"secant"`` for the iterative method, ``"bisection"``
-            for the PRP), ``"bisection"`` (the paper's), ``"secant"`` (iterative only: the same
+        search: ``"auto"`` (default: ``"secant"`` for the iterative method, ``"direct"`` for
+            the energetic one, ``"bisection"`` for the PRP), ``"bisection"`` (the paper's), ``"secant"`` (iterative only: the same
             grid cell as the bisection when resistibility is monotone along the ray, in fewer
-            stages; :mod:`pinograsp.analysis.search`) or ``"direct"`` (PRP only): one complementarity
+            stages; :mod:`pinograsp.analysis.search`) or ``"direct"`` (PRP, energetic): one complementarity
             problem maximising the load factor, exact instead of ``upper / 2**steps``; the
             response at the limit is then solved at ``magnitude * (1 - 1e-6)``.
         settings, overrides: Solver settings (see :class:`pinograsp.core.settings.Settings`).

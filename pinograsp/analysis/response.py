@@ -5,6 +5,9 @@
 * ``method="iterative"`` — Alg. 2 inside Alg. 3: the object may only move along the current
   net wrench (step in ``[0, gamma]``), each step minimises the net wrench, repeat until it
   falls below ``eps`` (resisted) or stops improving (not resisted).
+* ``method="energetic"`` — maximum dissipation (docs/methods.md): Alg. 1's problem plus one
+  slip magnitude per contact and the pairs that let a friction edge carry force only if it
+  points most against the slip; one mixed-integer problem, no wedging artefact.
 
 Three variants (:class:`~pinograsp.core.settings.Variant`, docs/design.md):
 
@@ -13,7 +16,9 @@ Three variants (:class:`~pinograsp.core.settings.Variant`, docs/design.md):
 * ``"preload-first"`` (the authors' released code): first the preload alone (``w = 0``), then
   ``w`` on top, with the preload normal forces as spring pre-compression and displacements
   counted from the preloaded state — so a finger that closed during preloading may hold still
-  afterwards. Default for ``"iterative"``; the paper's single-step is the default for ``"prp"``.
+  afterwards. Default for ``"iterative"`` and ``"energetic"`` (whose preload stage is the
+  iterative scheme's: the object held still while the hand closes); the paper's single-step
+  is the default for ``"prp"``.
   In the iterative method the object cannot move while the preload is applied (the first
   step has no movement direction and ``w = 0`` leaves no net wrench to follow).
 * ``"settled-preload"``: as ``"preload-first"``, but the preload stage is Alg. 1 at ``w = 0``
@@ -107,8 +112,9 @@ class PassiveSolver:
     def __init__(self, model: GraspModel, settings: Settings | None = None) -> None:
         if not isinstance(model, GraspModel):
             raise InvalidInputError("model", f"expected pinograsp.GraspModel, got {type(model).__name__}")
-        self.model = model
         self.settings = (settings or Settings()).validated()
+        #: the model analysed: ``model`` with the settings' normal uncertainty (core/cones.py)
+        self.model = model = model.with_normal_uncertainty(self.settings.normal_uncertainty)
         if self.settings.backend == Backend.MIQP:
             resolve_solver(self.settings.solver)  # installed? (the name was checked by Settings)
         self.form = formulation_of(model)
@@ -168,10 +174,30 @@ class PassiveSolver:
         """Spring pre-compression [N] (nc,) left by a converged preload stage of ``method``."""
         return self.form.E @ pre.raw.z[layout_of(self, method)["beta"]] * pre.data.F
 
+    def _pre_method(self, method: str, variant: Variant) -> Method:
+        """``Method`` of the preload stage of ``method`` under ``variant``."""
+        if variant is Variant.SETTLED_PRELOAD:
+            return Method.PRP
+        return Method.ITERATIVE if method == Method.ENERGETIC else Method(method)
+
+    def _carried(self, pre: Stage, pre_method: str, method: str) -> np.ndarray:
+        """Energetic load stages balance the load on top of the preload stage's own net wrench
+        (reduced, [N, N·m]): the held-still preload (the iterative scheme's) is an equilibrium
+        only to its tolerance ``eps``, and an exact balance of that residual would have to slip
+        the contacts. Zero for the other methods and for an exact (PRP) preload."""
+        if method != Method.ENERGETIC or pre_method != Method.ITERATIVE:
+            return np.zeros(self.model.nw)
+        m = self.model
+        beta = pre.raw.z[layout_of(self, pre_method)["beta"]] * pre.data.F
+        return -(m.G @ (m.D @ beta))
+
     # ------------------------------------------------------- direct search
-    def max_load_factor(self, command: object, direction: np.ndarray, upper: float) -> LoadFactor:
-        """Alg. 1's largest resistible magnitude along a unit ``direction`` in one
-        complementarity solve (:attr:`ProblemKind.LOAD`, by the settings' backend).
+    def max_load_factor(
+        self, command: object, direction: np.ndarray, upper: float, method: str = Method.PRP
+    ) -> LoadFactor:
+        """The largest resistible magnitude along a unit ``direction`` in one complementarity
+        solve (:attr:`ProblemKind.LOAD`, or :attr:`ProblemKind.ENERGETIC_LOAD` for
+        ``method="energetic"``, by the settings' backend).
 
         Returns:
             A :class:`LoadFactor`: status ``"optimal"`` (magnitude in [N] or [N·m] along the
@@ -182,36 +208,42 @@ class PassiveSolver:
         fc = m.command_vector(command)
         mirror = self._mirror(fc)
         if mirror is not None:
-            return mirror[0].max_load_factor(np.abs(fc), direction, upper)
+            return mirror[0].max_load_factor(np.abs(fc), direction, upper, method)
         p = np.zeros(m.nc)
         pre_time = 0.0
-        if s.variant_for(Method.PRP) is not Variant.SINGLE_STEP:
-            pre = self.preload_stage(fc, Method.PRP)
+        variant = s.variant_for(method)
+        if variant is not Variant.SINGLE_STEP:
+            pre_method = self._pre_method(method, variant)
+            pre = self.preload_stage(fc, pre_method)
             pre_time = pre.solve_time
             if not pre.converged:
                 return LoadFactor(INFEASIBLE, float("nan"), pre_time)
-            p = self._precompression(pre, Method.PRP)
+            p = self._precompression(pre, pre_method)
+            w0 = self._carried(pre, pre_method, method)
+        else:
+            w0 = np.zeros(m.nw)
         d = m.reduce_wrench(np.asarray(direction, float)) * f.wscale
-        data = f.scale_data(np.zeros(m.nw), fc, p)
+        data = f.scale_data(w0, fc, p)
         data = ScaledData(data.F, data.w, data.fc, data.p, data.x0, d)
         tmax = float(upper) / data.F
-        raw = self._load_factor(data, tmax)
+        kind = ProblemKind.ENERGETIC_LOAD if method == Method.ENERGETIC else ProblemKind.LOAD
+        raw = self._load_factor(kind, data, tmax)
         dt = raw.solve_time + pre_time
         if raw.status != OPTIMAL:
             return LoadFactor(raw.status, float("nan"), dt)
-        t = float(raw.z[-1])
+        t = max(float(raw.z[-1]), 0.0)
         if t >= tmax * (1.0 - 1e-9):
             return LoadFactor(OPTIMAL, float("inf"), dt)
         return LoadFactor(OPTIMAL, t * data.F, dt)
 
-    def _load_factor(self, data: ScaledData, tmax: float) -> RawSolution:
+    def _load_factor(self, kind: ProblemKind, data: ScaledData, tmax: float) -> RawSolution:
         if self.options.backend is Backend.BNB:
-            problem = build_problem(self.form, ProblemKind.LOAD, data, t_max=tmax)
+            problem = build_problem(self.form, kind, data, t_max=tmax)
             return BranchAndBound(problem, self.options.max_nodes).solve()
         from ..solvers.miqp import CvxpyMIQP  # cvxpy: loaded only for the reference backend
 
         s = self.settings
-        miqp = CvxpyMIQP(self.form, "load", solver=s.solver, time_limit=s.time_limit)
+        miqp = CvxpyMIQP(self.form, kind.value, solver=s.solver, time_limit=s.time_limit)
         return miqp.solve(data, s.bigm * max(1.0, 10.0 * tmax), t_max=tmax)
 
     # ------------------------------------------------------------- response
@@ -235,10 +267,9 @@ class PassiveSolver:
         w = m.reduce_wrench(w6)
         variant = self.settings.variant_for(method)
         if variant is Variant.SINGLE_STEP:
-            nop = np.zeros(m.nc)
-            stage = prp_stage(self, w, fc, nop) if method == Method.PRP else iterative_stage(self, w, fc, nop)
+            stage = self._load_stage(method, w, fc, np.zeros(m.nc), None)
             return build_response(self, method, variant, w6, fc, stage, None)
-        pre_method = Method.PRP if variant is Variant.SETTLED_PRELOAD else method
+        pre_method = self._pre_method(method, variant)
         fresh = self._preload_key(fc, pre_method) not in self._preload
         pre = self.preload_stage(fc, pre_method)
         if not pre.converged:
@@ -246,11 +277,17 @@ class PassiveSolver:
             note = "preload not in equilibrium"
             return build_response(self, method, variant, w6, fc, failed, None, note=note)
         p = self._precompression(pre, pre_method)
-        if method == Method.PRP:
-            stage = prp_stage(self, w, fc, p)
-        else:
-            stage = iterative_stage(self, w, fc, p, start=pre.raw.mode)
+        stage = self._load_stage(method, w + self._carried(pre, pre_method, method), fc, p, pre.raw.mode)
         return build_response(self, method, variant, w6, fc, stage, pre, pre_fresh=fresh, pre_kind=pre_method)
+
+    def _load_stage(self, method: str, w: np.ndarray, fc: np.ndarray, p: np.ndarray, start: Mode | None) -> Stage:
+        """The load stage of ``method`` (``start``: the preload's mode, the iterative scheme's
+        first incumbent)."""
+        if method == Method.PRP:
+            return prp_stage(self, w, fc, p)
+        if method == Method.ENERGETIC:
+            return prp_stage(self, w, fc, p, ProblemKind.ENERGETIC)
+        return iterative_stage(self, w, fc, p, start=start)
 
 
 def solver_for(model: GraspModel, settings: Settings | None = None, **overrides: object) -> PassiveSolver:
@@ -283,8 +320,9 @@ def passive_response(
         wrench: External wrench on the object ``(fx, fy, fz, mx, my, mz)`` [N, N·m] about the
             object reference point (planar models also take ``(fx, fy, mz)``).
         method: ``"iterative"`` (default: Alg. 2 + 3, the physically validated scheme, as in
-            every analysis, the CLI and the scenes) or ``"prp"`` (Alg. 1, by explicit choice:
-            it admits the wedging artefact).
+            every analysis, the CLI and the scenes), ``"energetic"`` (maximum dissipation in
+            one mixed-integer problem, docs/methods.md) or ``"prp"`` (Alg. 1, by explicit
+            choice: it admits the wedging artefact).
         settings: Base :class:`Settings`; keyword ``overrides`` replace single fields
             (e.g. ``solver="gurobi"``, ``gamma=2.0``, ``variant="single-step"``).
 

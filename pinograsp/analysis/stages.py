@@ -68,14 +68,17 @@ def _failed_status(raw: RawSolution) -> str:
     return "not_resisted" if raw.status == INFEASIBLE else raw.status.value
 
 
-def prp_stage(solver: Solver, w: np.ndarray, fc: np.ndarray, p: np.ndarray) -> Stage:
+def prp_stage(
+    solver: Solver, w: np.ndarray, fc: np.ndarray, p: np.ndarray, kind: ProblemKind = ProblemKind.PRP
+) -> Stage:
     """Alg. 1 for the (reduced) wrench ``w`` [N, N·m], commands ``fc`` (na,) and
-    pre-compression ``p`` (nc,) [N]."""
+    pre-compression ``p`` (nc,) [N]; ``kind=ProblemKind.ENERGETIC`` adds slip and maximum
+    dissipation (the energetic method)."""
     form = solver.form
     data = form.scale_data(w, fc, p)
-    raw = solver.solve(ProblemKind.PRP, data)
+    raw = solver.solve(kind, data)
     ok = raw.status == OPTIMAL
-    xh = raw.z[form.layout("prp")["obj"]] if ok else np.zeros(form.nx)
+    xh = raw.z[form.layout(kind.value if kind.energetic else "prp")["obj"]] if ok else np.zeros(form.nx)
     status = "resisted" if ok else _failed_status(raw)
     return Stage(raw, data, xh, status, ok, 1, (), raw.solve_time, 1)
 

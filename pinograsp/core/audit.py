@@ -170,5 +170,5 @@ def audit_message(method: str, check: EnergyCheck) -> str:
             f"its displacements reach {check.displacement_ratio:.3g} times the largest spring "
             f"compression (limit {MAX_DISPLACEMENT_RATIO:g})"
         )
-    hint = " (method='iterative' has no wedging artefact)" if method == "prp" else ""
+    hint = " (methods 'iterative' and 'energetic' have no wedging artefact)" if method == "prp" else ""
     return f"{method} solution fails the audit: " + "; ".join(parts) + hint

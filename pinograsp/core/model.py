@@ -21,6 +21,7 @@ from ..errors import InvalidInputError, UnknownNameError
 from .actuation import Actuator, Coupling
 from .axes import PLANAR_AXES
 from .build import PruneRecord, build_model, readonly
+from .cones import edge_counts, with_normal_uncertainty
 from .contact import Contact
 from .validate import finite_number
 
@@ -52,6 +53,8 @@ class GraspModel:
         pruned: What the constructor removed.
         bidirectional: Names of the actuators (of ``all_actuator_names``) that take negative
             commands.
+        normal_uncertainty: Worst-case contact-normal uncertainty [rad] the pyramids were
+            shrunk for (:meth:`with_normal_uncertainty`; 0 for a nominal model).
     """
 
     G: np.ndarray
@@ -76,6 +79,7 @@ class GraspModel:
     all_actuator_names: tuple[str, ...]
     pruned: PruneRecord = field(default_factory=PruneRecord)
     bidirectional: tuple[str, ...] = ()
+    normal_uncertainty: float = 0.0
 
     # ------------------------------------------------------------------ sizes
     @property
@@ -236,6 +240,17 @@ class GraspModel:
         commanded ``+f``."""
         sg = np.asarray(signs, float)
         return replace(self, R=readonly(self.R * sg[None, :]))
+
+    def with_normal_uncertainty(self, angle: float) -> GraspModel:
+        """The same grasp with every contact normal uncertain by ``angle`` [rad], in the worst
+        case: friction ``mu -> tan(atan(mu) - angle)`` and, for the energetic method, a slipping
+        contact loses ``tan(angle)`` of compression per unit slip (:mod:`pinograsp.core.cones`)."""
+        return with_normal_uncertainty(self, angle)
+
+    @property
+    def edge_counts(self) -> tuple[int, ...]:
+        """Friction pyramid edges of every contact, (nc,) (refined pyramids differ per contact)."""
+        return edge_counts(self)
 
     def world_forces(self, c: np.ndarray) -> np.ndarray:
         """World-frame contact forces on the object, (nc, 3), from contact-frame ``c`` (nc*d,)."""

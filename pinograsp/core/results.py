@@ -28,7 +28,11 @@ DIRECTION_ATOL = 1e-9
 #: ``pinograsp.solvers.base.SolveStatus`` that are not optimal or infeasible).
 ResponseStatus = Literal["resisted", "not_resisted", "not_converged", "timeout", "node_limit", "failed"]
 #: Name of an analysis method (the values of :class:`~pinograsp.core.settings.Method`).
-MethodName = Literal["prp", "iterative"]
+MethodName = Literal["prp", "iterative", "energetic"]
+#: State of a contact in a solution: ``"separated"`` (no force), ``"sticking"`` (touching, no
+#: slip) or ``"sliding"`` (touching and slipping; for ``method="energetic"`` its force then sits
+#: on the pyramid's boundary, pointing most against the slip).
+ContactState = Literal["sticking", "sliding", "separated"]
 
 
 @dataclass(frozen=True)
@@ -96,7 +100,7 @@ class PassiveResponse:
             converged to equilibrium below ``eps``).
         status: ``"resisted"``, ``"not_resisted"`` (infeasible / converged above ``eps``),
             ``"not_converged"`` (iteration cap), ``"timeout"``, ``"node_limit"`` or ``"failed"``.
-        method: ``"prp"`` or ``"iterative"``.
+        method: ``"prp"``, ``"iterative"`` or ``"energetic"``.
         variant: ``"single-step"``, ``"preload-first"`` or ``"settled-preload"``.
         wrench: Applied wrench ``(fx, fy, fz, mx, my, mz)`` about the object reference point.
         command: Actuator commands of the kept actuators (na,).
@@ -125,6 +129,12 @@ class PassiveResponse:
             touching with no normal force (above the audit tolerance).
         contact_mu: Friction coefficient per contact (nc,) (``None``: not recorded).
         actuator_kinds: Kind of each actuator (``"non-backdrivable"``, ...), (na,).
+        contact_states: :data:`ContactState` per contact (nc,): ``"sliding"`` where the slip
+            exceeds the audit tolerance (in spring-force units ``k |s|``).
+        contact_slip: Slip of the object over the hand at each contact, world frame, (nc, 3)
+            [m] (tangential; virtual, scaled by the stiffness like every displacement).
+        edge_counts: Friction pyramid edges per contact (nc,) (``Settings.cone_tolerance``
+            refines them where loaded).
     """
 
     resistible: bool
@@ -157,6 +167,9 @@ class PassiveResponse:
     friction_use: np.ndarray | None = None
     contact_mu: np.ndarray | None = None
     actuator_kinds: tuple[str, ...] = ()
+    contact_states: tuple[ContactState, ...] = ()
+    contact_slip: np.ndarray | None = None
+    edge_counts: tuple[int, ...] = ()
 
     @property
     def normal_forces(self) -> np.ndarray:

@@ -231,6 +231,9 @@ def response_dict(r: PassiveResponse, model: Any = None) -> dict[str, Any]:
             "force": r.contact_forces[i],
             "force_world": r.contact_forces_world[i],
             "friction_use": None if fu is None or np.isnan(fu[i]) else float(fu[i]),
+            "state": r.contact_states[i] if i < len(r.contact_states) else None,
+            "slip": None if r.contact_slip is None else r.contact_slip[i],
+            "edges": r.edge_counts[i] if i < len(r.edge_counts) else None,
         }
         for i, name in enumerate(r.contact_names)
     ]

@@ -10,7 +10,10 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 from enum import Enum
 
+import numpy as np
+
 from ..errors import InvalidInputError, SolverNotAvailableError, UnknownNameError
+from .cones import check_angle
 from .validate import choice, positive_number, whole_number
 
 
@@ -31,6 +34,9 @@ class Method(Vocabulary):
     PRP = "prp"
     #: Seed Alg. 2 inside Alg. 3: the movement-constrained iterative scheme (default).
     ITERATIVE = "iterative"
+    #: Maximum dissipation (docs/methods.md): the PRP plus slip variables, friction opposing
+    #: slip and sliding contacts on the pyramid's boundary; one mixed-integer problem.
+    ENERGETIC = "energetic"
 
 
 class Variant(Vocabulary):
@@ -71,7 +77,7 @@ class Search(Vocabulary):
     BISECTION = "bisection"
     #: Grid-snapped secant (iterative method only).
     SECANT = "secant"
-    #: One load-factor complementarity problem (PRP only).
+    #: One load-factor complementarity problem (PRP and energetic).
     DIRECT = "direct"
 
 
@@ -140,6 +146,13 @@ class Settings:
         verify_infeasible: Re-solve an infeasible big-M MIQP once with ``M x 100`` before
             trusting the infeasibility (an ``M`` that cuts off every solution is otherwise
             indistinguishable from a load that is not resisted).
+        normal_uncertainty: Worst-case uncertainty of every contact normal [rad] (default 0):
+            friction ``mu -> tan(atan(mu) - u)`` in every method, and for ``"energetic"`` a
+            slipping contact loses ``tan(u)`` of compression per unit slip (docs/methods.md).
+        cone_tolerance: ``"prp"`` and ``"energetic"``: refine each loaded contact's friction
+            pyramid (edges added on the Coulomb cone) until the sector holding its force or
+            slip direction is at most this wide [rad]; ``None`` (default) keeps the model's
+            pyramid. At most 100 edges per contact; planar pyramids are exact already.
     """
 
     backend: str = "bnb"
@@ -158,6 +171,8 @@ class Settings:
     accelerate: bool = True
     complementarity: str = "bigm"
     verify_infeasible: bool = True
+    normal_uncertainty: float = 0.0
+    cone_tolerance: float | None = None
 
     def validated(self) -> Settings:
         """Check every field; raise :class:`InvalidInputError` naming the bad one."""
@@ -192,6 +207,11 @@ class Settings:
             raise InvalidInputError("improvement", f"must be in [0, 1), got {self.improvement!r}")
         if self.variant is not None:
             choice("variant", self.variant, VARIANTS)
+        check_angle("normal_uncertainty", self.normal_uncertainty)
+        if self.cone_tolerance is not None:
+            check_angle("cone_tolerance", self.cone_tolerance, np.pi / 4)
+            if self.cone_tolerance <= 0:
+                raise InvalidInputError("cone_tolerance", "must be a positive angle [rad] or None")
         return self
 
     def variant_for(self, method: str) -> Variant:

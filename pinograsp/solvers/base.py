@@ -39,10 +39,14 @@ class Mode:
         touching: (nc,) True where the contact spring is compressed (``c_n = k delta``).
         moving: (na,) True where a non-backdrivable actuator moves at its command (``f = f_c``);
             meaningless (False) for backdrivable and locked actuators.
+        edges: Energetic problems only, one per friction edge with a tangential part: True
+            where the edge may carry force (it points most against the contact's slip), False
+            where its weight is zero; empty otherwise.
     """
 
     touching: tuple[bool, ...]
     moving: tuple[bool, ...]
+    edges: tuple[bool, ...] = ()
 
 
 @dataclass(frozen=True, eq=False)

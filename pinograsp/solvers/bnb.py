@@ -11,8 +11,14 @@ of every mode below it, so its optimum is a lower bound. The search is depth fir
    the side its relaxed optimum sits closest to; a feasible repair is a new incumbent and very
    often the optimum, which then prunes the rest of the tree;
 3. the node branches on one violated pair — actuators first (their choice decides which
-   contacts can carry load), then the most violated pair — and visits the child on the natural
+   contacts can carry load), then contacts, then friction — and visits the child on the natural
    side first.
+
+Energetic problems add a contact's friction pairs (edge weight / dissipation row). They are
+branched per contact, as the disjunction of its complementary states: *sticking* (every
+dissipation row at zero: no slip) or *sliding in sector k* (only the adjacent edges ``k, k+1``
+may carry force; their own pairs are decided further down). The repair step tries every free
+contact sticking first, then sliding on the edges most against its relaxed slip.
 
 A node is pruned when its bound is not better than the incumbent by more than the relative
 tolerance :data:`REL_GAP` (the objective is a squared net wrench or spring energy that shrinks
@@ -74,8 +80,10 @@ class BranchAndBound:
         self.max_nodes = int(max_nodes)
         self._nodes = self._qps = self._attempts = 0
         npair = len(problem.pairs)
-        # branching priority: actuator pairs first, then contacts, each in index order
+        # branching priority: actuator pairs first, then contacts, then friction
         self._actuator = np.array([k is PairKind.ACTUATOR for k in problem.pair_kind], bool).reshape(npair)
+        self._contact = np.array([k is PairKind.CONTACT for k in problem.pair_kind], bool).reshape(npair)
+        self._groups = [np.array(g, int) for g in problem.groups]
 
     # ---------------------------------------------------------------- helpers
     def _qp(self, fixed: np.ndarray, polish: bool = False) -> QPResult:
@@ -90,12 +98,68 @@ class BranchAndBound:
         comp[fixed >= 0] = 0.0
         return comp
 
-    def _branch_pair(self, viol: np.ndarray) -> int:
+    def _children(self, viol: np.ndarray, fixed: np.ndarray, natural: np.ndarray, z: np.ndarray) -> list[np.ndarray]:
+        """The children of a node, in push order (the last is explored first)."""
         bad = viol > COMP_TOL
-        act = bad & self._actuator
-        cand = act if act.any() else bad
+        for cls in (self._actuator, self._contact):
+            if (bad & cls).any():
+                return self._pair_children(bad & cls, viol, fixed, natural)
+        worst = max(self._groups, key=lambda g: viol[g].max()) if self._groups else None
+        if worst is None or np.count_nonzero(fixed[worst] < 0) < 3:
+            cand = bad if worst is None else bad & np.isin(np.arange(len(bad)), worst)
+            return self._pair_children(cand, viol, fixed, natural)
+        return self._group_children(worst, fixed, z)
+
+    @staticmethod
+    def _pair_children(cand: np.ndarray, viol: np.ndarray, fixed: np.ndarray, natural: np.ndarray) -> list[np.ndarray]:
         idx = np.flatnonzero(cand)
-        return int(idx[np.argmax(viol[idx])])
+        k = int(idx[np.argmax(viol[idx])])
+        out = []
+        for side in (1 - natural[k], natural[k]):  # natural side pushed last: explored first
+            child = fixed.copy()
+            child[k] = side
+            out.append(child)
+        return out
+
+    def _group_children(self, g: np.ndarray, fixed: np.ndarray, z: np.ndarray) -> list[np.ndarray]:
+        """One contact's states: sticking, or sliding in each sector of adjacent edges; the
+        one closest to the relaxed point explored first."""
+        P = self.p
+        v = P.C @ z - P.lo
+        weight, row = v[P.pairs[g, 0]], v[P.pairs[g, 1]]
+        free = fixed[g] < 0
+        stick = fixed.copy()
+        stick[g[free]] = 1
+        scored = [(float(np.abs(row[free]).sum()), 0, stick)]
+        n = len(g)
+        for k in range(n):
+            keep = np.zeros(n, bool)
+            keep[[k, (k + 1) % n]] = True
+            off = free & ~keep
+            child = fixed.copy()
+            child[g[off]] = 0
+            scored.append((float(np.abs(weight[off]).sum()), k + 1, child))
+        scored.sort(key=lambda t: (-t[0], -t[1]))
+        return [c for _, _, c in scored]
+
+    def _repairs(self, z: np.ndarray, fixed: np.ndarray, natural: np.ndarray) -> list[np.ndarray]:
+        """Complementary modes to try near the relaxed point ``z``: the natural sides; for
+        energetic problems, every free friction contact sticking, then sliding on the edges
+        most against its slip."""
+        if not self._groups:
+            return [natural]
+        P = self.p
+        v = P.C @ z - P.lo
+        stick, slide = natural.copy(), natural.copy()
+        for g in self._groups:
+            free = g[fixed[g] < 0]
+            if not len(free):
+                continue
+            stick[free] = 1
+            row = v[P.pairs[g, 1]]
+            on = (row <= row.min() + COMP_TOL).astype(np.int8)
+            slide[free] = on[fixed[g] < 0]
+        return [stick, slide]
 
     def stats(self) -> SearchStats:
         """Counters of the last :meth:`solve`."""
@@ -151,17 +215,14 @@ class BranchAndBound:
             if not np.any(viol > COMP_TOL):
                 best_obj, best_sides, best_z = res.objective, natural, res.z
                 continue
-            rep = self._qp(natural)
-            if rep.status is SolveStatus.OPTIMAL and rep.objective < best_obj:
-                best_obj, best_sides, best_z = rep.objective, natural, rep.z
+            for sides in self._repairs(res.z, fixed, natural):
+                rep = self._qp(sides)
+                if rep.status is SolveStatus.OPTIMAL and rep.objective < best_obj:
+                    best_obj, best_sides, best_z = rep.objective, sides, rep.z
+                    break
             if self._pruned(res.objective, best_obj):
                 continue
-            k = self._branch_pair(viol)
-            first = natural[k]
-            for side in (1 - first, first):  # natural side pushed last: explored first
-                child = fixed.copy()
-                child[k] = side
-                stack.append(child)
+            stack.extend(self._children(viol, fixed, natural, res.z))
         if best_sides is None:
             if limited:
                 return RawSolution(

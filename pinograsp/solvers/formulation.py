@@ -18,7 +18,18 @@ Variables of the scaled problem, in this order::
     z = [beta (nb), obj (nx or 1), qh (nq), fh (na), lam (ncp)]
 
 ``obj`` is the object displacement ``x̂`` for the PRP (Alg. 1) and the step ``ŝ`` along the
-previous net wrench for the movement-constrained PRP (Alg. 2).
+previous net wrench for the movement-constrained PRP (Alg. 2). The energetic problem
+(docs/methods.md) appends one slip magnitude ``λ̂_i`` per contact with friction::
+
+    z = [beta, x̂, qh, fh, lam, slip (nsl)]
+
+and one *dissipation row* per friction edge ``b`` of contact ``i`` (unit tangent ``t̂_b``)::
+
+    dissipation  t̂_b · v̂_i + λ̂_i >= 0,  beta_b >= 0,  beta_b · (t̂_b · v̂_i + λ̂_i) = 0
+
+with ``v̂_i = k_i (G_i^T x - J_i q)_t`` the tangential slip of the object over the hand at the
+contact, in spring-force units: an edge carries force only if it points most against the slip
+(maximum dissipation on the pyramid), and ``λ̂_i = max_b(-t̂_b · v̂_i)`` is the slip's size.
 
 Constraints (every row is in force units)::
 
@@ -115,14 +126,48 @@ class Formulation:
         Ru = m.R.T / self.qscale[None, :] if na else np.zeros((0, nq))
         usigma = 1.0 / np.abs(Ru).max(axis=1) if na else np.zeros(0)
         self.Ru = Ru * usigma[:, None]  # (na, nq): û = Ru qh
+        self._slip_rows(m, G)
         self.nbd = np.array([k == NON_BACKDRIVABLE for k in m.kinds], bool)
         self.bdr = np.array([k == BACKDRIVABLE for k in m.kinds], bool)
         self.lck = np.array([k == LOCKED for k in m.kinds], bool)
 
+    def _slip_rows(self, m: GraspModel, G: np.ndarray) -> None:
+        """Rows of the energetic problem's dissipation block (see the module docstring)."""
+        d = m.d
+        tang = np.zeros((m.nb, d - 1))
+        for b in range(m.nb):
+            i = int(m.beta_contact[b])
+            tang[b] = m.D[i * d + 1 : (i + 1) * d, b]
+        size = np.linalg.norm(tang, axis=1)
+        cols = np.flatnonzero(size > 0)
+        #: friction edges with a tangential part (the dissipation rows), (nf,)
+        self.fric_edges = cols
+        contacts = np.unique(m.beta_contact[cols]).astype(int)
+        #: contacts with friction, in order: one slip magnitude each, (nsl,)
+        self.slip_contacts = contacts
+        self.nsl = len(contacts)
+        index = {int(c): j for j, c in enumerate(contacts)}
+        nf = len(cols)
+        self.Sx = np.zeros((nf, self.nx))
+        self.Sq = np.zeros((nf, m.nq))
+        self.Sl = np.zeros((nf, self.nsl))
+        for r, b in enumerate(cols):
+            i = int(m.beta_contact[b])
+            unit = tang[b] / size[b]
+            trows = np.arange(i * d + 1, (i + 1) * d)
+            self.Sx[r] = (m.k[i] / self.kx) * unit @ G[:, trows].T
+            if m.nq:
+                self.Sq[r] = -(m.k[i] * unit @ m.J[trows]) / self.qscale
+            self.Sl[r, index[i]] = 1.0
+        #: slip loses compression of the worst-case tilted normal: ``tan(u)`` per unit slip
+        self.tilt = float(np.tan(m.normal_uncertainty))
+
     # ------------------------------------------------------------------ layout
     def layout(self, kind: str) -> dict[str, slice]:
-        """Variable slices for ``kind`` ``"prp"`` (object displacement) or ``"move"`` (step)."""
-        nobj = self.nx if kind == "prp" else 1
+        """Variable slices for ``kind`` ``"prp"`` (object displacement), ``"move"`` (step) or
+        ``"energetic"`` (object displacement and one slip magnitude per friction contact)."""
+        nobj = 1 if kind == "move" else self.nx
+        nsl = self.nsl if kind == "energetic" else 0
         o = self.nb
         out = {"beta": slice(0, o), "obj": slice(o, o + nobj)}
         o += nobj
@@ -131,7 +176,23 @@ class Formulation:
         out["fh"] = slice(o, o + self.na)
         o += self.na
         out["lam"] = slice(o, o + self.ncp)
-        out["n"] = slice(0, o + self.ncp)
+        o += self.ncp
+        out["slip"] = slice(o, o + nsl)
+        out["n"] = slice(0, o + nsl)
+        return out
+
+    def slip(self, xh: np.ndarray, qh: np.ndarray) -> np.ndarray:
+        """Scaled tangential slip ``k_i (G_i^T x - J_i q)_t`` of every contact, (nc, d - 1)."""
+        m = self.model
+        d = m.d
+        G = m.G * self.wscale[:, None]
+        out = np.zeros((m.nc, d - 1))
+        for i in range(m.nc):
+            trows = np.arange(i * d + 1, (i + 1) * d)
+            v = (m.k[i] / self.kx) * (G[:, trows].T @ xh)
+            if m.nq:
+                v = v - m.k[i] * (m.J[trows] @ (qh / self.qscale))
+            out[i] = v
         return out
 
     # -------------------------------------------------------------- data scaling
@@ -173,6 +234,17 @@ class Formulation:
         """Scaled object displacement → physical."""
         return xh * F * self.wscale / self.kx
 
-    def spring_gap(self, beta: np.ndarray, xh: np.ndarray, qh: np.ndarray, p: np.ndarray) -> np.ndarray:
-        """Scaled spring gap ``s = c_n - k delta - p`` (nc,)."""
-        return self.E @ beta - self.Kq @ qh + self.Kx @ xh - p
+    def spring_gap(
+        self, beta: np.ndarray, xh: np.ndarray, qh: np.ndarray, p: np.ndarray, slip: np.ndarray | None = None
+    ) -> np.ndarray:
+        """Scaled spring gap ``s = c_n - k delta - p`` (nc,); with the energetic problem's slip
+        magnitudes ``slip`` (nsl,), plus the worst-case tilt term ``tan(u) λ̂``."""
+        s = self.E @ beta - self.Kq @ qh + self.Kx @ xh - p
+        if slip is not None and self.nsl:
+            s = s.copy()
+            s[self.slip_contacts] += self.tilt * slip
+        return s
+
+    def dissipation(self, xh: np.ndarray, qh: np.ndarray, slip: np.ndarray) -> np.ndarray:
+        """Scaled dissipation rows ``t̂_b · v̂_i + λ̂_i`` of the friction edges, (nf,)."""
+        return self.Sx @ xh + self.Sq @ qh + self.Sl @ slip

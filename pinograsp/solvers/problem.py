@@ -50,6 +50,22 @@ class ProblemKind(str, Enum):
     #: ``t d`` and ``0 <= t <= t_max``; minimise ``(t_max - t)^2`` (i.e. maximise ``t``). The
     #: load factor ``t`` is the last variable.
     LOAD = "load"
+    #: The energetic problem (docs/methods.md): the PRP's constraints plus one slip magnitude
+    #: per friction contact and the maximum-dissipation pairs (an edge carries force only if
+    #: it points most against the contact's slip); minimise the spring energy.
+    ENERGETIC = "energetic"
+    #: The energetic problem's largest load factor along a direction (as ``LOAD``).
+    ENERGETIC_LOAD = "energetic-load"
+
+    @property
+    def energetic(self) -> bool:
+        """Whether the problem has slip variables and maximum-dissipation pairs."""
+        return self in (ProblemKind.ENERGETIC, ProblemKind.ENERGETIC_LOAD)
+
+    @property
+    def load(self) -> bool:
+        """Whether the problem maximises a load factor (its last variable)."""
+        return self in (ProblemKind.LOAD, ProblemKind.ENERGETIC_LOAD)
 
 
 class PairKind(str, Enum):
@@ -57,6 +73,8 @@ class PairKind(str, Enum):
 
     CONTACT = "contact"
     ACTUATOR = "actuator"
+    #: A friction edge's weight / its dissipation row (energetic problems only).
+    FRICTION = "friction"
 
 
 @dataclass(frozen=True, eq=False)
@@ -69,14 +87,16 @@ class Rows:
     u: slice
     f: slice
     step: slice
+    diss: slice
 
 
 def layout_rows(form: Formulation, kind: ProblemKind, n_steps: int = 1) -> Rows:
     """Row slices of the inequality block of ``kind`` (``n_steps`` step rows for ``MOVE``)."""
     o = 0
     sl = []
-    nstep = {ProblemKind.PRP: 0, ProblemKind.MOVE: n_steps, ProblemKind.LOAD: 1}[kind]
-    for size in (form.nb, form.nc, form.nc, form.na, form.na, nstep):
+    nstep = n_steps if kind is ProblemKind.MOVE else (1 if kind.load else 0)
+    ndiss = len(form.fric_edges) if kind.energetic else 0
+    for size in (form.nb, form.nc, form.nc, form.na, form.na, nstep, ndiss):
         sl.append(slice(o, o + size))
         o += size
     return Rows(*sl)
@@ -96,14 +116,18 @@ class Problem:
         lo: Lower bounds of ``C z``, (mi,) (``-INF``: none).
         up: Upper bounds of ``C z``, (mi,) (``INF``: none).
         pairs: Complementarity pairs as inequality-row indices, (npair, 2): side 0 is the
-            contact force / actuator displacement, side 1 the spring gap / over-force.
+            contact force / actuator displacement / friction edge weight, side 1 the spring
+            gap / over-force / dissipation row.
         pair_kind: :class:`PairKind` of each pair.
-        pair_owner: Index of the contact or actuator each pair belongs to, (npair,).
+        pair_owner: Index of the contact, actuator or friction edge (``beta`` column) each
+            pair belongs to, (npair,).
         bigm_factor: Scale of each pair side relative to the force scale, (npair, 2), for
             big-M backends (a separated contact's gap grows with the stiffness ratio).
         rows: Row offsets of the inequality block.
         nc, na: Contacts and actuators of the model (for :class:`Mode` conversion).
         eq_names: Name of each equality row (wrench axis, ``hand[j]``, ``coupling[r]``).
+        groups: Energetic problems: the friction pairs of each contact with friction, in the
+            angular order of their edges (adjacent entries are adjacent edges, cyclically).
     """
 
     kind: ProblemKind
@@ -122,6 +146,7 @@ class Problem:
     nc: int
     na: int
     eq_names: tuple[str, ...] = ()
+    groups: tuple[tuple[int, ...], ...] = ()
 
     def empty_rows(self) -> list[str]:
         """Names of equality rows ``0 = b`` with ``b != 0``: nothing can satisfy them."""
@@ -152,11 +177,18 @@ class Problem:
         """Pair sides fixed by ``mode``, (npair,) of 0/1: the side held at its lower bound.
 
         A touching contact holds its gap (side 1) at zero, a separated one its force (side 0);
-        a moving actuator holds its over-force (side 1), a holding one its displacement (side 0).
+        a moving actuator holds its over-force (side 1), a holding one its displacement (side 0);
+        a friction edge that may carry force holds its dissipation row (side 1), another its
+        weight (side 0).
         """
         out = np.zeros(len(self.pairs), np.int8)
+        f = 0
         for k, (pk, i) in enumerate(zip(self.pair_kind, self.pair_owner)):
-            on = mode.touching[i] if pk is PairKind.CONTACT else mode.moving[i]
+            if pk is PairKind.FRICTION:
+                on = mode.edges[f] if f < len(mode.edges) else True
+                f += 1
+            else:
+                on = mode.touching[i] if pk is PairKind.CONTACT else mode.moving[i]
             out[k] = 1 if on else 0
         return out
 
@@ -164,12 +196,15 @@ class Problem:
         """The :class:`Mode` whose pairs are fixed at ``sides`` (inverse of :meth:`sides_of`)."""
         touching = [False] * self.nc
         moving = [False] * self.na
+        edges = []
         for k, (pk, i) in enumerate(zip(self.pair_kind, self.pair_owner)):
             if pk is PairKind.CONTACT:
                 touching[i] = bool(sides[k])
-            else:
+            elif pk is PairKind.ACTUATOR:
                 moving[i] = bool(sides[k])
-        return Mode(tuple(touching), tuple(moving))
+            else:
+                edges.append(bool(sides[k]))
+        return Mode(tuple(touching), tuple(moving), tuple(edges))
 
     def natural_sides(self, z: np.ndarray) -> np.ndarray:
         """For each pair, the side closer to its bound at ``z`` (ties: side 1), (npair,)."""
@@ -204,7 +239,7 @@ def build_problem(
         form: Scaled formulation of the model.
         kind: :class:`ProblemKind` (or its value).
         data: Scaled data of the solve (for ``LOAD``, ``data.direction`` is the scaled unit load
-            direction and ``data.w`` is ignored). For ``MOVE``, ``data.direction`` (nx,) is the
+            direction and ``data.w`` a constant load added to ``t d``, usually zero). For ``MOVE``, ``data.direction`` (nx,) is the
             movement direction; an (nx, m) matrix lets the object move by any combination
             ``D a`` with ``0 <= a <= gamma`` (the extra step variables ``a[1:]`` are appended
             after every other variable).
@@ -213,16 +248,16 @@ def build_problem(
     """
     kind = ProblemKind(kind)
     move = kind is ProblemKind.MOVE
-    lay = form.layout("move" if move else "prp")
+    lay = form.layout("move" if move else ("energetic" if kind.energetic else "prp"))
     directions = np.asarray(data.direction, float)
     directions = directions.reshape(len(directions), -1) if move else directions
-    extra = directions.shape[1] - 1 if move else (1 if kind is ProblemKind.LOAD else 0)
+    extra = directions.shape[1] - 1 if move else (1 if kind.load else 0)
     n = lay["n"].stop + extra
     L, l_vec = _objective(form, kind, data, lay, n, t_max)
     A, b, eq_names = _equalities(form, kind, data, lay, n)
     rows = layout_rows(form, kind, directions.shape[1] if move else 1)
     C, lo, up = _inequalities(form, kind, data, lay, n, rows, directions, gamma, t_max)
-    pairs, pair_kind, owner, factor = _pairs(form, rows)
+    pairs, pair_kind, owner, factor = _pairs(form, rows, kind.energetic)
     return Problem(
         kind=kind,
         L=L,
@@ -240,6 +275,7 @@ def build_problem(
         nc=form.nc,
         na=form.na,
         eq_names=eq_names,
+        groups=_groups(form, pair_kind, owner),
     )
 
 
@@ -252,7 +288,7 @@ def _objective(
         L = np.zeros((f.nw, n))
         L[:, lay["beta"]] = f.Gb
         return L, np.asarray(data.w, float).copy()
-    if kind is ProblemKind.LOAD:
+    if kind.load:
         L = np.zeros((1, n))
         L[0, -1] = 1.0
         return L, np.array([-float(t_max)])
@@ -273,10 +309,10 @@ def _equalities(
         names += ["fx", "fy", "mz"] if f.model.planar else ["fx", "fy", "fz", "mx", "my", "mz"]
         Aeq = np.zeros((f.nw, n))
         Aeq[:, sb] = f.Gb
-        if kind is ProblemKind.LOAD:
+        if kind.load:
             Aeq[:, -1] = np.asarray(data.direction, float)
         eq.append(Aeq)
-        rhs.append(np.zeros(f.nw) if kind is ProblemKind.LOAD else -np.asarray(data.w, float))
+        rhs.append(-np.asarray(data.w, float))  # load kinds: a constant part of the load
     names += [f"hand[{j}]" for j in range(f.nq)] + [f"coupling[{r}]" for r in range(f.ncp)]
     Ah = np.zeros((f.nq, n))
     Ah[:, sb] = f.T
@@ -303,7 +339,7 @@ def _inequalities(
     """``C``, ``lo``, ``up`` of the rows beta | c_n | gap | u | f | step (``MOVE``: steps in
     ``[0, gamma]``; ``LOAD``: ``t`` in ``[0, t_max]``)."""
     sb, so, sq = lay["beta"], lay["obj"], lay["qh"]
-    mi = rows.step.stop
+    mi = rows.diss.stop
     C = np.zeros((mi, n))
     lo = np.full(mi, -INF)
     up = np.full(mi, INF)
@@ -325,9 +361,17 @@ def _inequalities(
     else:
         C[rows.gap, so] = f.Kx
         lo[rows.gap] = p
-    if kind is ProblemKind.LOAD:
+    if kind.load:
         C[rows.step, -1] = 1.0
         lo[rows.step], up[rows.step] = 0.0, float(t_max)
+    if kind.energetic:
+        sl = lay["slip"]
+        C[rows.diss, so] = f.Sx
+        C[rows.diss, sq] = f.Sq
+        C[rows.diss, sl] = f.Sl
+        lo[rows.diss] = 0.0
+        # worst-case tilted normal: slip loses tan(u) of compression (cones.py)
+        C[rows.gap.start + f.slip_contacts, sl.start + np.arange(f.nsl)] = f.tilt
     C[rows.u, sq] = f.Ru
     C[rows.f, lay["fh"]] = np.eye(f.na)
     fc = np.asarray(data.fc, float)
@@ -340,20 +384,46 @@ def _inequalities(
     return C, lo, up
 
 
-def _pairs(f: Formulation, rows: Rows) -> tuple[np.ndarray, tuple[PairKind, ...], np.ndarray, np.ndarray]:
-    """The complementarity pairs (contacts, then non-backdrivable actuators): their rows
-    (npair, 2), kinds, owners (npair,) and big-M factors (npair, 2)."""
+def _pairs(
+    f: Formulation, rows: Rows, energetic: bool = False
+) -> tuple[np.ndarray, tuple[PairKind, ...], np.ndarray, np.ndarray]:
+    """The complementarity pairs (contacts, non-backdrivable actuators, then for energetic
+    problems the friction edges): their rows (npair, 2), kinds, owners (npair,) and big-M
+    factors (npair, 2)."""
     gap_m, u_m = _bigm_factors(f)
     nc = f.nc
     nbd = np.flatnonzero(f.nbd)
+    edges = f.fric_edges if energetic else np.zeros(0, int)
     pairs = [(rows.cn.start + i, rows.gap.start + i) for i in range(nc)]
     pairs += [(rows.u.start + a, rows.f.start + a) for a in nbd]
-    kinds = (PairKind.CONTACT,) * nc + (PairKind.ACTUATOR,) * len(nbd)
-    owner = np.concatenate([np.arange(nc), nbd]).astype(int)
+    pairs += [(rows.beta.start + b, rows.diss.start + r) for r, b in enumerate(edges)]
+    kinds = (PairKind.CONTACT,) * nc + (PairKind.ACTUATOR,) * len(nbd) + (PairKind.FRICTION,) * len(edges)
+    owner = np.concatenate([np.arange(nc), nbd, edges]).astype(int)
+    slip_m = gap_m[f.model.beta_contact[edges]] if len(edges) else np.zeros(0)
     factor = np.vstack(
-        [np.column_stack([np.ones(nc), gap_m]), np.column_stack([u_m[nbd], np.ones(len(nbd))])]
+        [
+            np.column_stack([np.ones(nc), gap_m]),
+            np.column_stack([u_m[nbd], np.ones(len(nbd))]),
+            np.column_stack([np.ones(len(edges)), slip_m]),
+        ]
     )
     return np.array(pairs, int).reshape(-1, 2), kinds, owner, factor.reshape(-1, 2)
+
+
+def _groups(
+    form: Formulation, kinds: tuple[PairKind, ...], owner: np.ndarray
+) -> tuple[tuple[int, ...], ...]:
+    """Friction pairs per contact, in the angular order of their edges (see :class:`Problem`)."""
+    m = form.model
+    d = m.d
+    by_contact: dict[int, list[tuple[float, int]]] = {}
+    for k, (pk, b) in enumerate(zip(kinds, owner)):
+        if pk is PairKind.FRICTION:
+            i = int(m.beta_contact[b])
+            t = m.D[i * d + 1 : (i + 1) * d, b]
+            angle = float(np.mod(np.arctan2(t[1], t[0]), 2 * np.pi)) if d == 3 else (0.0 if t[0] > 0 else np.pi)
+            by_contact.setdefault(i, []).append((angle, k))
+    return tuple(tuple(k for _, k in sorted(v)) for _, v in sorted(by_contact.items()))
 
 
 def _bigm_factors(form: Formulation) -> tuple[np.ndarray, np.ndarray]:
