@@ -112,11 +112,12 @@ class _Query:
     t0: float
     tally: Tally
 
-    def test(self, magnitude: float) -> tuple[bool, PassiveResponse]:
-        """The verdict at ``magnitude`` [N or N·m] along the direction, recorded in the tally."""
+    def test(self, magnitude: float, solver: PassiveSolver | None = None) -> tuple[bool, PassiveResponse]:
+        """The verdict at ``magnitude`` [N or N·m] along the direction, recorded in the tally
+        (``solver``: another session than the query's, e.g. on a refined model)."""
         with warnings.catch_warnings():  # summarised once, after the search
             warnings.simplefilter("ignore", AuditWarning)
-            resp = self.solver.response(self.command, magnitude * self.direction, self.method)
+            resp = (solver or self.solver).response(self.command, magnitude * self.direction, self.method)
         self.tally.add(resp)
         ok = _check(resp, magnitude)
         self.tally.evidence.append((magnitude, ok))
@@ -240,7 +241,7 @@ def _direct(q: _Query) -> tuple[float, PassiveResponse]:
             status="failed",
         )
     at = mag * (1.0 - 1e-6)
-    ok, resp = q.test(at)
+    ok, resp = q.test(at, solver.plain(lf.model) if lf.model is not None else None)
     if not ok:
         raise SolverError(
             f"load-factor problem found magnitude {mag:.9g} but the {q.method} problem at {at:.9g} "

@@ -51,6 +51,7 @@ from ..solvers.problem import ProblemKind, build_problem
 from ..solvers.solve import Backend, BackendOptions, single_threaded
 from ..solvers.solve import solve as solve_problem
 from .assemble import build_response, layout_of
+from .refine import refine
 from .stages import Stage, iterative_stage, prp_stage
 
 #: Contact stiffness ratio above which the branch-and-bound warns (docs/solvers.md).
@@ -80,11 +81,13 @@ class LoadFactor:
         status: :class:`~pinograsp.solvers.base.SolveStatus`.
         magnitude: Largest resistible magnitude [N or N·m] (``inf``: the search limit).
         solve_time: Wall time [s].
+        model: The refined model the answer was found on (``Settings.cone_tolerance``), or None.
     """
 
     status: SolveStatus
     magnitude: float
     solve_time: float
+    model: GraspModel | None = None
 
 
 _FORMS: weakref.WeakKeyDictionary[GraspModel, Formulation] = weakref.WeakKeyDictionary()
@@ -174,6 +177,59 @@ class PassiveSolver:
         """Spring pre-compression [N] (nc,) left by a converged preload stage of ``method``."""
         return self.form.E @ pre.raw.z[layout_of(self, method)["beta"]] * pre.data.F
 
+    # ------------------------------------------------------------ refinement
+    def _refines(self, method: str) -> bool:
+        """Whether queries of ``method`` refine the pyramids (``Settings.cone_tolerance``)."""
+        if self.settings.cone_tolerance is None:
+            return False
+        if method == Method.ITERATIVE:
+            raise InvalidInputError(
+                "cone_tolerance", "cone refinement applies to method='prp' or 'energetic', not 'iterative'"
+            )
+        return not self.model.planar
+
+    def plain(self, model: GraspModel) -> PassiveSolver:
+        """A solver of ``model`` (a refinement of this one's) with these settings but no
+        further refinement."""
+        with warnings.catch_warnings():  # the same contacts: warned by this session already
+            warnings.simplefilter("ignore", ConditioningWarning)
+            return PassiveSolver(model, replace(self.settings, cone_tolerance=None))
+
+    def _refined_response(self, command: object, wrench: object, method: str) -> PassiveResponse:
+        """:meth:`response` on pyramids refined where the answer loads them (analysis/refine.py);
+        a load not resisted is refined where its direction's largest resisted load sits."""
+        w6 = self.model.wrench_vector(wrench)
+        size = float(np.linalg.norm(w6))
+
+        def run(mr: GraspModel) -> tuple[PassiveResponse, PassiveResponse | None]:
+            sub = self.plain(mr)
+            r = sub.response(command, w6, method)
+            if r.resistible or size == 0.0 or r.status != "not_resisted":
+                return r, (r if r.resistible else None)
+            lf = sub.max_load_factor(command, w6 / size, size, method)
+            if lf.status is not SolveStatus.OPTIMAL or not 0.0 < lf.magnitude < size:
+                return r, None
+            probe = sub.response(command, w6 * (lf.magnitude * (1.0 - 1e-6) / size), method)
+            return r, (probe if probe.resistible else None)
+
+        return refine(self.model, float(self.settings.cone_tolerance), run)[0]
+
+    def _refined_load_factor(
+        self, command: object, direction: np.ndarray, upper: float, method: str
+    ) -> LoadFactor:
+        """:meth:`max_load_factor` on pyramids refined where its limit loads them."""
+
+        def run(mr: GraspModel) -> tuple[LoadFactor, PassiveResponse | None]:
+            sub = self.plain(mr)
+            lf = replace(sub.max_load_factor(command, direction, upper, method), model=mr)
+            if lf.status is not SolveStatus.OPTIMAL or not lf.magnitude > 0.0:
+                return lf, None
+            at = float(upper) if np.isinf(lf.magnitude) else lf.magnitude * (1.0 - 1e-6)
+            probe = sub.response(command, at * np.asarray(direction, float), method)
+            return lf, (probe if probe.resistible else None)
+
+        return refine(self.model, float(self.settings.cone_tolerance), run)[0]
+
     def _pre_method(self, method: str, variant: Variant) -> Method:
         """``Method`` of the preload stage of ``method`` under ``variant``."""
         if variant is Variant.SETTLED_PRELOAD:
@@ -204,6 +260,8 @@ class PassiveSolver:
             direction; ``inf`` when ``upper`` is reached), ``"infeasible"`` (not even
             ``w = 0``), ``"node_limit"``, ``"timeout"`` or ``"failed"``.
         """
+        if self._refines(method):
+            return self._refined_load_factor(command, direction, upper, method)
         m, f, s = self.model, self.form, self.settings
         fc = m.command_vector(command)
         mirror = self._mirror(fc)
@@ -251,6 +309,8 @@ class PassiveSolver:
     def response(self, command: object, wrench: object, method: str = "iterative") -> PassiveResponse:
         """Passive response to ``wrench`` under ``command`` (see :func:`passive_response`)."""
         choice("method", method, METHODS)
+        if self._refines(method):
+            return self._refined_response(command, wrench, method)
         m = self.model
         fc = m.command_vector(command)
         mirror = self._mirror(fc)
@@ -280,7 +340,9 @@ class PassiveSolver:
         stage = self._load_stage(method, w + self._carried(pre, pre_method, method), fc, p, pre.raw.mode)
         return build_response(self, method, variant, w6, fc, stage, pre, pre_fresh=fresh, pre_kind=pre_method)
 
-    def _load_stage(self, method: str, w: np.ndarray, fc: np.ndarray, p: np.ndarray, start: Mode | None) -> Stage:
+    def _load_stage(
+        self, method: str, w: np.ndarray, fc: np.ndarray, p: np.ndarray, start: Mode | None
+    ) -> Stage:
         """The load stage of ``method`` (``start``: the preload's mode, the iterative scheme's
         first incumbent)."""
         if method == Method.PRP:

@@ -118,7 +118,9 @@ def refined(model: M, extra: Mapping[int, list[float]]) -> M:
             mu = float(model.mu[i])
             radius = np.linalg.norm(block[1:], axis=0)
             if mu <= 0:
-                raise InvalidInputError("cone_tolerance", f"contact {model.contact_names[i]!r} has no friction")
+                raise InvalidInputError(
+                    "cone_tolerance", f"contact {model.contact_names[i]!r} has no friction"
+                )
             if np.any(radius > mu * (1 + 1e-9)):
                 raise InvalidInputError(
                     "cone_tolerance", "cone refinement needs the inscribed pyramid (circumscribed=False)"
@@ -129,7 +131,8 @@ def refined(model: M, extra: Mapping[int, list[float]]) -> M:
             block = block[:, order]
             if block.shape[1] > MAX_REFINED_EDGES:
                 raise InvalidInputError(
-                    "cone_tolerance", f"more than {MAX_REFINED_EDGES} edges on contact {model.contact_names[i]!r}"
+                    "cone_tolerance",
+                    f"more than {MAX_REFINED_EDGES} edges on contact {model.contact_names[i]!r}",
                 )
         blocks_D.append(block)
         owners += [i] * block.shape[1]
@@ -139,7 +142,9 @@ def refined(model: M, extra: Mapping[int, list[float]]) -> M:
     for i, block in enumerate(blocks_D):
         D[i * d : (i + 1) * d, o : o + block.shape[1]] = block
         o += block.shape[1]
-    return replace(model, D=readonly(D), beta_contact=readonly(np.array(owners, int)))
+    owner = np.array(owners, int)
+    owner.setflags(write=False)
+    return replace(model, D=readonly(D), beta_contact=owner)
 
 
 def edge_counts(model: object) -> tuple[int, ...]:

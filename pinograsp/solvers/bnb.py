@@ -98,7 +98,9 @@ class BranchAndBound:
         comp[fixed >= 0] = 0.0
         return comp
 
-    def _children(self, viol: np.ndarray, fixed: np.ndarray, natural: np.ndarray, z: np.ndarray) -> list[np.ndarray]:
+    def _children(
+        self, viol: np.ndarray, fixed: np.ndarray, natural: np.ndarray, z: np.ndarray
+    ) -> list[np.ndarray]:
         """The children of a node, in push order (the last is explored first)."""
         bad = viol > COMP_TOL
         for cls in (self._actuator, self._contact):
@@ -111,7 +113,9 @@ class BranchAndBound:
         return self._group_children(worst, fixed, z)
 
     @staticmethod
-    def _pair_children(cand: np.ndarray, viol: np.ndarray, fixed: np.ndarray, natural: np.ndarray) -> list[np.ndarray]:
+    def _pair_children(
+        cand: np.ndarray, viol: np.ndarray, fixed: np.ndarray, natural: np.ndarray
+    ) -> list[np.ndarray]:
         idx = np.flatnonzero(cand)
         k = int(idx[np.argmax(viol[idx])])
         out = []

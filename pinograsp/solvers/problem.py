@@ -410,9 +410,7 @@ def _pairs(
     return np.array(pairs, int).reshape(-1, 2), kinds, owner, factor.reshape(-1, 2)
 
 
-def _groups(
-    form: Formulation, kinds: tuple[PairKind, ...], owner: np.ndarray
-) -> tuple[tuple[int, ...], ...]:
+def _groups(form: Formulation, kinds: tuple[PairKind, ...], owner: np.ndarray) -> tuple[tuple[int, ...], ...]:
     """Friction pairs per contact, in the angular order of their edges (see :class:`Problem`)."""
     m = form.model
     d = m.d
@@ -421,7 +419,9 @@ def _groups(
         if pk is PairKind.FRICTION:
             i = int(m.beta_contact[b])
             t = m.D[i * d + 1 : (i + 1) * d, b]
-            angle = float(np.mod(np.arctan2(t[1], t[0]), 2 * np.pi)) if d == 3 else (0.0 if t[0] > 0 else np.pi)
+            angle = (
+                float(np.mod(np.arctan2(t[1], t[0]), 2 * np.pi)) if d == 3 else (0.0 if t[0] > 0 else np.pi)
+            )
             by_contact.setdefault(i, []).append((angle, k))
     return tuple(tuple(k for _, k in sorted(v)) for _, v in sorted(by_contact.items()))
 
