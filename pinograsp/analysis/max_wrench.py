@@ -283,9 +283,10 @@ def max_resistible_wrench(
         upper: Upper limit of the search [N or N·m along the unit direction].
         steps: Bisection steps; resolution ``upper / 2**steps``.
         search: ``"auto"`` (default: ``"secant"`` for the iterative method, ``"direct"`` for
-            the energetic one, ``"bisection"`` for the PRP), ``"bisection"`` (the paper's), ``"secant"`` (iterative only: the same
-            grid cell as the bisection when resistibility is monotone along the ray, in fewer
-            stages; :mod:`pinograsp.analysis.search`) or ``"direct"`` (PRP, energetic): one complementarity
+            the energetic one, ``"bisection"`` for the PRP), ``"bisection"`` (the paper's),
+            ``"secant"`` (iterative only: the same grid cell as the bisection when
+            resistibility is monotone along the ray, in fewer stages;
+            :mod:`pinograsp.analysis.search`) or ``"direct"`` (PRP, energetic): one complementarity
             problem maximising the load factor, exact instead of ``upper / 2**steps``; the
             response at the limit is then solved at ``magnitude * (1 - 1e-6)``.
         settings, overrides: Solver settings (see :class:`pinograsp.core.settings.Settings`).
