@@ -241,8 +241,8 @@ def build_problem(
         data: Scaled data of the solve (for ``LOAD``, ``data.direction`` is the scaled unit load
             direction and ``data.w`` a constant load added to ``t d``, usually zero). For
             ``MOVE``, ``data.direction`` (nx,) is the movement direction; an (nx, m) matrix
-            lets the object move by any combination ``D a`` with ``0 <= a <= gamma`` (the extra step variables ``a[1:]`` are appended
-            after every other variable).
+            lets the object move by any combination ``D a`` with ``0 <= a <= gamma`` (the
+            extra step variables ``a[1:]`` are appended after every other variable).
         gamma: Step bound of Alg. 2 (scaled; ``MOVE`` only; ``INF`` for no bound).
         t_max: Search limit of the load factor (scaled; ``LOAD`` only).
     """
