@@ -196,6 +196,7 @@ def _finish(q: _Query, magnitude: float, at_upper: bool, response: PassiveRespon
         unbounded = limit.resistible
     else:
         status = "finite" if magnitude >= q.floor and magnitude > 0 else "below_resolution"
+        magnitude = magnitude if status == "finite" else 0.0  # a direct solve's 1e-15 is 0
         unbounded = False
     message = _audit_warning(q)
     if message is not None:
