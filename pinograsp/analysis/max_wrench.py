@@ -221,7 +221,8 @@ def _finish(q: _Query, magnitude: float, at_upper: bool, response: PassiveRespon
 
 
 def _direct(q: _Query) -> tuple[float, PassiveResponse]:
-    """The PRP's exact limit by one load-factor problem, and the response just below it."""
+    """The exact limit by one load-factor problem, and the response at it: the energetic
+    problem's own point there, or (PRP) the response just below it. ``inf``: ``upper``."""
     solver, upper = q.solver, float(q.upper)
     lf = solver.max_load_factor(q.command, q.direction, upper, q.method)
     status, mag = lf.status, lf.magnitude
@@ -235,6 +236,10 @@ def _direct(q: _Query) -> tuple[float, PassiveResponse]:
         raise PreloadNotInEquilibriumError(
             solver.model.command_vector(q.command).tolist(), "load-factor problem infeasible"
         )
+    if lf.response is not None:  # energetic: the point at the limit
+        q.tally.evidence.append((float(q.upper) if np.isinf(mag) else mag, True))
+        q.tally.flag(mag, lf.response)
+        return mag, lf.response
     if np.isinf(mag):
         raise SolverError(
             f"load-factor problem reached the upper limit {upper:g} that the PRP did not resist",
@@ -308,6 +313,9 @@ def max_resistible_wrench(
     q = _Query(
         solver, command, d, method, upper, steps, kind, _floor(solver, d, method, upper, steps), t0, tally
     )
+    if kind is Search.DIRECT and method == Method.ENERGETIC:  # one solve decides
+        mag, resp = _direct(q)
+        return _finish(q, mag, bool(np.isinf(mag)), resp)
     # the upper limit first: an unbounded direction costs one (fast-path) solve, not a search
     ok, resp = q.test(float(upper))
     if ok:

@@ -33,6 +33,7 @@ The stages themselves are in :mod:`pinograsp.analysis.stages`, their assembly in
 
 from __future__ import annotations
 
+import time
 import warnings
 import weakref
 from dataclasses import dataclass, replace
@@ -82,12 +83,15 @@ class LoadFactor:
         magnitude: Largest resistible magnitude [N or N·m] (``inf``: the search limit).
         solve_time: Wall time [s].
         model: The refined model the answer was found on (``Settings.cone_tolerance``), or None.
+        response: ``method="energetic"``: the equilibrium at the limit (the load-factor
+            problem's own point, at ``magnitude`` or at ``upper``), else None.
     """
 
     status: SolveStatus
     magnitude: float
     solve_time: float
     model: GraspModel | None = None
+    response: PassiveResponse | None = None
 
 
 _FORMS: weakref.WeakKeyDictionary[GraspModel, Formulation] = weakref.WeakKeyDictionary()
@@ -224,8 +228,10 @@ class PassiveSolver:
             lf = replace(sub.max_load_factor(command, direction, upper, method), model=mr)
             if lf.status is not SolveStatus.OPTIMAL or not lf.magnitude > 0.0:
                 return lf, None
-            at = float(upper) if np.isinf(lf.magnitude) else lf.magnitude * (1.0 - 1e-6)
-            probe = sub.response(command, at * np.asarray(direction, float), method)
+            probe = lf.response
+            if probe is None:
+                at = float(upper) if np.isinf(lf.magnitude) else lf.magnitude * (1.0 - 1e-6)
+                probe = sub.response(command, at * np.asarray(direction, float), method)
             return lf, (probe if probe.resistible else None)
 
         return refine(self.model, float(self.settings.cone_tolerance), run)[0]
@@ -266,12 +272,14 @@ class PassiveSolver:
         fc = m.command_vector(command)
         mirror = self._mirror(fc)
         if mirror is not None:
-            return mirror[0].max_load_factor(np.abs(fc), direction, upper, method)
+            return replace(mirror[0].max_load_factor(np.abs(fc), direction, upper, method), response=None)
         p = np.zeros(m.nc)
         pre_time = 0.0
+        pre, pre_method, fresh = None, None, True
         variant = s.variant_for(method)
         if variant is not Variant.SINGLE_STEP:
             pre_method = self._pre_method(method, variant)
+            fresh = self._preload_key(fc, pre_method) not in self._preload
             pre = self.preload_stage(fc, pre_method)
             pre_time = pre.solve_time
             if not pre.converged:
@@ -285,14 +293,32 @@ class PassiveSolver:
         data = ScaledData(data.F, data.w, data.fc, data.p, data.x0, d)
         tmax = float(upper) / data.F
         kind = ProblemKind.ENERGETIC_LOAD if method == Method.ENERGETIC else ProblemKind.LOAD
+        t0 = time.perf_counter()
         raw = self._load_factor(kind, data, tmax)
+        raw = replace(raw, solve_time=time.perf_counter() - t0)
         dt = raw.solve_time + pre_time
         if raw.status != OPTIMAL:
             return LoadFactor(raw.status, float("nan"), dt)
         t = max(float(raw.z[-1]), 0.0)
-        if t >= tmax * (1.0 - 1e-9):
-            return LoadFactor(OPTIMAL, float("inf"), dt)
-        return LoadFactor(OPTIMAL, t * data.F, dt)
+        at_upper = t >= tmax * (1.0 - 1e-9)
+        magnitude = float("inf") if at_upper else t * data.F
+        if method != Method.ENERGETIC:
+            return LoadFactor(OPTIMAL, magnitude, dt)
+        # the load-factor problem's point is an equilibrium of the energetic problem at t d
+        stage = Stage(
+            raw,
+            replace(data, w=data.w + t * d),
+            raw.z[self.form.layout("energetic")["obj"]],
+            "resisted",
+            True,
+            1,
+            (),
+            raw.solve_time,
+            1,
+        )
+        w6 = (float(upper) if at_upper else magnitude) * np.asarray(direction, float)
+        resp = build_response(self, method, variant, w6, fc, stage, pre, pre_fresh=fresh, pre_kind=pre_method)
+        return LoadFactor(OPTIMAL, magnitude, dt, response=resp)
 
     def _load_factor(self, kind: ProblemKind, data: ScaledData, tmax: float) -> RawSolution:
         if self.options.backend is Backend.BNB:
