@@ -32,6 +32,7 @@ This module never imports Pinocchio or Coal.
 
 from __future__ import annotations
 
+import heapq
 from dataclasses import dataclass
 
 import numpy as np
@@ -66,6 +67,34 @@ class SearchStats:
     attempts: int = 0
 
 
+class _Open:
+    """The open nodes: a stack (depth first), or for energetic problems a priority queue on
+    the parent's bound (best first: their many friction pairs make a depth-first dive into a
+    poor subtree costly), ties depth first. Both orders are deterministic."""
+
+    def __init__(self, best_first: bool) -> None:
+        self.best_first = best_first
+        self._items: list = []
+        self._count = 0
+
+    def __bool__(self) -> bool:
+        return bool(self._items)
+
+    def append(self, fixed: np.ndarray, bound: float) -> None:
+        self._count += 1
+        if self.best_first:
+            heapq.heappush(self._items, (bound, -self._count, fixed))
+        else:
+            self._items.append((bound, fixed))
+
+    def pop(self) -> tuple[np.ndarray, float]:
+        if self.best_first:
+            bound, _, fixed = heapq.heappop(self._items)
+            return fixed, bound
+        bound, fixed = self._items.pop()
+        return fixed, bound
+
+
 class BranchAndBound:
     """Exact solver of one :class:`Problem`.
 
@@ -84,6 +113,7 @@ class BranchAndBound:
         self._actuator = np.array([k is PairKind.ACTUATOR for k in problem.pair_kind], bool).reshape(npair)
         self._contact = np.array([k is PairKind.CONTACT for k in problem.pair_kind], bool).reshape(npair)
         self._groups = [np.array(g, int) for g in problem.groups]
+        self._group_pair = list(problem.group_owner)  # a contact's own pair index is its index
 
     # ---------------------------------------------------------------- helpers
     def _qp(self, fixed: np.ndarray, polish: bool = False) -> QPResult:
@@ -155,9 +185,13 @@ class BranchAndBound:
         P = self.p
         v = P.C @ z - P.lo
         stick, slide = natural.copy(), natural.copy()
-        for g in self._groups:
+        for g, c in zip(self._groups, self._group_pair):
             free = g[fixed[g] < 0]
             if not len(free):
+                continue
+            if natural[c] == 0:  # separated: no friction force, any slip
+                stick[free] = 0
+                slide[free] = 0
                 continue
             stick[free] = 1
             row = v[P.pairs[g, 1]]
@@ -190,13 +224,16 @@ class BranchAndBound:
             res = self._qp(sides.astype(np.int8))
             if res.status is SolveStatus.OPTIMAL:
                 best_obj, best_sides, best_z = res.objective, sides, res.z
-        stack = [np.full(npair, -1, np.int8)]
+        stack = _Open(P.kind.energetic)
+        stack.append(np.full(npair, -1, np.int8), 0.0)
         limited = False
         while stack:
             if self._nodes >= self.max_nodes:
                 limited = True
                 break
-            fixed = stack.pop()
+            fixed, parent = stack.pop()
+            if stack.best_first and self._pruned(parent, best_obj):
+                continue
             res = self._qp(fixed)
             self._nodes += 1
             if res.status is SolveStatus.FAILED:
@@ -210,7 +247,7 @@ class BranchAndBound:
                 for side in (0, 1):
                     child = fixed.copy()
                     child[k] = side
-                    stack.append(child)
+                    stack.append(child, parent)
                 continue
             if res.status is SolveStatus.INFEASIBLE or self._pruned(res.objective, best_obj):
                 continue
@@ -226,7 +263,8 @@ class BranchAndBound:
                     break
             if self._pruned(res.objective, best_obj):
                 continue
-            stack.extend(self._children(viol, fixed, natural, res.z))
+            for child in self._children(viol, fixed, natural, res.z):
+                stack.append(child, res.objective)
         if best_sides is None:
             if limited:
                 return RawSolution(

@@ -128,6 +128,7 @@ class Problem:
         eq_names: Name of each equality row (wrench axis, ``hand[j]``, ``coupling[r]``).
         groups: Energetic problems: the friction pairs of each contact with friction, in the
             angular order of their edges (adjacent entries are adjacent edges, cyclically).
+        group_owner: The contact of each group.
     """
 
     kind: ProblemKind
@@ -147,6 +148,7 @@ class Problem:
     na: int
     eq_names: tuple[str, ...] = ()
     groups: tuple[tuple[int, ...], ...] = ()
+    group_owner: tuple[int, ...] = ()
 
     def empty_rows(self) -> list[str]:
         """Names of equality rows ``0 = b`` with ``b != 0``: nothing can satisfy them."""
@@ -258,6 +260,7 @@ def build_problem(
     rows = layout_rows(form, kind, directions.shape[1] if move else 1)
     C, lo, up = _inequalities(form, kind, data, lay, n, rows, directions, gamma, t_max)
     pairs, pair_kind, owner, factor = _pairs(form, rows, kind.energetic)
+    groups = _groups(form, pair_kind, owner)
     return Problem(
         kind=kind,
         L=L,
@@ -275,7 +278,8 @@ def build_problem(
         nc=form.nc,
         na=form.na,
         eq_names=eq_names,
-        groups=_groups(form, pair_kind, owner),
+        groups=tuple(g for _, g in groups),
+        group_owner=tuple(i for i, _ in groups),
     )
 
 
@@ -410,8 +414,11 @@ def _pairs(
     return np.array(pairs, int).reshape(-1, 2), kinds, owner, factor.reshape(-1, 2)
 
 
-def _groups(form: Formulation, kinds: tuple[PairKind, ...], owner: np.ndarray) -> tuple[tuple[int, ...], ...]:
-    """Friction pairs per contact, in the angular order of their edges (see :class:`Problem`)."""
+def _groups(
+    form: Formulation, kinds: tuple[PairKind, ...], owner: np.ndarray
+) -> list[tuple[int, tuple[int, ...]]]:
+    """Friction pairs per contact, in the angular order of their edges, with the contact (see
+    :class:`Problem`)."""
     m = form.model
     d = m.d
     by_contact: dict[int, list[tuple[float, int]]] = {}
@@ -423,7 +430,7 @@ def _groups(form: Formulation, kinds: tuple[PairKind, ...], owner: np.ndarray) -
                 float(np.mod(np.arctan2(t[1], t[0]), 2 * np.pi)) if d == 3 else (0.0 if t[0] > 0 else np.pi)
             )
             by_contact.setdefault(i, []).append((angle, k))
-    return tuple(tuple(k for _, k in sorted(v)) for _, v in sorted(by_contact.items()))
+    return [(i, tuple(k for _, k in sorted(v))) for i, v in sorted(by_contact.items())]
 
 
 def _bigm_factors(form: Formulation) -> tuple[np.ndarray, np.ndarray]:
