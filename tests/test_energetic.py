@@ -195,3 +195,40 @@ def test_bad_settings():
         pg.max_resistible_wrench(pg.examples.pinch(planar=False), 1.0, "fy", cone_tolerance=0.01)
     with pytest.raises(InvalidInputError, match="search"):
         pg.max_resistible_wrench(m, 1.0, "fy", method="energetic", search="secant")
+
+
+@pytest.fixture(scope="module")
+def case3():
+    sc = pg.load_scene("case3")
+    return sc.model, sc.command
+
+
+def test_case3_agrees_with_iterative(case3):
+    m, cmd = case3
+    up = _mw(m, cmd, "fy", upper=50.0)
+    assert up.magnitude == pytest.approx(_mw(m, cmd, "fy", method="iterative", upper=50.0).magnitude, rel=2e-3)
+    assert up.magnitude == pytest.approx(1.4834, abs=1e-3)
+    assert _mw(m, cmd, "-fy", upper=50.0).status == "unbounded"
+    assert _mw(m, cmd, "-fy", method="iterative", upper=50.0).status == "unbounded"
+
+
+@pytest.mark.parametrize("deg", [0.0, 60.0])
+def test_case3_sideways_is_zero_as_the_tight_iterative_scheme(case3, deg):
+    # the iterative scheme's 0.009-0.018 N here is its equilibrium tolerance eps: tightened,
+    # it agrees with the energetic answer (below the resolution)
+    m, cmd = case3
+    en = _mw(m, cmd, _dir(deg), upper=50.0)
+    tight = _mw(m, cmd, _dir(deg), method="iterative", upper=50.0, eps=1e-6, eps_rel=1e-9)
+    assert en.status == tight.status == "below_resolution"
+
+
+def test_case3_where_the_iterative_scheme_stalls(case3):
+    # docs/validation.md: at 255° the default iterative scheme stalls at 0.035 N; the energetic
+    # answer equals the PRP's (its audit passes there) and the tightened iterative scheme's
+    m, cmd = case3
+    en = _mw(m, cmd, _dir(255.0), upper=50.0)
+    prp = _mw(m, cmd, _dir(255.0), method="prp", search="direct", upper=50.0, variant="preload-first")
+    assert en.magnitude == pytest.approx(23.1769, abs=1e-3)
+    assert en.magnitude <= prp.magnitude * (1 + 1e-9) + 1e-9
+    mirror = _mw(m, cmd, _dir(285.0), upper=50.0)
+    assert mirror.magnitude == pytest.approx(en.magnitude, rel=1e-6)
