@@ -153,6 +153,24 @@ def test_reference_backend_agrees():
     assert b.magnitude == pytest.approx(a.magnitude, rel=1e-6)
 
 
+@pytest.mark.parametrize("complementarity", ["bigm", "indicator"])
+def test_reference_backends_on_the_wedge(complementarity):
+    m = pg.examples.wedge()
+    a = _mw(m, 1.0, "fy", upper=1e3)
+    b = _mw(m, 1.0, "fy", upper=1e3, backend="miqp", complementarity=complementarity)
+    assert b.magnitude == pytest.approx(a.magnitude, rel=1e-7)
+    assert b.response.solver.startswith("scip")
+
+
+def test_resistance_set_of_the_3d_pinch_is_empty():
+    # two point contacts on the x axis cannot resist a torque about it: every 6D direction with
+    # an mx component has limit 0 (the iterative scheme reports its tolerance, 1e-3 to 0.05 N)
+    m = pg.examples.pinch(planar=False)
+    rs = pg.resistance_set(m, 1.0, n=16, method="energetic", upper=50.0)
+    assert np.all(np.abs(rs.directions[:, 3]) > 1e-6)
+    assert rs.classes()["not_resistible"] == 16 and np.all(rs.magnitudes == 0.0)
+
+
 def test_contact_states_and_slip():
     m = pg.examples.wedge()
     r = pg.passive_response(m, 1.0, [0.0, 2.0, 0.0], method="energetic")
@@ -206,7 +224,9 @@ def case3():
 def test_case3_agrees_with_iterative(case3):
     m, cmd = case3
     up = _mw(m, cmd, "fy", upper=50.0)
-    assert up.magnitude == pytest.approx(_mw(m, cmd, "fy", method="iterative", upper=50.0).magnitude, rel=2e-3)
+    assert up.magnitude == pytest.approx(
+        _mw(m, cmd, "fy", method="iterative", upper=50.0).magnitude, rel=2e-3
+    )
     assert up.magnitude == pytest.approx(1.4834, abs=1e-3)
     assert _mw(m, cmd, "-fy", upper=50.0).status == "unbounded"
     assert _mw(m, cmd, "-fy", method="iterative", upper=50.0).status == "unbounded"

@@ -327,7 +327,13 @@ class PassiveSolver:
         from ..solvers.miqp import CvxpyMIQP  # cvxpy: loaded only for the reference backend
 
         s = self.settings
-        miqp = CvxpyMIQP(self.form, kind.value, solver=s.solver, time_limit=s.time_limit)
+        miqp = CvxpyMIQP(
+            self.form,
+            kind.value,
+            solver=s.solver,
+            time_limit=s.time_limit,
+            options=dict(self.options.miqp_options),
+        )
         return miqp.solve(data, s.bigm * max(1.0, 10.0 * tmax), t_max=tmax)
 
     # ------------------------------------------------------------- response
