@@ -225,6 +225,7 @@ class BranchAndBound:
             if res.status is SolveStatus.OPTIMAL:
                 best_obj, best_sides, best_z = res.objective, sides, res.z
         stack = _Open(P.kind.energetic)
+        tried: set[bytes] = set()
         stack.append(np.full(npair, -1, np.int8), 0.0)
         limited = False
         while stack:
@@ -257,6 +258,10 @@ class BranchAndBound:
                 best_obj, best_sides, best_z = res.objective, natural, res.z
                 continue
             for sides in self._repairs(res.z, fixed, natural):
+                key = sides.tobytes()
+                if key in tried:  # the same complete mode was solved before in this search
+                    continue
+                tried.add(key)
                 rep = self._qp(sides)
                 if rep.status is SolveStatus.OPTIMAL and rep.objective < best_obj:
                     best_obj, best_sides, best_z = rep.objective, sides, rep.z
