@@ -38,6 +38,13 @@ QUERIES = textwrap.dedent(
     out.append(record(pg.max_resistible_wrench(examples.wedge(), 1.0, "fy", upper=1e3)))
     g = random_grasp(3, n_pairs=2)
     out.append(record(pg.max_resistible_wrench(g, 1.0, [0.3, -0.2, 0.5, 0.0, 0.0, 0.0], upper=50)))
+    a = np.radians(30.0)
+    out.append(record(pg.max_resistible_wrench(
+        s.model, s.command, [np.cos(a), np.sin(a), 0, 0, 0, 0], method="energetic", upper=50)))
+    b = np.radians(80.0)
+    out.append(record(pg.max_resistible_wrench(
+        examples.pinch(planar=False), 1.0, [0, np.cos(b), np.sin(b), 0, 0, 0], method="energetic",
+        upper=50, cone_tolerance=np.radians(2.0))))
     json.dump(out, sys.stdout)
     """
 )
