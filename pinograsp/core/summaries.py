@@ -74,8 +74,28 @@ def _forces_text(r: PassiveResponse) -> str:
     return ", ".join(f"{nm} {format_magnitude(f, res, 'N')}" for nm, f in zip(r.contact_names, cn)) or "none"
 
 
+def _states_text(r: PassiveResponse) -> str:
+    """``left sliding (slip direction (0.342, -0.9397, 0)), right sticking`` — the state of each
+    contact and the unit slip direction (world frame) of the sliding ones; ``""`` when the
+    response reports no states."""
+    states = tuple(getattr(r, "contact_states", ()) or ())
+    if not states or len(states) != len(r.contact_names):
+        return ""
+    slip = getattr(r, "contact_slip", None)
+    slip = None if slip is None else np.asarray(slip, dtype=float).reshape(len(states), -1)
+    parts = []
+    for i, (name, state) in enumerate(zip(r.contact_names, states)):
+        text = f"{name} {state}"
+        norm = 0.0 if slip is None else float(np.linalg.norm(slip[i]))
+        if state == "sliding" and np.isfinite(norm) and norm > 0.0:
+            text += f" (slip direction {vector_text(slip[i] / norm)})"
+        parts.append(text)
+    return ", ".join(parts)
+
+
 def response_summary(r: PassiveResponse) -> str:
-    """Status, wrench, normal contact forces [N], actuator modes and the audit verdict."""
+    """Status, wrench, normal contact forces [N], contact states (with the slip direction of
+    sliding contacts) when reported, actuator modes and the audit verdict."""
     lines = [
         f"passive response ({r.method}, {r.variant}): {'RESISTED' if r.resistible else 'NOT RESISTED'}"
         f" (status {r.status}; {r.iterations} iteration(s), {r.n_solves} solve(s), {r.solve_time:.3g} s)",
@@ -83,6 +103,8 @@ def response_summary(r: PassiveResponse) -> str:
     ]
     if r.resistible:
         lines.append(f"normal contact forces: {_forces_text(r)}")
+        if states := _states_text(r):
+            lines.append(f"contact states: {states}")
         acts = [f"{nm} {md}" for nm, md in zip(r.actuator_names, r.actuator_modes)]
         if acts:
             lines.append("actuators: " + ", ".join(acts))
@@ -94,7 +116,8 @@ def response_summary(r: PassiveResponse) -> str:
 
 
 def max_wrench_summary(mw: MaxWrench, label: str | None = None) -> str:
-    """Status and magnitude to the resolution, with unit, search record and limiting forces."""
+    """Status and magnitude to the resolution, with unit, search record, limiting forces and
+    contact states."""
     unit = wrench_unit(mw.direction)
     label = label or direction_text(mw.direction)
     head = f"max resistible wrench along {label}: {format_max_wrench(mw, unit=unit)} ({mw.status}"
@@ -110,6 +133,8 @@ def max_wrench_summary(mw: MaxWrench, label: str | None = None) -> str:
     if mw.response is not None and mw.response.resistible:
         at = "at the upper limit" if mw.unbounded else "at the limit"
         lines.append(f"normal contact forces {at}: {_forces_text(mw.response)}")
+        if states := _states_text(mw.response):
+            lines.append(f"contact states {at}: {states}")
     if mw.audit_failures:
         lines.append(f"audit failures at {', '.join(f'{m:.6g}' for m in mw.audit_failures)}")
     return "\n".join(lines)

@@ -15,6 +15,13 @@ scene's analysis axes — says otherwise; hand and object are then re-expressed 
   inside the friction cone.
 * The external force (the force part of ``response.wrench``) is an arrow starting at the
   object's reference point. Torques are not drawn.
+* With a response that reports contact states (``PassiveResponse.contact_states``), each
+  contact point is drawn in the colour and marker of its state (:data:`STATE_STYLES`: sticking,
+  sliding, separated), and each sliding contact gets a slip arrow starting at the contact along
+  the unit slip ``contact_slip / |contact_slip|`` (the object's motion over the hand there). Its
+  length is fixed, :data:`SLIP_FRACTION` × the scene size: the displacements of the model are
+  virtual (scaled by the stiffness), so only the slip's direction is drawn. Responses without
+  states draw their contacts in one colour, as before.
 """
 
 from __future__ import annotations
@@ -28,7 +35,7 @@ import numpy as np
 from ..core.model import GraspModel
 from ..errors import PinograspWarning
 from .meshes import cone, geometry_mesh, merge, transform
-from .scene_inputs import positive_or_none, resolve_scene, response_forces
+from .scene_inputs import CONTACT_STATES, positive_or_none, resolve_scene, response_forces, response_states
 from .view3d import (
     ClosingArrow,
     View,
@@ -43,7 +50,8 @@ if TYPE_CHECKING:  # pragma: no cover
     from ..robots.hand import Hand
     from ..robots.objects import RigidObject
 
-#: Default colours (hand, object, contacts, cones, contact forces, external force, normals).
+#: Default colours (hand, object, contacts, cones, contact forces, external force, normals,
+#: the contact states and the slip arrows).
 COLORS = {
     "hand": "#8c9bb5",
     "object": "#f4a261",
@@ -52,7 +60,24 @@ COLORS = {
     "forces": "#d62828",
     "external": "#7b2cbf",
     "normals": "#555555",
+    "sticking": "#2b9348",
+    "sliding": "#f72585",
+    "separated": "#6c757d",
+    "slip": "#f72585",
 }
+
+#: Marker of each contact state: (colour, matplotlib marker, filled, plotly symbol).
+STATE_STYLES = {
+    "sticking": (COLORS["sticking"], "o", True, "circle"),
+    "sliding": (COLORS["sliding"], "D", True, "diamond"),
+    "separated": (COLORS["separated"], "o", False, "circle-open"),
+}
+
+#: Length of a slip arrow as a fraction of the scene size (slip has no physical scale).
+SLIP_FRACTION = 0.2
+
+#: Name (legend, ``gid``) of the slip arrows.
+SLIP_NAME = "slip directions"
 
 
 @dataclass
@@ -100,6 +125,11 @@ class SceneElements:
         distance_points: Each link's point closest to the object, (3,) [m].
         view: The upright camera (:func:`pinograsp.viz.view3d.upright_view`) when a hand or an
             object is drawn, else ``None``.
+        contact_states: State per contact (nc,), ``"sticking"``, ``"sliding"`` or
+            ``"separated"``, when the response reports them; else ``()``.
+        slip_directions: Unit slip direction per contact (nc, 3), zero rows where no slip arrow
+            is drawn (not sliding, or no slip reported); ``None`` without states.
+        slip_length: Drawn length of the slip arrows [m] (0 without states).
     """
 
     meshes: list[Mesh]
@@ -116,6 +146,15 @@ class SceneElements:
     link_distances: dict[str, float] = field(default_factory=dict)
     distance_points: dict[str, np.ndarray] = field(default_factory=dict)
     view: View | None = None
+    contact_states: tuple[str, ...] = ()
+    slip_directions: np.ndarray | None = None
+    slip_length: float = 0.0
+
+    def state_groups(self) -> list[tuple[str, np.ndarray]]:
+        """``(state, contact indices)`` for each state present, in the order of
+        :data:`~pinograsp.viz.scene_inputs.CONTACT_STATES` (empty without states)."""
+        st = np.array(self.contact_states, dtype=object)
+        return [(k, np.flatnonzero(st == k)) for k in CONTACT_STATES if k in self.contact_states]
 
     @property
     def bounds(self) -> np.ndarray:
@@ -223,16 +262,64 @@ def _scene_size(c: _Contacts, obj_mesh: Mesh | None, hand_mesh: Mesh | None, wit
 
 
 # ----------------------------------------------------------------------------- contacts and forces
-def _contact_labels(c: _Contacts, forces: np.ndarray | None) -> list[str]:
-    """Hover text per contact: name, ``mu``, normal, and the force [N] and ``c_n`` if finite."""
+def _contact_labels(
+    c: _Contacts, forces: np.ndarray | None, states: tuple[str, ...], slip_dirs: np.ndarray | None
+) -> list[str]:
+    """Hover text per contact: name, ``mu``, normal, the force [N] and ``c_n`` if finite, and the
+    state (with the unit slip direction of a sliding contact) if reported."""
     labels = []
     for i, name in enumerate(c.names):
         text = f"{name}<br>mu = {c.mu[i]:g}<br>n = {np.round(c.normals[i], 3).tolist()}"
         if forces is not None and np.all(np.isfinite(forces[i])):
             c_n = float(forces[i] @ c.normals[i])
             text += f"<br>force [N] = {np.round(forces[i], 3).tolist()}<br>c_n = {c_n:.4g} N"
+        if states:
+            text += f"<br>state: {states[i]}"
+            if slip_dirs is not None and np.any(slip_dirs[i]):
+                text += f"<br>slip direction = {np.round(slip_dirs[i], 3).tolist()}"
         labels.append(text)
     return labels
+
+
+def _slip_directions(states: tuple[str, ...], slip: np.ndarray | None, nc: int) -> np.ndarray | None:
+    """Unit slip (nc, 3) of the sliding contacts with a non-zero slip, zero rows elsewhere;
+    ``None`` without states."""
+    if not states:
+        return None
+    out = np.zeros((nc, 3))
+    if slip is None:
+        return out
+    for i, state in enumerate(states):
+        norm = float(np.linalg.norm(slip[i]))
+        if state == "sliding" and norm > 0.0:
+            out[i] = slip[i] / norm
+    return out
+
+
+def _slip_arrows(
+    c: _Contacts, dirs: np.ndarray, length: float, size: float
+) -> tuple[list[Segments], list[Mesh]]:
+    """Arrows of length ``length`` [m] from the sliding contacts along their unit slip ``dirs``."""
+    shafts, heads = [], []
+    for p, u, name in zip(c.points, dirs, c.names):
+        if np.any(u):
+            shaft, head = _arrow(p, p + length * u, u, length, size, name)
+            shafts.append(shaft)
+            heads.append(head)
+    if not shafts:
+        return [], []
+    v, f, lab = merge(heads)
+    return (
+        [Segments(SLIP_NAME, np.array(shafts), COLORS["slip"], 6.0)],
+        [Mesh(SLIP_NAME, v, f, COLORS["slip"], 1.0, lab)],
+    )
+
+
+def _title(nc: int, status: str, states: tuple[str, ...]) -> str:
+    """``"2 contacts — resisted: 2 sliding"`` (count per state present, if reported)."""
+    title = f"{nc} contacts" + (f" — {status}" if status else "")
+    counts = [f"{states.count(k)} {k}" for k in CONTACT_STATES if k in states]
+    return title + (f": {', '.join(counts)}" if counts else "")
 
 
 def _largest_force(forces: np.ndarray | None, wrench: np.ndarray | None) -> float:
@@ -294,6 +381,7 @@ def scene_elements(
     cone_scale = positive_or_none("cone_scale", cone_scale)
     force_scale = positive_or_none("force_scale", force_scale)
     forces, wrench, status = response_forces(model, response)
+    states, slip = response_states(model, response)
     skipped: list[str] = []
     hand_mesh = None if hand is None else _hand_mesh(hand, q, to_model, skipped)
     obj_mesh = None if obj is None else _object_mesh(obj, to_model, skipped)
@@ -334,7 +422,13 @@ def scene_elements(
         arrow_segments, arrow_meshes = _force_arrows(c, forces, wrench, s, size)
         segments += arrow_segments
         meshes += arrow_meshes
-    title = f"{nc} contacts" + (f" — {status}" if status else "")
+    slip_dirs = _slip_directions(states, slip, nc)
+    slip_length = SLIP_FRACTION * size if states else 0.0
+    if slip_dirs is not None:
+        slip_segments, slip_meshes = _slip_arrows(c, slip_dirs, slip_length, size)
+        segments += slip_segments
+        meshes += slip_meshes
+    title = _title(nc, status, states)
     extra = _hand_extras(
         hand, q, obj, to_model, hand_mesh, obj_mesh, c.ref_point, size, show_closing, tolerance
     )
@@ -342,7 +436,8 @@ def scene_elements(
         title = extra.pop("title")
     else:
         extra.pop("title")
-    labels = _contact_labels(c, forces)
+    labels = _contact_labels(c, forces, states, slip_dirs)
+    extra.update(contact_states=states, slip_directions=slip_dirs, slip_length=slip_length)
     return SceneElements(meshes, segments, c.points, labels, c.names, size, h, s, title, **extra)
 
 
@@ -383,4 +478,13 @@ def _hand_extras(
     return out
 
 
-__all__ = ["COLORS", "Mesh", "SceneElements", "Segments", "scene_elements"]
+__all__ = [
+    "COLORS",
+    "SLIP_FRACTION",
+    "SLIP_NAME",
+    "STATE_STYLES",
+    "Mesh",
+    "SceneElements",
+    "Segments",
+    "scene_elements",
+]

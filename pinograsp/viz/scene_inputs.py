@@ -1,5 +1,5 @@
 """What a 3D scene view is given, checked: the grasp model (or a scene), hand, configuration,
-object and frame, and the contact forces of a response (``docs/plots.md``).
+object and frame, and the contact forces, states and slip of a response (``docs/plots.md``).
 
 A *scene* is any object with a ``.model`` :class:`~pinograsp.GraspModel` (and optionally
 ``.hand``, ``.q``, ``.object``, ``.frame``), such as the result of ``pinograsp.load_scene``;
@@ -121,4 +121,41 @@ def response_forces(
     return f, w, status
 
 
-__all__ = ["distance_count", "positive_or_none", "resolve_scene", "response_forces"]
+#: Contact states a response reports (``PassiveResponse.contact_states``), in drawing order.
+CONTACT_STATES = ("sticking", "sliding", "separated")
+
+
+def response_states(model: GraspModel | None, response: object) -> tuple[tuple[str, ...], np.ndarray | None]:
+    """Contact states (nc,) and slip (nc, 3) [m] of a response, or ``((), None)``.
+
+    Only a :class:`~pinograsp.PassiveResponse` (directly or as a ``MaxWrench``'s response) with
+    one known state per contact carries them; responses without states (older ones, other result
+    types, forces) give ``()``. The slip is ``None`` unless it is finite and of shape (nc, 3).
+    """
+    if model is None or response is None:
+        return (), None
+    if hasattr(response, "response") and hasattr(response, "unbounded"):  # MaxWrench
+        response = response.response
+    states = getattr(response, "contact_states", None)
+    if not isinstance(states, (tuple, list)) or len(states) != model.nc:
+        return (), None
+    if not all(isinstance(s, str) and s in CONTACT_STATES for s in states):
+        return (), None
+    slip = getattr(response, "contact_slip", None)
+    try:
+        slip = None if slip is None else np.asarray(slip, dtype=float)
+    except (TypeError, ValueError):
+        slip = None
+    if slip is not None and (slip.shape != (model.nc, 3) or not np.all(np.isfinite(slip))):
+        slip = None
+    return tuple(states), slip
+
+
+__all__ = [
+    "CONTACT_STATES",
+    "distance_count",
+    "positive_or_none",
+    "resolve_scene",
+    "response_forces",
+    "response_states",
+]

@@ -16,7 +16,7 @@ import numpy as np
 
 from ..errors import InvalidInputError
 from .figures import pyplot
-from .scene_elements import COLORS, Mesh, scene_elements
+from .scene_elements import COLORS, SLIP_NAME, STATE_STYLES, Mesh, SceneElements, scene_elements
 from .scene_inputs import distance_count
 from .view3d import draw_closing_mpl, draw_distances_mpl
 
@@ -25,7 +25,10 @@ if TYPE_CHECKING:  # pragma: no cover
     from ..robots.objects import RigidObject
 
 #: Meshes drawn on top of the surfaces (arrow heads), not depth-sorted with them.
-_ARROW_HEADS = ("contact forces", "external force")
+_ARROW_HEADS = ("contact forces", "external force", SLIP_NAME)
+
+#: ``gid`` prefix of the contact points of one state (``prefix + state``).
+GID_CONTACTS = "pinograsp-contacts:"
 
 
 def _decimate(f: np.ndarray, max_faces: int) -> np.ndarray:
@@ -75,6 +78,36 @@ def _draw_surfaces(ax: Any, meshes: list[Mesh], max_faces: int, handles: list[An
         ax.add_collection3d(coll)
 
 
+def _draw_contacts(ax: Any, el: SceneElements, handles: list[Any]) -> None:
+    """Contact points: one colour without states; with states one scatter per state present
+    (``gid`` :data:`GID_CONTACTS` + state, legend ``contacts: <state>``, :data:`STATE_STYLES`)."""
+    from matplotlib.lines import Line2D
+
+    if not len(el.points):
+        return
+    if not el.contact_states:
+        ax.scatter(*el.points.T, color=COLORS["contacts"], s=25, depthshade=False, zorder=4)
+        _add_handle(handles, "contacts", Line2D([], [], color=COLORS["contacts"], marker="o", ls="none"))
+        return
+    for state, idx in el.state_groups():
+        color, marker, filled, _ = STATE_STYLES[state]
+        face = color if filled else "none"
+        sc = ax.scatter(
+            *el.points[idx].T,
+            marker=marker,
+            facecolors=face,
+            edgecolors=color,
+            s=36,
+            depthshade=False,
+            zorder=4,
+        )
+        sc.set_gid(GID_CONTACTS + state)
+        mfc = color if filled else "none"
+        _add_handle(
+            handles, f"contacts: {state}", Line2D([], [], color=color, marker=marker, mfc=mfc, ls="none")
+        )
+
+
 def _frame_axes(ax: Any, bounds: np.ndarray) -> None:
     """A cube around ``bounds`` (2, 3) [m] with equal axes, labelled in metres."""
     lo, hi = bounds
@@ -120,6 +153,9 @@ def scene_axes(
     :func:`pinograsp.viz.view3d.upright_view`: the hand's approach axis up on the page, the
     camera on the object's side of the palm. Closing arrows are ``Line3DCollection`` artists with ``gid``
     ``"pinograsp-closing:<joint>"``, distance labels texts with ``gid`` ``"pinograsp-distance"``.
+    With contact states, the contacts of each state are one scatter with ``gid``
+    ``"pinograsp-contacts:<state>"``; slip arrows are the ``Line3DCollection``
+    ``"pinograsp-slip-directions"`` with heads ``"pinograsp-slip-directions-heads"``.
     """
     from mpl_toolkits.mplot3d.art3d import Line3DCollection, Poly3DCollection
 
@@ -160,9 +196,7 @@ def scene_axes(
         heads.set_gid(f"pinograsp-{m.name.replace(' ', '-')}-heads")
         heads.set_zorder(3)
         ax.add_collection3d(heads)
-    if len(el.points):
-        ax.scatter(*el.points.T, color=COLORS["contacts"], s=25, depthshade=False, zorder=4)
-        _add_handle(handles, "contacts", Line2D([], [], color=COLORS["contacts"], marker="o", ls="none"))
+    _draw_contacts(ax, el, handles)
     if el.closing:
         handles += draw_closing_mpl(ax, el.closing, el.closing_length)
     if el.link_distances and n_dist:
@@ -178,4 +212,4 @@ def scene_axes(
     return ax
 
 
-__all__ = ["scene_axes"]
+__all__ = ["GID_CONTACTS", "scene_axes"]

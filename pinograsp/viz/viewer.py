@@ -36,7 +36,7 @@ import numpy as np
 from ..core.validate import writing
 from ..errors import InvalidInputError
 from .figures import plotly_objects
-from .scene_elements import COLORS, Mesh, SceneElements, Segments, scene_elements
+from .scene_elements import COLORS, STATE_STYLES, Mesh, SceneElements, Segments, scene_elements
 from .scene_inputs import distance_count
 from .scene_mpl import scene_axes
 from .view3d import View, closing_traces, distance_trace
@@ -101,6 +101,27 @@ def _points_trace(go: Any, el: SceneElements) -> Any:
     )
 
 
+def _state_traces(go: Any, el: SceneElements) -> list[Any]:
+    """One marker trace per contact state present, ``contacts: <state>`` (hover: name, ``mu``,
+    normal, force, state and slip direction)."""
+    traces = []
+    for state, idx in el.state_groups():
+        color, _, _, symbol = STATE_STYLES[state]
+        traces.append(
+            go.Scatter3d(
+                x=el.points[idx, 0],
+                y=el.points[idx, 1],
+                z=el.points[idx, 2],
+                mode="markers",
+                marker={"size": 6, "color": color, "symbol": symbol},
+                name=f"contacts: {state}",
+                hovertext=[el.point_labels[i] for i in idx],
+                hoverinfo="text",
+            )
+        )
+    return traces
+
+
 def _scene_layout(view: View | None) -> dict[str, Any]:
     """The 3D scene of the layout: equal axes in metres, and the camera of the upright view."""
     scene: dict[str, Any] = {
@@ -139,7 +160,10 @@ def scene_figure(
 
     Traces (legend names): ``hand`` (all collision geometries merged; hover shows the link),
     ``object``, ``contacts``, ``contact normals``, ``friction cones``, ``contact forces``,
-    ``external force`` — only those that apply.
+    ``external force`` — only those that apply. A response that reports contact states draws
+    ``contacts: sticking`` / ``contacts: sliding`` / ``contacts: separated`` (one trace per state
+    present) instead of ``contacts``, and ``slip directions``: an arrow from each sliding contact
+    along its unit slip, of fixed length (see :mod:`pinograsp.viz.scene_elements`).
 
     Without a model (``model=None``), the traces are ``hand``, ``object``, one ``closing
     <joint> (<sign>)`` trace per hand joint that moves collision geometry (legend group
@@ -198,7 +222,8 @@ def scene_figure(
     for sg in el.segments:
         fig.add_trace(_segments_trace(go, sg, not any(t.name == sg.name for t in fig.data)))
     if len(el.points):
-        fig.add_trace(_points_trace(go, el))
+        for tr in _state_traces(go, el) if el.contact_states else [_points_trace(go, el)]:
+            fig.add_trace(tr)
     for tr in closing_traces(go, el.closing, el.closing_length):
         fig.add_trace(tr)
     if el.link_distances and n_dist:
