@@ -311,7 +311,14 @@ def test_scene_figure_of_explicit_contacts(pinch, tmp_path):
     r = pg.passive_response(pinch, TAU, w, method="prp")
     fig = viewer.scene_figure(pinch, r, cone_scale=0.02, force_scale=0.002)
     names = {t.name for t in fig.data}
-    assert names == {"contacts", "contact normals", "friction cones", "contact forces", "external force"}
+    assert r.contact_states == ("sticking", "sticking")  # one trace per contact state
+    assert names == {
+        "contacts: sticking",
+        "contact normals",
+        "friction cones",
+        "contact forces",
+        "external force",
+    }
     (cones,) = [t for t in fig.data if t.name == "friction cones"]
     v = np.column_stack([cones.x, cones.y, cones.z]).reshape(2, -1, 3)  # per contact: apex + ring
     for k in range(2):
@@ -358,7 +365,8 @@ def test_scene_figure_with_hand_and_object(barrett_grasp, tmp_path):
     assert g.response.resistible and g.model.nc == 4
     fig = viewer.scene_figure(g.model, g.response, hand=g.hand, q=g.q, obj=g.object)
     traces = {t.name: t for t in fig.data}
-    assert {"hand", "object", "contacts", "friction cones", "contact forces"} <= set(traces)
+    states = {f"contacts: {state}" for state in g.response.contact_states}
+    assert {"hand", "object", "friction cones", "contact forces"} | states <= set(traces)
     hand = traces["hand"]
     assert set(hand.hovertext) == set(g.hand.contact_link_names)  # every collision link drawn
     obj = np.column_stack([traces["object"].x, traces["object"].y, traces["object"].z])
