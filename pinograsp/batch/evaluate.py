@@ -23,6 +23,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Literal
 
+from ..core.settings import METHODS, Method
 from ..core.validate import choice, positive_number, whole_number, writing
 from ..errors import InvalidInputError, MissingDependencyError
 from .executors import run_chunks
@@ -67,17 +68,19 @@ class WorstAxisScore:
     Attributes:
         upper: Search limit [N].
         steps: Search steps (resolution ``upper / 2**steps``; small for speed).
-        method: ``"iterative"`` or ``"prp"``.
+        method: ``"iterative"``, ``"prp"`` or ``"energetic"`` (maximum dissipation: one
+            load-factor solve per axis, ``search="direct"``), kept as a
+            :class:`~pinograsp.core.settings.Method`.
     """
 
     upper: float = 50.0
     steps: int = 6
-    method: Literal["iterative", "prp"] = "iterative"
+    method: Method | str = Method.ITERATIVE
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "upper", positive_number("upper", self.upper))
         object.__setattr__(self, "steps", whole_number("steps", self.steps))
-        choice("method", self.method, ("iterative", "prp"))
+        object.__setattr__(self, "method", Method(choice("method", self.method, METHODS)))
 
     def __call__(self, model: Any, command: Mapping[str, float]) -> dict[str, float]:
         from ..analysis.max_wrench import max_resistible_wrench

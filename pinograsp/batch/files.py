@@ -13,6 +13,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from ..core.settings import METHODS, Method
 from ..errors import PinograspError
 from ..scenes.loading import SceneFile, read_yaml
 from .grasps import SHAPES, GraspSpec, ObjectSpec, sample_grasps
@@ -221,7 +222,7 @@ def load_grasps(path: str | Path) -> GraspBatch:
     if "steps" in s:
         score["steps"] = f.integer(s["steps"], "score.steps")
     if "method" in s:
-        if s["method"] not in ("iterative", "prp"):
-            raise f.error("score.method", f"must be one of iterative, prp, got {s['method']!r}")
-        score["method"] = s["method"]
+        if s["method"] not in METHODS:
+            raise f.error("score.method", f"must be one of {', '.join(METHODS)}, got {s['method']!r}")
+        score["method"] = Method(s["method"])
     return GraspBatch(p, tuple(grasps), score)

@@ -19,6 +19,7 @@ from typing import Any, Literal
 import numpy as np
 
 from ..core.poses import rotation_rpy, rpy_of
+from ..core.settings import METHODS, Method
 from ..core.validate import choice, finite_number, positive_number, whole_number
 from ..errors import InvalidInputError
 
@@ -157,7 +158,12 @@ class GraspSpec:
         command: ``"auto"`` (``pg.equilibrium_preload``), a number (every actuator) or
             ``{actuator: value}`` [N·m or N].
         max_command: Bound of every command of the ``"auto"`` preload [N·m or N].
-        preload_method: Whose preload stage ``"auto"`` verifies: ``"iterative"`` or ``"prp"``.
+        preload_method: Whose preload stage ``"auto"`` verifies (:func:`pinograsp.equilibrium_preload`
+            at ``w = 0``): ``"iterative"`` (default) or ``"prp"`` (the object settles), or
+            ``"energetic"``. The energetic method's preload stage is the iterative one (the
+            object held still while the hand closes), so it verifies the same commands, plus one
+            energetic solve at ``w = 0``; it is accepted so that a batch scored with
+            ``method="energetic"`` can name the same method throughout.
         id: Label of the grasp's row (default: its position in the batch).
     """
 
@@ -172,7 +178,7 @@ class GraspSpec:
     stiffness: float = 1.0
     command: Literal["auto"] | float | tuple[tuple[str, float], ...] = "auto"
     max_command: float = 1.0
-    preload_method: Literal["iterative", "prp"] = "iterative"
+    preload_method: Method | str = Method.ITERATIVE
     id: str | None = None
 
     def __post_init__(self) -> None:
@@ -212,7 +218,8 @@ class GraspSpec:
             object.__setattr__(self, "command", _pairs("command", dict(cmd)))
         else:
             object.__setattr__(self, "command", finite_number("command", cmd))
-        choice("preload_method", self.preload_method, ("iterative", "prp"))
+        method = choice("preload_method", self.preload_method, METHODS)
+        object.__setattr__(self, "preload_method", Method(method))
         if self.id is not None and not isinstance(self.id, str):
             object.__setattr__(self, "id", str(self.id))
 

@@ -21,6 +21,7 @@ from .report import (
     actuator_table,
     audit_line,
     contact_table,
+    model_settings,
     preload_line,
     progress_bar,
     scene_figures,
@@ -50,6 +51,7 @@ def _scene_data(scene: Any) -> dict[str, Any]:
             "directions": an.directions,
             "wrenches": an.wrenches,
             "preloads": an.preloads,
+            **model_settings(scene.settings)[0],
         },
     }
 
@@ -71,8 +73,9 @@ def cmd_scenes(args: argparse.Namespace) -> int:
         return 0
     an = scene.analysis
     print(scene.summary())
+    note = model_settings(scene.settings)[1]
     print(
-        f"  analysis: method {an.method}, upper {an.upper:g}, {an.steps} steps, "
+        f"  analysis: method {an.method}{note}, upper {an.upper:g}, {an.steps} steps, "
         f"n = {an.n}, plane {','.join(map(str, an.plane))}"
     )
     for key in ("directions", "wrenches"):
@@ -90,19 +93,22 @@ def cmd_analyze(args: argparse.Namespace) -> int:
     command, preload_name = opt.preload(args, scene)
     w = opt.parse_wrench(scene, args.wrench)
     method = opt.method(args, scene)
-    r = pg.passive_response(scene.model, command, w, method, settings=opt.settings(args, scene))
+    settings = opt.settings(args, scene)
+    r = pg.passive_response(scene.model, command, w, method, settings=settings)
+    model_data, note = model_settings(settings)
     data = {
         "command": "analyze",
         **scene_header(scene),
         "preload": command,
         "preload_name": preload_name,
+        **model_data,
         **r.to_dict(scene.model),
     }
     out.print(
         scene_line(scene),
         preload_line(command, preload_name),
         f"wrench: {vector_text(r.wrench)} [N, N·m] (fx, fy, fz, mx, my, mz)",
-        f"method: {r.method} ({r.variant})",
+        f"method: {r.method} ({r.variant}{note})",
         "",
         f"status: {r.status} -> {'RESISTED' if r.resistible else 'NOT RESISTED'} "
         f"({r.iterations} iteration(s), {r.n_solves} solve(s), "
@@ -151,21 +157,24 @@ def cmd_max_wrench(args: argparse.Namespace) -> int:
     direction, label = opt.parse_direction(scene, args.direction)
     method = opt.method(args, scene)
     upper, steps = opt.upper_steps(args, scene)
-    mw = pg.max_resistible_wrench(
-        scene.model, command, direction, method, upper, steps, settings=opt.settings(args, scene)
-    )
+    settings = opt.settings(args, scene)
+    mw = pg.max_resistible_wrench(scene.model, command, direction, method, upper, steps, settings=settings)
+    model_data, note = model_settings(settings)
     data = {
         "command": "max-wrench",
         **scene_header(scene),
         "preload": command,
         "preload_name": preload_name,
         "steps": steps,
+        **model_data,
         **mw.to_dict(label),
+        "search": mw.search,
     }
     lines = [
         scene_line(scene),
         preload_line(command, preload_name),
-        f"direction: {label} = {vector_text(mw.direction)}; method {method}, upper {upper:g}, {steps} steps",
+        f"direction: {label} = {vector_text(mw.direction)}; method {method}{note}, upper {upper:g}, "
+        f"{steps} steps",
         "",
         f"max resistible magnitude: {_verdict(mw, upper)}",
         f"{mw.search}: {len(mw.evidence)} magnitudes tried, monotone: {'yes' if mw.monotone else 'NO'}; "

@@ -15,9 +15,10 @@ Sub-commands::
     pinograsp simulate SCENE -d DIRECTION [--compare] [--upper N] [--preload NAME]
 
 ``SCENE`` is a built-in scene name (``pinograsp scenes``) or the path of a scene YAML file.
-Common options: ``--method prp|iterative``, ``--upper``, ``--steps``, ``--json`` (the result as
-JSON on stdout and nothing else), ``--out DIR`` (plots and JSON files), ``--debug`` (full
-tracebacks). Errors are one line ``pinograsp: error: ...`` on stderr; bad input
+Common options: ``--method prp|iterative|energetic``, ``--upper``, ``--steps``,
+``--normal-uncertainty`` and ``--cone-tolerance`` [deg], ``--json`` (the result as JSON on stdout
+and nothing else), ``--out DIR`` (plots and JSON files), ``--debug`` (full tracebacks). Errors
+are one line ``pinograsp: error: ...`` on stderr; bad input
 (:class:`~pinograsp.errors.PinograspError`, bad options) exits with code 2.
 
 The parser is in :mod:`.parse`, the commands in :mod:`.commands`, :mod:`.sweep_commands` and

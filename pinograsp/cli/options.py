@@ -47,8 +47,16 @@ def upper_steps(args: argparse.Namespace, scene: Any, default_steps: int | None 
     return upper, steps
 
 
+#: Settings given in degrees on the command line: field of :class:`Settings` [rad] -> option.
+ANGLE_OPTIONS = {"normal_uncertainty": "--normal-uncertainty", "cone_tolerance": "--cone-tolerance"}
+
+
 def settings(args: argparse.Namespace, scene: Any) -> Settings:
-    """The scene's settings with ``--solver``, ``--time-limit`` and ``--variant`` applied."""
+    """The scene's settings with ``--solver``, ``--time-limit``, ``--variant`` and the angles
+    ``--normal-uncertainty`` / ``--cone-tolerance`` (given in [deg], stored in [rad]) applied.
+
+    A bad angle raises :class:`InvalidInputError` naming the option, with the value in degrees.
+    """
     over: dict[str, Any] = {}
     if getattr(args, "solver", None):
         over["solver"] = args.solver
@@ -56,7 +64,18 @@ def settings(args: argparse.Namespace, scene: Any) -> Settings:
         over["time_limit"] = args.time_limit
     if getattr(args, "variant", None):
         over["variant"] = args.variant
-    return make_settings(scene.settings, **over)
+    degrees = {k: getattr(args, k, None) for k in ANGLE_OPTIONS}
+    over.update({k: math.radians(v) for k, v in degrees.items() if v is not None})
+    try:
+        return make_settings(scene.settings, **over)
+    except InvalidInputError as exc:
+        if exc.name not in ANGLE_OPTIONS or degrees[exc.name] is None:
+            raise
+        why = str(exc).removeprefix(f"{exc.name}: ").split(", got ")[0]
+        deg = degrees[exc.name]
+        raise InvalidInputError(
+            ANGLE_OPTIONS[exc.name], f"{why}; got {deg:g} deg ({math.radians(deg):.4g} rad)"
+        ) from None
 
 
 def preload(args: argparse.Namespace, scene: Any) -> tuple[dict[str, float], str | None]:

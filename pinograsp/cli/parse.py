@@ -59,7 +59,8 @@ def _common(p: argparse.ArgumentParser, *, out_default: str | None = None) -> No
     g.add_argument(
         "--method",
         choices=_METHODS,
-        help="prp (Alg. 1, one MIQP) or iterative (Alg. 2+3, no wedging); default: the scene's",
+        help="prp (Alg. 1, one MIQP), iterative (Alg. 2+3, no wedging) or energetic (maximum "
+        "dissipation: friction opposes slip, one solve per direction); default: the scene's",
     )
     g.add_argument(
         "--variant",
@@ -73,6 +74,20 @@ def _common(p: argparse.ArgumentParser, *, out_default: str | None = None) -> No
     )
     g.add_argument("--solver", help="MIQP backend (default: the scene's, normally scip)")
     g.add_argument("--time-limit", type=float, help="per-MIQP time limit [s]")
+    g.add_argument(
+        "--normal-uncertainty",
+        type=float,
+        metavar="DEG",
+        help="worst-case uncertainty of every contact normal [deg]: friction mu -> "
+        "tan(atan(mu) - u) in every method (default: the scene's, normally 0)",
+    )
+    g.add_argument(
+        "--cone-tolerance",
+        type=float,
+        metavar="DEG",
+        help="prp/energetic: refine each loaded contact's friction pyramid until the sector holding "
+        "its force or slip is at most this wide [deg] (default: the scene's, normally none)",
+    )
     g.add_argument("--json", action="store_true", help="print the result as JSON on stdout (nothing else)")
     g.add_argument(
         "--out",
@@ -285,7 +300,9 @@ def _add_batch(sub: argparse._SubParsersAction) -> None:
     b.add_argument("--out", help="results table: .parquet or .csv (default: print a summary only)")
     b.add_argument("--upper", type=float, help="score search limit [N] (default: the file's score block)")
     b.add_argument("--steps", type=int, help="score search steps (default: the file's score block)")
-    b.add_argument("--method", choices=_METHODS, help="score method (default: the file's)")
+    b.add_argument(
+        "--method", choices=_METHODS, help="score method: prp, iterative or energetic (default: the file's)"
+    )
     b.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None, help=_PROGRESS_HELP)
     _debug_option(b)
 
@@ -310,7 +327,11 @@ def _add_simulate(sub: argparse._SubParsersAction) -> None:
     sm.add_argument(
         "--compare", action="store_true", help="also predict (the scene's analysis) and print the difference"
     )
-    sm.add_argument("--method", choices=_METHODS, help="method of --compare; default: the scene's")
+    sm.add_argument(
+        "--method",
+        choices=_METHODS,
+        help="method of --compare (prp, iterative, energetic); default: the scene's",
+    )
     g = sm.add_argument_group("simulation options (defaults: docs/simulation.md)")
     g.add_argument("--stiffness", type=float, help="stiffest contact's stiffness [N/m] (default 1e6)")
     g.add_argument("--timestep", type=float, help="integration step [s] (default 1e-4)")

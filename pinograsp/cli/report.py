@@ -142,21 +142,37 @@ def preload_line(command: dict[str, float], name: str | None) -> str:
     return text + (f" ({name})" if name else "")
 
 
+def model_settings(settings: Any) -> tuple[dict[str, Any], str]:
+    """The settings that change the contact model, as JSON fields [rad] and as a note for the
+    method line (``""`` when both are at their defaults): ``normal_uncertainty`` and
+    ``cone_tolerance`` (``None``: the model's pyramids)."""
+    data = {"normal_uncertainty": settings.normal_uncertainty, "cone_tolerance": settings.cone_tolerance}
+    parts = []
+    if settings.normal_uncertainty:
+        parts.append(f"normal uncertainty {math.degrees(settings.normal_uncertainty):g}°")
+    if settings.cone_tolerance is not None:
+        parts.append(f"cone tolerance {math.degrees(settings.cone_tolerance):g}°")
+    return data, "".join(f", {t}" for t in parts)
+
+
 def contact_table(model: Any, r: Any) -> list[str]:
-    """Contact forces of a passive response [N]: mode, contact-frame force, friction use, world."""
+    """Contact forces of a passive response [N]: mode, state (``"sticking"``, ``"sliding"`` or
+    ``"separated"``, when the response records states), contact-frame force, friction use, world."""
     d = r.to_dict(model)
     w = max([len("contact"), *(len(c["name"]) for c in d["contacts"])])
+    states = any(c["state"] for c in d["contacts"])
     lines = [
-        f"  {'contact':{w}s}  {'mode':9s} {'c_n [N]':>10s} {'c_t1 [N]':>10s} {'c_t2 [N]':>10s}"
-        f" {'|c_t|/mu c_n':>12s}   world force [N]"
-    ]
+        f"  {'contact':{w}s}  {'mode':9s} " + (f"{'state':9s} " if states else "")
+        + f"{'c_n [N]':>10s} {'c_t1 [N]':>10s} {'c_t2 [N]':>10s} {'|c_t|/mu c_n':>12s}   world force [N]"
+    ]  # fmt: skip
     for i, c in enumerate(d["contacts"]):
         f = r.contact_forces[i]  # NaN (not None) when there is no solution
         use = c["friction_use"]
         use_s = "—" if use is None else f"{use:.3f}"
+        state = f"{c['state'] or '—':9s} " if states else ""
         lines.append(
-            f"  {c['name']:{w}s}  {c['mode'] or '—':9s} {f[0]:10.4f} {f[1]:10.4f} {f[2]:10.4f} {use_s:>12s}"
-            f"   {vector_text(r.contact_forces_world[i])}"
+            f"  {c['name']:{w}s}  {c['mode'] or '—':9s} {state}{f[0]:10.4f} {f[1]:10.4f} {f[2]:10.4f}"
+            f" {use_s:>12s}   {vector_text(r.contact_forces_world[i])}"
         )
     return lines
 

@@ -21,7 +21,7 @@ from ..core.serialize import direction_text, format_magnitude, format_max_wrench
 from ..core.tables import profile_to_csv
 from ..errors import InvalidInputError
 from . import options as opt
-from .report import Output, preload_line, progress_bar, scene_header, scene_line
+from .report import Output, model_settings, preload_line, progress_bar, scene_header, scene_line
 
 
 @dataclass(frozen=True)
@@ -35,6 +35,7 @@ class _Sweep:
     method: str
     upper: float
     steps: int
+    note: str = ""  # the contact-model settings in words (report.model_settings)
 
 
 # ---------------------------------------------------------------------------- profile, demo
@@ -109,7 +110,7 @@ def _profile_lines(sweep: _Sweep, p: Any, norm: float | None, wall: float, runs:
     lines = [
         scene_line(sweep.scene),
         preload_line(sweep.command, sweep.preload_name),
-        f"profile in the plane ({b1}, {b2}): {len(p.angles)} directions, method {sweep.method}, "
+        f"profile in the plane ({b1}, {b2}): {len(p.angles)} directions, method {sweep.method}{sweep.note}, "
         f"upper {upper:g} {unit}, {steps} steps (resolution {upper / 2**steps:.2g} {unit}); {wall:.1f} s",
         "",
         header,
@@ -154,6 +155,8 @@ def _profile_report(args: argparse.Namespace, sweep: _Sweep, plane: Any, n: int,
         raise InvalidInputError("-n", f"must be >= 1, got {n}")
     out = Output(args)
     upper, steps = sweep.upper, sweep.steps
+    model_data, note = model_settings(opt.settings(args, sweep.scene))
+    sweep = replace(sweep, note=note)
     t0 = time.perf_counter()
     p = _run_profile(args, sweep, plane, n)
     norm = _normalization(args, sweep.scene, sweep.command, p, sweep.method, upper, steps)
@@ -164,6 +167,7 @@ def _profile_report(args: argparse.Namespace, sweep: _Sweep, plane: Any, n: int,
         "preload": sweep.command,
         "preload_name": sweep.preload_name,
         "method": sweep.method,
+        **model_data,
         "upper": upper,
         "steps": steps,
         "resolution": upper / 2**steps,

@@ -19,7 +19,7 @@ from ..core.model import GraspModel
 from ..core.settings import METHODS, Method, Settings, make_settings
 from ..errors import InvalidInputError, PinograspError, SolverNotAvailableError, UnknownNameError
 from .fields import SceneFile, show
-from .schema import ANALYSIS_KEYS, SETTINGS_KEYS, Plane, SceneAnalysis
+from .schema import ANALYSIS_KEYS, ANGLE_SETTINGS_KEYS, SETTINGS_KEYS, Plane, SceneAnalysis
 
 #: Settings written as text, as ``true``/``false`` and as counts (checked here for their YAML
 #: type; every other setting is a number); :func:`make_settings` checks their values.
@@ -135,8 +135,23 @@ def _blamed_setting(exc: PinograspError) -> str:
     return ""
 
 
+def _angle_settings(f: SceneFile, a: Mapping) -> dict[str, float | None]:
+    """The settings given in degrees (:data:`ANGLE_SETTINGS_KEYS`) as their fields in [rad];
+    ``cone_tolerance_deg: null`` is ``None``."""
+    out: dict[str, float | None] = {}
+    for key, name in ANGLE_SETTINGS_KEYS.items():
+        if key not in a:
+            continue
+        v = a[key]
+        if v is None and name == "cone_tolerance":
+            out[name] = None
+        else:
+            out[name] = float(np.radians(f.number(v, f"analysis.{key}")))
+    return out
+
+
 def _settings(f: SceneFile, a: Mapping) -> Settings:
-    """The solver settings of an ``analysis`` block."""
+    """The solver settings of an ``analysis`` block (angles given in [deg] stored in [rad])."""
     overrides: dict[str, Any] = {k: a[k] for k in SETTINGS_KEYS if k in a}
     for k, v in overrides.items():
         if k in _TEXT_SETTINGS:
@@ -148,13 +163,19 @@ def _settings(f: SceneFile, a: Mapping) -> Settings:
             f.integer(v, f"analysis.{k}", minimum=0)
         else:
             overrides[k] = f.number(v, f"analysis.{k}")
+    overrides.update(_angle_settings(f, a))
     try:
         return make_settings(**overrides)
     except PinograspError as exc:
         bad = _blamed_setting(exc)
         if bad not in overrides:
             raise f.error("analysis", str(exc)) from exc
-        raise f.error(f"analysis.{bad}", str(exc).removeprefix(f"{bad}: ")) from exc
+        why = str(exc).removeprefix(f"{bad}: ")
+        deg = {name: key for key, name in ANGLE_SETTINGS_KEYS.items()}.get(bad)
+        if deg is not None:  # the file gave degrees: say so next to the [rad] rule
+            why = f"{why.split(', got ')[0]}; got {a[deg]!r} deg"
+            bad = deg
+        raise f.error(f"analysis.{bad}", why) from exc
 
 
 def analysis(f: SceneFile, model: GraspModel, value: object) -> tuple[SceneAnalysis, Settings]:

@@ -43,6 +43,9 @@ SETTINGS_KEYS = (
     "complementarity",
     "verify_infeasible",
 )
+#: ``analysis`` keys written in [deg] -> the :class:`~pinograsp.core.settings.Settings` field
+#: they set in [rad] (``cone_tolerance_deg: null``: the model's pyramids).
+ANGLE_SETTINGS_KEYS = {"normal_uncertainty_deg": "normal_uncertainty", "cone_tolerance_deg": "cone_tolerance"}
 #: Keys of the ``analysis`` block.
 ANALYSIS_KEYS = (
     "method",
@@ -55,7 +58,9 @@ ANALYSIS_KEYS = (
     "directions",
     "wrenches",
     "preloads",
-) + SETTINGS_KEYS
+    *SETTINGS_KEYS,
+    *ANGLE_SETTINGS_KEYS,
+)
 #: Top-level keys of every scene.
 COMMON_KEYS = ("name", "description", "preload", "analysis", "planar", "edges", "circumscribed", "extends")
 #: Top-level keys of a URDF scene (``hand:``).
@@ -119,7 +124,7 @@ class SceneAnalysis:
     """A scene file's ``analysis`` block, validated (docs/scenes.md).
 
     Attributes:
-        method: Analysis method.
+        method: Analysis method (``"iterative"``, ``"prp"`` or ``"energetic"``).
         upper: Upper limit of the max-wrench search [N or N·m].
         steps: Search steps (resolution ``upper / 2**steps``).
         n: Directions of a profile.
