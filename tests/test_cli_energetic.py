@@ -101,14 +101,17 @@ def test_analyze_shows_states_and_settings(capsys):
 
 
 def test_sliding_contacts_at_the_limit_oppose_their_slip(capsys):
-    """case1 along +fy at the energetic limit: every contact slides; the friction force on the
-    object is anti-parallel to the object's slip (maximum dissipation)."""
+    """case1 along +fy at the energetic limit: the loaded contacts slide (the others are just
+    losing touch); the friction force on the object is anti-parallel to the object's slip (maximum
+    dissipation)."""
     data = run_json(capsys, "max-wrench", "case1", "-d", "fy", "--method", "energetic")
     scene = pg.load_scene("case1")
     api = pg.max_resistible_wrench(scene.model, scene.command, "fy", "energetic", settings=scene.settings)
     assert data["magnitude"] == pytest.approx(api.magnitude, rel=1e-9)
     contacts = data["response"]["contacts"]
-    assert [c["state"] for c in contacts] == list(api.response.contact_states) == ["sliding"] * 4
+    states = list(api.response.contact_states)
+    assert [c["state"] for c in contacts] == states
+    assert states.count("sliding") >= 2 and set(states) <= {"sliding", "separated"}
     for c, normal in zip(contacts, api.response.contact_forces):
         if normal[0] < 1e-3:  # a contact just touching carries (almost) no friction
             continue
@@ -116,7 +119,7 @@ def test_sliding_contacts_at_the_limit_oppose_their_slip(capsys):
         ft = np.hypot(*c["force"][1:])
         assert f @ s == pytest.approx(-ft * np.linalg.norm(s), rel=1e-6)
     rc, out, _ = run(capsys, "max-wrench", "case1", "-d", "fy", "--method", "energetic")
-    assert rc == 0 and out.count("sliding") == 4
+    assert rc == 0 and out.count("sliding") == states.count("sliding")
 
 
 def test_profile_energetic_pinch(capsys):

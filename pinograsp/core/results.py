@@ -219,7 +219,7 @@ class MaxWrench:
         resolution: Bisection resolution ``upper / 2**steps`` (the true limit lies in
             ``[magnitude, magnitude + resolution]`` if resistibility is monotone along the ray).
         evidence: Every magnitude tried and its verdict, in order.
-        method: ``"prp"`` or ``"iterative"``.
+        method: ``"prp"``, ``"iterative"`` or ``"energetic"``.
         solve_time: Total solver wall time [s] (including the preload check).
         wall_time: Total wall time of the query [s].
         n_solves: Complementarity problems solved.

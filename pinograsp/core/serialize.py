@@ -200,16 +200,17 @@ def audit_dict(a: Audit) -> dict[str, Any]:
 
 
 def _labels(r: PassiveResponse, model: Any, names: str, values: str, model_values: str) -> list[Any]:
-    """Per-row model data (``mu`` per contact, ``kind`` per actuator) by name: from ``model``
-    when given, else from the record (``None`` where unknown)."""
+    """Per-row model data (``mu`` per contact, ``kind`` per actuator) by name: the record's own
+    (what was analysed: a normal uncertainty reduces ``mu``), else from ``model`` when given
+    (``None`` where unknown)."""
     rows = getattr(r, names)
+    own = getattr(r, values, None)
+    if own is not None and len(own) == len(rows):
+        return list(own)
     if model is not None:
         table = dict(zip(getattr(model, names), getattr(model, model_values)))
         return [table.get(nm) for nm in rows]
-    own = getattr(r, values, None)
-    if own is None or len(own) != len(rows):
-        return [None] * len(rows)
-    return list(own)
+    return [None] * len(rows)
 
 
 def response_dict(r: PassiveResponse, model: Any = None) -> dict[str, Any]:
