@@ -10,6 +10,7 @@ import sys
 
 import numpy as np
 import pytest
+from clirun import run, run_json
 
 import pinograsp as pg
 from pinograsp.cli import main
@@ -18,18 +19,6 @@ from pinograsp.core.serialize import unbounded_runs
 
 SCENES = sorted(pg.builtin_scenes())
 FAST = ["--steps", "3"]
-
-
-def run(capsys, *argv: str) -> tuple[int, str, str]:
-    rc = main(list(argv))
-    cap = capsys.readouterr()
-    return rc, cap.out, cap.err
-
-
-def run_json(capsys, *argv: str) -> dict:
-    rc, out, err = run(capsys, *argv, "--json")
-    assert rc == 0, err
-    return json.loads(out)  # stdout holds exactly one JSON document
 
 
 def mags(values) -> np.ndarray:

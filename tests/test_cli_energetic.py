@@ -4,12 +4,12 @@ naming the option or key (issue 16)."""
 
 from __future__ import annotations
 
-import json
 import math
 import re
 
 import numpy as np
 import pytest
+from clirun import run, run_json
 
 import pinograsp as pg
 from pinograsp.batch.evaluate import WorstAxisScore
@@ -28,18 +28,6 @@ def pinch_limit(deg: float) -> float:
     """The pinch's ±fy limit [N] under a normal uncertainty of ``deg``: the band scales with the
     effective friction coefficient ``tan(atan(mu) - u)``."""
     return PINCH_FY * math.tan(math.atan(MU) - math.radians(deg)) / MU
-
-
-def run(capsys, *argv: str) -> tuple[int, str, str]:
-    rc = main(list(argv))
-    cap = capsys.readouterr()
-    return rc, cap.out, cap.err
-
-
-def run_json(capsys, *argv: str) -> dict:
-    rc, out, err = run(capsys, *argv, "--json")
-    assert rc == 0, err
-    return json.loads(out)
 
 
 # ---------------------------------------------------------------------------- CLI: numbers
