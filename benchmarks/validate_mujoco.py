@@ -31,7 +31,9 @@ import numpy as np
 import pinograsp as pg
 
 HERE = Path(__file__).resolve().parents[1]
-METHODS = ("iterative", "prp")
+METHODS = ("iterative", "prp", "energetic")
+#: Node limit of the energetic predictions (a count; case 2 reaches it in some directions).
+ENERGETIC_NODES = 5000
 #: Below this fraction of the upper load both answers count as "not resisted" (≈ 0).
 ZERO = 1e-3
 #: Prediction statuses meaning "resisted up to the upper load" (the simulation's "held").
@@ -60,6 +62,8 @@ def _directions(scene: object, n: int) -> list[tuple[str, np.ndarray]]:
 
 def _compare(pred: dict, sim: dict) -> tuple[str, float | None]:
     """Verdict and relative difference (simulated / predicted - 1) of one direction."""
+    if pred["status"] in ("node_limit", "failed", "timeout"):
+        return "no verdict", None
     p_holds, s_holds = pred["status"] in HOLDS, sim["status"] == "held"
     if p_holds and s_holds:
         return "both hold", None
@@ -83,9 +87,14 @@ def _simulate(scene: object, d: np.ndarray) -> dict:
 
 def _predict(scene: object, d: np.ndarray, method: str) -> dict:
     t0 = time.perf_counter()
+    extra = {"max_nodes": ENERGETIC_NODES} if method == "energetic" else {}
     with warnings.catch_warnings():  # the PRP's audit warnings are recorded as audit_failures
         warnings.simplefilter("ignore")
-        mw = scene.max_resistible_wrench(d, method=method)
+        try:
+            mw = scene.max_resistible_wrench(d, method=method, **extra)
+        except pg.SolverError as exc:  # a node limit is no verdict: its own class
+            return {"status": str(exc.status or "failed"), "magnitude": float("nan"), "upper": 0.0,
+                    "wedging": False, "wedge_from": None, "t": time.perf_counter() - t0}  # fmt: skip
     return {"status": str(mw.status), "magnitude": float(mw.magnitude), "upper": float(mw.upper),
             "wedging": bool(mw.audit_failures), "wedge_from": min(mw.audit_failures, default=None),
             "t": time.perf_counter() - t0}  # fmt: skip
@@ -127,6 +136,7 @@ def summarize(name: str, method: str, rows: list[dict]) -> dict:
         "pred_holds_wedging": sum(p["verdict"] == "predicted holds" and p["wedging"] for p in preds),
         "sim_holds": sum(p["verdict"] == "simulation holds" for p in preds),
         "flagged": sum(p["wedging"] for p in preds),
+        "no_verdict": sum(p["verdict"] == "no verdict" for p in preds),
         "t_sim": float(np.mean([r["sim"]["t"] for r in rows])),
         "t_pred": float(np.mean([p["t"] for p in preds])),
     }
@@ -155,6 +165,8 @@ def _pred_text(p: dict) -> str:
         text = "≥ upper"
     elif p["status"] == "below_resolution":
         text = "≈ 0"
+    elif p["verdict"] == "no verdict":
+        return p["status"].replace("_", " ")
     else:
         text = f"{p['magnitude']:.4g}"
     if p.get("wedge_from") is not None and p["status"] not in HOLDS:
@@ -173,6 +185,8 @@ def summary_line(s: dict) -> str:
         text += f"; simulation holds where the prediction gives way: {s['sim_holds']}"
     if s["flagged"]:
         text += f"; {s['flagged']} predictions rest on solutions failing the energy audit"
+    if s["no_verdict"]:
+        text += f"; {s['no_verdict']} without a verdict (node limit {ENERGETIC_NODES})"
     return text + f"; {s['t_sim']:.2f} s simulation, {s['t_pred']:.2f} s prediction per direction"
 
 
@@ -235,8 +249,9 @@ def write_markdown(path: Path, results: dict[str, list[dict]], ns: dict[str, int
         f" Directions in each scene's plane: {counts}, plus its named directions. The simulation and its"
         " thresholds: [`simulation.md`](simulation.md)._",
         "",
-        "Predicted: `scene.max_resistible_wrench(d, method=...)` for both methods, with the scene's other"
-        " settings. Simulated: `pg.simulate_max_wrench(scene, d)` with its defaults (held preload, contact"
+        "Predicted: `scene.max_resistible_wrench(d, method=...)` for the three methods, with the scene's"
+        f" other settings (energetic: `max_nodes={ENERGETIC_NODES}`; a node limit is no verdict)."
+        " Simulated: `pg.simulate_max_wrench(scene, d)` with its defaults (held preload, contact"
         " stiffness 1e6 N/m, step 1e-4 s), once per direction. Classes: the simulation holds up to `upper`"
         " ↔ the prediction is `unbounded` or `above_limit`; both give way ↔ a finite prediction. Relative"
         " difference: simulated / predicted − 1, summarised over the directions finite in both and not"

@@ -181,20 +181,6 @@ class Formulation:
         out["n"] = slice(0, o + nsl)
         return out
 
-    def slip(self, xh: np.ndarray, qh: np.ndarray) -> np.ndarray:
-        """Scaled tangential slip ``k_i (G_i^T x - J_i q)_t`` of every contact, (nc, d - 1)."""
-        m = self.model
-        d = m.d
-        G = m.G * self.wscale[:, None]
-        out = np.zeros((m.nc, d - 1))
-        for i in range(m.nc):
-            trows = np.arange(i * d + 1, (i + 1) * d)
-            v = (m.k[i] / self.kx) * (G[:, trows].T @ xh)
-            if m.nq:
-                v = v - m.k[i] * (m.J[trows] @ (qh / self.qscale))
-            out[i] = v
-        return out
-
     # -------------------------------------------------------------- data scaling
     def scale_data(
         self,
