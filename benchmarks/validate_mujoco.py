@@ -371,6 +371,23 @@ NOTES = """
   iterative scheme** (its verdict depends on `improvement`, `gamma`, `accelerate`, and is not
   monotone along a ray), reported to the solver owners; a user sees it in the response at the
   predicted limit: `residual_history` ends flat and a PRP solution at that load passes `audit`.
+- **Energetic** (maximum dissipation, [`methods.md`](methods.md)): the simulation's class in
+  every direction where it gives a verdict — pinch 24/24, case 1 25/25, fig. 1 24/24, case 3
+  25/25 (21 both ≈ 0), wedge 22/24, case 2 11/24 with the other 13 without a verdict (node
+  limit 5000); where both are finite 0.10–0.25 % median apart in the XY scenes. No wedging:
+  wedge +Y 5.99 N simulated against its 6.00 N, case 1 and fig. 1 at 30°/150° 35.7 N. It
+  agrees with the iterative scheme everywhere that scheme does not stall or sit at its
+  tolerance, and where the iterative scheme stalls it finds the equilibrium: case 3 at
+  255°/285° 23.18 N (the PRP's value, audit passing; the simulation 26.4 N, 14 % above, the
+  same gap as the PRP's); case 1 out of plane 1.396 N (the history-free friction of the model,
+  as above). On the wedge at 15°, 30°, 195° and 210° it is unbounded like the simulation
+  (which holds 1000 N through the wedge mechanism reached physically, see above), where the
+  iterative scheme gives way; at 45° and 225° it is unbounded too, where the simulation gives
+  way gradually at 445–965 N after a rotation far beyond the linearised model (the iterative
+  scheme: 24.8 N). Case 2 along +X with a larger
+  node budget (46,695 nodes, ≈ 100 s) gives 35.74 N against the simulated 35.07 N (+1.9 %;
+  the iterative scheme 25.27 N, the PRP unbounded); the 13 case-2 directions without a verdict
+  are the ones where the simulation holds 50 N and the iterative scheme stalls.
 """
 
 
