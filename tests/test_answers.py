@@ -11,11 +11,6 @@ from pinograsp import examples
 from pinograsp.cli import main
 
 
-@pytest.fixture(scope="module")
-def case1():
-    return pg.load_scene("case1")
-
-
 def test_unbounded_is_a_property_of_the_grasp_not_of_upper(case1):
     s = case1
     # +Y is finite (4.30 N): a tiny upper is resisted but is not "unbounded"

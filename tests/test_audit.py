@@ -17,11 +17,6 @@ def _at(deg: float) -> np.ndarray:
     return np.array([np.cos(a), np.sin(a), 0.0, 0.0, 0.0, 0.0])
 
 
-@pytest.fixture(scope="module")
-def case1():
-    return pg.load_scene("case1")
-
-
 def test_case1_prp_wedging_is_flagged_where_the_simulation_gives_way(case1):
     """case1 along 30°: the simulation gives way at 35.7 N; the PRP calls 100 N resisted."""
     s = case1

@@ -10,7 +10,7 @@ import sys
 
 import numpy as np
 import pytest
-from clirun import run, run_json
+from support.clirun import run, run_json
 
 import pinograsp as pg
 from pinograsp.cli import main

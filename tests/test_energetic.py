@@ -25,12 +25,6 @@ def _mw(model, command, d, method="energetic", **kw):
         return pg.max_resistible_wrench(model, command, d, method=method, **kw)
 
 
-@pytest.fixture(scope="module")
-def case1():
-    sc = pg.load_scene("case1")
-    return sc.model, sc.command
-
-
 @pytest.mark.parametrize("deg", [30.0, 60.0, 90.0, 135.0, 270.0])
 def test_pinch_band_closed_form(deg):
     # DESIGN.md §6: F_max = 2 mu tau0 / (L |sin θ|) = 10 / |sin θ| N
@@ -64,7 +58,7 @@ def test_wedge_finite_where_prp_is_unbounded():
 
 @pytest.mark.parametrize("deg", [0.0, 30.0, 60.0, 90.0, 150.0, 240.0])
 def test_energetic_never_exceeds_prp(case1, deg):
-    m, cmd = case1
+    m, cmd = case1.model, case1.command
     kw = dict(upper=50.0, variant="single-step")
     prp = _mw(m, cmd, _dir(deg), method="prp", search="direct", **kw)
     energetic = _mw(m, cmd, _dir(deg), **kw)
@@ -73,7 +67,7 @@ def test_energetic_never_exceeds_prp(case1, deg):
 
 @pytest.mark.parametrize("deg", [30.0, 60.0, 90.0, 180.0, 270.0])
 def test_case1_agrees_with_iterative(case1, deg):
-    m, cmd = case1
+    m, cmd = case1.model, case1.command
     it = _mw(m, cmd, _dir(deg), method="iterative", upper=50.0)
     en = _mw(m, cmd, _dir(deg), upper=50.0)
     assert en.status == it.status
@@ -82,7 +76,7 @@ def test_case1_agrees_with_iterative(case1, deg):
 
 
 def test_case1_mirror_symmetric(case1):
-    m, cmd = case1
+    m, cmd = case1.model, case1.command
     a = _mw(m, cmd, _dir(30.0), upper=50.0)
     b = _mw(m, cmd, _dir(150.0), upper=50.0)
     assert a.magnitude == pytest.approx(b.magnitude, rel=1e-9)
@@ -90,7 +84,7 @@ def test_case1_mirror_symmetric(case1):
 
 
 def test_same_answer_twice(case1):
-    m, cmd = case1
+    m, cmd = case1.model, case1.command
     a = _mw(m, cmd, _dir(60.0), upper=50.0)
     b = _mw(m, cmd, _dir(60.0), upper=50.0)
     assert repr(a.magnitude) == repr(b.magnitude)
@@ -122,7 +116,7 @@ def test_refinement_of_the_prp_matches():
 
 
 def test_normal_uncertainty_zero_is_nominal(case1):
-    m, cmd = case1
+    m, cmd = case1.model, case1.command
     a = _mw(m, cmd, _dir(60.0), upper=50.0)
     b = _mw(m, cmd, _dir(60.0), upper=50.0, normal_uncertainty=0.0)
     assert repr(a.magnitude) == repr(b.magnitude)
@@ -137,7 +131,7 @@ def test_normal_uncertainty_pinch_closed_form(method):
 
 
 def test_normal_uncertainty_never_increases_resistance(case1):
-    m, cmd = case1
+    m, cmd = case1.model, case1.command
     for deg in (30.0, 90.0):
         vals = [
             _mw(m, cmd, _dir(deg), upper=50.0, normal_uncertainty=math.radians(u)).magnitude
@@ -190,7 +184,7 @@ def test_contact_states_and_slip():
 def test_energetic_friction_opposes_slip(case1):
     # case 1 at 30°, 95 % of its limit: the sliding contacts' friction points against their
     # slip (at a pyramid edge: within the 8-edge polygon's 22.5° half sector) and is saturated
-    m, cmd = case1
+    m, cmd = case1.model, case1.command
     w = 0.95 * 35.714 * np.array(_dir(30.0))
     r = pg.passive_response(m, cmd, w, method="energetic")
     assert r.resistible

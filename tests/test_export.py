@@ -11,7 +11,7 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
-from grasps import MU, L
+from support.grasps import MU, L
 
 import pinograsp as pg
 from pinograsp.cli import main

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
-from strategies import FUZZ, expect_pinograsp_error, junk, scalars, vec
+from support.strategies import FUZZ, expect_pinograsp_error, junk, scalars, vec
 
 import pinograsp as pg
 from pinograsp import examples
@@ -41,11 +41,6 @@ setting_values = st.one_of(
     scalars, st.sampled_from(["bnb", "miqp", "scip", "single-step", "preload-first", "bigm", "indicator"])
 )
 overrides = st.dictionaries(setting_names, setting_values, max_size=2)
-
-
-@pytest.fixture(scope="module")
-def pinch():
-    return examples.pinch()
 
 
 @FAST
@@ -209,11 +204,6 @@ def test_fuzz_scene_view(tmp_path_factory, pinch, response, q, cone_scale, path)
         expect_pinograsp_error(pg.save_figure, response, p)
     finally:
         plt.close("all")
-
-
-@pytest.fixture(scope="module")
-def small_hand():
-    return pg.Hand.builtin("underactuated_2f")
 
 
 @FAST

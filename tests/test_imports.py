@@ -2,7 +2,7 @@
 the solvers nor cvxpy (cvxpy alone took 1.0–1.5 s of a 2.0–2.4 s `import pinograsp`)."""
 
 import pytest
-from probes import loaded
+from support.probes import loaded
 
 HEAVY = ("cvxpy", "pinograsp.solvers", "pinograsp.analysis.response", "pinograsp.analysis.max_wrench")
 

@@ -3,7 +3,7 @@ contact permutation, and agreement of the two iterative variants on the analytic
 
 import numpy as np
 import pytest
-from grasps import pinch_contacts
+from support.grasps import pinch_contacts
 
 import pinograsp as pg
 from pinograsp import examples

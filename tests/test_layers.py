@@ -7,7 +7,7 @@ import ast
 from pathlib import Path
 
 import pytest
-from probes import loaded
+from support.probes import loaded
 
 PACKAGE = Path(__file__).resolve().parents[1] / "pinograsp"
 

@@ -21,10 +21,7 @@ MU, TAU = 0.5, 1.0  # the conftest pinch (a = 0.05 m, L = 0.1 m)
 plt = figures.pyplot()
 
 
-@pytest.fixture(autouse=True)
-def _close_figures():
-    yield
-    plt.close("all")
+pytestmark = pytest.mark.usefixtures("close_figures")
 
 
 def assert_image(path: Path) -> None:

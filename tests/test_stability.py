@@ -1,7 +1,7 @@
 """Numerical stability on stiff and extreme cases.
 
 The stress catalogue is ``tests/data/stress_catalogue.yaml``, read and judged by
-``tests/stress.py`` (``benchmarks/stability.py`` writes its report, ``docs/stability.md``): every
+``tests/support/stress.py`` (``tests/support/stability.py`` writes its report, ``docs/stability.md``): every
 case has a closed-form nominal answer and must be answered within the stated tolerance or flagged
 (error, warning, audit) — never silently wrong. The ``quick`` cases run by default, the full grid
 with ``pytest -m slow``. Cases marked ``known`` are silent errors whose fix lies outside the
@@ -18,8 +18,8 @@ import os
 
 import numpy as np
 import pytest
-from grasps import double_pinch, pinch_contacts, with_stiffness
-from stress import catalogue, run_case
+from support.grasps import double_pinch, pinch_contacts, with_stiffness
+from support.stress import catalogue, run_case
 
 import pinograsp as pg
 from pinograsp import examples

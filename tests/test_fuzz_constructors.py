@@ -15,7 +15,7 @@ import pytest
 import yaml
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from strategies import (  # noqa: E402
+from support.strategies import (  # noqa: E402
     FUZZ,
     expect_pinograsp_error,
     finite,
@@ -334,11 +334,6 @@ def test_fuzz_scene_loader(tmp_path_factory, scene_docs, data):
 
 
 # ------------------------------------------------------------------------------ URDF side
-@pytest.fixture(scope="module")
-def small_hand():
-    return pg.Hand.builtin("underactuated_2f")
-
-
 description_keys = st.sampled_from(
     [
         "name",

@@ -30,15 +30,7 @@ plt = figures.pyplot()
 S20, C20 = np.sin(np.radians(20.0)), np.cos(np.radians(20.0))
 
 
-@pytest.fixture(autouse=True)
-def _close_figures():
-    yield
-    plt.close("all")
-
-
-@pytest.fixture(scope="module")
-def wedge():
-    return examples.wedge()
+pytestmark = pytest.mark.usefixtures("close_figures")
 
 
 @pytest.fixture(scope="module")

@@ -9,7 +9,7 @@ import re
 
 import numpy as np
 import pytest
-from clirun import run, run_json
+from support.clirun import run, run_json
 
 import pinograsp as pg
 from pinograsp.batch.evaluate import WorstAxisScore

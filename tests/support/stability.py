@@ -1,30 +1,28 @@
 """Numerical stability on stiff and extreme cases: runs the stress catalogue, writes its report.
 
-The catalogue is data, ``tests/data/stress_catalogue.yaml``; ``tests/stress.py`` reads it and
+The catalogue is data, ``tests/data/stress_catalogue.yaml``; ``tests/support/stress.py`` reads it and
 judges each case (ok / flagged / WRONG, see its docstring); ``tests/test_stability.py`` runs
 the same cases and asserts that no case is WRONG. This script writes ``docs/stability.md``.
 
-Usage::
+Usage (from the repository root)::
 
-    python benchmarks/stability.py                       # full grid -> docs/stability.md
-    python benchmarks/stability.py --quick               # the default-test subset only
-    python benchmarks/stability.py --json out.json       # also dump the outcomes
-    python benchmarks/stability.py --before before.json  # add a "before the fixes" column
+    python -m tests.support.stability                       # full grid -> docs/stability.md
+    python -m tests.support.stability --quick               # the default-test subset only
+    python -m tests.support.stability --json out.json       # also dump the outcomes
+    python -m tests.support.stability --before before.json  # add a "before the fixes" column
 """
 
 from __future__ import annotations
 
 import argparse
 import json
-import sys
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT / "tests"))  # the catalogue and its judge are test helpers
+from .stability_report import write_report
+from .stress import Case, Outcome, catalogue, run_case
 
-from stability_report import write_report  # noqa: E402
-from stress import Case, Outcome, catalogue, run_case  # noqa: E402
+ROOT = Path(__file__).resolve().parents[2]
 
 REPORT = ROOT / "docs" / "stability.md"
 

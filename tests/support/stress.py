@@ -1,7 +1,7 @@
 """The stress catalogue: its cases, read from ``tests/data/stress_catalogue.yaml``, and their judge.
 
 Every case is a grasp with a closed-form answer (docs/analytic_cases.md; the new geometries in
-``tests/grasps.py``), a stress parameter pushed to an extreme, and a query:
+``tests/support/grasps.py``), a stress parameter pushed to an extreme, and a query:
 
 * ``response`` — ``pg.passive_response`` at a given load: verdict and normal forces;
 * ``max`` — ``pg.max_resistible_wrench`` along a direction: magnitude or ``unbounded``.
@@ -15,7 +15,7 @@ to the largest force; iterative forces ``2 eps`` absolute plus that; PRP magnitu
 with ``eps' = eps / |(d_force, d_torque / ℓ)|`` along the unit direction ``d``.
 
 Cases marked ``known`` are silent errors whose fix lives outside the solvers; the tests mark
-them ``xfail``. ``tests/test_stability.py`` runs the cases, ``benchmarks/stability.py`` writes
+them ``xfail``. ``tests/test_stability.py`` runs the cases, ``tests/support/stability.py`` writes
 the report ``docs/stability.md``.
 """
 
@@ -32,13 +32,14 @@ from pathlib import Path
 
 import numpy as np
 import yaml
-from grasps import COUPLED_CN, MU, TAU, A, L, double_pinch, pinch_variant, pyramid_fmax, ring, ring_fy
-from grasps import with_stiffness as _with_stiffness
 
 import pinograsp as pg
 from pinograsp import examples
 
-CATALOGUE = Path(__file__).resolve().parent / "data" / "stress_catalogue.yaml"
+from .grasps import COUPLED_CN, MU, TAU, A, L, double_pinch, pinch_variant, pyramid_fmax, ring, ring_fy
+from .grasps import with_stiffness as _with_stiffness
+
+CATALOGUE = Path(__file__).resolve().parents[1] / "data" / "stress_catalogue.yaml"
 EPS = pg.Settings().eps
 #: Relative part of the iterative tolerance, ``eps + eps_rel F``.
 EPS_REL = pg.Settings().eps_rel
