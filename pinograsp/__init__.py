@@ -10,8 +10,8 @@ from .core.actuation import ACTUATOR_KINDS, Actuator, Coupling
 from .core.axes import WRENCH_AXES, plane_directions, wrench_direction
 from .core.contact import Contact, friction_edges
 from .core.model import GraspModel, PruneRecord
-from .core.results import Audit, MaxWrench, PassiveResponse, ResistanceProfile
-from .core.serialize import format_magnitude, format_max_wrench
+from .core.results import Audit, MaxWrench, PassiveResponse, ResistanceProfile, format_max_wrench
+from .core.serialize import format_magnitude
 from .core.settings import Backend, Method, Search, Settings, Variant
 from .core.tables import results_rows, results_table, results_to_csv
 from .errors import (

@@ -16,7 +16,8 @@ from support.grasps import MU, L
 import pinograsp as pg
 from pinograsp.cli import main
 from pinograsp.core import tables
-from pinograsp.core.serialize import decimals, format_magnitude, format_max_wrench
+from pinograsp.core.results import format_max_wrench
+from pinograsp.core.serialize import decimals, format_magnitude
 from pinograsp.core.tables import PROFILE_COLUMNS, RESULT_COLUMNS
 
 # the analytic pinch (conftest ``pinch`` fixture): +Y limit 2 MU tau0 / L = 10 N at tau0 = 1

@@ -19,9 +19,8 @@ from typing import Any
 import numpy as np
 import proxsuite
 
-from ..core import serialize as _ser
-from ..core import summaries as _sum
 from ..core.model import GraspModel
+from ..core.serialize import format_magnitude, jsonable
 from ..core.validate import finite_array, finite_number, positive_number
 from ..errors import InvalidInputError, SolverError
 
@@ -60,11 +59,35 @@ class LinearComplianceResult:
     def to_dict(self) -> dict[str, Any]:
         """Plain JSON-ready data: ``valid``, the forces [N] as lists (nc, 3), the object
         displacement [m, rad], the violations and ``friction_ratio`` (``None`` where infinite)."""
-        return _ser.linear_compliance_dict(self)
+        return jsonable(
+            {
+                "valid": self.valid,
+                "contact_names": list(self.contact_names),
+                "contact_forces": self.contact_forces,
+                "contact_forces_world": self.contact_forces_world,
+                "particular": self.particular,
+                "internal": self.internal,
+                "object_displacement": self.object_displacement,
+                "push_violations": list(self.push_violations),
+                "friction_violations": list(self.friction_violations),
+                "friction_ratio": self.friction_ratio,
+            }
+        )
 
     def summary(self) -> str:
         """Validity, the violating contacts, normal forces [N] and friction use, as text."""
-        return _sum.linear_compliance_summary(self)
+        names = self.contact_names or tuple(f"#{i}" for i in range(len(self.contact_forces)))
+        normal = ", ".join(
+            f"{nm} {format_magnitude(f, 1e-6, 'N')}" for nm, f in zip(names, self.contact_forces[:, 0])
+        )
+        lines = [
+            f"linear compliance: {'valid' if self.valid else 'INVALID'}"
+            f" (pulls: {', '.join(self.push_violations) or 'none'};"
+            f" outside the friction cone: {', '.join(self.friction_violations) or 'none'})",
+            "normal contact forces: " + normal,
+            "|c_t| / mu c_n: " + ", ".join(f"{nm} {x:.3g}" for nm, x in zip(names, self.friction_ratio)),
+        ]
+        return "\n".join(lines)
 
 
 def _tangential_stiffness(m: GraspModel, tangential_stiffness: object | None) -> np.ndarray:

@@ -13,7 +13,8 @@ import numpy as np
 
 import pinograsp as pg
 
-from ..core.serialize import format_max_wrench, jsonable, vector_text, wrench_unit
+from ..core.results import format_max_wrench
+from ..core.serialize import jsonable, vector_text, wrench_unit
 from ..errors import InvalidInputError
 from . import options as opt
 from .report import (

@@ -17,7 +17,8 @@ import numpy as np
 
 import pinograsp as pg
 
-from ..core.serialize import direction_text, format_magnitude, format_max_wrench, runs_text, wrench_unit
+from ..core.results import format_max_wrench
+from ..core.serialize import direction_text, format_magnitude, runs_text, wrench_unit
 from ..core.tables import profile_to_csv
 from ..errors import InvalidInputError
 from . import options as opt

@@ -28,8 +28,7 @@ from typing import Any
 
 import numpy as np
 
-from . import serialize as _ser
-from . import summaries as _sum
+from .serialize import jsonable
 
 #: Relative slack of the energy inequality (rounding of the solution's forces and displacements).
 ENERGY_RTOL = 1e-6
@@ -77,11 +76,97 @@ class EnergyCheck:
     def to_dict(self) -> dict[str, Any]:
         """Plain JSON-ready data: the energies [J], their verdicts, the displacement ratio and
         the contacts (the ``energy`` block of an audit in ``pinograsp analyze --json``)."""
-        return _ser.energy_dict(self)
+        return jsonable(
+            {
+                "spring_energy": self.spring_energy,
+                "load_work": self.load_work,
+                "actuator_work": self.actuator_work,
+                "energy_ok": self.energy_ok,
+                "displacement_ratio": self.displacement_ratio,
+                "displacement_ok": self.displacement_ok,
+                "contacts": list(self.contacts),
+            }
+        )
 
     def summary(self) -> str:
         """The energy balance [J] and displacement ratio with their verdicts, on one line."""
-        return _sum.energy_summary(self)
+        supplied = self.load_work + self.actuator_work
+        rel = "<=" if self.energy_ok else "> (WEDGING)"
+        text = f"spring energy {self.spring_energy:.4g} J {rel} supplied {supplied:.4g} J"
+        if not self.energy_ok and self.contacts:
+            text += f" at {', '.join(self.contacts)}"
+        ok = "ok" if self.displacement_ok else "ABSURD"
+        return text + f"; displacements {self.displacement_ratio:.3g}x the spring compressions ({ok})"
+
+
+@dataclass(frozen=True)
+class Audit:
+    """Post-solve check of a solution, in physical force units [N] (torques divided by the
+    model's length scale, joint torques by their lever).
+
+    Attributes:
+        equilibrium: Norm of the object's net wrench ``w + G c`` [N]. Zero (to solver accuracy)
+            for an equilibrium; for the iterative scheme this is the final residual.
+        hand: Largest joint-torque imbalance ``|J^T c - R f - C^T lambda| / lever`` [N].
+        complementarity: Largest ``min(a, b)`` over every complementary pair (contact force /
+            spring gap, actuator motion / over-force) [N]: zero when complementarity holds.
+        friction: Largest violation of the friction pyramid (negative edge weight) [N].
+        bigm_ratio: Largest big-M-bounded quantity as a fraction of its bound (0 without MIQP).
+        bigm_retries: How many times the big-M bounds had to be enlarged.
+        polished: Whether the solution was polished by the exact fixed-mode QP.
+        tolerance: Tolerance the residuals are compared with [N].
+        energy: Energy balance and displacement size of an equilibrium (None when the load is
+            not resisted): :class:`EnergyCheck`.
+    """
+
+    equilibrium: float
+    hand: float
+    complementarity: float
+    friction: float
+    bigm_ratio: float = 0.0
+    bigm_retries: int = 0
+    polished: bool = False
+    tolerance: float = 1e-6
+    energy: EnergyCheck | None = None
+
+    @property
+    def ok(self) -> bool:
+        """All hand/complementarity/friction residuals within tolerance, no big-M saturation,
+        and (for an equilibrium) the energy balance and displacement size hold."""
+        physical = self.energy is None or (self.energy.energy_ok and self.energy.displacement_ok)
+        return (
+            self.hand <= self.tolerance
+            and self.complementarity <= self.tolerance
+            and self.friction <= self.tolerance
+            and self.bigm_ratio < 0.1
+            and physical
+        )
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain JSON-ready data: ``ok``, the residuals [N], big-M use and ``energy``."""
+        return jsonable(
+            {
+                "ok": self.ok,
+                "equilibrium": self.equilibrium,
+                "hand": self.hand,
+                "complementarity": self.complementarity,
+                "friction": self.friction,
+                "bigm_ratio": self.bigm_ratio,
+                "bigm_retries": self.bigm_retries,
+                "polished": self.polished,
+                "tolerance": self.tolerance,
+                "energy": None if self.energy is None else self.energy.to_dict(),
+            }
+        )
+
+    def summary(self) -> str:
+        """The verdict and residuals [N] as text (and the energy balance [J] when checked)."""
+        text = (
+            f"audit: {'ok' if self.ok else 'NOT OK'} (equilibrium {self.equilibrium:.2e} N, "
+            f"hand {self.hand:.2e} N, complementarity {self.complementarity:.2e} N, "
+            f"friction {self.friction:.2e} N, big-M use {self.bigm_ratio:.1%})"
+        )
+        return text if self.energy is None else text + "\n  " + self.energy.summary()
 
 
 def energy_check(

@@ -1,17 +1,58 @@
-"""Typed, immutable results of pinograsp analyses."""
+"""Typed, immutable results of pinograsp analyses: the one import path of every result record.
+
+Each record owns its plain data (``to_dict``), text (``summary``) and compact ``repr``:
+:class:`MaxWrench` and :class:`ResistanceProfile` here (with their table rows, columns
+:data:`PROFILE_COLUMNS`), :class:`~pinograsp.core.response_result.PassiveResponse` and
+:class:`~pinograsp.core.audit.Audit` / :class:`~pinograsp.core.audit.EnergyCheck` below this
+module (re-exported). :mod:`pinograsp.core.serialize` holds only the record-free helpers
+(``jsonable``, values printed to their resolution, CSV writing).
+"""
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any, Literal
 
 import numpy as np
 
 from ..errors import InvalidInputError
-from . import serialize as _ser
-from . import summaries as _sum
-from .audit import EnergyCheck
-from .axes import direction_text
+from .audit import Audit, EnergyCheck
+from .axes import WRENCH_AXES, direction_text, wrench_unit
+from .response_result import (
+    ContactState,
+    MethodName,
+    PassiveResponse,
+    ResponseStatus,
+    forces_text,
+    states_text,
+)
+from .serialize import (
+    format_magnitude,
+    jsonable,
+    real_number,
+    require_pandas,
+    runs_text,
+    unbounded_runs,
+    write_csv,
+)
+
+__all__ = [
+    "DIRECTION_ATOL",
+    "PROFILE_COLUMNS",
+    "RESULT_FIELDS",
+    "Audit",
+    "ContactState",
+    "EnergyCheck",
+    "MaxWrench",
+    "MaxWrenchStatus",
+    "MethodName",
+    "PassiveResponse",
+    "ResistanceProfile",
+    "ResponseStatus",
+    "format_max_wrench",
+]
 
 #: Largest per-component difference between two unit wrench directions (6,) that are taken to
 #: be the same (:meth:`ResistanceProfile.result_along`). A profile's directions
@@ -23,175 +64,30 @@ from .axes import direction_text
 DIRECTION_ATOL = 1e-9
 
 
-#: Verdict of one passive response: the model's (``resisted``, ``not_resisted``), the iterative
-#: scheme's cap (``not_converged``), or a solver's limit or failure (the values of
-#: ``pinograsp.solvers.base.SolveStatus`` that are not optimal or infeasible).
-ResponseStatus = Literal["resisted", "not_resisted", "not_converged", "timeout", "node_limit", "failed"]
-#: Name of an analysis method (the values of :class:`~pinograsp.core.settings.Method`).
-MethodName = Literal["prp", "iterative", "energetic"]
-#: State of a contact in a solution: ``"separated"`` (no force), ``"sticking"`` (touching, no
-#: slip) or ``"sliding"`` (touching and slipping; for ``method="energetic"`` its force then sits
-#: on the pyramid's boundary, pointing most against the slip).
-ContactState = Literal["sticking", "sliding", "separated"]
+#: Columns that describe one max-wrench result (:meth:`MaxWrench.row`), shared by the profile
+#: and batch tables (:data:`pinograsp.core.tables.RESULT_COLUMNS`).
+RESULT_FIELDS = (
+    "unit",
+    "status",
+    "unbounded",
+    "monotone",
+    "upper",
+    "resolution",
+    "floor",
+    "n_solves",
+    "solve_time",
+    "wall_time",
+    "method",
+    "search",
+)
+#: Columns of :meth:`ResistanceProfile.rows` (and of the profile CSV), in order. ``fx`` ... ``mz``:
+#: the unit direction; ``normalized``: magnitude / the profile's ``normalized_by`` (NaN, an empty
+#: CSV cell, when the profile is not normalised).
+PROFILE_COLUMNS = ("angle_deg", "label", *WRENCH_AXES, "magnitude", "normalized", *RESULT_FIELDS)
 
 
-@dataclass(frozen=True)
-class Audit:
-    """Post-solve check of a solution, in physical force units [N] (torques divided by the
-    model's length scale, joint torques by their lever).
-
-    Attributes:
-        equilibrium: Norm of the object's net wrench ``w + G c`` [N]. Zero (to solver accuracy)
-            for an equilibrium; for the iterative scheme this is the final residual.
-        hand: Largest joint-torque imbalance ``|J^T c - R f - C^T lambda| / lever`` [N].
-        complementarity: Largest ``min(a, b)`` over every complementary pair (contact force /
-            spring gap, actuator motion / over-force) [N]: zero when complementarity holds.
-        friction: Largest violation of the friction pyramid (negative edge weight) [N].
-        bigm_ratio: Largest big-M-bounded quantity as a fraction of its bound (0 without MIQP).
-        bigm_retries: How many times the big-M bounds had to be enlarged.
-        polished: Whether the solution was polished by the exact fixed-mode QP.
-        tolerance: Tolerance the residuals are compared with [N].
-        energy: Energy balance and displacement size of an equilibrium (None when the load is
-            not resisted): :class:`~pinograsp.core.audit.EnergyCheck`.
-    """
-
-    equilibrium: float
-    hand: float
-    complementarity: float
-    friction: float
-    bigm_ratio: float = 0.0
-    bigm_retries: int = 0
-    polished: bool = False
-    tolerance: float = 1e-6
-    energy: EnergyCheck | None = None
-
-    @property
-    def ok(self) -> bool:
-        """All hand/complementarity/friction residuals within tolerance, no big-M saturation,
-        and (for an equilibrium) the energy balance and displacement size hold."""
-        physical = self.energy is None or (self.energy.energy_ok and self.energy.displacement_ok)
-        return (
-            self.hand <= self.tolerance
-            and self.complementarity <= self.tolerance
-            and self.friction <= self.tolerance
-            and self.bigm_ratio < 0.1
-            and physical
-        )
-
-    def to_dict(self) -> dict[str, Any]:
-        """Plain JSON-ready data: ``ok``, the residuals [N], big-M use and ``energy``."""
-        return _ser.audit_dict(self)
-
-    def summary(self) -> str:
-        """The verdict and residuals [N] as text (and the energy balance [J] when checked)."""
-        return _sum.audit_summary(self)
-
-
-@dataclass(frozen=True, repr=False)
-class PassiveResponse:
-    """Passive response of a preloaded grasp to one external wrench.
-
-    Shapes: ``nc`` contacts, ``nq`` joints, ``na`` actuators, ``ncp`` couplings (of the pruned
-    model). Forces in [N], torques in [N·m], displacements in [m] / [rad] (virtual, from the
-    touching-without-force configuration; scaled by the contact stiffness).
-
-    Attributes:
-        resistible: Whether the wrench is resisted passively (PRP: feasible; iterative:
-            converged to equilibrium below ``eps``).
-        status: ``"resisted"``, ``"not_resisted"`` (infeasible / converged above ``eps``),
-            ``"not_converged"`` (iteration cap), ``"timeout"``, ``"node_limit"`` or ``"failed"``.
-        method: ``"prp"``, ``"iterative"`` or ``"energetic"``.
-        variant: ``"single-step"``, ``"preload-first"`` or ``"settled-preload"``.
-        wrench: Applied wrench ``(fx, fy, fz, mx, my, mz)`` about the object reference point.
-        command: Actuator commands of the kept actuators (na,).
-        contact_forces: Contact-frame forces ``(c_n, c_t1, c_t2)`` on the object, (nc, 3).
-        contact_forces_world: World-frame forces on the object, (nc, 3).
-        joint_torques: ``tau = J^T c``, (nq,).
-        actuator_forces: (na,).
-        coupling_forces: Coupling reactions ``lambda``, (ncp,).
-        object_displacement: ``(translation, rotation)``, (6,).
-        joint_displacements: (nq,).
-        actuator_displacements: ``u = R^T q``, (na,).
-        contact_modes: ``"touching"`` / ``"separated"`` per contact.
-        actuator_modes: ``"moving"`` / ``"holding"`` (non-backdrivable), ``"backdrivable"``,
-            ``"locked"``.
-        net_wrench: ``w + G c`` (6,): zero at equilibrium.
-        audit: Residual checks of the returned solution.
-        iterations: Movement-constrained solves of the iterative scheme (1 for PRP).
-        residual_history: Net-wrench norm after each iteration [N] (empty for PRP).
-        converged: The iteration met ``eps`` (PRP: same as ``resistible``).
-        solver: Backend(s) used.
-        solve_time: Wall time of the solver calls [s].
-        n_solves: Complementarity problems solved (branch-and-bound searches or reference
-            MIQPs; one per PRP, one per iteration step, plus the subspace jumps).
-        contact_names, joint_names, actuator_names: Labels of the rows above.
-        friction_use: ``|c_t| / (mu c_n)`` per contact (nc,): NaN for a separated contact or one
-            touching with no normal force (above the audit tolerance).
-        contact_mu: Friction coefficient per contact (nc,) (``None``: not recorded).
-        actuator_kinds: Kind of each actuator (``"non-backdrivable"``, ...), (na,).
-        contact_states: :data:`ContactState` per contact (nc,): ``"sliding"`` where the slip
-            exceeds the audit tolerance (in spring-force units ``k |s|``).
-        contact_slip: Slip of the object over the hand at each contact, world frame, (nc, 3)
-            [m] (tangential; virtual, scaled by the stiffness like every displacement).
-        edge_counts: Friction pyramid edges per contact (nc,) (``Settings.cone_tolerance``
-            refines them where loaded).
-    """
-
-    resistible: bool
-    status: ResponseStatus
-    method: MethodName
-    variant: str
-    wrench: np.ndarray
-    command: np.ndarray
-    contact_forces: np.ndarray
-    contact_forces_world: np.ndarray
-    joint_torques: np.ndarray
-    actuator_forces: np.ndarray
-    coupling_forces: np.ndarray
-    object_displacement: np.ndarray
-    joint_displacements: np.ndarray
-    actuator_displacements: np.ndarray
-    contact_modes: tuple[str, ...]
-    actuator_modes: tuple[str, ...]
-    net_wrench: np.ndarray
-    audit: Audit | None
-    iterations: int = 1
-    residual_history: tuple[float, ...] = ()
-    converged: bool = False
-    solver: str = ""
-    solve_time: float = 0.0
-    n_solves: int = 0
-    contact_names: tuple[str, ...] = ()
-    joint_names: tuple[str, ...] = ()
-    actuator_names: tuple[str, ...] = ()
-    friction_use: np.ndarray | None = None
-    contact_mu: np.ndarray | None = None
-    actuator_kinds: tuple[str, ...] = ()
-    contact_states: tuple[ContactState, ...] = ()
-    contact_slip: np.ndarray | None = None
-    edge_counts: tuple[int, ...] = ()
-
-    @property
-    def normal_forces(self) -> np.ndarray:
-        """Normal contact forces ``c_n`` (nc,) [N]."""
-        return self.contact_forces[:, 0]
-
-    def to_dict(self, model: Any = None) -> dict[str, Any]:
-        """Plain JSON-ready data, the ``pinograsp analyze --json`` schema (``docs/cli.md``):
-        forces [N] as lists, ``None`` for NaN/inf.
-
-        Args:
-            model: Optional :class:`~pinograsp.GraspModel` to take ``mu`` and actuator ``kind``
-                from (default: the record's ``contact_mu`` and ``actuator_kinds``).
-        """
-        return _ser.response_dict(self, model)
-
-    def summary(self) -> str:
-        """Status, wrench, normal contact forces [N], actuator modes and the audit, as text."""
-        return _sum.response_summary(self)
-
-    def __repr__(self) -> str:
-        return _sum.response_repr(self)
+def _num(x: float) -> str:
+    return f"{float(x):.4g}"
 
 
 #: How a max-wrench search ended (see :class:`MaxWrench`).
@@ -200,7 +96,7 @@ MaxWrenchStatus = Literal["finite", "unbounded", "above_limit", "below_resolutio
 
 @dataclass(frozen=True, repr=False)
 class MaxWrench:
-    """Largest resistible wrench magnitude along one direction (bisection).
+    """Largest resistible wrench magnitude along one direction.
 
     Attributes:
         direction: Unit direction in wrench space, (6,) (torques in [N·m] per unit).
@@ -282,15 +178,82 @@ class MaxWrench:
             label: Direction label (default ``"+fy"``-style text of the direction).
             response: Include ``"response"`` (:meth:`PassiveResponse.to_dict` at the limit).
         """
-        return _ser.max_wrench_dict(self, label, response=response)
+        out = {
+            "direction": self.direction,
+            "label": label or direction_text(self.direction),
+            "magnitude": None if self.unbounded else self.magnitude,
+            "unbounded": self.unbounded,
+            "status": self.status,
+            "unit": wrench_unit(self.direction),
+            "upper": self.upper,
+            "resolution": self.resolution,
+            "method": self.method,
+            "monotone": self.monotone,
+            "audit_failures": [None if np.isinf(m) else m for m in self.audit_failures],
+            "evidence": [[m, ok] for m, ok in self.evidence],
+            "n_solves": self.n_solves,
+            "solve_time": self.solve_time,
+            "wall_time": self.wall_time,
+        }
+        if response:
+            out["response"] = None if self.response is None else self.response.to_dict()
+        return jsonable(out)
 
     def summary(self, label: str | None = None) -> str:
         """Status and magnitude to the resolution with its unit, the search, and the normal
         contact forces [N] at the limit, as text."""
-        return _sum.max_wrench_summary(self, label)
+        unit = wrench_unit(self.direction)
+        head = (
+            f"max resistible wrench along {label or direction_text(self.direction)}: "
+            f"{format_max_wrench(self, unit=unit)} ({self.status}"
+        )
+        if self.status == "finite":
+            head += f", resolution {self.resolution:.2g} {unit}"
+        elif self.status == "above_limit":
+            head += f": the upper limit {self.upper:g} {unit} is resisted"
+        lines = [
+            head + ")",
+            f"method {self.method}, {self.search}: {len(self.evidence)} magnitudes tried, monotone "
+            f"{'yes' if self.monotone else 'NO'}; {self.n_solves} solves, {self.wall_time:.3g} s",
+        ]
+        if self.response is not None and self.response.resistible:
+            at = "at the upper limit" if self.unbounded else "at the limit"
+            lines.append(f"normal contact forces {at}: {forces_text(self.response)}")
+            if states := states_text(self.response):
+                lines.append(f"contact states {at}: {states}")
+        if self.audit_failures:
+            lines.append(f"audit failures at {', '.join(f'{m:.6g}' for m in self.audit_failures)}")
+        return "\n".join(lines)
 
     def __repr__(self) -> str:
-        return _sum.max_wrench_repr(self)
+        return (
+            f"MaxWrench(direction={direction_text(self.direction)!r}, magnitude={_num(self.magnitude)}, "
+            f"status={self.status!r}, resolution={self.resolution:.3g}, upper={self.upper:g}, "
+            f"method={self.method!r}, search={self.search!r}, n_solves={self.n_solves}, "
+            f"audit_failures={len(self.audit_failures)})"
+        )
+
+    def row(self) -> dict[str, Any]:
+        """This result as one table row: ``label``, the unit direction ``fx`` ... ``mz``,
+        ``magnitude`` [N or N·m] and the search record (:data:`RESULT_FIELDS`)."""
+        d = np.asarray(self.direction, dtype=float)
+        return {
+            "label": direction_text(d),
+            **{ax: float(v) for ax, v in zip(WRENCH_AXES, d)},
+            "magnitude": float(self.magnitude),
+            "unit": wrench_unit(d),
+            "status": self.status,
+            "unbounded": bool(self.unbounded),
+            "monotone": bool(self.monotone),
+            "upper": float(self.upper),
+            "resolution": float(self.resolution),
+            "floor": float(self.floor),
+            "n_solves": int(self.n_solves),
+            "solve_time": float(self.solve_time),
+            "wall_time": float(self.wall_time),
+            "method": self.method,
+            "search": self.search,
+        }
 
 
 @dataclass(frozen=True, repr=False)
@@ -355,30 +318,139 @@ class ResistanceProfile:
             normalized_by: Reference magnitude for ``"normalized"`` (default: the profile's own).
             results: Also list every direction's :meth:`MaxWrench.to_dict` (without responses).
         """
-        return _ser.profile_dict(self, normalized_by, results=results)
+        ref = normalized_by if normalized_by is not None else self.normalized_by
+        mags = self.absolute_magnitudes()
+        deg = np.degrees(self.angles)
+        out = {
+            "plane": list(self.plane),
+            "basis": self.basis,
+            "n": len(self.angles),
+            "angles_deg": deg,
+            "directions": self.directions,
+            "magnitudes": mags,
+            "unbounded": self.unbounded,
+            "monotone": [r.monotone for r in self.results],
+            "n_solves": [r.n_solves for r in self.results],
+            "normalized_by": ref,
+            "normalized": None if ref is None else mags / ref,
+            "wall_time": self.wall_time,
+            "unbounded_runs_deg": unbounded_runs(deg, self.unbounded),
+        }
+        if results:
+            out["results"] = [r.to_dict(response=False) for r in self.results]
+        return jsonable(out)
+
+    def absolute_magnitudes(self) -> np.ndarray:
+        """The magnitudes before any normalisation, (n,) [N or N·m] (``inf``: unbounded)."""
+        if len(self.results) == len(self.magnitudes):
+            return np.array([r.magnitude for r in self.results], dtype=float)
+        m = np.asarray(self.magnitudes, dtype=float)
+        return m * self.normalized_by if self.normalized_by else m
+
+    def _status_counts(self) -> dict[str, int]:
+        counts = {"finite": 0, "unbounded": 0, "above_limit": 0, "below_resolution": 0}
+        if len(self.results) == len(self.magnitudes):
+            for r in self.results:
+                counts[r.status] = counts.get(r.status, 0) + 1
+        else:
+            counts["unbounded"] = int(np.sum(self.unbounded))
+            counts["finite"] = len(self.magnitudes) - counts["unbounded"]
+        return counts
 
     def summary(self) -> str:
         """Plane, directions per status, the finite range to the resolution, unbounded runs."""
-        return _sum.profile_summary(self)
+        unit = wrench_unit(self.basis[0] + self.basis[1]) if len(self.basis) == 2 else ""
+        mags = self.absolute_magnitudes()
+        res = max((r.resolution for r in self.results), default=float("nan"))
+        fin = (
+            np.array([r.status == "finite" for r in self.results], bool) if self.results else ~self.unbounded
+        )
+        b1, b2 = (direction_text(b) for b in self.basis)
+        method = self.results[0].method if self.results else "?"
+        counts = self._status_counts()
+        lines = [
+            f"resistance profile in the plane ({b1}, {b2}): {len(self.angles)} directions, method {method}",
+            ", ".join(f"{k} {v}" for k, v in counts.items() if v or k in ("finite", "unbounded")),
+        ]
+        if fin.any():
+            lo, hi = float(mags[fin].min()), float(mags[fin].max())
+            lines.append(
+                f"finite magnitudes {format_magnitude(lo, res)}–{format_magnitude(hi, res, unit)} "
+                f"(resolution {res:.2g} {unit})"
+            )
+        lines.append("unbounded at " + runs_text(unbounded_runs(np.degrees(self.angles), self.unbounded)))
+        if self.normalized_by is not None:
+            lines.append(f"normalised by {self.normalized_by:.4g} {unit}")
+        lines.append(f"{sum(r.n_solves for r in self.results)} solves, {self.wall_time:.3g} s")
+        return "\n".join(lines)
 
     def __repr__(self) -> str:
-        return _sum.profile_repr(self)
+        method = self.results[0].method if self.results else None
+        if len(self.results) == len(self.magnitudes):
+            fin = np.array([r.status == "finite" for r in self.results], bool)
+        else:
+            fin = ~np.asarray(self.unbounded, bool) & np.isfinite(self.magnitudes)
+        m = self.magnitudes
+        rng = f"({_num(np.min(m[fin]))}, {_num(np.max(m[fin]))})" if fin.any() else "None"
+        norm = None if self.normalized_by is None else _num(self.normalized_by)
+        return (
+            f"ResistanceProfile(plane={tuple(self.plane)!r}, n={len(self.angles)}, method={method!r}, "
+            + ", ".join(f"{k}={v}" for k, v in self._status_counts().items())
+            + f", range={rng}, normalized_by={norm}, wall_time={self.wall_time:.3g})"
+        )
 
     def rows(self) -> list[dict[str, Any]]:
-        """One dict per direction (the CSV columns, :data:`pinograsp.core.tables.PROFILE_COLUMNS`)."""
-        from .tables import profile_rows
+        """One dict per direction with the keys :data:`PROFILE_COLUMNS`; ``magnitude`` [N or
+        N·m] absolute (``inf`` where unbounded), ``normalized`` NaN when not normalised."""
+        mags = self.absolute_magnitudes()
+        ref = self.normalized_by
+        rows = []
+        for i, mw in enumerate(self.results):
+            row = {"angle_deg": float(np.degrees(self.angles[i])), **mw.row()}
+            row["magnitude"] = float(mags[i])
+            row["normalized"] = float(mags[i] / ref) if ref else float("nan")
+            rows.append({k: row[k] for k in PROFILE_COLUMNS})
+        return rows
 
-        return profile_rows(self)
+    def to_csv(self, path: object, *, name: str = "path") -> Path:
+        """Write :meth:`rows` to a CSV file (standard library ``csv``; header
+        :data:`PROFILE_COLUMNS`; ``inf`` where unbounded, an empty cell for a missing
+        ``normalized``); returns the :class:`~pathlib.Path` written.
 
-    def to_csv(self, path: object) -> object:
-        """Write one row per direction to a CSV file (standard library ``csv``); returns the
-        :class:`~pathlib.Path` written. Columns: :data:`pinograsp.core.tables.PROFILE_COLUMNS`."""
-        from .tables import profile_to_csv
+        Args:
+            path: The CSV file (``str`` or ``os.PathLike``); parent folders are created.
+            name: How errors name ``path`` (e.g. ``"--csv"``).
 
-        return profile_to_csv(self, path)
+        Raises:
+            InvalidInputError: ``path`` is not a file path or cannot be written.
+        """
+        return write_csv(path, PROFILE_COLUMNS, self.rows(), name)
 
     def to_dataframe(self) -> Any:
-        """The rows as a ``pandas.DataFrame`` (needs ``pip install "pinograsp[tables]"``)."""
-        from .tables import profile_to_dataframe
+        """:meth:`rows` as a ``pandas.DataFrame`` (columns :data:`PROFILE_COLUMNS`).
 
-        return profile_to_dataframe(self)
+        Raises:
+            MissingDependencyError: pandas is not installed (``pip install "pinograsp[tables]"``).
+        """
+        pd = require_pandas("ResistanceProfile.to_dataframe")
+        return pd.DataFrame(self.rows(), columns=list(PROFILE_COLUMNS))
+
+
+def format_max_wrench(mw: MaxWrench, scale: float = 1.0, unit: str | None = None) -> str:
+    """A :class:`MaxWrench` magnitude as text, by its status: ``unbounded``, ``>= upper``,
+    ``< floor`` or the magnitude to its resolution, all divided by ``scale`` (e.g. a
+    normalisation reference), followed by ``unit`` when given."""
+    if not isinstance(mw, MaxWrench):
+        raise InvalidInputError("mw", f"expected a MaxWrench, got {type(mw).__name__}")
+    scale = real_number("scale", scale)
+    if not (math.isfinite(scale) and scale > 0):
+        raise InvalidInputError("scale", f"must be finite and > 0, got {scale!r}")
+    if mw.status == "unbounded":
+        return "unbounded"
+    if mw.status == "above_limit":
+        text = f">= {mw.upper / scale:.4g}"
+    elif mw.status == "below_resolution":
+        text = f"< {mw.floor / scale:.2g}"
+    else:
+        return format_magnitude(mw.magnitude / scale, mw.resolution / scale, unit)
+    return f"{text} {unit}" if unit else text

@@ -32,8 +32,7 @@ from typing import TYPE_CHECKING, Any
 import coal
 import numpy as np
 
-from ..core import serialize as _ser
-from ..core import summaries as _sum
+from ..core.serialize import jsonable
 from ..core.validate import finite_number
 from ..errors import InvalidInputError, NoContactError, PenetrationError, UnknownNameError
 from .kinematics import HandConfiguration
@@ -77,7 +76,18 @@ class PairDistance:
 
     def to_dict(self) -> dict[str, Any]:
         """Plain JSON-ready data: names, ``distance`` [m], points and normal as lists (3,) [m]."""
-        return _ser.pair_distance_dict(self)
+        return jsonable(
+            {
+                "link": self.link,
+                "geometry": self.geometry,
+                "index": self.index,
+                "distance": self.distance,
+                "point": self.point,
+                "point_hand": self.point_hand,
+                "point_object": self.point_object,
+                "normal": self.normal,
+            }
+        )
 
 
 @dataclass(frozen=True)
@@ -104,11 +114,26 @@ class ContactReport:
     def to_dict(self) -> dict[str, Any]:
         """Plain JSON-ready data: ``tolerance`` [m], ``links``, ``contacts`` and ``pairs``
         (:meth:`PairDistance.to_dict`), ``link_distances`` [m]."""
-        return _ser.contact_report_dict(self)
+        return jsonable(
+            {
+                "tolerance": self.tolerance,
+                "links": list(self.links),
+                "contacts": [c.to_dict() for c in self.contacts],
+                "pairs": [c.to_dict() for c in self.pairs],
+                "link_distances": dict(self.link_distances),
+            }
+        )
 
     def summary(self) -> str:
         """The contacts (link, signed distance [mm]) and the closest links without contact."""
-        return _sum.contact_report_summary(self)
+        lines = [f"{len(self.contacts)} contact(s) within {self.tolerance * 1e3:g} mm:"]
+        lines += [f"  {c.link} ({c.geometry}): {c.distance * 1e3:+.3f} mm" for c in self.contacts]
+        touching = set(self.links)
+        others = sorted((d, k) for k, d in self.link_distances.items() if k not in touching)
+        if others:
+            closest = ", ".join(f"{k} {d * 1e3:.3g} mm" for d, k in others[:3])
+            lines.append("closest other links: " + closest)
+        return "\n".join(lines)
 
 
 def _signed_distance(
