@@ -6,6 +6,8 @@ side (Pinocchio, Coal), scenes, batches, simulation and plots — is imported on
 of its names, so ``import pinograsp`` loads neither a solver, cvxpy, Pinocchio nor Coal.
 """
 
+from typing import TYPE_CHECKING
+
 from .core.actuation import ACTUATOR_KINDS, Actuator, Coupling
 from .core.axes import WRENCH_AXES, plane_directions, wrench_direction
 from .core.contact import Contact, friction_edges
@@ -27,6 +29,7 @@ from .errors import (
     PinograspError,
     PinograspWarning,
     PreloadNotInEquilibriumError,
+    RefinementWarning,
     SceneError,
     SolverError,
     SolverNotAvailableError,
@@ -36,6 +39,64 @@ from .errors import (
 )
 
 __version__ = "0.1.0"
+
+# For type checkers (py.typed): the lazily imported names with their real types, as explicit
+# re-exports. tests/test_imports.py checks that this block and _LAZY name the same things.
+if TYPE_CHECKING:
+    from .analysis.baseline import LinearComplianceResult as LinearComplianceResult
+    from .analysis.baseline import linear_compliance as linear_compliance
+    from .analysis.max_wrench import max_resistible_wrench as max_resistible_wrench
+    from .analysis.metrics import GraspScore as GraspScore
+    from .analysis.metrics import ferrari_canny as ferrari_canny
+    from .analysis.metrics import grasp_score as grasp_score
+    from .analysis.metrics import hull_reach as hull_reach
+    from .analysis.optimal import DisturbanceCheck as DisturbanceCheck
+    from .analysis.optimal import OptimalPreload as OptimalPreload
+    from .analysis.optimal import optimal_preload as optimal_preload
+    from .analysis.preload import PreloadChoice as PreloadChoice
+    from .analysis.preload import equilibrium_preload as equilibrium_preload
+    from .analysis.profile import resistance_profile as resistance_profile
+    from .analysis.resistance_set import ResistanceSet as ResistanceSet
+    from .analysis.resistance_set import resistance_set as resistance_set
+    from .analysis.resistance_set import sphere_points as sphere_points
+    from .analysis.response import PassiveSolver as PassiveSolver
+    from .analysis.response import Session as Session
+    from .analysis.response import passive_response as passive_response
+    from .analysis.response import solver_for as solver_for
+    from .batch.evaluate import WorstAxisScore as WorstAxisScore
+    from .batch.evaluate import evaluate_grasps as evaluate_grasps
+    from .batch.evaluate import save_results as save_results
+    from .batch.files import GraspBatch as GraspBatch
+    from .batch.files import load_grasps as load_grasps
+    from .batch.grasps import GraspSpec as GraspSpec
+    from .batch.grasps import ObjectSpec as ObjectSpec
+    from .batch.grasps import sample_grasps as sample_grasps
+    from .core import examples as examples
+    from .robots.autoclose import close_on as close_on
+    from .robots.closing import ClosingCheck as ClosingCheck
+    from .robots.closing import JointClosing as JointClosing
+    from .robots.closing import check_closing as check_closing
+    from .robots.collision import detect_contacts as detect_contacts
+    from .robots.collision import link_distances as link_distances
+    from .robots.description import HandDescription as HandDescription
+    from .robots.description import example_robot_data_dir as example_robot_data_dir
+    from .robots.grasp import grasp_model_from_scene as grasp_model_from_scene
+    from .robots.hand import Hand as Hand
+    from .robots.objects import RigidObject as RigidObject
+    from .scenes.loading import builtin_scenes as builtin_scenes
+    from .scenes.loading import load_scene as load_scene
+    from .scenes.schema import Scene as Scene
+    from .sim.result import SimulationResult as SimulationResult
+    from .sim.simulate import simulate_max_wrench as simulate_max_wrench
+    from .solvers import available_miqp_solvers as available_miqp_solvers
+    from .viz.comparison_plots import plot_force_comparison as plot_force_comparison
+    from .viz.comparison_plots import plot_preload_comparison as plot_preload_comparison
+    from .viz.figures import save_figure as save_figure
+    from .viz.profile_plots import plot_profile as plot_profile
+    from .viz.set_plots import plot_resistance_set as plot_resistance_set
+    from .viz.viewer import save_html as save_html
+    from .viz.viewer import save_png as save_png
+    from .viz.viewer import scene_figure as scene_figure
 
 #: Public names of the lazily imported layers -> their module (below ``pinograsp``).
 _LAZY = {
@@ -66,6 +127,7 @@ _LAZY = {
     "HandDescription": "robots.description",
     "example_robot_data_dir": "robots.description",
     "RigidObject": "robots.objects",
+    "close_on": "robots.autoclose",
     "detect_contacts": "robots.collision",
     "link_distances": "robots.collision",
     "grasp_model_from_scene": "robots.grasp",
@@ -140,6 +202,7 @@ __all__ = [
     "PinograspError",
     "PinograspWarning",
     "PreloadNotInEquilibriumError",
+    "RefinementWarning",
     "SceneError",
     "SolverError",
     "SolverNotAvailableError",

@@ -36,3 +36,43 @@ def test_public_names_resolve_lazily():
         "pinograsp.solvers",
         "pinograsp.analysis.response",
     ]  # the solver side on first use, still without cvxpy (the default branch-and-bound)
+
+
+def _type_checking_imports() -> dict[str, str]:
+    """``{name: module}`` of the ``if TYPE_CHECKING:`` block of ``pinograsp/__init__.py``."""
+    import ast
+    from pathlib import Path
+
+    import pinograsp as pg
+
+    tree = ast.parse(Path(pg.__file__).read_text())
+    block = [n for n in tree.body if isinstance(n, ast.If) and ast.unparse(n.test) == "TYPE_CHECKING"]
+    assert len(block) == 1
+    out = {}
+    for node in block[0].body:
+        assert isinstance(node, ast.ImportFrom) and node.level == 1, ast.unparse(node)
+        for alias in node.names:
+            assert alias.asname == alias.name, f"{alias.name}: re-export it as `{alias.name} as {alias.name}`"
+            out[alias.name] = node.module or ""
+    return out
+
+
+def test_type_checkers_see_every_lazy_name():
+    """The ``TYPE_CHECKING`` imports (what mypy/pyright see) name exactly the lazily imported names,
+    from the same modules: a name added to ``_LAZY`` must be added there too."""
+    import pinograsp as pg
+
+    seen = _type_checking_imports()
+    expected = {name: module for name, module in pg._LAZY.items()}
+    expected.update({name: module.rpartition(".")[0] for name, module in pg._MODULES.items()})
+    assert seen == expected
+    assert set(pg._LAZY) <= set(pg.__all__)
+
+
+def test_refinement_warning_and_close_on_are_public():
+    import pinograsp as pg
+    from pinograsp.errors import RefinementWarning
+    from pinograsp.robots.autoclose import close_on
+
+    assert pg.RefinementWarning is RefinementWarning and "RefinementWarning" in pg.__all__
+    assert pg.close_on is close_on

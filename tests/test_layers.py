@@ -126,33 +126,93 @@ def test_imports_point_down():
     assert upward == []
 
 
+def cycles(graph: dict[str, set[str]]) -> list[list[str]]:
+    """Every import cycle of ``graph``, of any length: the strongly connected components with
+    more than one module (Tarjan), each sorted; a module importing itself is not an edge here."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    on_stack: set[str] = set()
+    out: list[list[str]] = []
+
+    def visit(m: str) -> None:
+        index[m] = low[m] = len(index)
+        stack.append(m)
+        on_stack.add(m)
+        for d in sorted(graph.get(m, ())):
+            if d not in index:
+                visit(d)
+                low[m] = min(low[m], low[d])
+            elif d in on_stack:
+                low[m] = min(low[m], index[d])
+        if low[m] == index[m]:
+            component = []
+            while True:
+                x = stack.pop()
+                on_stack.discard(x)
+                component.append(x)
+                if x == m:
+                    break
+            if len(component) > 1:
+                out.append(sorted(component))
+
+    for m in sorted(graph):
+        if m not in index:
+            visit(m)
+    return sorted(out)
+
+
+def test_the_cycle_finder_finds_long_cycles():
+    graph = {"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}, "e": {"f"}, "f": {"e"}, "g": set()}
+    assert cycles(graph) == [["a", "b", "c"], ["e", "f"]]
+    assert cycles({"a": {"b"}, "b": {"c"}, "c": set()}) == []
+
+
 def test_no_import_cycles():
-    state: dict[str, int] = {}
-    cycles: list[list[str]] = []
-
-    def visit(m: str, stack: list[str]) -> None:
-        state[m] = 1
-        for d in sorted(GRAPH.get(m, ())):
-            if state.get(d) == 1:
-                cycles.append(stack[stack.index(d) :] + [d])
-            elif d not in state:
-                visit(d, [*stack, d])
-        state[m] = 2
-
-    for m in sorted(GRAPH):
-        if m not in state:
-            visit(m, [m])
-    assert cycles == []
+    """Module-level and function-level imports form no cycle, of any length."""
+    assert cycles(GRAPH) == []
 
 
-def test_no_two_modules_need_each_other_even_for_type_hints():
-    mutual = sorted(
-        f"{a} <-> {b}"
-        for a, deps in GRAPH_WITH_TYPES.items()
-        for b in deps
-        if a < b and a in GRAPH_WITH_TYPES.get(b, ())
-    )
-    assert mutual == []
+def test_no_import_cycles_even_for_type_hints():
+    """With the imports of type hints (``if TYPE_CHECKING:``) too: a cycle there is still modules
+    that need each other (e.g. ``robots``: the hand calls auto-close, so auto-close, collision and
+    kinematics read a :class:`~pinograsp.robots.hand_protocol.HandLike`, not the ``Hand``)."""
+    assert cycles(GRAPH_WITH_TYPES) == []
+
+
+def test_no_cycles_between_layers():
+    """Folders as nodes (type-hint imports included): no chain of imports between folders comes
+    back to where it started."""
+    layers: dict[str, set[str]] = {}
+    for module, deps in GRAPH_WITH_TYPES.items():
+        layers.setdefault(_layer(module), set()).update(
+            _layer(d) for d in deps if _layer(d) != _layer(module)
+        )
+    assert cycles(layers) == []
+
+
+#: Stand-ins still present while issue 24 item 3 replaces ``solver: Any`` by a typed protocol in
+#: the stages and response assembly (branch h-registry). Empty this set when they are gone.
+BEING_REPLACED = {"analysis.assemble: Solver = Any", "analysis.stages: Solver = Any"}
+
+
+def test_no_any_stand_in_aliases():
+    """No module names a type ``X = Any`` (a stand-in that erases a real type to dodge an import)."""
+    stand_ins = set()
+    for module, path in MODULES.items():
+        for node in ast.parse(path.read_text()).body:
+            if isinstance(node, ast.Assign) and ast.unparse(node.value) in ("Any", "typing.Any"):
+                stand_ins.add(f"{module}: {ast.unparse(node)}")
+    assert stand_ins == BEING_REPLACED
+
+
+def test_the_hand_is_what_the_algorithms_read():
+    from pinograsp.robots.hand import Hand
+    from pinograsp.robots.hand_protocol import HandLike
+
+    hand = Hand.builtin("underactuated_2f")
+    assert isinstance(hand, HandLike)
+    assert "robots.hand" not in GRAPH_WITH_TYPES["robots.autoclose"] | GRAPH_WITH_TYPES["robots.collision"]
 
 
 def test_every_layer_is_a_folder_with_a_docstring():

@@ -1,4 +1,5 @@
-"""Auto-close: close a hand on an object, like GraspIt!'s auto-grasp (:meth:`~pinograsp.Hand.close_on`).
+"""Auto-close: close a hand on an object, like GraspIt!'s auto-grasp (:func:`pinograsp.close_on`,
+also :meth:`~pinograsp.Hand.close_on`).
 
 The joints move along the hand's closing direction (:meth:`~pinograsp.Hand.closing_direction`,
 URDF coordinates after the closing signs) in steps; a joint stops when a link it carries touches
@@ -9,20 +10,18 @@ forward-kinematics pass per trial configuration (:class:`~pinograsp.robots.kinem
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..core.validate import positive_number, whole_number
 from ..errors import NoContactError, PenetrationError
 from .collision import DEFAULT_TOLERANCE, closest_per_link, geometry_distances
+from .hand_protocol import HandLike
 from .kinematics import HandConfiguration
 
 if TYPE_CHECKING:  # pragma: no cover
     from .objects import RigidObject
-
-#: A :class:`~pinograsp.robots.hand.Hand` (hand.py imports this module for ``Hand.close_on``).
-Hand = Any
 
 
 class _Stops:
@@ -32,7 +31,7 @@ class _Stops:
     collision geometry moves while any joint supporting it (its joint and those above) is active.
     """
 
-    def __init__(self, hand: Hand, active: np.ndarray) -> None:
+    def __init__(self, hand: HandLike, active: np.ndarray) -> None:
         self.active = active
         # joints moved rigidly together: connected components of the couplings
         group = np.arange(hand.nq)
@@ -63,7 +62,7 @@ class _Stops:
         """Joint ``j`` reached a limit: stop its coupled group."""
         self.active[self.group == self.group[j]] = False
 
-    def limit_step(self, hand: Hand, q: np.ndarray, dq: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def limit_step(self, hand: HandLike, q: np.ndarray, dq: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Shorten each group's step ``dq`` so that no joint passes a limit; the joints that reach one.
 
         The group keeps its couplings (all its joints shrink by the same factor).
@@ -83,7 +82,13 @@ class _Stops:
 
 
 def _touch(
-    hand: Hand, obj: RigidObject, q: np.ndarray, dist: np.ndarray, dq: np.ndarray, mov: np.ndarray, tol: float
+    hand: HandLike,
+    obj: RigidObject,
+    q: np.ndarray,
+    dist: np.ndarray,
+    dq: np.ndarray,
+    mov: np.ndarray,
+    tol: float,
 ) -> tuple[np.ndarray, np.ndarray, bool]:
     """Step ``q + dq``, or (bisection) the largest fraction of it with no moving link below ``-tol/2``.
 
@@ -114,7 +119,7 @@ def _touch(
 
 
 def close_on(
-    hand: Hand,
+    hand: HandLike,
     obj: RigidObject,
     q_open: object = None,
     *,

@@ -35,10 +35,10 @@ import numpy as np
 from ..core.serialize import jsonable
 from ..core.validate import finite_number
 from ..errors import InvalidInputError, NoContactError, PenetrationError, UnknownNameError
+from .hand_protocol import HandLike
 from .kinematics import HandConfiguration
 
 if TYPE_CHECKING:
-    from .hand import Hand
     from .objects import RigidObject
 
 #: Default contact tolerance [m]: a geometry within this signed distance of the object touches it.
@@ -168,7 +168,7 @@ def pair_distances_at(config: HandConfiguration, obj: RigidObject) -> tuple[Pair
     return tuple(out)
 
 
-def pair_distances(hand: Hand, q: object, obj: RigidObject) -> tuple[PairDistance, ...]:
+def pair_distances(hand: HandLike, q: object, obj: RigidObject) -> tuple[PairDistance, ...]:
     """Signed distance of every hand collision geometry to the object.
 
     Args:
@@ -209,14 +209,14 @@ def closest_per_link(links: Iterable[str], distances: Iterable[float]) -> dict[s
     return out
 
 
-def link_distances(hand: Hand, q: object, obj: RigidObject) -> dict[str, float]:
+def link_distances(hand: HandLike, q: object, obj: RigidObject) -> dict[str, float]:
     """Closest signed distance [m] of each hand link (over its geometries) to the object."""
     pairs = pair_distances(hand, q, obj)
     return closest_per_link((p.link for p in pairs), (p.distance for p in pairs))
 
 
 def contact_options(
-    hand: Hand, tolerance: object, max_penetration: object, links: object
+    hand: HandLike, tolerance: object, max_penetration: object, links: object
 ) -> tuple[float, float, tuple[str, ...] | None]:
     """Validated ``tolerance`` [m], ``max_penetration`` [m] and ``links`` of :func:`detect_contacts`."""
     tolerance = finite_number("tolerance", tolerance)
@@ -263,7 +263,7 @@ def detect_contacts_at(
 
 
 def detect_contacts(
-    hand: Hand,
+    hand: HandLike,
     q: object,
     obj: RigidObject,
     *,

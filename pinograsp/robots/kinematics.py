@@ -12,13 +12,11 @@ it instead of recomputing the kinematics. The Pinocchio ``Data`` lives in the co
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 import pinocchio as pin
 
-if TYPE_CHECKING:
-    from .hand import Hand
+from .hand_protocol import HandLike
 
 
 @dataclass(frozen=True, eq=False)
@@ -34,13 +32,13 @@ class HandConfiguration:
             (``geometry_data.oMg``).
     """
 
-    hand: Hand
+    hand: HandLike
     q: np.ndarray
     data: pin.Data
     geometry_data: pin.GeometryData
 
     @classmethod
-    def at(cls, hand: Hand, q: object = None) -> HandConfiguration:
+    def at(cls, hand: HandLike, q: object = None) -> HandConfiguration:
         """The kinematics of ``hand`` at ``q`` (validated by :meth:`Hand.configuration`).
 
         Args:
