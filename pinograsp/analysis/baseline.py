@@ -94,7 +94,7 @@ def _tangential_stiffness(m: GraspModel, tangential_stiffness: object | None) ->
     """Tangential stiffness per contact (nc,) [N/m] (default ``mu * k``)."""
     if tangential_stiffness is None:
         kt = m.mu * m.k
-    elif np.ndim(tangential_stiffness) == 0 and not isinstance(tangential_stiffness, (str, bytes)):
+    elif np.ndim(tangential_stiffness) == 0 and not isinstance(tangential_stiffness, (str, bytes)):  # type: ignore[arg-type]
         kt = np.full(m.nc, finite_number("tangential_stiffness", tangential_stiffness))
     else:
         kt = finite_array("tangential_stiffness", tangential_stiffness, (m.nc,))

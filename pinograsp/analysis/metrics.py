@@ -179,7 +179,7 @@ def grasp_score(
     upper: float = 1e3,
     steps: int = 20,
     settings: Any = None,
-    **overrides: object,
+    **overrides: Any,
 ) -> GraspScore:
     """Passive-resistance score of a preloaded grasp (``docs/metrics.md``).
 
@@ -203,7 +203,9 @@ def grasp_score(
         raise InvalidInputError("quantile", f"expected a number in [0, 1), got {quantile!r}")
     if not 0.0 <= float(quantile) < 1.0:
         raise InvalidInputError("quantile", f"must be in [0, 1), got {quantile!r}")
-    kw = dict(method=method, length=length, workers=workers, upper=upper, steps=steps, settings=settings)
+    kw: dict[str, Any] = dict(
+        method=method, length=length, workers=workers, upper=upper, steps=steps, settings=settings
+    )
     if disturbances is not None:
         loads = wrench_rows(model, disturbances, "disturbances")
         if np.any(np.abs(loads).max(axis=1) == 0):

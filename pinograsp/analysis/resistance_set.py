@@ -21,6 +21,7 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any, Literal
 
 import numpy as np
@@ -268,7 +269,7 @@ class ResistanceSet:
             rows.append(row)
         return rows
 
-    def to_csv(self, path: object, *, name: str = "path") -> object:
+    def to_csv(self, path: object, *, name: str = "path") -> Path:
         """Write :meth:`rows` to a CSV file (``inf`` where unbounded, empty cells for NaN);
         returns the :class:`~pathlib.Path` written (through :func:`pinograsp.core.validate.writing`)."""
         from ..core.tables import _write_csv

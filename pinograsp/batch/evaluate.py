@@ -124,7 +124,9 @@ def _task(i: int, item: object) -> tuple[int, str, str, Any]:
         return i, item.id or str(i), "spec", item
     if isinstance(item, (str, os.PathLike)):
         return i, gid, "scene", str(item)
-    if type(item).__name__ == "Scene" and hasattr(item, "model") and hasattr(item, "command"):
+    from ..scenes.schema import Scene  # below this layer; imported on use like the scene loader
+
+    if isinstance(item, Scene):
         return i, str(i), "model", (item.name, item.model, dict(item.command), getattr(item, "object", None))
     raise InvalidInputError(
         f"grasps[{i}]", f"expected a GraspSpec, a mapping, a scene name/path or a Scene, got {item!r}"

@@ -14,7 +14,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
-from typing import Any, Literal
+from typing import Any, Literal, cast
 
 import numpy as np
 
@@ -108,7 +108,8 @@ class ObjectSpec:
 
     def with_pose(self, xyz: Sequence[float], rpy: Sequence[float]) -> ObjectSpec:
         """The same object at another pose (position [m], roll-pitch-yaw [rad])."""
-        return replace(self, xyz=tuple(float(v) for v in xyz), rpy=tuple(float(v) for v in rpy))
+        xyz3, rpy3 = tuple(float(v) for v in xyz), tuple(float(v) for v in rpy)
+        return replace(self, xyz=xyz3, rpy=rpy3)  # type: ignore[arg-type]  # __post_init__ checks (3,)
 
     @classmethod
     def from_object(cls, obj: Any) -> ObjectSpec:
@@ -129,14 +130,17 @@ class ObjectSpec:
         """The :class:`~pinograsp.robots.objects.RigidObject` (imports Coal)."""
         from ..robots.objects import RigidObject
 
-        name = self.name or (self.shape if self.shape != "mesh" else None)
+        if self.shape == "mesh":
+            file = cast(str, self.file)  # each shape's own fields are set (__post_init__)
+            pose, scale, convex = self.pose, self.scale, self.convex
+            return RigidObject.from_mesh(file, pose, scale=scale, convex=convex, name=self.name)
+        name = self.name or self.shape
         if self.shape == "box":
             return RigidObject.box(self.size, self.pose, name=name)
+        radius = cast(float, self.radius)
         if self.shape == "sphere":
-            return RigidObject.sphere(self.radius, self.pose, name=name)
-        if self.shape == "cylinder":
-            return RigidObject.cylinder(self.radius, self.length, self.pose, name=name)
-        return RigidObject.from_mesh(self.file, self.pose, scale=self.scale, convex=self.convex, name=name)
+            return RigidObject.sphere(radius, self.pose, name=name)
+        return RigidObject.cylinder(radius, cast(float, self.length), self.pose, name=name)
 
 
 @dataclass(frozen=True)
@@ -365,7 +369,7 @@ def build_grasp(spec: GraspSpec) -> tuple[Any, dict[str, float], dict[str, float
         pre = equilibrium_preload(model, spec.preload_method, max_command=spec.max_command)
         if pre.status != "found":
             raise PreloadNotInEquilibriumError(None, f"no auto preload ({pre.status}): {pre.reason}")
-        command = dict(pre.command)
+        command = dict(pre.command or {})  # "found": a command
     elif isinstance(spec.command, tuple):
         command = {a: 0.0 for a in model.all_actuator_names} | dict(spec.command)
     else:

@@ -213,7 +213,8 @@ def cmd_preload(args: argparse.Namespace) -> int:
         lines += ["", "commands [N·m or N]:"]
         lines += [f"  {k:<24s} {v:12.6g}" for k, v in choice.command.items()]
         lines += ["", "normal forces of the design [N]:"]
-        lines += [f"  {n:<24s} {f:12.6g}" for n, f in zip(scene.model.contact_names, choice.normal_forces)]
+        forces = () if choice.normal_forces is None else choice.normal_forces
+        lines += [f"  {n:<24s} {f:12.6g}" for n, f in zip(scene.model.contact_names, forces)]
     out.print(*lines)
     out.write_json("preload.json", data)
     out.finish(data)

@@ -132,7 +132,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     debug = bool(getattr(args, "debug", False)) or "--debug" in argv
     with warnings.catch_warnings():
         if not debug:
-            warnings.showwarning = _show_warning  # type: ignore[assignment]
+            warnings.showwarning = _show_warning
         return _run(args, debug)
 
 

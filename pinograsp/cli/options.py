@@ -69,10 +69,10 @@ def settings(args: argparse.Namespace, scene: Any) -> Settings:
     try:
         return make_settings(scene.settings, **over)
     except InvalidInputError as exc:
-        if exc.name not in ANGLE_OPTIONS or degrees[exc.name] is None:
+        deg = degrees.get(exc.name) if exc.name in ANGLE_OPTIONS else None
+        if deg is None:
             raise
         why = str(exc).removeprefix(f"{exc.name}: ").split(", got ")[0]
-        deg = degrees[exc.name]
         raise InvalidInputError(
             ANGLE_OPTIONS[exc.name], f"{why}; got {deg:g} deg ({math.radians(deg):.4g} rad)"
         ) from None
@@ -152,7 +152,7 @@ def parse_wrench(scene: Any, text: str) -> np.ndarray:
         if not _vector_count(scene, vals):
             want = "6 numbers (fx,fy,fz,mx,my,mz)" + (" or 3 (fx,fy,mz)" if scene.model.planar else "")
             raise InvalidInputError("--wrench", f"expected {want}, got {len(vals)} in {text!r}")
-        w = vals
+        w = np.asarray(vals, dtype=float)
     return scene.model.wrench_vector(w, "--wrench")
 
 
@@ -184,11 +184,11 @@ def parse_plane(scene: Any, text: str | None) -> tuple[object, object]:
     """``--plane``: ``fx,fy``, a scene plane name, or two vectors ``'v1;v2'`` (default: the
     scene's plane); the plane argument of :func:`pinograsp.resistance_profile`."""
     if text is None:
-        return tuple(scene.analysis.plane)  # type: ignore[return-value]
+        return tuple(scene.analysis.plane)
     text = text.strip()
     planes = scene.analysis.planes
     if text in planes:
-        return tuple(planes[text])  # type: ignore[return-value]
+        return tuple(planes[text])
     if ";" in text:
         parts = text.split(";")
         if len(parts) != 2:

@@ -21,7 +21,8 @@ class WrenchSpace(Protocol):
     """What these functions read of a :class:`~pinograsp.core.model.GraspModel` (model.py imports
     this module, so the model is described, not imported)."""
 
-    planar: bool
+    @property
+    def planar(self) -> bool: ...
 
     def wrench_vector(self, wrench: object, name: str = "wrench") -> np.ndarray: ...
 
@@ -92,7 +93,7 @@ def plane_basis(model: WrenchSpace, plane: Sequence[object]) -> tuple[np.ndarray
     given = plane
     try:  # a single name or vector is not a plane
         flat = isinstance(plane, (str, bytes)) or (isinstance(plane, np.ndarray) and plane.ndim != 2)
-        plane = [] if flat else list(plane)  # type: ignore[arg-type]
+        plane = [] if flat else list(plane)
     except (TypeError, ValueError):
         plane = []
     if len(plane) != 2:

@@ -20,7 +20,7 @@ passed to :func:`build_model`. Shapes as in :mod:`pinograsp.core.model`.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from typing import TypeVar
 
@@ -31,7 +31,8 @@ from .actuation import Actuator, Coupling
 from .contact import Contact, friction_edges
 from .validate import finite_number, flag, sequence
 
-#: The model class being built (``GraspModel``; model.py imports this module).
+#: The model being built (:class:`~pinograsp.core.model.GraspModel`, whose constructor
+#: ``build_model`` is given: model.py imports this module).
 M = TypeVar("M")
 
 #: Relative threshold below which Jacobian entries count as zero (pruning).
@@ -196,7 +197,7 @@ def _check_planar(
     scale = max(np.abs(points - o).max(), 1e-300)
     jscale = max(np.abs(jw).max(), 1e-300)
     for i, c in enumerate(contacts):
-        if abs(c.point[2] - o[2]) > 1e-9 * scale or abs(c.normal[2]) > 1e-9 or abs(c.tangent[2]) > 1e-9:
+        if abs(c.point[2] - o[2]) > 1e-9 * scale or abs(c.normal[2]) > 1e-9 or abs(c.frame[2, 1]) > 1e-9:
             raise ModelError(
                 f"contact {names[i]!r} is not in the XY plane (point z, normal z or tangent z "
                 "non-zero); use planar=False",
@@ -388,7 +389,7 @@ def _check_finite(G: np.ndarray, J: np.ndarray, D: np.ndarray, length_scale: flo
 
 # ------------------------------------------------------------------------------ all steps
 def build_model(
-    model_class: type[M],
+    model_class: Callable[..., M],
     contacts: Sequence[Contact],
     actuators: Sequence[Actuator] | None,
     couplings: Sequence[Coupling] | np.ndarray | None,

@@ -22,15 +22,42 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import replace
-from typing import TypeVar
+from typing import Any, ClassVar, Protocol, TypeVar
 
 import numpy as np
 
 from ..errors import InvalidInputError
 from .build import readonly
 
-#: A :class:`~pinograsp.core.model.GraspModel` (model.py imports this module).
-M = TypeVar("M")
+
+class ConeModel(Protocol):
+    """What the friction-cone functions read from a :class:`~pinograsp.core.model.GraspModel`
+    (model.py imports this module, so it is named by its members): ``nc`` contacts, ``d`` rows
+    per contact, the pyramid edges ``D`` (nc d, nb) owned by ``beta_contact`` (nb,), ``mu``
+    (nc,), ``normal_uncertainty`` [rad]."""
+
+    __dataclass_fields__: ClassVar[dict[str, Any]]
+
+    @property
+    def nc(self) -> int: ...
+    @property
+    def d(self) -> int: ...
+    @property
+    def planar(self) -> bool: ...
+    @property
+    def D(self) -> np.ndarray: ...
+    @property
+    def beta_contact(self) -> np.ndarray: ...
+    @property
+    def mu(self) -> np.ndarray: ...
+    @property
+    def normal_uncertainty(self) -> float: ...
+    @property
+    def contact_names(self) -> tuple[str, ...]: ...
+
+
+#: A :class:`~pinograsp.core.model.GraspModel` (returned as the same type).
+M = TypeVar("M", bound=ConeModel)
 
 #: Largest number of pyramid edges per contact that refinement may create.
 MAX_REFINED_EDGES = 100
@@ -74,7 +101,7 @@ def with_normal_uncertainty(model: M, uncertainty: float) -> M:
     return replace(model, D=readonly(D), mu=readonly(mu_eff), normal_uncertainty=u)
 
 
-def edge_angles(model: object, contact: int) -> np.ndarray:
+def edge_angles(model: ConeModel, contact: int) -> np.ndarray:
     """Angles of the pyramid edges of ``contact`` in its tangent plane [rad], in column order."""
     d = model.d
     cols = np.flatnonzero(np.asarray(model.beta_contact) == contact)
@@ -147,7 +174,7 @@ def refined(model: M, extra: Mapping[int, list[float]]) -> M:
     return replace(model, D=readonly(D), beta_contact=owner)
 
 
-def edge_counts(model: object) -> tuple[int, ...]:
+def edge_counts(model: ConeModel) -> tuple[int, ...]:
     """Pyramid edges of every contact, (nc,)."""
     counts = np.bincount(np.asarray(model.beta_contact, int), minlength=model.nc)
     return tuple(int(c) for c in counts)

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from typing import cast
 
 import numpy as np
 
@@ -101,7 +102,7 @@ class Contact:
     @property
     def frame(self) -> np.ndarray:
         """Rotation from the contact frame to the world: columns ``(n, t1, t2)``, shape (3, 3)."""
-        return np.column_stack([self.normal, self.tangent, self.t2])
+        return np.column_stack([self.normal, cast(np.ndarray, self.tangent), self.t2])  # set by __post_init__
 
     @staticmethod
     def revolute(

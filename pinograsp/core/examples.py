@@ -124,7 +124,13 @@ def palm_pinch(
     """The pinch plus a palm contact at ``(0, -b)`` pushing along ``+y`` (fixed: no joint)."""
     left = _finger_contact([-a, 0.0, 0.0], [1.0, 0.0, 0.0], L, 0, 2, -EZ, mu=mu, name="left")
     right = _finger_contact([a, 0.0, 0.0], [-1.0, 0.0, 0.0], L, 1, 2, EZ, mu=mu, name="right")
-    palm = Contact([0.0, -b, 0.0], [0.0, 1.0, 0.0], mu=mu_palm, jacobian=np.zeros((3, 2)), name="palm")
+    palm = Contact(
+        np.array([0.0, -b, 0.0]),
+        np.array([0.0, 1.0, 0.0]),
+        mu=mu_palm,
+        jacobian=np.zeros((3, 2)),
+        name="palm",
+    )
     acts = [Actuator({0: 1.0}, name="left"), Actuator({1: 1.0}, name="right")]
     return GraspModel.from_contacts(
         [left, right, palm], actuators=acts, planar=True, joint_names=("left", "right")
@@ -150,7 +156,9 @@ def coupled_finger(
         mu=mu,
         name="distal",
     )
-    thumb = Contact([-a, 0.0, 0.0], [1.0, 0.0, 0.0], mu=mu, jacobian=np.zeros((3, 2)), name="thumb")
+    thumb = Contact(
+        np.array([-a, 0.0, 0.0]), np.array([1.0, 0.0, 0.0]), mu=mu, jacobian=np.zeros((3, 2)), name="thumb"
+    )
     return GraspModel.from_contacts(
         [thumb, finger],
         actuators=[Actuator({"proximal": 1.0}, name="motor")],

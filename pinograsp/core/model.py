@@ -204,7 +204,7 @@ class GraspModel:
                 raw = np.asarray(command, dtype=float).reshape(-1)
             except (TypeError, ValueError, OverflowError) as exc:
                 raise InvalidInputError("command", f"expected numbers, got {command!r}") from exc
-            scalar = np.ndim(command) == 0
+            scalar = np.ndim(command) == 0  # type: ignore[arg-type]  # any object: 0-d unless a sequence
             if raw.size == 1 and (scalar or len(names_all) == 1):
                 raw = np.full(len(names_all), float(raw[0]))
             if raw.size == len(names_all):

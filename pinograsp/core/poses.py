@@ -9,7 +9,7 @@ from collections.abc import Sequence
 import numpy as np
 
 
-def rotation_rpy(rpy: Sequence[float]) -> np.ndarray:
+def rotation_rpy(rpy: Sequence[float] | np.ndarray) -> np.ndarray:
     """URDF roll-pitch-yaw [rad] -> rotation ``Rz(yaw) Ry(pitch) Rx(roll)``, (3, 3)."""
     r, p, y = (float(v) for v in rpy)
     cr, sr, cp, sp, cy, sy = math.cos(r), math.sin(r), math.cos(p), math.sin(p), math.cos(y), math.sin(y)

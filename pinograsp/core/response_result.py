@@ -260,7 +260,7 @@ def states_text(r: PassiveResponse) -> str:
     for i, (name, state) in enumerate(zip(r.contact_names, states)):
         text = f"{name} {state}"
         norm = 0.0 if slip is None else float(np.linalg.norm(slip[i]))
-        if state == "sliding" and np.isfinite(norm) and norm > 0.0:
+        if slip is not None and state == "sliding" and np.isfinite(norm) and norm > 0.0:
             text += f" (slip direction {vector_text(slip[i] / norm)})"
         parts.append(text)
     return ", ".join(parts)

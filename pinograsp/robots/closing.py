@@ -27,6 +27,7 @@ import numpy as np
 from ..core.validate import finite_number, positive_number
 from ..errors import InvalidInputError, UnknownNameError
 from .collision import PairDistance, closest_per_link, geometry_distances, pair_distances_at
+from .hand_protocol import HandLike
 from .kinematics import HandConfiguration
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -194,7 +195,7 @@ class ClosingCheck:
         return self.summary()
 
 
-def _joint_step(hand: Hand, q0: np.ndarray, j: int, step: float) -> tuple[float, float]:
+def _joint_step(hand: HandLike, q0: np.ndarray, j: int, step: float) -> tuple[float, float]:
     """Sense (``+1`` closing, ``-1`` opening) and length [rad or m] of joint ``j``'s check step.
 
     A joint at its closing limit is stepped the other way; the length is clipped to the limits.

@@ -87,7 +87,7 @@ class Hand:
         self.mimics = tuple(mimics)
         self.couplings: tuple[Coupling, ...] = self._couplings()
         self.actuators: tuple[Actuator, ...] = self._actuators()
-        names = [a.name for a in self.actuators]
+        names = list(self.actuator_names)
         for a in description.commands:
             if a not in names:
                 raise UnknownNameError("actuator", a, names)
@@ -102,7 +102,7 @@ class Hand:
         """Index of joint ``name`` named by the description (unknown: :class:`UnknownNameError`)."""
         if name not in self.joint_names:
             raise UnknownNameError("joint", name, self.joint_names)
-        return self.joint_names.index(name)  # type: ignore[arg-type]
+        return self.joint_names.index(name)
 
     def _couplings(self) -> tuple[Coupling, ...]:
         """The mimic couplings (closing coordinates), then the description's."""

@@ -30,7 +30,7 @@ def _actuators(f: SceneFile, value: object, key: str) -> list[Actuator]:
         a = f.mapping(a, ka)
         f.keys(a, ("name", "kind", "transmission", "bidirectional"), ka)
         tr = f.mapping(f.require(a, "transmission", ka), f"{ka}.transmission", "a mapping joint -> arm")
-        trv = {str(j): f.number(v, f"{ka}.transmission.{j}") for j, v in tr.items()}
+        trv: dict[int | str, float] = {str(j): f.number(v, f"{ka}.transmission.{j}") for j, v in tr.items()}
         kind = str(a.get("kind", "non-backdrivable"))
         if kind not in ACTUATOR_KINDS:
             raise f.error(f"{ka}.kind", f"unknown kind {kind!r}; valid kinds: {', '.join(ACTUATOR_KINDS)}")

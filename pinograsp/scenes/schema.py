@@ -7,6 +7,7 @@ cvxpy.
 
 from __future__ import annotations
 
+import builtins
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -199,7 +200,7 @@ class Scene:
             raise UnknownNameError("direction", name, list(self.analysis.directions))
         return np.array(self.analysis.directions[name])
 
-    def _command(self, command: object) -> object:
+    def _command(self, command: builtins.object) -> builtins.object:
         """The scene preload (``None``), a named preload (a string) or ``command`` as given."""
         return self.preload(command) if command is None or isinstance(command, str) else command
 
@@ -209,7 +210,9 @@ class Scene:
         kw["settings"] = overrides.pop("settings", self.settings)
         return kw
 
-    def passive_response(self, wrench: object, command: object = None, **overrides: Any) -> PassiveResponse:
+    def passive_response(
+        self, wrench: builtins.object, command: builtins.object = None, **overrides: Any
+    ) -> PassiveResponse:
         """:func:`pinograsp.passive_response` with the scene's method and settings
         (``command``: the scene preload by default, or a named preload)."""
         from ..analysis.response import passive_response
@@ -218,7 +221,9 @@ class Scene:
         cmd = self._command(command)
         return passive_response(self.model, cmd, wrench, kw["method"], settings=kw["settings"], **overrides)
 
-    def max_resistible_wrench(self, direction: object, command: object = None, **overrides: Any) -> MaxWrench:
+    def max_resistible_wrench(
+        self, direction: builtins.object, command: builtins.object = None, **overrides: Any
+    ) -> MaxWrench:
         """:func:`pinograsp.max_resistible_wrench` with the scene's method, ``upper``, ``steps``
         and settings; ``direction`` may name one of ``analysis.directions``."""
         from ..analysis.max_wrench import max_resistible_wrench
@@ -228,7 +233,9 @@ class Scene:
             direction = self.direction(direction)
         return max_resistible_wrench(self.model, self._command(command), direction, **kw, **overrides)
 
-    def profile(self, plane: object = None, command: object = None, **overrides: Any) -> ResistanceProfile:
+    def profile(
+        self, plane: builtins.object = None, command: builtins.object = None, **overrides: Any
+    ) -> ResistanceProfile:
         """:func:`pinograsp.resistance_profile` with the scene's method, ``upper``, ``steps``,
         ``n``, ``normalize`` and settings; ``plane`` may name one of ``analysis.planes``."""
         from ..analysis.profile import resistance_profile

@@ -21,8 +21,12 @@ MuJoCo's own soft contacts are not used: docs/simulation.md explains why.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from ..core.model import GraspModel
 
 
 def skew(v: np.ndarray) -> np.ndarray:
@@ -42,7 +46,7 @@ def moment(arms: np.ndarray, forces: np.ndarray) -> np.ndarray:
     )
 
 
-def pyramid_polygons(grasp: object) -> tuple[np.ndarray, np.ndarray]:
+def pyramid_polygons(grasp: GraspModel) -> tuple[np.ndarray, np.ndarray]:
     """The model's friction pyramid of each contact as a polygon in its tangent plane.
 
     Returns:
@@ -121,7 +125,7 @@ class ContactLaw:
 
     @classmethod
     def from_model(
-        cls, grasp: object, stiffness: float, damping_ratio: float, mass: float, pyramid: bool = False
+        cls, grasp: GraspModel, stiffness: float, damping_ratio: float, mass: float, pyramid: bool = False
     ) -> ContactLaw:
         """The law of a :class:`~pinograsp.GraspModel`.
 

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -16,6 +16,9 @@ from ..errors import PreloadNotInEquilibriumError
 from .contacts import ContactLaw, moment
 from .mjcf import ReducedModel, build, import_mujoco
 from .result import SimulationTrace
+
+if TYPE_CHECKING:
+    from ..core.model import GraspModel
 
 PRELOADS = ("held", "settled")
 FRICTIONS = ("cone", "pyramid")
@@ -75,7 +78,7 @@ class SimOptions:
 class Engine:
     """The state of one simulation: MuJoCo data, contact law, actuator limits."""
 
-    def __init__(self, grasp: Any, command: np.ndarray, opts: SimOptions) -> None:
+    def __init__(self, grasp: GraspModel, command: np.ndarray, opts: SimOptions) -> None:
         self.mj = import_mujoco()
         self.grasp, self.opts = grasp, opts
         self.law = ContactLaw.from_model(

@@ -13,11 +13,14 @@ detection is disabled: contact forces come from :mod:`pinograsp.sim.contacts`.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..errors import MissingDependencyError
+
+if TYPE_CHECKING:
+    from ..core.model import GraspModel
 
 #: Impedance of every limit and equality: constant 0.99 (MuJoCo ``solimp``), so a held actuator
 #: yields ~1 % of what an unconstrained joint would (docs/simulation.md).
@@ -68,7 +71,7 @@ def _fixed_tendon(name: str, coef: np.ndarray, extra: str = "") -> str:
 
 
 def mjcf(
-    grasp: Any,
+    grasp: GraspModel,
     *,
     mass: float,
     inertia: float,
@@ -123,7 +126,9 @@ def mjcf(
     )
 
 
-def build(grasp: Any, *, mass: float, inertia: float, armature: np.ndarray, timestep: float) -> ReducedModel:
+def build(
+    grasp: GraspModel, *, mass: float, inertia: float, armature: np.ndarray, timestep: float
+) -> ReducedModel:
     """Compile the reduced model of ``grasp`` (arguments as :func:`mjcf`)."""
     mujoco = import_mujoco()
     xml = mjcf(grasp, mass=mass, inertia=inertia, armature=armature, timestep=timestep)

@@ -18,7 +18,7 @@ from ..core.axes import wrench_direction
 from ..core.model import GraspModel
 from ..errors import InvalidInputError
 from .integrator import FRICTIONS, PRELOADS, Engine, SimOptions, preload, ramp, refine
-from .result import SimulationResult
+from .result import SimulationResult, SimulationStatus
 
 
 def _unit(direction: np.ndarray) -> str:
@@ -56,7 +56,7 @@ def _positive(name: str, value: object) -> float:
     return v
 
 
-def _options(grasp: Any, direction: np.ndarray, upper: float, kw: dict[str, Any]) -> SimOptions:
+def _options(grasp: GraspModel, direction: np.ndarray, upper: float, kw: dict[str, Any]) -> SimOptions:
     """Defaults filled in and validated (docs/simulation.md, "Defaults")."""
     ell = float(grasp.length_scale)
     stiffness = _positive("stiffness", kw.pop("stiffness", 1e6))
@@ -150,7 +150,9 @@ def simulate_max_wrench(
     run = Engine(grasp, cmd, opts)
     preload(run)
     found = ramp(run, d)
-    status, load, onset, evidence = "held", None, found.onset, []
+    status: SimulationStatus = "held"
+    load, onset = None, found.onset
+    evidence: list[tuple[float, bool]] = []
     if found.crossed:
         load, frac, evidence = refine(run, d, found)
         status = "gradual" if frac >= 0.1 else "gave_way"
@@ -204,7 +206,7 @@ def simulate_command(
     from ..scenes.loading import load_scene
 
     if isinstance(scene, (str, os.PathLike)):
-        scene = load_scene(scene)
+        scene = load_scene(os.fspath(scene))
     command = opts.pop("command", None)
     result = simulate_max_wrench(scene, direction, command, **opts)
     if not compare:

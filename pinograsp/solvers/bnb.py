@@ -252,12 +252,12 @@ class BranchAndBound:
                 continue
             if res.status is SolveStatus.INFEASIBLE or self._pruned(res.objective, best_obj):
                 continue
-            viol = self._violation(res.z, fixed)
-            natural = np.where(fixed >= 0, fixed, P.natural_sides(res.z)).astype(np.int8)
+            viol = self._violation(res.point, fixed)
+            natural = np.where(fixed >= 0, fixed, P.natural_sides(res.point)).astype(np.int8)
             if not np.any(viol > COMP_TOL):
                 best_obj, best_sides, best_z = res.objective, natural, res.z
                 continue
-            for sides in self._repairs(res.z, fixed, natural):
+            for sides in self._repairs(res.point, fixed, natural):
                 key = sides.tobytes()
                 if key in tried:  # the same complete mode was solved before in this search
                     continue
@@ -268,7 +268,7 @@ class BranchAndBound:
                     break
             if self._pruned(res.objective, best_obj):
                 continue
-            for child in self._children(viol, fixed, natural, res.z):
+            for child in self._children(viol, fixed, natural, res.point):
                 stack.append(child, res.objective)
         if best_sides is None:
             if limited:
@@ -303,7 +303,7 @@ class BranchAndBound:
                 return RawSolution(status=INFEASIBLE, backend="bnb", message="the mode has no feasible point")
             if res.status is not SolveStatus.OPTIMAL:
                 return self._failed("the optimal mode's QP could not be re-solved")
-            z_found = res.z
+            z_found = res.point
         else:
             _, up = P.bounds(sides.astype(np.int8))
             z_found = self.qp.polish(z_found, up)

@@ -151,7 +151,7 @@ class Formulation:
         self.Sx = np.zeros((nf, self.nx))
         self.Sq = np.zeros((nf, m.nq))
         self.Sl = np.zeros((nf, self.nsl))
-        for r, b in enumerate(cols):
+        for r, b in enumerate(int(c) for c in cols):
             i = int(m.beta_contact[b])
             unit = tang[b] / size[b]
             trows = np.arange(i * d + 1, (i + 1) * d)

@@ -54,7 +54,7 @@ from __future__ import annotations
 import time
 import warnings
 from dataclasses import replace
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -64,6 +64,9 @@ from .base import FAILED, INFEASIBLE, OPTIMAL, TIMEOUT, Mode, RawSolution
 from .formulation import Formulation, ScaledData
 from .problem import INF, Problem, ProblemKind, build_problem
 from .quiet import quiet_stdout
+
+if TYPE_CHECKING:
+    import cvxpy
 
 
 class _Cvxpy:
@@ -126,7 +129,7 @@ def _second_attempt(first: RawSolution, again: RawSolution, note: str) -> RawSol
     )
 
 
-def _backend_status(problem: cp.Problem) -> str:
+def _backend_status(problem: cvxpy.Problem) -> str:
     """The backend's own status string after a cvxpy solve (``""`` when not exposed).
 
     cvxpy 1.9 keeps SCIP's result as a dict in ``solver_stats.extra_stats`` (``scip_status``);
@@ -137,11 +140,10 @@ def _backend_status(problem: cp.Problem) -> str:
     if isinstance(extra, dict):
         if "scip_status" in extra:
             return str(extra["scip_status"])
-        model = extra.get("model")
-        return str(model.getStatus()) if hasattr(model, "getStatus") else ""
-    if hasattr(extra, "getStatus"):
-        return str(extra.getStatus())
-    return ""
+        status = getattr(extra.get("model"), "getStatus", None)
+        return str(status()) if status is not None else ""
+    status = getattr(extra, "getStatus", None)
+    return str(status()) if status is not None else ""
 
 
 def _mode(problem: Problem, y: np.ndarray) -> Mode:
@@ -399,6 +401,8 @@ class CvxpyMIQP:
         if status != "optimal" or mdl.getNSols() == 0:
             return RawSolution(status=FAILED, solve_time=dt, backend=backend, message=status)
         sol = mdl.getBestSol()
+        if sol is None:
+            return RawSolution(status=FAILED, solve_time=dt, backend=backend, message="no solution stored")
         zv = np.array([sol[v] for v in z])
         yv = np.array([sol[y] for y in ys])
         return RawSolution(

@@ -39,6 +39,7 @@ from dataclasses import dataclass
 import daqp
 import numpy as np
 
+from ..errors import SolverError
 from .base import SolveStatus
 from .problem import INF, Problem
 
@@ -92,6 +93,14 @@ class QPResult:
     objective: float
     iterations: int
     attempts: int
+
+    @property
+    def point(self) -> np.ndarray:
+        """``z`` of an answer that has one (an optimal one); :class:`~pinograsp.errors.SolverError`
+        for an answer without a point."""
+        if self.z is None:
+            raise SolverError(f"a {self.status.value} QP answer has no point", "bnb", self.status.value)
+        return self.z
 
 
 class NodeQP:
@@ -154,7 +163,7 @@ class NodeQP:
             # certificate
             attempts += 1
             status, z = self.interior_point(up)
-            if status is not SolveStatus.OPTIMAL:
+            if status is not SolveStatus.OPTIMAL or z is None:
                 return QPResult(status, None, float("inf"), iters, attempts)
         if polish:
             z = self.polish(z, up)

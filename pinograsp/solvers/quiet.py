@@ -11,6 +11,7 @@ import sys
 import tempfile
 import threading
 from contextlib import contextmanager
+from typing import IO, TextIO
 
 #: Lines of backend output that carry no information for pinograsp users (dropped when quiet).
 NOISE = ("without GMP - using",)
@@ -37,14 +38,14 @@ def quiet_stdout(enabled: bool = True):
                 stream.flush()
             except Exception:  # pragma: no cover - a closed or exotic stream
                 pass
-        saved: list[tuple[int, int, object, object]] = []
+        saved: list[tuple[int, int, IO[bytes], TextIO]] = []
         try:
             for fd, stream in streams:
                 try:
                     keep = os.dup(fd)
                 except OSError:  # pragma: no cover - no such descriptor (embedded interpreters)
                     continue
-                tmp = tempfile.TemporaryFile(mode="w+b")
+                tmp: IO[bytes] = tempfile.TemporaryFile(mode="w+b")
                 os.dup2(tmp.fileno(), fd)
                 saved.append((fd, keep, tmp, stream))
             yield
@@ -52,15 +53,15 @@ def quiet_stdout(enabled: bool = True):
             texts = []
             for fd, keep, tmp, stream in saved:
                 try:
-                    stream.flush()  # type: ignore[attr-defined]
+                    stream.flush()
                 except Exception:  # pragma: no cover
                     pass
                 os.dup2(keep, fd)
                 os.close(keep)
-                tmp.seek(0)  # type: ignore[attr-defined]
-                texts.append((tmp.read().decode(errors="replace"), stream))  # type: ignore[attr-defined]
-                tmp.close()  # type: ignore[attr-defined]
+                tmp.seek(0)
+                texts.append((tmp.read().decode(errors="replace"), stream))
+                tmp.close()
             for text, stream in texts:
                 kept = [ln for ln in text.splitlines(keepends=True) if not any(n in ln for n in NOISE)]
                 if kept:
-                    stream.write("".join(kept))  # type: ignore[attr-defined]
+                    stream.write("".join(kept))

@@ -99,8 +99,9 @@ def plot_preload_comparison(
         InvalidInputError: Empty input, or a mix of MaxWrench and ResistanceProfile values.
     """
     if _check_results(results):
-        return plot_profile(dict(results), ax=ax, normalize=normalize, title=title)
-    values = list(results.values())
+        profiles = {k: v for k, v in results.items() if isinstance(v, ResistanceProfile)}  # all (checked)
+        return plot_profile(profiles, ax=ax, normalize=normalize, title=title)
+    values = [v for v in results.values() if isinstance(v, MaxWrench)]  # all of them (checked)
     ax = cartesian_axes(ax, (max(4.0, 1.2 * len(values) + 2.0), 4.0))
     names = [str(k) for k in results]
     dirs = np.array([np.asarray(v.direction, dtype=float).reshape(-1) for v in values])
@@ -224,7 +225,7 @@ def _place_labels(ax: Axes, labels: list[tuple[np.ndarray, str, str]], avoid: Se
         for dx in (6, -6)
     ]
     try:
-        renderer = ax.figure.canvas.get_renderer()
+        renderer = ax.figure.canvas.get_renderer()  # type: ignore[attr-defined]  # Agg-like canvases
     except AttributeError:  # pragma: no cover - backends without a renderer: first position
         renderer = None
     box = ax.get_window_extent(renderer) if renderer is not None else None
@@ -236,10 +237,18 @@ def _place_labels(ax: Axes, labels: list[tuple[np.ndarray, str, str]], avoid: Se
         return max(w, 0.0) * max(h, 0.0)
 
     for point, text, color in labels:
-        best, best_cost = None, np.inf
+        best: tuple[Any, Any] | None = None
+        best_cost = np.inf
         for offset, ha, va in candidates:
             t = ax.annotate(
-                text, point, xytext=offset, textcoords="offset points", ha=ha, va=va, fontsize=7, color=color
+                text,
+                (point[0], point[1]),
+                xytext=offset,
+                textcoords="offset points",
+                ha=ha,
+                va=va,
+                fontsize=7,
+                color=color,
             )
             if renderer is None:
                 best = (t, None)

@@ -15,7 +15,7 @@ from __future__ import annotations
 import os
 import sys
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, cast
 
 from ..core.validate import writing
 from ..errors import InvalidInputError, MissingDependencyError
@@ -23,6 +23,7 @@ from ..errors import InvalidInputError, MissingDependencyError
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
+    from matplotlib.projections.polar import PolarAxes
 
 #: ``gid`` of the artists that mark directions resisted without bound.
 GID_UNBOUNDED = "pinograsp-unbounded"
@@ -61,16 +62,15 @@ def plotly_objects() -> Any:
     return go
 
 
-def polar_axes(ax: Axes | None, figsize: tuple[float, float] = (5.5, 5.5)) -> Axes:
+def polar_axes(ax: Axes | None, figsize: tuple[float, float] = (5.5, 5.5)) -> PolarAxes:
     """``ax`` if it is a polar Axes, a new polar Axes if it is ``None``."""
     if ax is None:
         _, ax = pyplot().subplots(subplot_kw={"projection": "polar"}, figsize=figsize)
-        return ax
-    if getattr(ax, "name", None) != "polar":
+    elif getattr(ax, "name", None) != "polar":
         raise InvalidInputError(
             "ax", "a polar profile needs a polar Axes (e.g. plt.subplots(subplot_kw={'projection': 'polar'}))"
         )
-    return ax
+    return cast("PolarAxes", ax)  # the "polar" projection's class
 
 
 def cartesian_axes(ax: Axes | None, figsize: tuple[float, float]) -> Axes:

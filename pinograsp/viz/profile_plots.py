@@ -20,6 +20,7 @@ from ..errors import InvalidInputError, UnknownNameError
 from .figures import GID_UNBOUNDED, polar_axes
 
 if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.artist import Artist
     from matplotlib.axes import Axes
 
 _HATCHES = ("//", "\\\\", "xx", "..", "++", "--", "oo", "||")
@@ -54,6 +55,7 @@ def _plane_unit(plane: Sequence[str], basis: np.ndarray) -> str:
 # ----------------------------------------------------------------------------- input
 def _profile_list(profile_or_list: object) -> tuple[list[ResistanceProfile], list[str | None]]:
     """The profiles and their names (dict keys, else ``None``); each a non-empty profile."""
+    names: list[str | None]
     if isinstance(profile_or_list, ResistanceProfile):
         profiles, names = [profile_or_list], [None]
     elif isinstance(profile_or_list, Mapping):
@@ -72,7 +74,7 @@ def _profile_list(profile_or_list: object) -> tuple[list[ResistanceProfile], lis
             raise InvalidInputError(f"profile[{i}]", f"expected a ResistanceProfile, got {type(p).__name__}")
         if p.magnitudes.size == 0:
             raise InvalidInputError(f"profile[{i}]", "has no directions")
-    return profiles, names  # type: ignore[return-value]
+    return profiles, names
 
 
 def _legend_names(
@@ -146,7 +148,7 @@ def _radii(
             normalised.append(True)
         else:
             try:
-                scale = float(normalize)  # type: ignore[arg-type]
+                scale = float(normalize)
             except (TypeError, ValueError) as exc:
                 raise InvalidInputError(
                     "normalize", f"expected True, None or a number, got {normalize!r}"
@@ -310,7 +312,7 @@ def plot_profile(
 
     from matplotlib.patches import Patch
 
-    handles = []
+    handles: list[Artist] = []
     any_unbounded = False
     for i, (p, r, name) in enumerate(zip(profiles, radii, names)):
         color = colors[i] if colors is not None else f"C{i % 10}"

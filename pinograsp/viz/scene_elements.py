@@ -459,10 +459,10 @@ def _hand_extras(
     tol = DEFAULT_TOLERANCE if tolerance is None else float(positive_or_none("tolerance", tolerance) or 0.0)
     out: dict[str, Any] = {"title": "hand and object" if hand is not None and obj is not None else "scene"}
     qv = None if hand is None else hand.configuration(q)
-    if hand is not None and obj is not None:
+    if hand is not None and qv is not None and obj is not None:
         dist, points = closest_points(hand, qv, obj, to_model)
         out.update(link_distances=dist, distance_points=points, title=distance_title(dist, tol))
-    if hand is not None and show_closing:
+    if hand is not None and qv is not None and show_closing:
         out["closing"] = closing_arrows(hand, qv, obj, to_model)
         out["closing_length"] = 0.18 * size
     if hand_mesh is None and obj_mesh is None:
