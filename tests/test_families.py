@@ -1,4 +1,4 @@
-"""The numbers the paper-case families rest on (``benchmarks/paper_families.py``,
+"""The numbers the paper-case families rest on (``scripts/reproduce/paper_families.py``,
 ``docs/results.md``): the headline case-2 ratio at friction 1.0, and one yaw member's ratio."""
 
 from pathlib import Path

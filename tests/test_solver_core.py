@@ -198,8 +198,8 @@ def _random_step_problems(seed: int):
 @pytest.mark.skipif(not HAS_SCIP, reason="SCIP missing")
 @pytest.mark.parametrize("seed", range(6))
 def test_branch_and_bound_never_worse_than_the_reference_miqp(seed):
-    """Every optimum agrees with SCIP's to 1e-6 relative or is lower (benchmarks/solver_core.py
-    runs 200+ grasps)."""
+    """Every optimum agrees with SCIP's to 1e-6 relative or is lower (docs/solver_core.md: 200+
+    grasps)."""
     from pinograsp.solvers.miqp import CvxpyMIQP
 
     _, problems = _random_step_problems(seed)

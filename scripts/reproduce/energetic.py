@@ -22,8 +22,8 @@ case2 runs with fewer directions and ``max_nodes=5000`` (both methods): the ener
 branch-and-bound hits its node limit there (~35-40 s per direction at the default 20000, 7-11 s at 5000).
 Prints markdown tables to stdout and saves ``docs/img/energetic_benchmark.png``::
 
-    python benchmarks/energetic.py            # full run (~7 min on 2 cores)
-    python benchmarks/energetic.py --quick    # smoke run (~75 s; figure to a temp dir)
+    python -m scripts.reproduce.energetic            # full run (~7 min on 2 cores)
+    python -m scripts.reproduce.energetic --quick    # smoke run (~75 s; figure to a temp dir)
 """
 
 from __future__ import annotations
@@ -48,7 +48,7 @@ import numpy as np  # noqa: E402
 
 import pinograsp as pg  # noqa: E402
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 UPPER = 50.0
 #: The iterative scheme with a tight equilibrium tolerance.
 TIGHT = {"eps": 1e-6, "eps_rel": 1e-9}

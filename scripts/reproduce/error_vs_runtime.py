@@ -16,7 +16,7 @@ BLAS runs single-threaded (``OPENBLAS_NUM_THREADS=1`` unless exported otherwise 
 ``--blas-default``; the public queries limit themselves to one thread anyway, see
 ``docs/solver_core.md``). Usage::
 
-    python benchmarks/error_vs_runtime.py [--repeat 3] [--quick]
+    python -m scripts.reproduce.error_vs_runtime [--repeat 3] [--quick]
 """
 
 from __future__ import annotations
@@ -36,12 +36,13 @@ from importlib.metadata import version  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
-from error_vs_runtime_report import fill_readme, plot, reading, write  # noqa: E402
 
 import pinograsp as pg  # noqa: E402
 from pinograsp import examples  # noqa: E402
 
-ROOT = Path(__file__).resolve().parents[1]
+from .error_vs_runtime_report import fill_readme, plot, reading, write  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[2]
 UPPER = 1e3
 
 #: name -> (method, max_resistible_wrench keyword arguments); every configuration runs the exact

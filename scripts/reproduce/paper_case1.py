@@ -1,4 +1,4 @@
-"""Case 1 of ``benchmarks/paper_results.py``: the Barrett hand's profiles, and its Fig. 1 push
+"""Case 1 of ``scripts/reproduce/paper_results.py``: the Barrett hand's profiles, and its Fig. 1 push
 (linear compliance against the passive analysis)."""
 
 from __future__ import annotations
@@ -9,7 +9,10 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from paper_common import (
+
+import pinograsp as pg
+
+from .paper_common import (
     TOL,
     Case,
     Row,
@@ -25,8 +28,6 @@ from paper_common import (
     symmetry,
     vec_text,
 )
-
-import pinograsp as pg
 
 
 def case1(args: argparse.Namespace, img: Path) -> Case:

@@ -1,4 +1,5 @@
-"""Shared parts of ``benchmarks/paper_results.py``: records, run settings, cached solves, text helpers."""
+"""Shared parts of ``scripts/reproduce/paper_results.py``: records, run settings, cached solves,
+text helpers."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Cases 2 and 3 of ``benchmarks/paper_results.py``: which preload resists better (the Barrett
+"""Cases 2 and 3 of ``scripts/reproduce/paper_results.py``: which preload resists better (the Barrett
 hand's two fingers; the differential gripper's distal and proximal tendons)."""
 
 from __future__ import annotations
@@ -8,7 +8,10 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from paper_common import (
+
+import pinograsp as pg
+
+from .paper_common import (
     Case,
     Row,
     find_direction,
@@ -22,8 +25,6 @@ from paper_common import (
     scene_settings,
     settings_text,
 )
-
-import pinograsp as pg
 
 X_FORCE, Y_FORCE = np.array([1.0, 0, 0, 0, 0, 0]), np.array([0, 1.0, 0, 0, 0, 0])
 
