@@ -84,6 +84,10 @@ def test_pruning_records_what_is_dropped():
     np.testing.assert_allclose(m.command_vector({"a1": 4.0}), [0, 4])
     unpruned = pg.GraspModel.from_contacts(cs, acts, cps, joint_names=("j0", "j1", "j2"), prune=False)
     assert unpruned.nq == 3 and unpruned.nb == 16
+    # a solver cannot hold a joint that moves no contact: a named error, not an AssertionError
+    with pytest.raises(pg.ModelError, match="j2.*prune=True") as err:
+        pg.passive_response(unpruned, [1, 2, 3], np.zeros(6), method="prp")
+    assert err.value.argument == "prune"
 
 
 @pytest.mark.parametrize(

@@ -50,6 +50,7 @@ import numpy as np
 
 from ..core.actuation import BACKDRIVABLE, LOCKED, NON_BACKDRIVABLE
 from ..core.model import GraspModel
+from ..errors import ModelError
 
 
 @dataclass(frozen=True, eq=False)
@@ -95,7 +96,12 @@ class Formulation:
         absJ = np.abs(m.J)
         self.lever = absJ.max(axis=0) if nq else np.zeros(0)  # (nq,) [m/rad]
         if nq and np.any(self.lever <= 0):
-            raise AssertionError("joints without contact must be pruned before solving")
+            idle = ", ".join(m.joint_names[j] for j in np.flatnonzero(self.lever <= 0))
+            raise ModelError(
+                f"joint(s) {idle} move no contact (a zero Jacobian column), so no force can hold "
+                "them; build the model with prune=True (the default), which removes them",
+                "prune",
+            )
         # stiffness of each joint's contacts
         reach = np.zeros((nc, nq), bool)
         for i in range(nc):
