@@ -22,6 +22,7 @@ check that the scripts still run, not numbers to publish (the docs and README ar
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import subprocess
 import sys
 import tempfile
@@ -30,6 +31,8 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
 DEFAULT = ("results", "validation", "performance")
+#: Optional packages a target needs beyond the dev extra.
+NEEDS = {"batch": ("ray", "distributed")}
 EXTRA = ("energetic", "resistance-set", "batch")
 
 
@@ -80,6 +83,13 @@ def main(argv: list[str] | None = None) -> int:
             module, *rest = table[target]
             if args.smoke and target == "resistance-set":
                 print("resistance-set --smoke writes docs/resistance_set.md: skipped", flush=True)
+                continue
+            missing = [m for m in NEEDS.get(target, ()) if importlib.util.find_spec(m) is None]
+            if missing:
+                print(
+                    f"{target}: needs {', '.join(missing)} (pip install -e '.[ray,dask]'): skipped",
+                    flush=True,
+                )
                 continue
             t0 = time.perf_counter()
             print(f"== {target}: python -m scripts.reproduce.{module} {' '.join(rest)}", flush=True)
