@@ -317,7 +317,8 @@ class Hand:
     ) -> np.ndarray:
         """Close the hand on an object (like GraspIt!'s auto-grasp) and return the configuration.
 
-        See :func:`pinograsp.robots.autoclose.close_on` for the algorithm, arguments and errors.
+        The same as ``pg.close_on(hand, obj, ...)`` (:func:`pinograsp.robots.autoclose.close_on`:
+        the algorithm, arguments and errors).
 
         Returns:
             The closed configuration (URDF coordinates), (nq,) [rad or m].
