@@ -33,7 +33,6 @@ This module never imports Pinocchio or Coal.
 from __future__ import annotations
 
 import heapq
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -49,22 +48,6 @@ REL_GAP = 1e-9
 ABS_GAP = 1e-24
 #: Complementarity violation (scaled force units) below which a pair counts as satisfied.
 COMP_TOL = 1e-9
-#: Default node limit of one search.
-
-
-@dataclass(frozen=True)
-class SearchStats:
-    """Counters of one branch-and-bound search.
-
-    Attributes:
-        nodes: Nodes whose relaxation was solved.
-        qps: Convex QPs solved (nodes, repairs, guess, final least-norm).
-        attempts: DAQP calls (retries included).
-    """
-
-    nodes: int = 0
-    qps: int = 0
-    attempts: int = 0
 
 
 class _Open:
@@ -199,10 +182,6 @@ class BranchAndBound:
             slide[free] = on[fixed[g] < 0]
         return [stick, slide]
 
-    def stats(self) -> SearchStats:
-        """Counters of the last :meth:`solve`."""
-        return SearchStats(self._nodes, self._qps, self._attempts)
-
     # ------------------------------------------------------------------ solve
     def solve(self, guess: Mode | None = None) -> RawSolution:
         """The global optimum (canonical point of the optimal mode), or infeasibility.
@@ -318,6 +297,7 @@ class BranchAndBound:
             backend="bnb",
             polished=True,
             message=self._count_message(),
+            layout=P.layout,
         )
 
     def _canonical(self, z: np.ndarray, sides: np.ndarray) -> np.ndarray:

@@ -340,6 +340,7 @@ class CvxpyMIQP:
             backend=backend,
             bigm_ratio=bigm_ratio(P, zv, M),
             message=raw_status,
+            layout=P.layout,
         )
 
     # ---------------------------------------------------------- indicator constraints
@@ -410,4 +411,5 @@ class CvxpyMIQP:
             backend=backend,
             bigm_ratio=0.0,
             message=status,
+            layout=P.layout,
         )
