@@ -19,7 +19,7 @@ from ..core.results import MaxWrench, PassiveResponse
 from ..core.settings import Settings
 from ..core.validate import positive_number, whole_number
 from ..errors import PreloadNotInEquilibriumError
-from ..solvers.solve import single_threaded
+from ..solvers.threads import single_threaded
 from .protocols import LimitQuery, SessionLike, Tally, verdict
 from .registry import get_method, resolve_search
 from .response import solver_for

@@ -14,7 +14,7 @@ from ..core.model import GraspModel
 from ..core.results import ResistanceProfile
 from ..core.settings import METHODS, Settings
 from ..core.validate import choice, whole_number
-from ..solvers.solve import single_threaded
+from ..solvers.threads import single_threaded
 from .directions import run_directions
 from .max_wrench import check_preload, max_resistible_wrench
 from .response import solver_for

@@ -388,7 +388,7 @@ def resistance_set(
         PreloadNotInEquilibriumError, InvalidInputError. A :class:`~pinograsp.SolverError` of one
         direction is recorded in ``failures``, not raised.
     """
-    from ..solvers.solve import single_threaded_blas
+    from ..solvers.threads import single_threaded_blas
     from .directions import run_directions
     from .max_wrench import check_preload
     from .response import solver_for

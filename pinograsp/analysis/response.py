@@ -37,6 +37,7 @@ reads through :class:`~pinograsp.analysis.protocols.SessionLike`.
 
 from __future__ import annotations
 
+import time
 import warnings
 import weakref
 from dataclasses import replace
@@ -45,14 +46,13 @@ import numpy as np
 
 from ..core.model import GraspModel
 from ..core.results import PassiveResponse
-from ..core.settings import Method, Settings, make_settings
+from ..core.settings import Backend, Method, Settings, make_settings
 from ..errors import ConditioningWarning, InvalidInputError
-from ..solvers import Formulation, ScaledData, resolve_solver
 from ..solvers.base import Mode, RawSolution, SolveStatus
-from ..solvers.bnb import BranchAndBound
+from ..solvers.formulation import Formulation, ScaledData
 from ..solvers.problem import Problem, ProblemKind, build_problem
-from ..solvers.solve import Backend, BackendOptions, single_threaded
-from ..solvers.solve import solve as solve_problem
+from ..solvers.solve import SolverBackend, make_backend
+from ..solvers.threads import single_threaded
 from .protocols import AnalysisMethod, LoadFactor
 from .refine import refine
 from .registry import get_method, refining_methods
@@ -61,21 +61,6 @@ from .stages import Stage
 
 #: Contact stiffness ratio above which the branch-and-bound warns (docs/solvers.md).
 MAX_STIFFNESS_RATIO = 1e5
-
-
-def backend_options(settings: Settings, gamma: float) -> BackendOptions:
-    """What the solver layer needs of ``settings`` (``gamma`` already scaled)."""
-    opts = (("complementarity", settings.complementarity), ("verify_infeasible", settings.verify_infeasible))
-    return BackendOptions(
-        backend=Backend(settings.backend),
-        gamma=gamma,
-        max_nodes=int(settings.max_nodes),
-        solver=settings.solver,
-        time_limit=settings.time_limit,
-        bigm=settings.bigm,
-        bigm_retries=settings.bigm_retries,
-        miqp_options=opts,
-    )
 
 
 _FORMS: weakref.WeakKeyDictionary[GraspModel, Formulation] = weakref.WeakKeyDictionary()
@@ -106,17 +91,16 @@ class PassiveSolver:
         self.settings = (settings or Settings()).validated()
         #: the model analysed: ``model`` with the settings' normal uncertainty (core/cones.py)
         self.model = model = model.with_normal_uncertainty(self.settings.normal_uncertainty)
-        if self.settings.backend == Backend.MIQP:
-            resolve_solver(self.settings.solver)  # installed? (the name was checked by Settings)
         self.form = formulation_of(model)
+        #: the one path to the solvers: the backend ``settings.backend`` names
+        self.backend: SolverBackend = make_backend(self.settings, self.form)
         #: Step bound in scaled units. ``gamma`` is relative to the stiffest contact; with a
         #: stiffness spread a soft contact would otherwise gain only ``k_min / k_max`` of the
         #: net wrench per step and the 1 % rule would stop the iteration early ("not
         #: resisted"), so the bound is widened by ``k_max / k_min`` (1 for uniform stiffness).
         self.gamma_eff = float(self.settings.gamma * self.form.kx / model.k.min())
-        self.options = backend_options(self.settings, self.gamma_eff)
         ratio = float(model.k.max() / model.k.min())
-        if ratio > MAX_STIFFNESS_RATIO and self.options.backend is Backend.BNB:
+        if ratio > MAX_STIFFNESS_RATIO and self.settings.backend == Backend.BNB:
             warnings.warn(
                 f"contact stiffness ratio {ratio:.3g} exceeds {MAX_STIFFNESS_RATIO:g}: the default "
                 "branch-and-bound may lose solutions of such models; use backend='miqp'",
@@ -124,38 +108,28 @@ class PassiveSolver:
                 stacklevel=3,
             )
         self._preload: dict[tuple[Method, tuple[float, ...]], Stage] = {}
-        self._backend_cache: dict[object, object] = {}
         self._mirrors: dict[tuple[bool, ...], PassiveSolver] = {}
 
     # ------------------------------------------------------------ the solvers
     def solve(
         self, kind: ProblemKind, data: ScaledData, guess: Mode | None = None, t_max: float | None = None
     ) -> RawSolution:
-        """Solve one scaled problem with the settings' backend; ``guess`` is an incumbent mode
-        (speed only), ``t_max`` the load factor's limit of load kinds."""
-        if t_max is not None:
-            return self._load_factor(kind, data, t_max)
-        return solve_problem(self.form, ProblemKind(kind), data, self.options, guess, self._backend_cache)
+        """Solve one scaled problem of ``kind`` with the settings' backend; ``guess`` is an
+        incumbent mode (speed only), ``t_max`` the load factor's limit of load kinds. The wall
+        time includes building the problem."""
+        t0 = time.perf_counter()
+        problem = build_problem(self.form, kind, data, self.gamma_eff, 1.0 if t_max is None else t_max)
+        raw = self.backend.solve(problem, guess)
+        return replace(raw, solve_time=time.perf_counter() - t0)
+
+    def solve_problem(self, problem: Problem) -> RawSolution:
+        """Solve a problem built elsewhere (e.g. an optimal-preload program) with the settings'
+        backend."""
+        return self.backend.solve(problem)
 
     def solve_fixed_mode(self, problem: Problem, mode: Mode) -> RawSolution:
-        """The canonical optimum of ``problem`` in the fixed ``mode``."""
-        return BranchAndBound(problem, self.options.max_nodes).solve_mode(mode)
-
-    def _load_factor(self, kind: ProblemKind, data: ScaledData, tmax: float) -> RawSolution:
-        if self.options.backend is Backend.BNB:
-            problem = build_problem(self.form, kind, data, t_max=tmax)
-            return BranchAndBound(problem, self.options.max_nodes).solve()
-        from ..solvers.miqp import CvxpyMIQP  # cvxpy: loaded only for the reference backend
-
-        s = self.settings
-        miqp = CvxpyMIQP(
-            self.form,
-            kind.value,
-            solver=s.solver,
-            time_limit=s.time_limit,
-            options=dict(self.options.miqp_options),
-        )
-        return miqp.solve(data, s.bigm * max(1.0, 10.0 * tmax), t_max=tmax)
+        """The canonical optimum of ``problem`` in the fixed ``mode`` (the settings' backend)."""
+        return self.backend.solve_fixed_mode(problem, mode)
 
     # ------------------------------------------------------------ methods and preloads
     def rules(self, method: object) -> AnalysisMethod:

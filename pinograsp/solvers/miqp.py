@@ -242,8 +242,11 @@ class CvxpyMIQP:
         ``verify_infeasible`` is set (see the module docstring). ``t_max`` is the load-factor
         limit of kind ``"load"``.
         """
+        return self.solve_problem(self.problem(data, t_max), M)
+
+    def solve_problem(self, P: Problem, M: float) -> RawSolution:
+        """Solve the built problem ``P`` with the big-M constant ``M`` (see :meth:`solve`)."""
         backend = self.solver.lower()
-        P = self.problem(data, t_max)
         bad = P.empty_rows()
         if bad:
             return RawSolution(
