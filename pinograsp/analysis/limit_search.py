@@ -87,7 +87,7 @@ def finish(q: LimitQuery, magnitude: float, at_upper: bool, response: PassiveRes
         unbounded = False
     message = audit_warning(q)
     if message is not None:
-        warnings.warn(message, AuditWarning, stacklevel=6)
+        warnings.warn(message, AuditWarning, stacklevel=7)
     return MaxWrench(
         direction=q.direction,
         magnitude=magnitude,

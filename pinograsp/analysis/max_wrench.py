@@ -10,19 +10,20 @@ Many directions at once: :mod:`pinograsp.analysis.directions`; profiles in a pla
 from __future__ import annotations
 
 import time
+from dataclasses import replace
 
 import numpy as np
 
 from ..core.axes import WRENCH_AXES, wrench_direction
 from ..core.model import GraspModel
+from ..core.query import Query, make_query
 from ..core.results import MaxWrench, PassiveResponse
 from ..core.settings import Settings
-from ..core.validate import positive_number, whole_number
 from ..errors import PreloadNotInEquilibriumError
 from ..solvers.threads import single_threaded
 from .protocols import LimitQuery, SessionLike, Tally, verdict
 from .registry import get_method, resolve_search
-from .response import solver_for
+from .response import PassiveSolver, session_for
 
 
 def check_preload(solver: SessionLike, command: object, method: str) -> PassiveResponse:
@@ -42,6 +43,22 @@ def check_preload(solver: SessionLike, command: object, method: str) -> PassiveR
     return resp
 
 
+def max_wrench_on(
+    session: PassiveSolver, fc: np.ndarray, d: np.ndarray, query: Query, *, check_preload_first: bool = True
+) -> MaxWrench:
+    """:func:`max_resistible_wrench` on a session, with validated commands ``fc`` (na,), unit
+    direction ``d`` (6,) and query: what profiles, sets and batches call per direction."""
+    t0 = time.perf_counter()
+    rules = get_method(query.method)
+    tally = Tally()
+    if check_preload_first:
+        tally.add(check_preload(session, fc, rules.name.value))
+    kind = resolve_search(query.search, rules)
+    floor = rules.floor(session, d, query.upper, query.steps)
+    q = LimitQuery(session, fc, d, rules, query.upper, query.steps, kind, floor, t0, tally)
+    return rules.max_load(session, q)
+
+
 @single_threaded
 def max_resistible_wrench(
     model: GraspModel,
@@ -54,6 +71,8 @@ def max_resistible_wrench(
     settings: Settings | None = None,
     check_preload_first: bool = True,
     search: str = "auto",
+    session: PassiveSolver | None = None,
+    query: Query | None = None,
     **overrides: object,
 ) -> MaxWrench:
     """Largest wrench magnitude along ``direction`` that the preloaded grasp resists passively.
@@ -80,23 +99,21 @@ def max_resistible_wrench(
             problem maximising the load factor, exact instead of ``upper / 2**steps``; the
             response at the limit is then solved at ``magnitude * (1 - 1e-6)``.
         settings, overrides: Solver settings (see :class:`pinograsp.core.settings.Settings`).
+        session: A :class:`~pinograsp.Session` of ``model`` the caller owns (its settings rule;
+            its preload stages are shared with the caller's other queries).
+        query: A :class:`~pinograsp.Query` instead of ``method``, ``upper``, ``steps``,
+            ``search``.
 
     Raises:
         PreloadNotInEquilibriumError, SolverTimeoutError, SolverError, InvalidInputError.
     """
     t0 = time.perf_counter()
-    rules = get_method(method)
-    upper = positive_number("upper", upper)
-    steps = whole_number("steps", steps)
-    solver = solver_for(model, settings, **overrides)
+    q = make_query(query, method, upper, steps, search)
+    solver = session_for(model, session, settings, overrides)
     d = wrench_direction(model, direction)
-    tally = Tally()
-    if check_preload_first:
-        tally.add(check_preload(solver, command, rules.name.value))
-    kind = resolve_search(search, rules)
-    floor = rules.floor(solver, d, upper, steps)
-    q = LimitQuery(solver, command, d, rules, upper, steps, kind, floor, t0, tally)
-    return rules.max_load(solver, q)
+    fc = solver.model.command_vector(command)
+    mw = max_wrench_on(solver, fc, d, q, check_preload_first=check_preload_first)
+    return replace(mw, wall_time=time.perf_counter() - t0)
 
 
-__all__ = ["Tally", "check_preload", "max_resistible_wrench"]
+__all__ = ["Tally", "check_preload", "max_resistible_wrench", "max_wrench_on"]

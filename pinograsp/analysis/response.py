@@ -89,6 +89,8 @@ class PassiveSolver:
         if not isinstance(model, GraspModel):
             raise InvalidInputError("model", f"expected pinograsp.GraspModel, got {type(model).__name__}")
         self.settings = (settings or Settings()).validated()
+        #: the model as given (what ``session=`` arguments are checked against)
+        self.source = model
         #: the model analysed: ``model`` with the settings' normal uncertainty (core/cones.py)
         self.model = model = model.with_normal_uncertainty(self.settings.normal_uncertainty)
         self.form = formulation_of(model)
@@ -281,8 +283,36 @@ def solver_for(model: GraspModel, settings: Settings | None = None, **overrides:
     return PassiveSolver(model, make_settings(settings, **overrides))
 
 
+def session_for(
+    model: GraspModel, session: PassiveSolver | None, settings: Settings | None, overrides: dict[str, object]
+) -> PassiveSolver:
+    """The session a public query runs on: the caller's ``session`` (built for ``model``; its
+    settings rule, so none may be given besides it), or a new one of ``settings`` and
+    ``overrides``.
+
+    Raises:
+        InvalidInputError: ``session`` is not a session, was built for another model, or comes
+            with settings.
+    """
+    if session is None:
+        return solver_for(model, settings, **overrides)
+    if not isinstance(session, PassiveSolver):
+        raise InvalidInputError(
+            "session", f"expected pinograsp.Session or None, got {type(session).__name__}"
+        )
+    if session.source is not model:
+        raise InvalidInputError(
+            "session", "was built for another model: pg.Session(model, settings) of this one"
+        )
+    if settings is not None or overrides:
+        raise InvalidInputError(
+            "session", "carries its own settings: pass settings to pg.Session(model, settings)"
+        )
+    return session
+
+
 #: The caller-owned session of one model and settings (the public name of
-#: :class:`PassiveSolver`).
+#: :class:`PassiveSolver`): ``pg.Session(model, settings)``.
 Session = PassiveSolver
 
 
@@ -318,4 +348,4 @@ def passive_response(
     return solver_for(model, settings, **overrides).response(command, wrench, method)
 
 
-__all__ = ["LoadFactor", "PassiveSolver", "Session", "passive_response", "solver_for"]
+__all__ = ["LoadFactor", "PassiveSolver", "Session", "passive_response", "session_for", "solver_for"]

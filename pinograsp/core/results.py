@@ -200,7 +200,8 @@ MaxWrenchStatus = Literal["finite", "unbounded", "above_limit", "below_resolutio
 
 @dataclass(frozen=True, repr=False)
 class MaxWrench:
-    """Largest resistible wrench magnitude along one direction (bisection).
+    """Largest resistible wrench magnitude along one direction (by the method's search:
+    bisection, secant or one load-factor problem).
 
     Attributes:
         direction: Unit direction in wrench space, (6,) (torques in [N·m] per unit).
@@ -302,11 +303,14 @@ class ResistanceProfile:
         basis: The two unit spanning directions, (2, 6).
         angles: Direction angles from the first basis vector [rad], (n,).
         directions: Unit wrench directions, (n, 6).
-        magnitudes: Max resistible magnitude per direction (``inf`` where unbounded), (n,).
+        magnitudes: Max resistible magnitude per direction (``inf`` where unbounded, NaN where
+            failed), (n,).
         unbounded: (n,) bool.
         normalized_by: Magnitude the profile was divided by (``None``: not normalised).
-        results: The per-direction :class:`MaxWrench` records.
+        results: The per-direction :class:`MaxWrench` records (``None`` where failed).
         wall_time: Total wall time [s].
+        failures: ``(index, message, status)`` of each direction whose query raised a
+            :class:`~pinograsp.SolverError` (a node limit, a timeout): recorded, not fatal.
     """
 
     plane: tuple[str, str]
@@ -316,8 +320,9 @@ class ResistanceProfile:
     magnitudes: np.ndarray
     unbounded: np.ndarray
     normalized_by: float | None
-    results: tuple[MaxWrench, ...] = field(repr=False)
+    results: tuple[MaxWrench | None, ...] = field(repr=False)
     wall_time: float = 0.0
+    failures: tuple[tuple[int, str, str], ...] = ()
 
     @property
     def points(self) -> np.ndarray:
@@ -327,8 +332,8 @@ class ResistanceProfile:
 
     @property
     def statuses(self) -> tuple[str, ...]:
-        """:attr:`MaxWrench.status` per direction, (n,)."""
-        return tuple(r.status for r in self.results)
+        """:attr:`MaxWrench.status` per direction, ``"failed"`` where the query raised, (n,)."""
+        return tuple("failed" if r is None else r.status for r in self.results)
 
     def index_along(self, direction: np.ndarray, atol: float = DIRECTION_ATOL) -> int | None:
         """Index of the first sampled direction within ``atol`` of the unit ``direction`` (6,) in
