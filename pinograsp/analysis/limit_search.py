@@ -119,7 +119,8 @@ def direct(q: LimitQuery) -> tuple[float, PassiveResponse]:
     backend = session.settings.backend
     if status in (SolveStatus.TIMEOUT, SolveStatus.FAILED, SolveStatus.NODE_LIMIT):
         cls = SolverTimeoutError if status is SolveStatus.TIMEOUT else SolverError
-        raise cls(f"load-factor problem: {status.value}", solver=backend, status=status.value)
+        hint = " (raise Settings.max_nodes)" if status is SolveStatus.NODE_LIMIT else ""
+        raise cls(f"load-factor problem: {status.value}{hint}", solver=backend, status=status.value)
     if status is not SolveStatus.OPTIMAL:
         raise PreloadNotInEquilibriumError(
             session.model.command_vector(q.command).tolist(), "load-factor problem infeasible"

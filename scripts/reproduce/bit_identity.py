@@ -27,7 +27,6 @@ import argparse
 import dataclasses
 import enum
 import json
-import math
 import sys
 import time
 import warnings
@@ -64,7 +63,11 @@ def canon(x: object, depth: int = 0) -> object:
     if isinstance(x, str):
         return x
     if isinstance(x, np.ndarray):
-        return [canon(v, depth + 1) for v in x.tolist()] if x.dtype != object else [canon(v, depth + 1) for v in x]
+        return (
+            [canon(v, depth + 1) for v in x.tolist()]
+            if x.dtype != object
+            else [canon(v, depth + 1) for v in x]
+        )
     if isinstance(x, dict):
         return {str(k): canon(v, depth + 1) for k, v in x.items() if not _is_time(str(k))}
     if isinstance(x, (list, tuple)):
@@ -150,7 +153,12 @@ def queries() -> list[tuple[str, Callable[[], object]]]:
 
     out.append(("response/pinch/explicit-bnb", mirrored))
     # the reference backend (cvxpy + SCIP) where it is cheap
-    for method, search in (("prp", "bisection"), ("prp", "direct"), ("iterative", "auto"), ("energetic", "auto")):
+    for method, search in (
+        ("prp", "bisection"),
+        ("prp", "direct"),
+        ("iterative", "auto"),
+        ("energetic", "auto"),
+    ):
 
         def qm(method: str = method, search: str = search) -> object:
             m, c = _pinch()
@@ -158,7 +166,11 @@ def queries() -> list[tuple[str, Callable[[], object]]]:
 
         out.append((f"miqp/pinch/{method}/{search}", qm))
     # the default search depth (20 steps)
-    for sc, method, d in (("case1", "iterative", "fy"), ("case3", "iterative", "-fx"), ("pinch", "prp", "fy")):
+    for sc, method, d in (
+        ("case1", "iterative", "fy"),
+        ("case3", "iterative", "-fx"),
+        ("pinch", "prp", "fy"),
+    ):
 
         def q20(sc: str = sc, method: str = method, d: str = d) -> object:
             s = _scene(sc)
@@ -166,7 +178,12 @@ def queries() -> list[tuple[str, Callable[[], object]]]:
 
         out.append((f"mw20/{sc}/{method}/{d}", q20))
     # searches
-    for search, method in (("bisection", "iterative"), ("bisection", "prp"), ("direct", "prp"), ("bisection", "energetic")):
+    for search, method in (
+        ("bisection", "iterative"),
+        ("bisection", "prp"),
+        ("direct", "prp"),
+        ("bisection", "energetic"),
+    ):
 
         def qs(search: str = search, method: str = method) -> object:
             s = _scene("case1")
@@ -182,15 +199,24 @@ def queries() -> list[tuple[str, Callable[[], object]]]:
 
     def settled() -> object:
         s = _scene("case3")
-        return pg.max_resistible_wrench(s.model, s.command, "fy", "iterative", 50.0, 10, variant="settled-preload")
+        return pg.max_resistible_wrench(
+            s.model, s.command, "fy", "iterative", 50.0, 10, variant="settled-preload"
+        )
 
     out.append(("mw/case3/iterative/fy/settled", settled))
     # profiles
-    for sc, method, n in (("pinch", "iterative", 8), ("case1", "iterative", 6), ("case1", "energetic", 6), ("wedge", "prp", 8)):
+    for sc, method, n in (
+        ("pinch", "iterative", 8),
+        ("case1", "iterative", 6),
+        ("case1", "energetic", 6),
+        ("wedge", "prp", 8),
+    ):
 
         def qp(sc: str = sc, method: str = method, n: int = n) -> object:
             s = _scene(sc)
-            return pg.resistance_profile(s.model, s.command, n=n, method=method, upper=s.analysis.upper, steps=10)
+            return pg.resistance_profile(
+                s.model, s.command, n=n, method=method, upper=s.analysis.upper, steps=10
+            )
 
         out.append((f"profile/{sc}/{method}/{n}", qp))
 
@@ -243,10 +269,13 @@ def queries() -> list[tuple[str, Callable[[], object]]]:
         return pg.optimal_preload(s.model, ["fy", "-fx"], "prp", upper=100.0, steps=10)
 
     out.append(("optimal_preload/wedge/prp", qo_wedge))
+
     # batch rows
     def batch() -> object:
         score_fn = pg.WorstAxisScore(upper=20, steps=4)
-        df = pg.evaluate_grasps(["pinch", {"scene": "wedge", "id": "w"}, "no_such_scene"], score=score_fn, workers=1)
+        df = pg.evaluate_grasps(
+            ["pinch", {"scene": "wedge", "id": "w"}, "no_such_scene"], score=score_fn, workers=1
+        )
         keep = [c for c in df.columns if not _is_time(str(c))]
         return {c: list(df[c]) for c in keep}
 
