@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from clirun import run
+from clirun import run, run_json
 
 import pinograsp as pg
 from pinograsp.analysis.registry import available_methods, get_method, resolve_search
@@ -163,14 +163,21 @@ def test_profile_records_failed_directions_and_keeps_the_others(pinch, capsys, t
     assert failed and len(failed) < 8 and [i for i, _, _ in p.failures] == failed
     for i in range(8):
         if i in failed:
-            assert p.results[i] is None and np.isnan(p.magnitudes[i]) and not p.unbounded[i]
+            r = p.results[i]
+            assert (
+                r.status == "failed"
+                and np.isnan(r.magnitude)
+                and np.isnan(p.magnitudes[i])
+                and not r.evidence
+            )
+            assert not p.unbounded[i] and r.n_solves == 0
         else:
             assert p.magnitudes[i] == full.magnitudes[i] and p.statuses[i] == full.statuses[i]
     assert all(st == "node_limit" and "max_nodes" in msg for _, msg, st in p.failures)
     d = p.to_dict(results=True)
-    assert d["statuses"].count("failed") == len(failed) == len(d["failures"])
+    assert [r["status"] for r in d["results"]].count("failed") == len(failed)
     assert [r["status"] for r in p.rows()] == list(p.statuses)
-    assert f"failed={len(failed)}" in repr(p) and "FAILED at 45 deg (node_limit)" in p.summary()
+    assert f"failed={len(failed)}" in repr(p) and f"failed {len(failed)}" in p.summary()
     # the command line prints them
     text = (PACKAGE / "data" / "scenes" / "pinch.yaml").read_text()
     scene = tmp_path / "pinch_limited.yaml"
@@ -179,3 +186,7 @@ def test_profile_records_failed_directions_and_keeps_the_others(pinch, capsys, t
         capsys, "profile", str(scene), "-n", "8", "--upper", "50", "--steps", "8", "--method", "prp"
     )
     assert rc == 0 and f"{len(failed)} direction(s) FAILED" in out and "45° (node_limit)" in out
+    data = run_json(
+        capsys, "profile", str(scene), "-n", "8", "--upper", "50", "--steps", "8", "--method", "prp"
+    )
+    assert data["statuses"] == list(p.statuses) and [f["index"] for f in data["failures"]] == failed

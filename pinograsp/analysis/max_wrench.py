@@ -77,10 +77,11 @@ def max_resistible_wrench(
 ) -> MaxWrench:
     """Largest wrench magnitude along ``direction`` that the preloaded grasp resists passively.
 
-    Bisection on ``[0, upper]`` (seed paper: 20 steps, upper 1e3 N). The preload alone is
-    checked first (``w = 0``); a grasp whose preload is not in equilibrium raises
-    :class:`PreloadNotInEquilibriumError` instead of "resisting 0 N". If ``upper`` itself is
-    resisted the direction is reported ``unbounded`` with ``magnitude = inf``.
+    The method's search on ``[0, upper]`` (seed paper: bisection, 20 steps, upper 1e3 N; see
+    ``search``). The preload alone is checked first (``w = 0``); a grasp whose preload is not
+    in equilibrium raises :class:`PreloadNotInEquilibriumError` instead of "resisting 0 N". If
+    ``upper`` itself is resisted the direction is reported ``unbounded`` with
+    ``magnitude = inf`` (when the zero-preload limit is resisted too; else ``above_limit``).
 
     Args:
         model: The grasp.

@@ -15,12 +15,13 @@ import numpy as np
 from ..core.axes import circle_directions, plane_basis, wrench_direction
 from ..core.model import GraspModel
 from ..core.query import Query, make_query
-from ..core.results import ResistanceProfile
+from ..core.results import MaxWrench, ResistanceProfile
 from ..core.settings import Settings
 from ..core.validate import whole_number
 from ..solvers.threads import single_threaded
 from .directions import run_directions
 from .max_wrench import check_preload, max_wrench_on
+from .registry import get_method, resolve_search
 from .response import PassiveSolver, session_for
 
 
@@ -68,6 +69,27 @@ def _reference(
     return hit.as_reference("normalize")
 
 
+def _failed(model: GraspModel, direction: np.ndarray, query: Query) -> MaxWrench:
+    """The record of a direction whose query raised: status ``"failed"``, magnitude NaN."""
+    search = resolve_search(query.search, get_method(query.method))
+    nan = float("nan")
+    return MaxWrench(
+        direction=wrench_direction(model, direction),
+        magnitude=nan,
+        unbounded=False,
+        status="failed",
+        floor=nan,
+        upper=query.upper,
+        resolution=query.resolution,
+        evidence=(),
+        method=query.method.value,
+        solve_time=0.0,
+        wall_time=0.0,
+        n_solves=0,
+        search=search.value,
+    )
+
+
 @single_threaded
 def resistance_profile(
     model: GraspModel,
@@ -111,8 +133,8 @@ def resistance_profile(
 
     Returns:
         A :class:`~pinograsp.ResistanceProfile`; a direction whose query raised a
-        :class:`~pinograsp.SolverError` is ``"failed"`` (``NaN`` magnitude, ``results[i]`` None)
-        with its ``(index, message, status)`` in ``failures``.
+        :class:`~pinograsp.SolverError` has a result of status ``"failed"`` (magnitude NaN, no
+        evidence) and its ``(index, message, status)`` in ``failures``.
     """
     t0 = time.perf_counter()
     q = make_query(query, method, upper, steps, search)
@@ -122,14 +144,15 @@ def resistance_profile(
     fc = solver.model.command_vector(command)
     check_preload(solver, fc, q.method.value)
     angles, dirs = circle_directions(basis, n)
-    results, failures = run_directions(solver, fc, dirs, q, workers=workers, progress=progress, catch=True)
+    found, failures = run_directions(solver, fc, dirs, q, workers=workers, progress=progress, catch=True)
+    results = [_failed(model, d, q) if r is None else r for r, d in zip(found, dirs)]
     profile = ResistanceProfile(
         plane=labels,
         basis=basis,
         angles=angles,
         directions=dirs,
-        magnitudes=np.array([np.nan if r is None else r.magnitude for r in results]),
-        unbounded=np.array([r is not None and r.unbounded for r in results], dtype=bool),
+        magnitudes=np.array([r.magnitude for r in results]),
+        unbounded=np.array([r.unbounded for r in results]),
         normalized_by=None,
         results=tuple(results),
         failures=tuple(failures),

@@ -9,7 +9,7 @@ The rules that differ between methods come from their
 from __future__ import annotations
 
 import time
-from dataclasses import replace
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -88,12 +88,40 @@ def staged_response(
     return build_response(session, method, variant, w6, fc, stage, pre, pre_fresh=fresh)
 
 
+@dataclass(frozen=True)
+class _LimitPoint:
+    """The load-factor problem's optimum as a stage on top of its preload stage (what the
+    response at the limit is assembled from)."""
+
+    stage: Stage
+    pre: Stage | None
+    variant: Variant
+    fresh: bool
+    at: float  # the magnitude of the point [N or N·m] (``upper`` when unbounded)
+
+
 def staged_load_factor(
     session: SessionLike, method: AnalysisMethod, fc: np.ndarray, direction: np.ndarray, upper: float
 ) -> LoadFactor:
     """The largest resistible magnitude along the unit ``direction`` (6,) in one solve of the
     method's load-factor problem (:attr:`AnalysisMethod.load_factor_kind`), commands ``fc``
-    (na,) non-negative, pyramids unrefined."""
+    (na,) non-negative, pyramids unrefined; for a :attr:`AnalysisMethod.limit_point` method,
+    with the response at the limit."""
+    lf, point = solve_load_factor(session, method, fc, direction, upper)
+    if point is None or not method.limit_point:
+        return lf
+    w6 = point.at * np.asarray(direction, float)
+    resp = build_response(
+        session, method, point.variant, w6, fc, point.stage, point.pre, pre_fresh=point.fresh
+    )
+    return replace(lf, response=resp)
+
+
+def solve_load_factor(
+    session: SessionLike, method: AnalysisMethod, fc: np.ndarray, direction: np.ndarray, upper: float
+) -> tuple[LoadFactor, _LimitPoint | None]:
+    """The load factor (as :func:`staged_load_factor`, without a response) and its optimum as a
+    stage (None when not optimal)."""
     kind = method.load_factor_kind
     if kind is None:
         raise InvalidInputError("method", f"{method.name.value!r} has no one-solve load-factor problem")
@@ -106,7 +134,7 @@ def staged_load_factor(
         pre_method, pre, fresh = _preload(session, method, variant, fc)
         pre_time = pre.solve_time
         if not pre.converged:
-            return LoadFactor(INFEASIBLE, float("nan"), pre_time)
+            return LoadFactor(INFEASIBLE, float("nan"), pre_time), None
         p = precompression(session, pre)
         w0 = carried(session, method, pre_method, pre)
     else:
@@ -120,24 +148,12 @@ def staged_load_factor(
     raw = replace(raw, solve_time=time.perf_counter() - t0)
     dt = raw.solve_time + pre_time
     if raw.status != OPTIMAL or raw.z is None or raw.layout is None or raw.layout.t is None:
-        return LoadFactor(raw.status, float("nan"), dt)
+        return LoadFactor(raw.status, float("nan"), dt), None
     t = max(float(raw.z[raw.layout.t]), 0.0)
     at_upper = t >= tmax * (1.0 - 1e-9)
     magnitude = float("inf") if at_upper else t * data.F
-    if not method.limit_point:
-        return LoadFactor(OPTIMAL, magnitude, dt)
-    # the load-factor problem's point is an equilibrium of the method's problem at t d
-    stage = Stage(
-        raw,
-        replace(data, w=data.w + t * d),
-        raw.z[raw.layout.obj],
-        "resisted",
-        True,
-        1,
-        (),
-        raw.solve_time,
-        1,
-    )
-    w6 = (float(upper) if at_upper else magnitude) * np.asarray(direction, float)
-    resp = build_response(session, method, variant, w6, fc, stage, pre, pre_fresh=fresh)
-    return LoadFactor(OPTIMAL, magnitude, dt, response=resp)
+    # the load-factor problem's point: an equilibrium of the problem at t d
+    at_t = replace(data, w=data.w + t * d)
+    stage = Stage(raw, at_t, raw.z[raw.layout.obj], "resisted", True, 1, (), raw.solve_time, 1)
+    point = _LimitPoint(stage, pre, variant, fresh, float(upper) if at_upper else magnitude)
+    return LoadFactor(OPTIMAL, magnitude, dt), point

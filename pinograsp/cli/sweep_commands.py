@@ -127,7 +127,7 @@ def _profile_lines(sweep: _Sweep, p: Any, norm: float | None, wall: float, runs:
     for i, a in enumerate(deg):
         dtxt = f"{np.cos(p.angles[i]):+.3f} {b1.lstrip('+')} {np.sin(p.angles[i]):+.3f} {b2.lstrip('+')}"
         r = p.results[i]
-        if r is None:  # the direction's query raised (a node limit, a timeout): see below
+        if r.status == "failed":  # the direction's query raised (a node limit, a timeout): see below
             lines.append(f"{a:11.1f}  {dtxt:>22s}  {'FAILED':>12s}")
             continue
         row = f"{a:11.1f}  {dtxt:>22s}  {format_max_wrench(r):>12s}"
@@ -141,7 +141,7 @@ def _profile_lines(sweep: _Sweep, p: Any, norm: float | None, wall: float, runs:
         lines.append("no unbounded direction")
     if norm is not None:
         lines.append(f"normalised by the {b2} value {format_magnitude(norm, upper / 2**steps, unit)}")
-    bad = [f"{deg[i]:g}°" for i, r in enumerate(p.results) if r is not None and not r.monotone]
+    bad = [f"{deg[i]:g}°" for i, r in enumerate(p.results) if not r.monotone]
     if bad:
         lines.append("non-monotone bisection evidence at: " + ", ".join(bad))
     if p.failures:
@@ -188,6 +188,8 @@ def _profile_report(args: argparse.Namespace, sweep: _Sweep, plane: Any, n: int,
         "resolution": upper / 2**steps,
         "unit": wrench_unit(p.basis[0] + p.basis[1]),
         **p.to_dict(norm),
+        "statuses": list(p.statuses),
+        "failures": [{"index": i, "message": msg, "status": st} for i, msg, st in p.failures],
         "total_time": wall,
     }
     lines = _profile_lines(sweep, p, norm, wall, data["unbounded_runs_deg"])

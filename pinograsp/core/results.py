@@ -195,13 +195,12 @@ class PassiveResponse:
 
 
 #: How a max-wrench search ended (see :class:`MaxWrench`).
-MaxWrenchStatus = Literal["finite", "unbounded", "above_limit", "below_resolution"]
+MaxWrenchStatus = Literal["finite", "unbounded", "above_limit", "below_resolution", "failed"]
 
 
 @dataclass(frozen=True, repr=False)
 class MaxWrench:
-    """Largest resistible wrench magnitude along one direction (by the method's search:
-    bisection, secant or one load-factor problem).
+    """Largest resistible wrench magnitude along one direction (bisection).
 
     Attributes:
         direction: Unit direction in wrench space, (6,) (torques in [N·m] per unit).
@@ -303,11 +302,11 @@ class ResistanceProfile:
         basis: The two unit spanning directions, (2, 6).
         angles: Direction angles from the first basis vector [rad], (n,).
         directions: Unit wrench directions, (n, 6).
-        magnitudes: Max resistible magnitude per direction (``inf`` where unbounded, NaN where
-            failed), (n,).
+        magnitudes: Max resistible magnitude per direction (``inf`` where unbounded), (n,).
         unbounded: (n,) bool.
         normalized_by: Magnitude the profile was divided by (``None``: not normalised).
-        results: The per-direction :class:`MaxWrench` records (``None`` where failed).
+        results: The per-direction :class:`MaxWrench` records (status ``"failed"``, magnitude
+            NaN, where the direction's query raised).
         wall_time: Total wall time [s].
         failures: ``(index, message, status)`` of each direction whose query raised a
             :class:`~pinograsp.SolverError` (a node limit, a timeout): recorded, not fatal.
@@ -320,7 +319,7 @@ class ResistanceProfile:
     magnitudes: np.ndarray
     unbounded: np.ndarray
     normalized_by: float | None
-    results: tuple[MaxWrench | None, ...] = field(repr=False)
+    results: tuple[MaxWrench, ...] = field(repr=False)
     wall_time: float = 0.0
     failures: tuple[tuple[int, str, str], ...] = ()
 
@@ -332,8 +331,8 @@ class ResistanceProfile:
 
     @property
     def statuses(self) -> tuple[str, ...]:
-        """:attr:`MaxWrench.status` per direction, ``"failed"`` where the query raised, (n,)."""
-        return tuple("failed" if r is None else r.status for r in self.results)
+        """:attr:`MaxWrench.status` per direction, (n,)."""
+        return tuple(r.status for r in self.results)
 
     def index_along(self, direction: np.ndarray, atol: float = DIRECTION_ATOL) -> int | None:
         """Index of the first sampled direction within ``atol`` of the unit ``direction`` (6,) in

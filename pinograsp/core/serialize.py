@@ -312,7 +312,7 @@ def max_wrench_dict(
 def absolute_magnitudes(p: ResistanceProfile) -> np.ndarray:
     """A profile's magnitudes before any normalisation, (n,) [N or N·m] (``inf``: unbounded)."""
     if len(p.results) == len(p.magnitudes):
-        return np.array([np.nan if r is None else r.magnitude for r in p.results], dtype=float)
+        return np.array([r.magnitude for r in p.results], dtype=float)
     m = np.asarray(p.magnitudes, dtype=float)
     return m * p.normalized_by if p.normalized_by else m
 
@@ -341,17 +341,15 @@ def profile_dict(
         "directions": p.directions,
         "magnitudes": mags,
         "unbounded": p.unbounded,
-        "statuses": ["failed" if r is None else r.status for r in p.results],
-        "monotone": [None if r is None else r.monotone for r in p.results],
-        "n_solves": [0 if r is None else r.n_solves for r in p.results],
-        "failures": [{"index": i, "message": msg, "status": st} for i, msg, st in getattr(p, "failures", ())],
+        "monotone": [r.monotone for r in p.results],
+        "n_solves": [r.n_solves for r in p.results],
         "normalized_by": ref,
         "normalized": None if ref is None else mags / ref,
         "wall_time": p.wall_time,
         "unbounded_runs_deg": unbounded_runs(deg, p.unbounded),
     }
     if results:
-        out["results"] = [None if r is None else max_wrench_dict(r, response=False) for r in p.results]
+        out["results"] = [max_wrench_dict(r, response=False) for r in p.results]
     return jsonable(out)
 
 

@@ -37,11 +37,10 @@ def contact_report_summary(r: Any) -> str:
 
 # ---------------------------------------------------------------------------- summaries
 def _status_counts(p: ResistanceProfile) -> dict[str, int]:
-    counts = {"finite": 0, "unbounded": 0, "above_limit": 0, "below_resolution": 0, "failed": 0}
+    counts = {"finite": 0, "unbounded": 0, "above_limit": 0, "below_resolution": 0}
     if len(p.results) == len(p.magnitudes):
         for r in p.results:
-            status = "failed" if r is None else r.status
-            counts[status] = counts.get(status, 0) + 1
+            counts[r.status] = counts.get(r.status, 0) + 1
     else:
         counts["unbounded"] = int(np.sum(p.unbounded))
         counts["finite"] = len(p.magnitudes) - counts["unbounded"]
@@ -145,23 +144,16 @@ def profile_summary(p: ResistanceProfile) -> str:
     """Plane, counts per status, finite range to the resolution, unbounded runs, timing."""
     n = len(p.angles)
     unit = wrench_unit(p.basis[0] + p.basis[1]) if len(p.basis) == 2 else ""
-    done = [r for r in p.results if r is not None]
-    method = done[0].method if done else "?"
+    method = p.results[0].method if p.results else "?"
     counts = _status_counts(p)
     mags = absolute_magnitudes(p)
-    res = max((r.resolution for r in done), default=float("nan"))
-    fin = (
-        np.array([r is not None and r.status == "finite" for r in p.results], bool)
-        if p.results
-        else ~p.unbounded
-    )
+    res = max((r.resolution for r in p.results), default=float("nan"))
+    fin = np.array([r.status == "finite" for r in p.results], bool) if p.results else ~p.unbounded
     b1, b2 = (direction_text(b) for b in p.basis)
     lines = [
         f"resistance profile in the plane ({b1}, {b2}): {n} directions, method {method}",
         ", ".join(f"{k} {v}" for k, v in counts.items() if v or k in ("finite", "unbounded")),
     ]
-    for i, msg, status in getattr(p, "failures", ()):
-        lines.append(f"FAILED at {np.degrees(p.angles[i]):g} deg ({status}): {msg}")
     if fin.any():
         lo, hi = float(mags[fin].min()), float(mags[fin].max())
         lines.append(
@@ -171,7 +163,7 @@ def profile_summary(p: ResistanceProfile) -> str:
     lines.append("unbounded at " + runs_text(unbounded_runs(np.degrees(p.angles), p.unbounded)))
     if p.normalized_by is not None:
         lines.append(f"normalised by {p.normalized_by:.4g} {unit}")
-    solves = sum(r.n_solves for r in done)
+    solves = sum(r.n_solves for r in p.results)
     lines.append(f"{solves} solves, {p.wall_time:.3g} s")
     return "\n".join(lines)
 
@@ -219,9 +211,9 @@ def max_wrench_repr(mw: MaxWrench) -> str:
 def profile_repr(p: ResistanceProfile) -> str:
     """``ResistanceProfile(plane=('fx', 'fy'), n=72, method='iterative', finite=..., ...)``."""
     counts = _status_counts(p)
-    method = next((r.method for r in p.results if r is not None), None)
+    method = p.results[0].method if p.results else None
     if len(p.results) == len(p.magnitudes):
-        fin = np.array([r is not None and r.status == "finite" for r in p.results], bool)
+        fin = np.array([r.status == "finite" for r in p.results], bool)
     else:
         fin = ~np.asarray(p.unbounded, bool) & np.isfinite(p.magnitudes)
     rng = f"({_num(np.min(p.magnitudes[fin]))}, {_num(np.max(p.magnitudes[fin]))})" if fin.any() else "None"

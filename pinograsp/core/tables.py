@@ -62,15 +62,6 @@ PROFILE_COLUMNS = ("angle_deg", "label", *WRENCH_AXES, "magnitude", "normalized"
 RESULT_COLUMNS = ("key", "label", *WRENCH_AXES, "magnitude", *_RESULT_FIELDS, "audit_failures")
 
 
-def _failed_row(direction: np.ndarray) -> dict[str, Any]:
-    d = np.asarray(direction, dtype=float)
-    nan = float("nan")
-    row: dict[str, Any] = dict.fromkeys(_RESULT_FIELDS, nan)
-    row.update(label=direction_text(d), unit=wrench_unit(d), status="failed", unbounded=False, n_solves=0)
-    row.update({ax: float(v) for ax, v in zip(WRENCH_AXES, d)}, magnitude=nan, method="", search="")
-    return row
-
-
 def _max_wrench_row(mw: MaxWrench) -> dict[str, Any]:
     d = np.asarray(mw.direction, dtype=float)
     return {
@@ -107,11 +98,7 @@ def profile_rows(profile: ResistanceProfile) -> list[dict[str, Any]]:
     ref = profile.normalized_by
     rows = []
     for i, mw in enumerate(profile.results):
-        if mw is None:  # a failed direction: its direction, status and NaN numbers
-            row = _failed_row(profile.directions[i])
-        else:
-            row = _max_wrench_row(mw)
-        row = {"angle_deg": float(np.degrees(profile.angles[i])), **row}
+        row = {"angle_deg": float(np.degrees(profile.angles[i])), **_max_wrench_row(mw)}
         row["magnitude"] = float(mags[i])
         row["normalized"] = float(mags[i] / ref) if ref else float("nan")
         rows.append({k: row[k] for k in PROFILE_COLUMNS})

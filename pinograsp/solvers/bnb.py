@@ -48,6 +48,7 @@ REL_GAP = 1e-9
 ABS_GAP = 1e-24
 #: Complementarity violation (scaled force units) below which a pair counts as satisfied.
 COMP_TOL = 1e-9
+#: Default node limit of one search.
 
 
 class _Open:

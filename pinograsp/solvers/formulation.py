@@ -50,7 +50,7 @@ import numpy as np
 
 from ..core.actuation import BACKDRIVABLE, LOCKED, NON_BACKDRIVABLE
 from ..core.model import GraspModel
-from ..errors import InvalidInputError, ModelError
+from ..errors import ModelError
 
 #: Names of the variable layouts: the values of :class:`~pinograsp.solvers.problem.ProblemKind`.
 LAYOUT_NAMES = ("prp", "move", "load", "energetic", "energetic-load")
@@ -135,11 +135,11 @@ class Formulation:
         absJ = np.abs(m.J)
         self.lever = absJ.max(axis=0) if nq else np.zeros(0)  # (nq,) [m/rad]
         if nq and np.any(self.lever <= 0):
-            idle = [m.joint_names[j] for j in np.flatnonzero(self.lever <= 0)]
+            idle = ", ".join(m.joint_names[j] for j in np.flatnonzero(self.lever <= 0))
             raise ModelError(
-                f"joints {idle} move no contact: the solvers need them removed; build the model "
-                "with GraspModel.from_contacts(..., prune=True) (the default)",
-                argument="joint_names",
+                f"joint(s) {idle} move no contact (a zero Jacobian column), so no force can hold "
+                "them; build the model with prune=True (the default), which removes them",
+                "prune",
             )
         # stiffness of each joint's contacts
         reach = np.zeros((nc, nq), bool)
@@ -214,6 +214,8 @@ class Formulation:
         displacement), ``"move"`` (one step) or ``"energetic"`` and ``"energetic-load"`` (object
         displacement and one slip magnitude per friction contact). Load kinds add the load
         factor ``t`` as their last variable."""
+        from ..errors import InvalidInputError  # (one import per line: errors above is ModelError)
+
         name = str(getattr(kind, "value", kind))
         if name not in LAYOUT_NAMES:
             raise InvalidInputError("kind", f"must be one of {list(LAYOUT_NAMES)}, got {kind!r}")

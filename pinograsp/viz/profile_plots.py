@@ -87,7 +87,7 @@ def _legend_names(
             raise InvalidInputError("labels", f"expected {len(profiles)} labels, got {len(labels)}")
         names = list(labels)
     out = [
-        n if n is not None else next((r.method for r in p.results if r is not None), f"profile {i}")
+        n if n is not None else (p.results[0].method if p.results else f"profile {i}")
         for i, (n, p) in enumerate(zip(names, profiles))
     ]
     if len(set(out)) < len(out):  # e.g. two profiles of the same method
