@@ -12,6 +12,7 @@ from .core.actuation import ACTUATOR_KINDS, Actuator, Coupling
 from .core.axes import WRENCH_AXES, plane_directions, wrench_direction
 from .core.contact import Contact, friction_edges
 from .core.model import GraspModel, PruneRecord
+from .core.query import Query
 from .core.results import Audit, MaxWrench, PassiveResponse, ResistanceProfile, format_max_wrench
 from .core.serialize import format_magnitude
 from .core.settings import Backend, Method, Search, Settings, Variant
@@ -176,6 +177,7 @@ __all__ = [
     "Method",
     "PassiveResponse",
     "PruneRecord",
+    "Query",
     "ResistanceProfile",
     "Search",
     "Settings",

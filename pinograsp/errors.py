@@ -229,3 +229,21 @@ class SceneError(InvalidInputError, ModelFileError):
         self.value = None
         where = f"{Path(self.path).name}: {key}: " if key else f"{Path(self.path).name}: "
         Exception.__init__(self, where + detail)
+
+
+class UnknownChoiceError(InvalidInputError, UnknownNameError):
+    """A name that must be one of a registry's entries (a method, a backend) is not.
+
+    Catchable as :class:`InvalidInputError` (a bad argument) and as :class:`UnknownNameError`
+    (``kind``, ``name`` and ``valid`` list the registered names).
+    """
+
+    def __init__(self, kind: str, name: object, valid: Iterable[object]) -> None:
+        self.kind = kind
+        self.valid = list(valid)
+        self.name = name
+        self.value = name
+        Exception.__init__(self, f"{kind}: must be one of {tuple(self.valid)}, got {name!r}")
+
+    def __str__(self) -> str:
+        return str(self.args[0])

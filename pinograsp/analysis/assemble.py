@@ -5,18 +5,20 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..core.audit import EnergyCheck, audit_message, energy_check, friction_use
 from ..core.results import Audit, PassiveResponse
-from ..core.settings import Method
+from ..core.settings import Variant
 from ..errors import AuditWarning
+from ..solvers.formulation import Layout
+from .context import SolveContext
 from .stages import Stage
 
-#: A :class:`~pinograsp.analysis.response.PassiveSolver` (response.py imports this module).
-Solver = Any
+if TYPE_CHECKING:
+    from .protocols import AnalysisMethod
 
 
 @dataclass(frozen=True, eq=False)
@@ -35,15 +37,7 @@ class _Physical:
     net: np.ndarray  # net wrench on the object (reduced)
 
 
-def layout_of(solver: Solver, method: str) -> dict[str, slice]:
-    """Variable slices of ``method``'s problem (PRP: the object displacement; energetic: that
-    and the slip magnitudes; iterative: a step)."""
-    if method == Method.ENERGETIC:
-        return solver.form.layout("energetic")
-    return solver.form.layout("prp" if method == Method.PRP else "move")
-
-
-def _nan_response(solver: Solver, status: str, common: dict) -> PassiveResponse:
+def _nan_response(solver: SolveContext, status: str, common: dict[str, Any]) -> PassiveResponse:
     """No solution: every quantity is NaN."""
     m = solver.model
 
@@ -73,35 +67,35 @@ def _nan_response(solver: Solver, status: str, common: dict) -> PassiveResponse:
 
 
 def _physical(
-    solver: Solver, lay: dict, w6: np.ndarray, st: Stage, pre: Stage | None, pre_lay: dict
+    solver: SolveContext, lay: Layout, w6: np.ndarray, st: Stage, pre: Stage | None, pre_lay: Layout | None
 ) -> _Physical:
     """Unscale the stage's solution and add the preload stage's displacements (when solved)."""
     m, f = solver.model, solver.form
     z, F = st.raw.z, st.data.F
-    beta = z[lay["beta"]] * F
+    beta = z[lay.beta] * F
     c = m.D @ beta  # (nc*d,)
     cf = np.zeros((m.nc, 3))
     cf[:, : m.d] = c.reshape(m.nc, m.d)
-    fa = z[lay["fh"]] * F / f.rho if m.na else np.zeros(0)
-    lam = z[lay["lam"]] * F / f.cl_norm if m.ncp else np.zeros(0)
-    q = z[lay["qh"]] * F / f.qscale if m.nq else np.zeros(0)
+    fa = z[lay.fh] * F / f.rho if m.na else np.zeros(0)
+    lam = z[lay.lam] * F / f.cl_norm if m.ncp else np.zeros(0)
+    q = z[lay.qh] * F / f.qscale if m.nq else np.zeros(0)
     x = f.unscale_x(st.xh, F)
     x_load = m.expand_twist(x)
-    if pre is not None and pre.raw is not None and pre.raw.z is not None:
-        q = q + pre.raw.z[pre_lay["qh"]] * pre.data.F / f.qscale
+    if pre is not None and pre.raw is not None and pre.raw.z is not None and pre_lay is not None:
+        q = q + pre.raw.z[pre_lay.qh] * pre.data.F / f.qscale
         x = x + f.unscale_x(pre.xh, pre.data.F)
     u = m.R.T @ q
     net = m.G @ c + m.reduce_wrench(w6)
     return _Physical(beta, c, cf, fa, lam, q, x_load, x, u, net)
 
 
-def _complementarity(solver: Solver, lay: dict, st: Stage, ph: _Physical) -> float:
+def _complementarity(solver: SolveContext, lay: Layout, st: Stage, ph: _Physical) -> float:
     """Largest ``min(a, b)`` of the complementary pairs [N] (contact force / spring gap,
     actuator motion / over-force)."""
     f, z, F = solver.form, st.raw.z, st.data.F
-    qh = z[lay["qh"]]
-    slip = z[lay["slip"]] if lay["slip"].stop > lay["slip"].start else None
-    gap = f.spring_gap(z[lay["beta"]], st.xh, qh, st.data.p, slip) * F
+    qh = z[lay.qh]
+    slip = z[lay.slip] if lay.slip.stop > lay.slip.start else None
+    gap = f.spring_gap(z[lay.beta], st.xh, qh, st.data.p, slip) * F
     cn = f.E @ ph.beta
     comp = np.minimum(np.abs(cn), np.abs(gap)).max(initial=0.0)
     if slip is not None:  # maximum dissipation: edge weight / dissipation row
@@ -110,14 +104,14 @@ def _complementarity(solver: Solver, lay: dict, st: Stage, ph: _Physical) -> flo
         comp = max(comp, np.minimum(np.abs(edge), np.abs(diss)).max(initial=0.0))
     if solver.model.na:
         uh = f.Ru @ qh * F
-        over = (z[lay["fh"]] - st.data.fc) * F
+        over = (z[lay.fh] - st.data.fc) * F
         nbd = f.nbd
         comp = max(comp, np.minimum(np.abs(uh[nbd]), np.abs(over[nbd])).max(initial=0.0))
     return float(comp)
 
 
 def _energy(
-    solver: Solver, w6: np.ndarray, fc: np.ndarray, st: Stage, pre: Stage | None, ph: _Physical
+    solver: SolveContext, w6: np.ndarray, fc: np.ndarray, st: Stage, pre: Stage | None, ph: _Physical
 ) -> EnergyCheck:
     """Energy balance of an equilibrium, rounding relative to the larger of this stage's and
     the preload stage's scale."""
@@ -138,7 +132,7 @@ def _energy(
     )
 
 
-def _audit(solver: Solver, lay: dict, st: Stage, ph: _Physical, energy: EnergyCheck | None) -> Audit:
+def _audit(solver: SolveContext, lay: Layout, st: Stage, ph: _Physical, energy: EnergyCheck | None) -> Audit:
     """Residual checks of the solution in force units [N]."""
     m, f, raw = solver.model, solver.form, st.raw
     hand = (
@@ -160,33 +154,31 @@ def _audit(solver: Solver, lay: dict, st: Stage, ph: _Physical, energy: EnergyCh
 
 
 def build_response(
-    solver: Solver,
-    method: str,
-    variant: str,
+    solver: SolveContext,
+    method: AnalysisMethod,
+    variant: Variant,
     w6: np.ndarray,
     fc: np.ndarray,
     st: Stage,
     pre: Stage | None,
     *,
-    note: str = "",
     pre_fresh: bool = True,
-    pre_kind: str | None = None,
 ) -> PassiveResponse:
-    """The :class:`PassiveResponse` of the load stage ``st`` on top of the preload stage ``pre``.
+    """The :class:`PassiveResponse` of the load stage ``st`` on top of the preload stage ``pre``
+    (each solution read with its own layout, ``raw.layout``).
 
     Args:
         solver: The session that solved the stages.
-        method: ``Method`` of the load stage; variant: the ``Variant`` used.
+        method: The method of the load stage; variant: the ``Variant`` used.
         w6: Applied wrench (6,) [N, N·m]; fc: commands (na,) [N·m or N].
-        note: Non-empty when the preload failed (the answer is then not resisted).
         pre_fresh: The preload stage was solved by this query (it counts in time and solves).
-        pre_kind: ``Method`` of the preload stage (default ``method``).
     """
     m = solver.model
-    status = "not_resisted" if note and st.status == "resisted" else st.status
+    status = st.status
     counted = pre if (pre is not None and pre_fresh) else None  # a cached preload costs nothing
-    common = dict(
-        method=method,
+    name = method.name.value
+    common: dict[str, Any] = dict(
+        method=name,
         variant=variant,
         wrench=w6,
         command=fc,
@@ -201,17 +193,18 @@ def build_response(
         actuator_kinds=tuple(m.kinds),
     )
     raw = st.raw
-    if raw is None or raw.z is None:
+    if raw is None or raw.z is None or raw.layout is None or raw.mode is None:
         return _nan_response(solver, status, common)
-    lay = layout_of(solver, method)
-    ph = _physical(solver, lay, w6, st, pre, layout_of(solver, pre_kind or method))
+    lay = raw.layout
+    pre_lay = pre.raw.layout if pre is not None and pre.raw is not None else None
+    ph = _physical(solver, lay, w6, st, pre, pre_lay)
     energy = _energy(solver, w6, fc, st, pre, ph) if status == "resisted" else None  # an equilibrium
     audit = _audit(solver, lay, st, ph, energy)
     slip = _slip(solver, lay, st, ph)
     if energy is not None and not (energy.energy_ok and energy.displacement_ok):
-        warnings.warn(audit_message(method, energy), AuditWarning, stacklevel=4)
+        warnings.warn(audit_message(name, energy), AuditWarning, stacklevel=6)
     resistible = status == "resisted"
-    if method != Method.ITERATIVE and resistible and audit.equilibrium > 1e-6 * max(st.data.F, 1e-300):
+    if method.exact and resistible and audit.equilibrium > 1e-6 * max(st.data.F, 1e-300):
         status, resistible = "failed", False
     return PassiveResponse(
         resistible=resistible,
@@ -241,11 +234,11 @@ def build_response(
     )
 
 
-def _slip(solver: Solver, lay: dict, st: Stage, ph: _Physical) -> np.ndarray:
+def _slip(solver: SolveContext, lay: Layout, st: Stage, ph: _Physical) -> np.ndarray:
     """Slip of the object over the hand at each contact during the load stage, world frame
     (nc, 3) [m]: the tangential part of ``G^T x - J q``."""
     m = solver.model
-    q_stage = st.raw.z[lay["qh"]] * st.data.F / solver.form.qscale if m.nq else np.zeros(0)
+    q_stage = st.raw.z[lay.qh] * st.data.F / solver.form.qscale if m.nq else np.zeros(0)
     v = m.G.T @ m.reduce_wrench(ph.x_load)
     if m.nq:
         v = v - m.J @ q_stage

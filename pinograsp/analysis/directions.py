@@ -1,6 +1,10 @@
 """Max resistible wrench along many directions, in this process or a process pool: the
 machinery of :func:`~pinograsp.analysis.profile.resistance_profile` and
-:func:`~pinograsp.analysis.resistance_set.resistance_set` (docs/metrics.md)."""
+:func:`~pinograsp.analysis.resistance_set.resistance_set` (docs/metrics.md).
+
+Each block of directions runs on one session (:class:`~pinograsp.Session`): the caller's in
+this process, a new one per block in a pool's worker, so the preload stage is solved once per
+block. The commands, the query and the settings are validated once, before any block."""
 
 from __future__ import annotations
 
@@ -10,11 +14,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..core.axes import wrench_direction
 from ..core.model import GraspModel
+from ..core.query import Query
 from ..core.results import MaxWrench
 from ..core.settings import Settings
 from ..errors import InvalidInputError, SolverError
-from .max_wrench import max_resistible_wrench
+from .max_wrench import max_wrench_on
+from .response import PassiveSolver
 
 #: A direction whose query raised a :class:`~pinograsp.errors.SolverError` (``run_directions``
 #: with ``catch=True``): ``(index, message, status)``.
@@ -33,38 +40,31 @@ def _worker_count(workers: int | None, n: int) -> int:
 
 @dataclass(frozen=True)
 class _Job:
-    """What every direction of one run shares (sent to the pool's workers); the fields are the
-    arguments of :func:`run_directions`."""
+    """What every direction of one run shares (sent to the pool's workers): the grasp, its
+    validated commands (na,), the query, the validated settings and whether a
+    :class:`SolverError` of one direction is recorded instead of raised."""
 
     model: GraspModel
-    command: object
-    method: str
-    upper: float
-    steps: int
+    command: np.ndarray
+    query: Query
     settings: Settings
-    search: str
     catch: bool
 
 
-def _directions_block(job: _Job, dirs: np.ndarray) -> list[MaxWrench | tuple[str, str]]:
-    """Worker: max resistible wrench along each of a block of directions (k, 6) (with
-    ``catch``, a direction whose query raises a SolverError gives ``(message, status)``)."""
-    out: list[MaxWrench | tuple[str, str]] = []
+#: One direction's outcome in a block: its result, or ``(message, status)`` of its failure.
+Outcome = MaxWrench | tuple[str, str]
+
+
+def _directions_block(job: _Job, dirs: np.ndarray, session: PassiveSolver | None = None) -> list[Outcome]:
+    """Worker: max resistible wrench along each of a block of directions (k, 6) on one session
+    (``session``, or a new one of the job's settings); with ``catch``, a direction whose query
+    raises a SolverError gives ``(message, status)``."""
+    session = session or PassiveSolver(job.model, job.settings)
+    out: list[Outcome] = []
     for d in dirs:
         try:
-            out.append(
-                max_resistible_wrench(
-                    job.model,
-                    job.command,
-                    d,
-                    job.method,
-                    job.upper,
-                    job.steps,
-                    settings=job.settings,
-                    check_preload_first=False,
-                    search=job.search,
-                )
-            )
+            u = wrench_direction(job.model, d)
+            out.append(max_wrench_on(session, job.command, u, job.query, check_preload_first=False))
         except SolverError as exc:
             if not job.catch:
                 raise
@@ -74,15 +74,15 @@ def _directions_block(job: _Job, dirs: np.ndarray) -> list[MaxWrench | tuple[str
 
 def _parallel_directions(
     job: _Job, dirs: np.ndarray, workers: int, progress: Callable[[int, int], None] | None
-) -> list[MaxWrench | tuple[str, str]]:
-    """Directions in a process pool, in contiguous blocks (warm starts within a block)."""
+) -> list[Outcome]:
+    """Directions in a process pool, in contiguous blocks (one session per block)."""
     import multiprocessing as mp
     from concurrent.futures import ProcessPoolExecutor, as_completed
 
     nblocks = min(len(dirs), 4 * workers)
     blocks = [b for b in np.array_split(np.arange(len(dirs)), nblocks) if len(b)]
     ctx = mp.get_context("fork" if "fork" in mp.get_all_start_methods() else "spawn")
-    out: list[MaxWrench | tuple[str, str] | None] = [None] * len(dirs)
+    out: list[Outcome | None] = [None] * len(dirs)
     done = 0
     with ProcessPoolExecutor(max_workers=workers, mp_context=ctx) as pool:
         futures = {pool.submit(_directions_block, job, dirs[b]): b for b in blocks}
@@ -97,17 +97,13 @@ def _parallel_directions(
 
 
 def run_directions(
-    model: GraspModel,
-    command: object,
+    session: PassiveSolver,
+    command: np.ndarray,
     dirs: np.ndarray,
-    method: str,
-    upper: float,
-    steps: int,
-    settings: Settings,
+    query: Query,
     *,
     workers: int | None = None,
     progress: Callable[[int, int], None] | None = None,
-    search: str = "auto",
     catch: bool = False,
 ) -> tuple[list[MaxWrench | None], list[DirectionFailure]]:
     """Max resistible wrench along many directions: the machinery of
@@ -115,24 +111,27 @@ def run_directions(
     (the preload is *not* checked here).
 
     Args:
-        dirs: Wrench directions, (k, 6) (each normalised by :func:`max_resistible_wrench`).
+        session: The session of the grasp (used for every direction in this process; a pool's
+            workers build one of its model and settings per block).
+        command: Validated actuator commands (na,).
+        dirs: Wrench directions, (k, 6) (each normalised here).
+        query: Method, upper limit, steps and search of every direction.
         workers: Process-pool size (``0``: one per CPU; ``None``/``1``: in this process).
         catch: Record a direction whose query raises a :class:`SolverError` as a failure
             (its result is ``None``) instead of raising.
-        Other arguments: as :func:`max_resistible_wrench`.
 
     Returns:
         ``(results, failures)``: one :class:`MaxWrench` (or ``None`` for a failure) per
         direction, in order, and the failures as ``(index, message, status)``.
     """
     nw = _worker_count(workers, len(dirs))
-    job = _Job(model, command, method, upper, steps, settings, search, catch)
+    job = _Job(session.source, np.asarray(command, float), query, session.settings, catch)
     if nw > 1:
         raw = _parallel_directions(job, dirs, nw, progress)
     else:
         raw = []
         for i, d in enumerate(dirs):
-            raw += _directions_block(job, d[None, :])
+            raw += _directions_block(job, d[None, :], session)
             if progress is not None:
                 progress(i + 1, len(dirs))
     results = [r if isinstance(r, MaxWrench) else None for r in raw]

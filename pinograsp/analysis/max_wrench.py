@@ -1,5 +1,7 @@
 """The largest wrench magnitude a preloaded grasp resists along one direction (seed paper:
-bisection on ``[0, upper]``), and the check that the preload alone is in equilibrium.
+bisection on ``[0, upper]``), and the check that the preload alone is in equilibrium. The
+search itself is the method's (:meth:`~pinograsp.analysis.protocols.AnalysisMethod.max_load`;
+for the staged methods :mod:`pinograsp.analysis.limit_search`).
 
 Many directions at once: :mod:`pinograsp.analysis.directions`; profiles in a plane:
 :mod:`pinograsp.analysis.profile`.
@@ -8,56 +10,27 @@ Many directions at once: :mod:`pinograsp.analysis.directions`; profiles in a pla
 from __future__ import annotations
 
 import time
-import warnings
-from dataclasses import dataclass, field
+from dataclasses import replace
 
 import numpy as np
 
-from ..core.audit import audit_message
 from ..core.axes import WRENCH_AXES, wrench_direction
 from ..core.model import GraspModel
+from ..core.query import Query, make_query
 from ..core.results import MaxWrench, PassiveResponse
-from ..core.settings import METHODS, Method, Search, Settings
-from ..core.validate import choice, positive_number, whole_number
-from ..errors import (
-    AuditWarning,
-    InvalidInputError,
-    PreloadNotInEquilibriumError,
-    SolverError,
-    SolverTimeoutError,
-)
-from ..solvers.base import SolveStatus
-from ..solvers.solve import single_threaded
-from .response import PassiveSolver, solver_for
-from .search import bisection, secant
+from ..core.settings import Settings
+from ..errors import PreloadNotInEquilibriumError
+from ..solvers.threads import single_threaded
+from .protocols import LimitQuery, SessionLike, Tally, verdict
+from .registry import get_method, resolve_search
+from .response import PassiveSolver, session_for
 
 
-def _check(resp: PassiveResponse, magnitude: float) -> bool:
-    """The verdict of ``resp`` at ``magnitude``; raise when the solver gave none."""
-    if resp.status == "node_limit":
-        raise SolverError(
-            f"branch-and-bound node limit reached at magnitude {magnitude:.6g} (raise Settings.max_nodes)",
-            solver=resp.solver,
-            status="node_limit",
-        )
-    if resp.status == "timeout":
-        raise SolverTimeoutError(
-            f"solver timed out at magnitude {magnitude:.6g}", solver=resp.solver, status="timeout"
-        )
-    if resp.status == "failed":
-        raise SolverError(
-            f"solver failed at magnitude {magnitude:.6g} (no trustworthy verdict)",
-            solver=resp.solver,
-            status="failed",
-        )
-    return resp.resistible
-
-
-def check_preload(solver: PassiveSolver, command: object, method: str) -> PassiveResponse:
+def check_preload(solver: SessionLike, command: object, method: str) -> PassiveResponse:
     """Solve ``w = 0``; raise :class:`PreloadNotInEquilibriumError` if the preload alone has no
     passive equilibrium."""
     resp = solver.response(command, np.zeros(6), method)
-    if not _check(resp, 0.0):
+    if not verdict(resp, 0.0):
         detail = f"{method} solve at w = 0 returned {resp.status!r}"
         residual = None
         if np.all(np.isfinite(resp.net_wrench)):
@@ -70,192 +43,20 @@ def check_preload(solver: PassiveSolver, command: object, method: str) -> Passiv
     return resp
 
 
-@dataclass
-class Tally:
-    """What one max-wrench query has spent and seen so far (filled in as the search goes).
-
-    Attributes:
-        solve_time: Solver wall time [s].
-        n_solves: Complementarity problems solved.
-        evidence: Every magnitude tried and its verdict, in order.
-        flagged: Resisted magnitudes whose solution fails the audit, with that response.
-    """
-
-    solve_time: float = 0.0
-    n_solves: int = 0
-    evidence: list[tuple[float, bool]] = field(default_factory=list)
-    flagged: list[tuple[float, PassiveResponse]] = field(default_factory=list)
-
-    def add(self, resp: PassiveResponse) -> None:
-        """Count a response's solver time and solves."""
-        self.solve_time += resp.solve_time
-        self.n_solves += resp.n_solves
-
-    def flag(self, magnitude: float, resp: PassiveResponse) -> None:
-        """Keep a resisted response that fails the audit (warned about once, at the end)."""
-        if resp.resistible and resp.audit is not None and not resp.audit.ok:
-            self.flagged.append((magnitude, resp))
-
-
-@dataclass(frozen=True)
-class _Query:
-    """One max-wrench query: what it asks (``direction`` unit, (6,)) and its running tally."""
-
-    solver: PassiveSolver
-    command: object
-    direction: np.ndarray
-    method: str
-    upper: float
-    steps: int
-    search: Search
-    floor: float
-    t0: float
-    tally: Tally
-
-    def test(self, magnitude: float, solver: PassiveSolver | None = None) -> tuple[bool, PassiveResponse]:
-        """The verdict at ``magnitude`` [N or N·m] along the direction, recorded in the tally
-        (``solver``: another session than the query's, e.g. on a refined model)."""
-        with warnings.catch_warnings():  # summarised once, after the search
-            warnings.simplefilter("ignore", AuditWarning)
-            resp = (solver or self.solver).response(self.command, magnitude * self.direction, self.method)
-        self.tally.add(resp)
-        ok = _check(resp, magnitude)
-        self.tally.evidence.append((magnitude, ok))
-        self.tally.flag(magnitude, resp)
-        return ok, resp
-
-
-def _search_kind(search: object, method: str) -> Search:
-    """The search ``search`` names for ``method`` (``"auto"`` resolved)."""
-    kind = Search(choice("search", search, [x.value for x in Search]))
-    if kind is Search.AUTO:
-        auto = {Method.ITERATIVE: Search.SECANT, Method.ENERGETIC: Search.DIRECT}
-        kind = auto.get(Method(method), Search.BISECTION)
-    if kind is Search.DIRECT and method == Method.ITERATIVE:
-        raise InvalidInputError(
-            "search", "'direct' exists for method='prp' and 'energetic' only (Alg. 3 is a trajectory)"
-        )
-    if kind is Search.SECANT and method != Method.ITERATIVE:
-        raise InvalidInputError(
-            "search", "'secant' exists for method='iterative' only (PRP stages carry no residual)"
-        )
-    return kind
-
-
-def _floor(solver: PassiveSolver, d: np.ndarray, method: str, upper: float, steps: int) -> float:
-    """Smallest magnitude distinguishable from zero: the resolution, and for the iterative
-    method at least its equilibrium tolerance ``eps`` along ``d``."""
-    floor = float(upper) / 2**steps
-    if method == Method.ITERATIVE:
-        scale = float(np.linalg.norm(solver.model.reduce_wrench(d) * solver.form.wscale))
-        floor = max(floor, solver.settings.eps / scale)
-    return floor
-
-
-def _resisted_without_preload(
-    solver: PassiveSolver, command: object, d: np.ndarray, method: str
-) -> PassiveResponse:
-    """The load ``d`` (unit) under a zero preload: the limit of ``t d`` under ``command`` as
-    ``t -> inf`` (the model is positively homogeneous: ``t d`` under ``f_c`` is ``d`` under
-    ``f_c / t``). Resisted means passively resisted without bound (docs/accuracy.md)."""
-    zero = np.zeros(solver.model.na)
-    resp = solver.response(zero, d, method)
-    _check(resp, float("inf"))
-    return resp
-
-
-def _audit_warning(q: _Query) -> str | None:
-    """The one warning text of the resisted magnitudes that fail the audit (None: none)."""
-    if not q.tally.flagged:
-        return None
-    at, bad = min(q.tally.flagged, key=lambda mr: mr[0])
-    e = bad.audit.energy
-    why = (
-        audit_message(q.method, e)
-        if e is not None and not (e.energy_ok and e.displacement_ok)
-        else "residuals above the audit tolerance"
-    )
-    return (
-        f"{len(q.tally.flagged)} resisted magnitude(s) from {at:.6g} rest on solutions that fail "
-        f"the audit; at {at:.6g}: {why}"
-    )
-
-
-def _finish(q: _Query, magnitude: float, at_upper: bool, response: PassiveResponse | None) -> MaxWrench:
-    """The :class:`MaxWrench` of a search that ended at ``magnitude`` (``at_upper``: ``upper``
-    itself was resisted; the direction is unbounded only if the zero-preload limit says so)."""
-    extra_time = 0.0
-    if at_upper:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", AuditWarning)
-            limit = _resisted_without_preload(q.solver, q.command, q.direction, q.method)
-        q.tally.flag(float("inf"), limit)
-        extra_time = limit.solve_time
-        status = "unbounded" if limit.resistible else "above_limit"
-        magnitude = float("inf") if limit.resistible else float(q.upper)
-        unbounded = limit.resistible
-    else:
-        status = "finite" if magnitude >= q.floor and magnitude > 0 else "below_resolution"
-        magnitude = magnitude if status == "finite" else 0.0  # a direct solve's 1e-15 is 0
-        unbounded = False
-    message = _audit_warning(q)
-    if message is not None:
-        warnings.warn(message, AuditWarning, stacklevel=4)
-    return MaxWrench(
-        direction=q.direction,
-        magnitude=magnitude,
-        unbounded=unbounded,
-        status=status,
-        floor=q.floor,
-        upper=float(q.upper),
-        resolution=float(q.upper) / 2**q.steps,
-        evidence=tuple(q.tally.evidence),
-        method=q.method,
-        solve_time=q.tally.solve_time + extra_time,
-        wall_time=time.perf_counter() - q.t0,
-        n_solves=q.tally.n_solves,
-        response=response,
-        search=q.search.value,
-        audit_failures=tuple(sorted(m for m, _ in q.tally.flagged)),
-    )
-
-
-def _direct(q: _Query) -> tuple[float, PassiveResponse]:
-    """The exact limit by one load-factor problem, and the response at it: the energetic
-    problem's own point there, or (PRP) the response just below it. ``inf``: ``upper``."""
-    solver, upper = q.solver, float(q.upper)
-    lf = solver.max_load_factor(q.command, q.direction, upper, q.method)
-    status, mag = lf.status, lf.magnitude
-    q.tally.solve_time += lf.solve_time
-    q.tally.n_solves += 1
-    backend = solver.settings.backend
-    if status in (SolveStatus.TIMEOUT, SolveStatus.FAILED, SolveStatus.NODE_LIMIT):
-        cls = SolverTimeoutError if status is SolveStatus.TIMEOUT else SolverError
-        raise cls(f"load-factor problem: {status.value}", solver=backend, status=status.value)
-    if status is not SolveStatus.OPTIMAL:
-        raise PreloadNotInEquilibriumError(
-            solver.model.command_vector(q.command).tolist(), "load-factor problem infeasible"
-        )
-    if lf.response is not None:  # energetic: the point at the limit
-        q.tally.evidence.append((float(q.upper) if np.isinf(mag) else mag, True))
-        q.tally.flag(mag, lf.response)
-        return mag, lf.response
-    if np.isinf(mag):
-        raise SolverError(
-            f"load-factor problem reached the upper limit {upper:g} that the PRP did not resist",
-            solver=backend,
-            status="failed",
-        )
-    at = mag * (1.0 - 1e-6)
-    ok, resp = q.test(at, solver.plain(lf.model) if lf.model is not None else None)
-    if not ok:
-        raise SolverError(
-            f"load-factor problem found magnitude {mag:.9g} but the {q.method} problem at {at:.9g} "
-            "is not resisted",
-            solver=backend,
-            status="failed",
-        )
-    return mag, resp
+def max_wrench_on(
+    session: PassiveSolver, fc: np.ndarray, d: np.ndarray, query: Query, *, check_preload_first: bool = True
+) -> MaxWrench:
+    """:func:`max_resistible_wrench` on a session, with validated commands ``fc`` (na,), unit
+    direction ``d`` (6,) and query: what profiles, sets and batches call per direction."""
+    t0 = time.perf_counter()
+    rules = get_method(query.method)
+    tally = Tally()
+    if check_preload_first:
+        tally.add(check_preload(session, fc, rules.name.value))
+    kind = resolve_search(query.search, rules)
+    floor = rules.floor(session, d, query.upper, query.steps)
+    q = LimitQuery(session, fc, d, rules, query.upper, query.steps, kind, floor, t0, tally)
+    return rules.max_load(session, q)
 
 
 @single_threaded
@@ -270,14 +71,17 @@ def max_resistible_wrench(
     settings: Settings | None = None,
     check_preload_first: bool = True,
     search: str = "auto",
+    session: PassiveSolver | None = None,
+    query: Query | None = None,
     **overrides: object,
 ) -> MaxWrench:
     """Largest wrench magnitude along ``direction`` that the preloaded grasp resists passively.
 
-    Bisection on ``[0, upper]`` (seed paper: 20 steps, upper 1e3 N). The preload alone is
-    checked first (``w = 0``); a grasp whose preload is not in equilibrium raises
-    :class:`PreloadNotInEquilibriumError` instead of "resisting 0 N". If ``upper`` itself is
-    resisted the direction is reported ``unbounded`` with ``magnitude = inf``.
+    The method's search on ``[0, upper]`` (seed paper: bisection, 20 steps, upper 1e3 N; see
+    ``search``). The preload alone is checked first (``w = 0``); a grasp whose preload is not
+    in equilibrium raises :class:`PreloadNotInEquilibriumError` instead of "resisting 0 N". If
+    ``upper`` itself is resisted the direction is reported ``unbounded`` with
+    ``magnitude = inf`` (when the zero-preload limit is resisted too; else ``above_limit``).
 
     Args:
         model: The grasp.
@@ -296,39 +100,21 @@ def max_resistible_wrench(
             problem maximising the load factor, exact instead of ``upper / 2**steps``; the
             response at the limit is then solved at ``magnitude * (1 - 1e-6)``.
         settings, overrides: Solver settings (see :class:`pinograsp.core.settings.Settings`).
+        session: A :class:`~pinograsp.Session` of ``model`` the caller owns (its settings rule;
+            its preload stages are shared with the caller's other queries).
+        query: A :class:`~pinograsp.Query` instead of ``method``, ``upper``, ``steps``,
+            ``search``.
 
     Raises:
         PreloadNotInEquilibriumError, SolverTimeoutError, SolverError, InvalidInputError.
     """
     t0 = time.perf_counter()
-    choice("method", method, METHODS)
-    upper = positive_number("upper", upper)
-    steps = whole_number("steps", steps)
-    solver = solver_for(model, settings, **overrides)
+    q = make_query(query, method, upper, steps, search)
+    solver = session_for(model, session, settings, overrides)
     d = wrench_direction(model, direction)
-    tally = Tally()
-    if check_preload_first:
-        tally.add(check_preload(solver, command, method))
-    kind = _search_kind(search, method)
-    q = _Query(
-        solver, command, d, method, upper, steps, kind, _floor(solver, d, method, upper, steps), t0, tally
-    )
-    if kind is Search.DIRECT and method == Method.ENERGETIC:  # one solve decides
-        mag, resp = _direct(q)
-        return _finish(q, mag, bool(np.isinf(mag)), resp)
-    # the upper limit first: an unbounded direction costs one (fast-path) solve, not a search
-    ok, resp = q.test(float(upper))
-    if ok:
-        return _finish(q, float("inf"), True, resp)
-    if kind is Search.DIRECT:
-        mag, resp = _direct(q)
-        return _finish(q, mag, False, resp)
-    if kind is Search.SECANT:
-        st = solver.settings
-        lo, best = secant(q.test, float(upper), int(steps), resp, lambda m: st.eps + st.eps_rel * m)
-    else:
-        lo, best = bisection(q.test, float(upper), int(steps))
-    return _finish(q, lo, False, best)
+    fc = solver.model.command_vector(command)
+    mw = max_wrench_on(solver, fc, d, q, check_preload_first=check_preload_first)
+    return replace(mw, wall_time=time.perf_counter() - t0)
 
 
-__all__ = ["Tally", "check_preload", "max_resistible_wrench"]
+__all__ = ["Tally", "check_preload", "max_resistible_wrench", "max_wrench_on"]

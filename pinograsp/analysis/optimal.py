@@ -27,12 +27,15 @@ from typing import Literal
 import numpy as np
 
 from ..core.model import GraspModel
-from ..core.settings import METHODS, Method, Settings, Variant
+from ..core.settings import METHODS, Settings, Variant
 from ..core.validate import choice, finite_array, positive_number, whole_number
 from ..errors import AuditWarning, InvalidInputError
+from ..solvers.problem import ProblemKind
 from .optimal_search import GRID, OBJECTIVES, RESISTANCES, DisturbanceCheck, Status, simplex_grid
 from .preload import command_bounds
+from .registry import get_method
 from .response import solver_for
+from .staged import variant_of
 
 
 @dataclass(frozen=True)
@@ -256,7 +259,8 @@ def optimal_preload(
     spec = dict(objective=objective, budget=budget, resistance=resistance, cost=cost, bound=bound, dw=dw)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", AuditWarning)
-        if method == Method.PRP and solver.settings.variant_for(Method.PRP) is Variant.SINGLE_STEP:
+        rules = get_method(method)  # the exact program writes Alg. 1's single-step problem
+        if rules.load_kind is ProblemKind.PRP and variant_of(solver.settings, rules) is Variant.SINGLE_STEP:
             out = exact_prp(solver, loads, free, spec, upper)
         else:
             out = search(solver, method, loads, free, spec, grid, refine, upper, steps)

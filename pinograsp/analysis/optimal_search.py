@@ -159,7 +159,6 @@ def _zero_answer(
 # ------------------------------------------------------------------------------ exact (PRP)
 def _solve_program(solver: PassiveSolver, loads: np.ndarray, spec: dict, task: str, upper: float):
     """Solve the program; returns (status, commands (na,) [N·m or N], factors) in physical units."""
-    from ..solvers.bnb import BranchAndBound
     from ..solvers.preload_problem import build_preload_program
 
     m, form = solver.model, solver.form
@@ -173,11 +172,11 @@ def _solve_program(solver: PassiveSolver, loads: np.ndarray, spec: dict, task: s
         form, lw / F, task=task, objective=spec["objective"], cost=spec["cost"] / form.rho,
         bound=spec["bound"] * form.rho / F, budget=min(budget, 1e30), t_max=upper, weights=spec["dw"],
     )  # fmt: skip
-    raw = BranchAndBound(prog.problem, solver.settings.max_nodes).solve()
+    raw = solver.solve_problem(prog.problem)  # the settings' backend
     if raw.status not in (OPTIMAL, INFEASIBLE):
         raise SolverError(
             f"optimal-preload program: {raw.status.value} ({raw.message})",
-            solver="bnb",
+            solver=solver.backend.name,
             status=raw.status.value,
         )
     if raw.status == INFEASIBLE:

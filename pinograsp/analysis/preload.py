@@ -27,10 +27,12 @@ import numpy as np
 
 from ..core.model import GraspModel
 from ..core.results import PassiveResponse
-from ..core.settings import METHODS, Method, Settings
+from ..core.settings import METHODS, Settings
 from ..core.validate import choice, positive_number
 from ..errors import InvalidInputError, UnknownNameError
+from .registry import get_method
 from .response import passive_response
+from .staged import SETTLED_PRELOAD_METHOD
 
 Objective = Literal["balanced", "least_norm"]
 OBJECTIVES: tuple[str, ...] = ("balanced", "least_norm")
@@ -210,6 +212,11 @@ def _diagnose(model: GraspModel, fmax: np.ndarray, method: str) -> tuple[tuple[s
     return tuple(unloadable), ()
 
 
+def _held_still(method: str) -> bool:
+    """Whether ``method``'s own preload stage holds the object still (not the settling one)."""
+    return get_method(method).preload_method != SETTLED_PRELOAD_METHOD
+
+
 def equilibrium_preload(
     model: GraspModel,
     method: str = "iterative",
@@ -261,7 +268,7 @@ def equilibrium_preload(
         return PreloadChoice(
             "unverified", command, cn, method, objective, resp, (), (),
             f"the design balances, but the {method} preload stage ends {resp.status!r} with it"
-            + ("; method='prp' lets the object settle" if method == Method.ITERATIVE else ""),
+            + ("; method='prp' lets the object settle" if _held_still(method) else ""),
         )  # fmt: skip
     if objective == "least_norm":  # bounded by max_command?
         best = _design(model, fmax, method, "balanced", grip, False)

@@ -1,5 +1,8 @@
 """Resistance profiles: the max resistible magnitude over directions in a plane of wrench
-space, as in the seed paper's polar plots, and the one home of their normalisation."""
+space, as in the seed paper's polar plots, and the one home of their normalisation. A
+direction whose query raises a :class:`~pinograsp.SolverError` (a node limit, a timeout) is
+recorded as ``"failed"`` with its message (``ResistanceProfile.failures``); the others are kept.
+"""
 
 from __future__ import annotations
 
@@ -11,13 +14,15 @@ import numpy as np
 
 from ..core.axes import circle_directions, plane_basis, wrench_direction
 from ..core.model import GraspModel
-from ..core.results import ResistanceProfile
-from ..core.settings import METHODS, Settings
-from ..core.validate import choice, whole_number
-from ..solvers.solve import single_threaded
+from ..core.query import Query, make_query
+from ..core.results import MaxWrench, ResistanceProfile
+from ..core.settings import Settings
+from ..core.validate import whole_number
+from ..solvers.threads import single_threaded
 from .directions import run_directions
-from .max_wrench import check_preload, max_resistible_wrench
-from .response import solver_for
+from .max_wrench import check_preload, max_wrench_on
+from .registry import get_method, resolve_search
+from .response import PassiveSolver, session_for
 
 
 def reference_magnitude(
@@ -47,13 +52,42 @@ def reference_magnitude(
         InvalidInputError: ``"normalize"``: the reference direction is unbounded or not
             resisted, or not a direction.
     """
+    session = session_for(model, None, settings, {})
+    q = make_query(None, method, upper, steps)
+    return _reference(session, session.model.command_vector(command), profile, reference, q)
+
+
+def _reference(
+    session: PassiveSolver, fc: np.ndarray, profile: ResistanceProfile, reference: object, query: Query
+) -> float:
+    """:func:`reference_magnitude` on a session with validated commands ``fc`` (na,)."""
+    model = session.source
     ref = profile.basis[1] if reference is True else wrench_direction(model, reference, "normalize")
     hit = profile.result_along(ref)
     if hit is None:
-        hit = max_resistible_wrench(
-            model, command, ref, method, upper, steps, settings=settings, check_preload_first=False
-        )
+        hit = max_wrench_on(session, fc, wrench_direction(model, ref), query, check_preload_first=False)
     return hit.as_reference("normalize")
+
+
+def _failed(model: GraspModel, direction: np.ndarray, query: Query) -> MaxWrench:
+    """The record of a direction whose query raised: status ``"failed"``, magnitude NaN."""
+    search = resolve_search(query.search, get_method(query.method))
+    nan = float("nan")
+    return MaxWrench(
+        direction=wrench_direction(model, direction),
+        magnitude=nan,
+        unbounded=False,
+        status="failed",
+        floor=nan,
+        upper=query.upper,
+        resolution=query.resolution,
+        evidence=(),
+        method=query.method.value,
+        solve_time=0.0,
+        wall_time=0.0,
+        n_solves=0,
+        search=search.value,
+    )
 
 
 @single_threaded
@@ -71,6 +105,8 @@ def resistance_profile(
     progress: Callable[[int, int], None] | None = None,
     workers: int | None = None,
     search: str = "auto",
+    session: PassiveSolver | None = None,
+    query: Query | None = None,
     **overrides: object,
 ) -> ResistanceProfile:
     """Max resistible magnitude over ``n`` directions in a plane of wrench space.
@@ -83,32 +119,33 @@ def resistance_profile(
         normalize: Divide magnitudes by the value along a reference direction, as the paper
             does (``True``: along ``+b2``, i.e. ``+Y`` for the XY plane; or an axis name like
             ``"fy"``, or a vector; :func:`reference_magnitude`). A reference direction that is
-            unbounded or not resisted raises ``InvalidInputError``.
+            unbounded, not resisted or failed raises ``InvalidInputError``.
         progress: Called as ``progress(done, total)`` after each direction (after each chunk
             of directions with ``workers``).
         workers: Solve directions in a process pool of this many workers (``0``: one per CPU;
-            ``None``/``1``: in this process). Each worker takes a contiguous block of
-            directions, so neighbouring directions still warm-start each other.
+            ``None``/``1``: in this process, on one session). Each worker takes a contiguous
+            block of directions on one session of its own (the preload stage solved once).
+        session: A :class:`~pinograsp.Session` of ``model`` the caller owns (its settings
+            rule): the directions solved in this process share its preload stages.
+        query: A :class:`~pinograsp.Query` instead of ``method``, ``upper``, ``steps``,
+            ``search``.
         Other arguments: as :func:`max_resistible_wrench`.
+
+    Returns:
+        A :class:`~pinograsp.ResistanceProfile`; a direction whose query raised a
+        :class:`~pinograsp.SolverError` has a result of status ``"failed"`` (magnitude NaN, no
+        evidence) and its ``(index, message, status)`` in ``failures``.
     """
     t0 = time.perf_counter()
+    q = make_query(query, method, upper, steps, search)
     n = whole_number("n", n)
     basis, labels = plane_basis(model, plane)
-    solver = solver_for(model, settings, **overrides)
-    check_preload(solver, command, choice("method", method, METHODS))
+    solver = session_for(model, session, settings, overrides)
+    fc = solver.model.command_vector(command)
+    check_preload(solver, fc, q.method.value)
     angles, dirs = circle_directions(basis, n)
-    results, _ = run_directions(
-        model,
-        command,
-        dirs,
-        method,
-        upper,
-        steps,
-        solver.settings,
-        workers=workers,
-        progress=progress,
-        search=search,
-    )
+    found, failures = run_directions(solver, fc, dirs, q, workers=workers, progress=progress, catch=True)
+    results = [_failed(model, d, q) if r is None else r for r, d in zip(found, dirs)]
     profile = ResistanceProfile(
         plane=labels,
         basis=basis,
@@ -118,9 +155,10 @@ def resistance_profile(
         unbounded=np.array([r.unbounded for r in results]),
         normalized_by=None,
         results=tuple(results),
+        failures=tuple(failures),
     )
     if normalize:
-        by = reference_magnitude(model, command, profile, normalize, method, upper, steps, solver.settings)
+        by = _reference(solver, fc, profile, normalize, q)
         profile = replace(profile, magnitudes=profile.magnitudes / by, normalized_by=by)
     return replace(profile, wall_time=time.perf_counter() - t0)
 

@@ -22,17 +22,20 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 
 from ..core.axes import PLANAR_AXES, direction_text, wrench_direction
 from ..core.model import GraspModel
+from ..core.query import Query, make_query
 from ..core.results import MaxWrench, ResistanceProfile
 from ..core.serialize import format_magnitude, jsonable, vector_text
-from ..core.settings import METHODS
-from ..core.validate import choice, finite_array, positive_number, whole_number
+from ..core.validate import finite_array, positive_number, whole_number
 from ..errors import InvalidInputError
+
+if TYPE_CHECKING:
+    from .response import PassiveSolver
 
 #: Outcome per direction: a :data:`~pinograsp.core.results.MaxWrenchStatus`, or ``"failed"`` (the
 #: query raised a :class:`~pinograsp.SolverError`; recorded in ``ResistanceSet.failures``).
@@ -368,6 +371,8 @@ def resistance_set(
     directions: object = None,
     progress: Callable[[int, int], None] | None = None,
     search: str = "auto",
+    session: PassiveSolver | None = None,
+    query: Query | None = None,
     **overrides: object,
 ) -> ResistanceSet:
     """Max resistible magnitude over ``n`` directions spread evenly on the unit wrench sphere.
@@ -384,30 +389,32 @@ def resistance_set(
         directions: Explicit wrench directions, (k, 6) (planar models also (k, 3)), instead of
             the sphere, e.g. ``pg.plane_directions(model, ("fx", "fy"), 24)``.
         progress: Called as ``progress(done, total)``.
+        session: A :class:`~pinograsp.Session` of ``model`` the caller owns (its settings
+            rule): the directions solved in this process share its preload stages (a pool's
+            workers build one per block of directions).
+        query: A :class:`~pinograsp.Query` instead of ``method``, ``upper``, ``steps``,
+            ``search``.
 
     Raises:
         PreloadNotInEquilibriumError, InvalidInputError. A :class:`~pinograsp.SolverError` of one
         direction is recorded in ``failures``, not raised.
     """
-    from ..solvers.solve import single_threaded_blas
+    from ..solvers.threads import single_threaded_blas
     from .directions import run_directions
     from .max_wrench import check_preload
-    from .response import solver_for
+    from .response import session_for
 
     t0 = time.perf_counter()
-    choice("method", method, METHODS)
-    upper, steps = positive_number("upper", upper), whole_number("steps", steps)
+    q = make_query(query, method, upper, steps, search)
     source = "model.length_scale" if length is None else "given"
     length = float(model.length_scale) if length is None else positive_number("length", length)
     raw, seed_used = _requested_directions(model, n, seed, length, directions)
     dirs = np.array([wrench_direction(model, w, f"directions[{i}]") for i, w in enumerate(raw)])
     with single_threaded_blas():  # as every public query: one BLAS thread, one reduction order
-        solver = solver_for(model, settings, **overrides)
-        check_preload(solver, command, method)
-        results, failures = run_directions(
-            model, command, raw, method, upper, steps, solver.settings, workers=workers, progress=progress,
-            search=search, catch=True,
-        )  # fmt: skip
+        solver = session_for(model, session, settings, overrides)
+        fc = solver.model.command_vector(command)
+        check_preload(solver, fc, q.method.value)
+        results, failures = run_directions(solver, fc, raw, q, workers=workers, progress=progress, catch=True)
     mags = np.array([np.nan if r is None else r.magnitude for r in results])
     k = _scale_of(dirs, length)
     sphere = np.hstack([dirs[:, :3], dirs[:, 3:] / length]) / k[:, None]
@@ -422,9 +429,9 @@ def resistance_set(
         unbounded=np.array([r is not None and r.unbounded for r in results], dtype=bool),
         failures=tuple(failures),
         results=tuple(results),
-        method=method,
-        upper=upper,
-        steps=steps,
+        method=q.method.value,
+        upper=q.upper,
+        steps=q.steps,
         seed=seed_used,
         wall_time=time.perf_counter() - t0,
     )

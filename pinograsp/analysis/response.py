@@ -27,8 +27,12 @@ Three variants (:class:`~pinograsp.core.settings.Variant`, docs/design.md):
   ``"preload-first"`` only when the held-still preload leaves some contacts unloaded that a
   settling object would load (seed case 3 with the distal tendon alone, see docs/results.md).
 
-The stages themselves are in :mod:`pinograsp.analysis.stages`, their assembly into a
-:class:`~pinograsp.core.results.PassiveResponse` in :mod:`pinograsp.analysis.assemble`.
+Each method's rules are its module (``analysis/method_*.py``) registered in
+:mod:`pinograsp.analysis.registry`; the stages are in :mod:`pinograsp.analysis.stages`, their
+chaining per variant in :mod:`pinograsp.analysis.staged`, their assembly into a
+:class:`~pinograsp.core.results.PassiveResponse` in :mod:`pinograsp.analysis.assemble`. This
+module holds the session (:class:`PassiveSolver`): the state a caller owns and every method
+reads through :class:`~pinograsp.analysis.protocols.SessionLike`.
 """
 
 from __future__ import annotations
@@ -36,62 +40,27 @@ from __future__ import annotations
 import time
 import warnings
 import weakref
-from dataclasses import dataclass, replace
+from dataclasses import replace
 
 import numpy as np
 
 from ..core.model import GraspModel
 from ..core.results import PassiveResponse
-from ..core.settings import METHODS, Method, Settings, Variant, make_settings
-from ..core.validate import choice
+from ..core.settings import Backend, Method, Settings, make_settings
 from ..errors import ConditioningWarning, InvalidInputError
-from ..solvers import OPTIMAL, Formulation, ScaledData, resolve_solver
-from ..solvers.base import INFEASIBLE, Mode, RawSolution, SolveStatus
-from ..solvers.bnb import BranchAndBound
-from ..solvers.problem import ProblemKind, build_problem
-from ..solvers.solve import Backend, BackendOptions, single_threaded
-from ..solvers.solve import solve as solve_problem
-from .assemble import build_response, layout_of
+from ..solvers.base import Mode, RawSolution, SolveStatus
+from ..solvers.formulation import Formulation, ScaledData
+from ..solvers.problem import Problem, ProblemKind, build_problem
+from ..solvers.solve import SolverBackend, make_backend
+from ..solvers.threads import single_threaded
+from .protocols import AnalysisMethod, LoadFactor
 from .refine import refine
-from .stages import Stage, iterative_stage, prp_stage
+from .registry import get_method, refining_methods
+from .staged import staged_load_factor
+from .stages import Stage
 
 #: Contact stiffness ratio above which the branch-and-bound warns (docs/solvers.md).
 MAX_STIFFNESS_RATIO = 1e5
-
-
-def backend_options(settings: Settings, gamma: float) -> BackendOptions:
-    """What the solver layer needs of ``settings`` (``gamma`` already scaled)."""
-    opts = (("complementarity", settings.complementarity), ("verify_infeasible", settings.verify_infeasible))
-    return BackendOptions(
-        backend=Backend(settings.backend),
-        gamma=gamma,
-        max_nodes=int(settings.max_nodes),
-        solver=settings.solver,
-        time_limit=settings.time_limit,
-        bigm=settings.bigm,
-        bigm_retries=settings.bigm_retries,
-        miqp_options=opts,
-    )
-
-
-@dataclass(frozen=True)
-class LoadFactor:
-    """Answer of :meth:`PassiveSolver.max_load_factor`.
-
-    Attributes:
-        status: :class:`~pinograsp.solvers.base.SolveStatus`.
-        magnitude: Largest resistible magnitude [N or N·m] (``inf``: the search limit).
-        solve_time: Wall time [s].
-        model: The refined model the answer was found on (``Settings.cone_tolerance``), or None.
-        response: ``method="energetic"``: the equilibrium at the limit (the load-factor
-            problem's own point, at ``magnitude`` or at ``upper``), else None.
-    """
-
-    status: SolveStatus
-    magnitude: float
-    solve_time: float
-    model: GraspModel | None = None
-    response: PassiveResponse | None = None
 
 
 _FORMS: weakref.WeakKeyDictionary[GraspModel, Formulation] = weakref.WeakKeyDictionary()
@@ -106,46 +75,91 @@ def formulation_of(model: GraspModel) -> Formulation:
 
 
 class PassiveSolver:
-    """Passive-response solver of one model and settings: a session the caller owns.
+    """Passive-response session of one model and settings: the state a caller owns.
 
     It carries no state that changes answers: each solve is a function of its inputs. What it
-    keeps between calls — the preload stage per command (a pure function of the command) and
-    the reference backend's cvxpy objects — only saves time. Warm starts live inside one query
-    (the previous step's mode within one iteration trajectory). :func:`solver_for` builds a
-    new one for every public query; create one yourself (``pg.Session(model, settings)``) to
-    share the preload stages across queries.
+    keeps between calls — the preload stage per command and method (a pure function of them),
+    the sessions of mirrored commands and the reference backend's cvxpy objects — only saves
+    time. Pass one to :func:`~pinograsp.max_resistible_wrench`,
+    :func:`~pinograsp.resistance_profile` or :func:`~pinograsp.resistance_set` (``session=``) to
+    share the preload stages across queries; profiles and sets share one per worker block.
     """
 
     def __init__(self, model: GraspModel, settings: Settings | None = None) -> None:
         if not isinstance(model, GraspModel):
             raise InvalidInputError("model", f"expected pinograsp.GraspModel, got {type(model).__name__}")
         self.settings = (settings or Settings()).validated()
+        #: the model as given (what ``session=`` arguments are checked against)
+        self.source = model
         #: the model analysed: ``model`` with the settings' normal uncertainty (core/cones.py)
         self.model = model = model.with_normal_uncertainty(self.settings.normal_uncertainty)
-        if self.settings.backend == Backend.MIQP:
-            resolve_solver(self.settings.solver)  # installed? (the name was checked by Settings)
         self.form = formulation_of(model)
+        #: the one path to the solvers: the backend ``settings.backend`` names
+        self.backend: SolverBackend = make_backend(self.settings, self.form)
         #: Step bound in scaled units. ``gamma`` is relative to the stiffest contact; with a
         #: stiffness spread a soft contact would otherwise gain only ``k_min / k_max`` of the
         #: net wrench per step and the 1 % rule would stop the iteration early ("not
         #: resisted"), so the bound is widened by ``k_max / k_min`` (1 for uniform stiffness).
         self.gamma_eff = float(self.settings.gamma * self.form.kx / model.k.min())
-        self.options = backend_options(self.settings, self.gamma_eff)
         ratio = float(model.k.max() / model.k.min())
-        if ratio > MAX_STIFFNESS_RATIO and self.options.backend is Backend.BNB:
+        if ratio > MAX_STIFFNESS_RATIO and self.settings.backend == Backend.BNB:
             warnings.warn(
                 f"contact stiffness ratio {ratio:.3g} exceeds {MAX_STIFFNESS_RATIO:g}: the default "
                 "branch-and-bound may lose solutions of such models; use backend='miqp'",
                 ConditioningWarning,
                 stacklevel=3,
             )
-        self._preload: dict[tuple, Stage] = {}
-        self._backend_cache: dict = {}
+        self._preload: dict[tuple[Method, tuple[float, ...]], Stage] = {}
         self._mirrors: dict[tuple[bool, ...], PassiveSolver] = {}
 
+    # ------------------------------------------------------------ the solvers
+    def solve(
+        self, kind: ProblemKind, data: ScaledData, guess: Mode | None = None, t_max: float | None = None
+    ) -> RawSolution:
+        """Solve one scaled problem of ``kind`` with the settings' backend; ``guess`` is an
+        incumbent mode (speed only), ``t_max`` the load factor's limit of load kinds. The wall
+        time includes building the problem."""
+        t0 = time.perf_counter()
+        problem = build_problem(self.form, kind, data, self.gamma_eff, 1.0 if t_max is None else t_max)
+        raw = self.backend.solve(problem, guess)
+        return replace(raw, solve_time=time.perf_counter() - t0)
+
+    def solve_problem(self, problem: Problem) -> RawSolution:
+        """Solve a problem built elsewhere (e.g. an optimal-preload program) with the settings'
+        backend."""
+        return self.backend.solve(problem)
+
+    def solve_fixed_mode(self, problem: Problem, mode: Mode) -> RawSolution:
+        """The canonical optimum of ``problem`` in the fixed ``mode`` (the settings' backend)."""
+        return self.backend.solve_fixed_mode(problem, mode)
+
+    # ------------------------------------------------------------ methods and preloads
+    def rules(self, method: object) -> AnalysisMethod:
+        """The registered method named ``method`` (:func:`~pinograsp.analysis.registry.get_method`)."""
+        return get_method(method)
+
+    @staticmethod
+    def _preload_key(command: np.ndarray, method: object) -> tuple[Method, tuple[float, ...]]:
+        return (Method(method), tuple(np.asarray(command, float).tolist()))
+
+    def has_preload(self, command: np.ndarray, method: object) -> bool:
+        """Whether the preload stage of ``method`` under ``command`` is kept already."""
+        return self._preload_key(command, method) in self._preload
+
+    def preload_stage(self, command: np.ndarray, method: object) -> Stage:
+        """The preload alone (``w = 0``) solved by ``method``, kept per command (a pure function
+        of it)."""
+        key = self._preload_key(command, method)
+        if key not in self._preload:
+            zero = np.zeros(self.model.nw)
+            nop = np.zeros(self.model.nc)
+            self._preload[key] = get_method(method).stage(self, zero, command, nop, None)
+        return self._preload[key]
+
     def _mirror(self, fc: np.ndarray) -> tuple[PassiveSolver, np.ndarray] | None:
-        """For negative commands of bidirectional actuators: the solver of the model with those
-        actuators' transmissions negated (commanded ``|f_c|``) and the signs (na,); else None."""
+        """For negative commands of bidirectional actuators: the session of the model with
+        those actuators' transmissions negated (commanded ``|f_c|``) and the signs (na,); else
+        None."""
         neg = fc < 0
         if not neg.any():
             return None
@@ -157,43 +171,20 @@ class PassiveSolver:
                 self._mirrors[key] = PassiveSolver(self.model.with_actuator_signs(signs), self.settings)
         return self._mirrors[key], signs
 
-    def solve(self, kind: str | ProblemKind, data: ScaledData, guess: Mode | None = None) -> RawSolution:
-        """Solve one scaled problem with the settings' backend; ``guess`` is an incumbent mode
-        (speed only)."""
-        return solve_problem(self.form, ProblemKind(kind), data, self.options, guess, self._backend_cache)
-
-    @staticmethod
-    def _preload_key(command: np.ndarray, method: str) -> tuple:
-        return (Method(method), tuple(np.asarray(command, float).tolist()))
-
-    def preload_stage(self, command: np.ndarray, method: str) -> Stage:
-        """The preload alone (``w = 0``) solved by ``method``, kept per command (a pure function
-        of it)."""
-        key = self._preload_key(command, method)
-        if key not in self._preload:
-            zero = np.zeros(self.model.nw)
-            nop = np.zeros(self.model.nc)
-            stage = prp_stage if method == Method.PRP else iterative_stage
-            self._preload[key] = stage(self, zero, command, nop)
-        return self._preload[key]
-
-    def _precompression(self, pre: Stage, method: str) -> np.ndarray:
-        """Spring pre-compression [N] (nc,) left by a converged preload stage of ``method``."""
-        return self.form.E @ pre.raw.z[layout_of(self, method)["beta"]] * pre.data.F
-
     # ------------------------------------------------------------ refinement
-    def _refines(self, method: str) -> bool:
+    def _refines(self, method: AnalysisMethod) -> bool:
         """Whether queries of ``method`` refine the pyramids (``Settings.cone_tolerance``)."""
         if self.settings.cone_tolerance is None:
             return False
-        if method == Method.ITERATIVE:
+        if not method.refines:
+            who = " or ".join(repr(n) for n in refining_methods())
             raise InvalidInputError(
-                "cone_tolerance", "cone refinement applies to method='prp' or 'energetic', not 'iterative'"
+                "cone_tolerance", f"cone refinement applies to method={who}, not {method.name.value!r}"
             )
         return not self.model.planar
 
     def plain(self, model: GraspModel) -> PassiveSolver:
-        """A solver of ``model`` (a refinement of this one's) with these settings but no
+        """A session of ``model`` (a refinement of this one's) with these settings but no
         further refinement."""
         with warnings.catch_warnings():  # the same contacts: warned by this session already
             warnings.simplefilter("ignore", ConditioningWarning)
@@ -216,7 +207,9 @@ class PassiveSolver:
             probe = sub.response(command, w6 * (lf.magnitude * (1.0 - 1e-6) / size), method)
             return r, (probe if probe.resistible else None)
 
-        return refine(self.model, float(self.settings.cone_tolerance), run)[0]
+        tol = self.settings.cone_tolerance
+        assert tol is not None
+        return refine(self.model, float(tol), run)[0]
 
     def _refined_load_factor(
         self, command: object, direction: np.ndarray, upper: float, method: str
@@ -234,115 +227,40 @@ class PassiveSolver:
                 probe = sub.response(command, at * np.asarray(direction, float), method)
             return lf, (probe if probe.resistible else None)
 
-        return refine(self.model, float(self.settings.cone_tolerance), run)[0]
-
-    def _pre_method(self, method: str, variant: Variant) -> Method:
-        """``Method`` of the preload stage of ``method`` under ``variant``."""
-        if variant is Variant.SETTLED_PRELOAD:
-            return Method.PRP
-        return Method.ITERATIVE if method == Method.ENERGETIC else Method(method)
-
-    def _carried(self, pre: Stage, pre_method: str, method: str) -> np.ndarray:
-        """Energetic load stages balance the load on top of the preload stage's own net wrench
-        (reduced, [N, N·m]): the held-still preload (the iterative scheme's) is an equilibrium
-        only to its tolerance ``eps``, and an exact balance of that residual would have to slip
-        the contacts. Zero for the other methods and for an exact (PRP) preload."""
-        if method != Method.ENERGETIC or pre_method != Method.ITERATIVE:
-            return np.zeros(self.model.nw)
-        m = self.model
-        beta = pre.raw.z[layout_of(self, pre_method)["beta"]] * pre.data.F
-        return -(m.G @ (m.D @ beta))
+        tol = self.settings.cone_tolerance
+        assert tol is not None
+        return refine(self.model, float(tol), run)[0]
 
     # ------------------------------------------------------- direct search
     def max_load_factor(
-        self, command: object, direction: np.ndarray, upper: float, method: str = Method.PRP
+        self, command: object, direction: np.ndarray, upper: float, method: str = "prp"
     ) -> LoadFactor:
         """The largest resistible magnitude along a unit ``direction`` in one complementarity
-        solve (:attr:`ProblemKind.LOAD`, or :attr:`ProblemKind.ENERGETIC_LOAD` for
-        ``method="energetic"``, by the settings' backend).
+        solve of ``method``'s load-factor problem
+        (:attr:`~pinograsp.analysis.protocols.AnalysisMethod.load_factor_kind`), by the
+        settings' backend.
 
         Returns:
             A :class:`LoadFactor`: status ``"optimal"`` (magnitude in [N] or [N·m] along the
             direction; ``inf`` when ``upper`` is reached), ``"infeasible"`` (not even
             ``w = 0``), ``"node_limit"``, ``"timeout"`` or ``"failed"``.
         """
-        if self._refines(method):
-            return self._refined_load_factor(command, direction, upper, method)
-        m, f, s = self.model, self.form, self.settings
-        fc = m.command_vector(command)
+        rules = get_method(method)
+        if self._refines(rules):
+            return self._refined_load_factor(command, direction, upper, rules.name.value)
+        fc = self.model.command_vector(command)
         mirror = self._mirror(fc)
         if mirror is not None:
             return replace(mirror[0].max_load_factor(np.abs(fc), direction, upper, method), response=None)
-        p = np.zeros(m.nc)
-        pre_time = 0.0
-        pre, pre_method, fresh = None, None, True
-        variant = s.variant_for(method)
-        if variant is not Variant.SINGLE_STEP:
-            pre_method = self._pre_method(method, variant)
-            fresh = self._preload_key(fc, pre_method) not in self._preload
-            pre = self.preload_stage(fc, pre_method)
-            pre_time = pre.solve_time
-            if not pre.converged:
-                return LoadFactor(INFEASIBLE, float("nan"), pre_time)
-            p = self._precompression(pre, pre_method)
-            w0 = self._carried(pre, pre_method, method)
-        else:
-            w0 = np.zeros(m.nw)
-        d = m.reduce_wrench(np.asarray(direction, float)) * f.wscale
-        data = f.scale_data(w0, fc, p)
-        data = ScaledData(data.F, data.w, data.fc, data.p, data.x0, d)
-        tmax = float(upper) / data.F
-        kind = ProblemKind.ENERGETIC_LOAD if method == Method.ENERGETIC else ProblemKind.LOAD
-        t0 = time.perf_counter()
-        raw = self._load_factor(kind, data, tmax)
-        raw = replace(raw, solve_time=time.perf_counter() - t0)
-        dt = raw.solve_time + pre_time
-        if raw.status != OPTIMAL:
-            return LoadFactor(raw.status, float("nan"), dt)
-        t = max(float(raw.z[-1]), 0.0)
-        at_upper = t >= tmax * (1.0 - 1e-9)
-        magnitude = float("inf") if at_upper else t * data.F
-        if method != Method.ENERGETIC:
-            return LoadFactor(OPTIMAL, magnitude, dt)
-        # the load-factor problem's point is an equilibrium of the energetic problem at t d
-        stage = Stage(
-            raw,
-            replace(data, w=data.w + t * d),
-            raw.z[self.form.layout("energetic")["obj"]],
-            "resisted",
-            True,
-            1,
-            (),
-            raw.solve_time,
-            1,
-        )
-        w6 = (float(upper) if at_upper else magnitude) * np.asarray(direction, float)
-        resp = build_response(self, method, variant, w6, fc, stage, pre, pre_fresh=fresh, pre_kind=pre_method)
-        return LoadFactor(OPTIMAL, magnitude, dt, response=resp)
-
-    def _load_factor(self, kind: ProblemKind, data: ScaledData, tmax: float) -> RawSolution:
-        if self.options.backend is Backend.BNB:
-            problem = build_problem(self.form, kind, data, t_max=tmax)
-            return BranchAndBound(problem, self.options.max_nodes).solve()
-        from ..solvers.miqp import CvxpyMIQP  # cvxpy: loaded only for the reference backend
-
-        s = self.settings
-        miqp = CvxpyMIQP(
-            self.form,
-            kind.value,
-            solver=s.solver,
-            time_limit=s.time_limit,
-            options=dict(self.options.miqp_options),
-        )
-        return miqp.solve(data, s.bigm * max(1.0, 10.0 * tmax), t_max=tmax)
+        return staged_load_factor(self, rules, fc, direction, upper)
 
     # ------------------------------------------------------------- response
     @single_threaded
     def response(self, command: object, wrench: object, method: str = "iterative") -> PassiveResponse:
         """Passive response to ``wrench`` under ``command`` (see :func:`passive_response`)."""
-        choice("method", method, METHODS)
-        if self._refines(method):
-            return self._refined_response(command, wrench, method)
+        rules = get_method(method)
+        if self._refines(rules):
+            return self._refined_response(command, wrench, rules.name.value)
         m = self.model
         fc = m.command_vector(command)
         mirror = self._mirror(fc)
@@ -355,33 +273,7 @@ class PassiveSolver:
                 actuator_forces=r.actuator_forces * sg,
                 actuator_displacements=r.actuator_displacements * sg,
             )
-        w6 = m.wrench_vector(wrench)
-        w = m.reduce_wrench(w6)
-        variant = self.settings.variant_for(method)
-        if variant is Variant.SINGLE_STEP:
-            stage = self._load_stage(method, w, fc, np.zeros(m.nc), None)
-            return build_response(self, method, variant, w6, fc, stage, None)
-        pre_method = self._pre_method(method, variant)
-        fresh = self._preload_key(fc, pre_method) not in self._preload
-        pre = self.preload_stage(fc, pre_method)
-        if not pre.converged:
-            failed = pre if pre_method == method else replace(pre, raw=None)
-            note = "preload not in equilibrium"
-            return build_response(self, method, variant, w6, fc, failed, None, note=note)
-        p = self._precompression(pre, pre_method)
-        stage = self._load_stage(method, w + self._carried(pre, pre_method, method), fc, p, pre.raw.mode)
-        return build_response(self, method, variant, w6, fc, stage, pre, pre_fresh=fresh, pre_kind=pre_method)
-
-    def _load_stage(
-        self, method: str, w: np.ndarray, fc: np.ndarray, p: np.ndarray, start: Mode | None
-    ) -> Stage:
-        """The load stage of ``method`` (``start``: the preload's mode, the iterative scheme's
-        first incumbent)."""
-        if method == Method.PRP:
-            return prp_stage(self, w, fc, p)
-        if method == Method.ENERGETIC:
-            return prp_stage(self, w, fc, p, ProblemKind.ENERGETIC)
-        return iterative_stage(self, w, fc, p, start=start)
+        return rules.response(self, fc, m.wrench_vector(wrench))
 
 
 def solver_for(model: GraspModel, settings: Settings | None = None, **overrides: object) -> PassiveSolver:
@@ -391,8 +283,36 @@ def solver_for(model: GraspModel, settings: Settings | None = None, **overrides:
     return PassiveSolver(model, make_settings(settings, **overrides))
 
 
+def session_for(
+    model: GraspModel, session: PassiveSolver | None, settings: Settings | None, overrides: dict[str, object]
+) -> PassiveSolver:
+    """The session a public query runs on: the caller's ``session`` (built for ``model``; its
+    settings rule, so none may be given besides it), or a new one of ``settings`` and
+    ``overrides``.
+
+    Raises:
+        InvalidInputError: ``session`` is not a session, was built for another model, or comes
+            with settings.
+    """
+    if session is None:
+        return solver_for(model, settings, **overrides)
+    if not isinstance(session, PassiveSolver):
+        raise InvalidInputError(
+            "session", f"expected pinograsp.Session or None, got {type(session).__name__}"
+        )
+    if session.source is not model:
+        raise InvalidInputError(
+            "session", "was built for another model: pg.Session(model, settings) of this one"
+        )
+    if settings is not None or overrides:
+        raise InvalidInputError(
+            "session", "carries its own settings: pass settings to pg.Session(model, settings)"
+        )
+    return session
+
+
 #: The caller-owned session of one model and settings (the public name of
-#: :class:`PassiveSolver`).
+#: :class:`PassiveSolver`): ``pg.Session(model, settings)``.
 Session = PassiveSolver
 
 
@@ -424,8 +344,8 @@ def passive_response(
         A :class:`~pinograsp.core.results.PassiveResponse`; ``resistible`` says whether the wrench is
         resisted, ``status`` why not (``"timeout"``/``"failed"`` are never reported as resisted).
     """
-    choice("method", method, METHODS)
+    get_method(method)
     return solver_for(model, settings, **overrides).response(command, wrench, method)
 
 
-__all__ = ["LoadFactor", "PassiveSolver", "Session", "passive_response", "solver_for"]
+__all__ = ["LoadFactor", "PassiveSolver", "Session", "passive_response", "session_for", "solver_for"]

@@ -9,7 +9,7 @@ load on top of a pre-compression ``p``. Two kinds:
   (resisted) or stops improving (not resisted), with the subspace :func:`jump` of
   ``Settings.accelerate`` in slow valleys.
 
-:class:`~pinograsp.analysis.response.PassiveSolver` chains the stages of a variant and
+:mod:`pinograsp.analysis.staged` chains the stages of a variant and
 :mod:`pinograsp.analysis.assemble` turns them into a
 :class:`~pinograsp.core.results.PassiveResponse`.
 """
@@ -18,17 +18,13 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 
-from ..solvers import OPTIMAL, ScaledData
-from ..solvers.base import INFEASIBLE, Mode, RawSolution
-from ..solvers.bnb import BranchAndBound
+from ..solvers.base import INFEASIBLE, OPTIMAL, Mode, RawSolution
+from ..solvers.formulation import ScaledData
 from ..solvers.problem import INF, ProblemKind, build_problem
-
-#: A :class:`~pinograsp.analysis.response.PassiveSolver` (response.py imports this module).
-Solver = Any
+from .context import SolveContext
 
 #: Subspace jump of the iterative scheme: tried after this many real steps in one mode ...
 JUMP_AFTER = 3
@@ -69,7 +65,7 @@ def _failed_status(raw: RawSolution) -> str:
 
 
 def prp_stage(
-    solver: Solver, w: np.ndarray, fc: np.ndarray, p: np.ndarray, kind: ProblemKind = ProblemKind.PRP
+    solver: SolveContext, w: np.ndarray, fc: np.ndarray, p: np.ndarray, kind: ProblemKind = ProblemKind.PRP
 ) -> Stage:
     """Alg. 1 for the (reduced) wrench ``w`` [N, N·m], commands ``fc`` (na,) and
     pre-compression ``p`` (nc,) [N]; ``kind=ProblemKind.ENERGETIC`` adds slip and maximum
@@ -78,19 +74,19 @@ def prp_stage(
     data = form.scale_data(w, fc, p)
     raw = solver.solve(kind, data)
     ok = raw.status == OPTIMAL
-    xh = raw.z[form.layout(kind.value if kind.energetic else "prp")["obj"]] if ok else np.zeros(form.nx)
+    xh = raw.z[form.layout(kind).obj] if ok and raw.z is not None else np.zeros(form.nx)
     status = "resisted" if ok else _failed_status(raw)
     return Stage(raw, data, xh, status, ok, 1, (), raw.solve_time, 1)
 
 
 def iterative_stage(
-    solver: Solver, w: np.ndarray, fc: np.ndarray, p: np.ndarray, start: Mode | None = None
+    solver: SolveContext, w: np.ndarray, fc: np.ndarray, p: np.ndarray, start: Mode | None = None
 ) -> Stage:
     """Alg. 3 from the (pre)loaded state (arguments as :func:`prp_stage`); ``start`` is the mode
     the grasp is in before the first step (the preload's), the first step's incumbent."""
     s = solver.settings
     f = solver.form
-    lay = f.layout("move")
+    lay = f.layout(ProblemKind.MOVE)
     base = f.scale_data(w, fc, p)
     tol = s.eps + s.eps_rel * base.F
     xh = np.zeros(f.nx)
@@ -111,10 +107,10 @@ def iterative_stage(
         if raw.mode != guess:
             streak = []
         guess = raw.mode
-        r = base.w + f.Gb @ raw.z[lay["beta"]]
+        r = base.w + f.Gb @ raw.z[lay.beta]
         norm = float(np.linalg.norm(r) * base.F)
         history.append(norm)
-        xh_next = xh + raw.z[lay["obj"]][0] * direction
+        xh_next = xh + raw.z[lay.obj][0] * direction
         raw_best = (raw, xh_next, data)
         if norm <= tol:
             status, converged = "resisted", True
@@ -139,7 +135,7 @@ def iterative_stage(
 
 
 def jump(
-    solver: Solver, base: ScaledData, xh: np.ndarray, streak: list[np.ndarray], mode: Mode
+    solver: SolveContext, base: ScaledData, xh: np.ndarray, streak: list[np.ndarray], mode: Mode
 ) -> tuple[np.ndarray | None, np.ndarray, float]:
     """Subspace jump of the iterative scheme (``Settings.accelerate``, docs/solvers.md).
 
@@ -154,10 +150,10 @@ def jump(
     data = ScaledData(base.F, base.w, base.fc, base.p, xh, D)
     t0 = time.perf_counter()
     problem = build_problem(f, ProblemKind.MOVE, data, INF)
-    sol = BranchAndBound(problem, solver.options.max_nodes).solve_mode(mode)
+    sol = solver.solve_fixed_mode(problem, mode)
     dt = time.perf_counter() - t0
     if sol.status != OPTIMAL:
         return None, np.zeros(f.nx), dt
     a = problem.step_lengths(sol.z)
-    r = base.w + f.Gb @ sol.z[f.layout("move")["beta"]]
+    r = base.w + f.Gb @ sol.z[f.layout(ProblemKind.MOVE).beta]
     return xh + D @ a, r, dt

@@ -180,7 +180,7 @@ def _score_values(values: object) -> dict[str, float]:
 
 def evaluate_one(task: tuple[int, str, str, Any], score: Score) -> dict[str, Any]:
     """One grasp's row (never raises on a bad grasp: its error is recorded in the row)."""
-    from ..solvers.solve import single_threaded_blas
+    from ..solvers.threads import single_threaded_blas
 
     index, gid, kind, payload = task
     row: dict[str, Any] = {"index": index, "id": gid, "source": "", "status": "error", "n_contacts": 0}

@@ -31,6 +31,13 @@ def method(args: argparse.Namespace, scene: Any) -> str:
     return args.method or scene.analysis.method
 
 
+def query(args: argparse.Namespace, scene: Any, default_steps: int | None = None) -> Any:
+    """The :class:`pinograsp.Query` of ``--method``, ``--upper`` and ``--steps`` (each defaulting
+    to the scene's analysis block; ``default_steps`` before the scene's steps)."""
+    upper, steps = upper_steps(args, scene, default_steps)
+    return pg.Query(method(args, scene), upper, steps)
+
+
 def upper_steps(args: argparse.Namespace, scene: Any, default_steps: int | None = None) -> tuple[float, int]:
     """``--upper`` [N or N·m] and ``--steps``, defaulting to ``default_steps`` or the scene's."""
     upper = args.upper if args.upper is not None else float(scene.analysis.upper)

@@ -27,16 +27,26 @@ from .report import Output, model_settings, preload_line, progress_bar, scene_he
 
 @dataclass(frozen=True)
 class _Sweep:
-    """What a profile asks: the scene, the preload (commands [N·m or N] and name), the method
-    and the search limits (``upper`` [N or N·m], ``steps``)."""
+    """What a profile asks: the scene, the preload (commands [N·m or N] and name) and the query
+    (method, ``upper`` [N or N·m], ``steps``: :class:`pinograsp.Query`)."""
 
     scene: Any
     command: dict[str, float]
     preload_name: str | None
-    method: str
-    upper: float
-    steps: int
+    query: pg.Query
     note: str = ""  # the contact-model settings in words (report.model_settings)
+
+    @property
+    def method(self) -> str:
+        return str(self.query.method.value)
+
+    @property
+    def upper(self) -> float:
+        return float(self.query.upper)
+
+    @property
+    def steps(self) -> int:
+        return int(self.query.steps)
 
 
 # ---------------------------------------------------------------------------- profile, demo
@@ -46,8 +56,7 @@ def cmd_profile(args: argparse.Namespace) -> int:
     command, preload_name = opt.preload(args, scene)
     plane = opt.parse_plane(scene, args.plane)
     n = args.n if args.n is not None else int(scene.analysis.n)
-    upper, steps = opt.upper_steps(args, scene)
-    sweep = _Sweep(scene, command, preload_name, opt.method(args, scene), upper, steps)
+    sweep = _Sweep(scene, command, preload_name, opt.query(args, scene))
     return _profile_report(args, sweep, plane, n, "profile")
 
 
@@ -56,8 +65,7 @@ def cmd_demo(args: argparse.Namespace) -> int:
     scene = opt.load_scene(args.scene)
     command = scene.preload()
     plane = opt.parse_plane(scene, args.plane)
-    upper, steps = opt.upper_steps(args, scene, default_steps=args.demo_steps)
-    sweep = _Sweep(scene, command, None, opt.method(args, scene), upper, steps)
+    sweep = _Sweep(scene, command, None, opt.query(args, scene, default_steps=args.demo_steps))
     return _profile_report(args, sweep, plane, args.n, "demo")
 
 
@@ -68,7 +76,7 @@ def _run_profile(args: argparse.Namespace, sweep: _Sweep, plane: Any, n: int) ->
     bar(0, n)
     try:
         return pg.resistance_profile(
-            scene.model, sweep.command, plane, n, sweep.method, sweep.upper, sweep.steps,
+            scene.model, sweep.command, plane, n, query=sweep.query,
             settings=opt.settings(args, scene), progress=bar, workers=opt.workers(args),
         )  # fmt: skip
     finally:
@@ -119,9 +127,13 @@ def _profile_lines(sweep: _Sweep, p: Any, norm: float | None, wall: float, runs:
     deg = np.degrees(p.angles)
     for i, a in enumerate(deg):
         dtxt = f"{np.cos(p.angles[i]):+.3f} {b1.lstrip('+')} {np.sin(p.angles[i]):+.3f} {b2.lstrip('+')}"
-        row = f"{a:11.1f}  {dtxt:>22s}  {format_max_wrench(p.results[i]):>12s}"
+        r = p.results[i]
+        if r.status == "failed":  # the direction's query raised (a node limit, a timeout): see below
+            lines.append(f"{a:11.1f}  {dtxt:>22s}  {'FAILED':>12s}")
+            continue
+        row = f"{a:11.1f}  {dtxt:>22s}  {format_max_wrench(r):>12s}"
         if norm is not None:
-            row += f"  {format_max_wrench(p.results[i], norm):>10s}"
+            row += f"  {format_max_wrench(r, norm):>10s}"
         lines.append(row)
     lines.append("")
     if runs:
@@ -133,6 +145,9 @@ def _profile_lines(sweep: _Sweep, p: Any, norm: float | None, wall: float, runs:
     bad = [f"{deg[i]:g}°" for i, r in enumerate(p.results) if not r.monotone]
     if bad:
         lines.append("non-monotone bisection evidence at: " + ", ".join(bad))
+    if p.failures:
+        lines.append(f"{len(p.failures)} direction(s) FAILED (no verdict; the others are kept):")
+        lines += [f"  {deg[i]:g}° ({status}): {msg}" for i, msg, status in p.failures]
     return lines
 
 
@@ -174,6 +189,8 @@ def _profile_report(args: argparse.Namespace, sweep: _Sweep, plane: Any, n: int,
         "resolution": upper / 2**steps,
         "unit": wrench_unit(p.basis[0] + p.basis[1]),
         **p.to_dict(norm),
+        "statuses": list(p.statuses),
+        "failures": [{"index": i, "message": msg, "status": st} for i, msg, st in p.failures],
         "total_time": wall,
     }
     lines = _profile_lines(sweep, p, norm, wall, data["unbounded_runs_deg"])

@@ -91,7 +91,7 @@ def _num(x: float) -> str:
 
 
 #: How a max-wrench search ended (see :class:`MaxWrench`).
-MaxWrenchStatus = Literal["finite", "unbounded", "above_limit", "below_resolution"]
+MaxWrenchStatus = Literal["finite", "unbounded", "above_limit", "below_resolution", "failed"]
 
 
 @dataclass(frozen=True, repr=False)
@@ -268,8 +268,11 @@ class ResistanceProfile:
         magnitudes: Max resistible magnitude per direction (``inf`` where unbounded), (n,).
         unbounded: (n,) bool.
         normalized_by: Magnitude the profile was divided by (``None``: not normalised).
-        results: The per-direction :class:`MaxWrench` records.
+        results: The per-direction :class:`MaxWrench` records (status ``"failed"``, magnitude
+            NaN, where the direction's query raised).
         wall_time: Total wall time [s].
+        failures: ``(index, message, status)`` of each direction whose query raised a
+            :class:`~pinograsp.SolverError` (a node limit, a timeout): recorded, not fatal.
     """
 
     plane: tuple[str, str]
@@ -281,6 +284,7 @@ class ResistanceProfile:
     normalized_by: float | None
     results: tuple[MaxWrench, ...] = field(repr=False)
     wall_time: float = 0.0
+    failures: tuple[tuple[int, str, str], ...] = ()
 
     @property
     def points(self) -> np.ndarray:

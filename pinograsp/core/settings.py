@@ -71,7 +71,8 @@ class Complementarity(Vocabulary):
 class Search(Vocabulary):
     """How :func:`~pinograsp.max_resistible_wrench` searches the magnitude."""
 
-    #: Secant on the iterative scheme's final net wrench (iterative) / bisection (PRP).
+    #: The method's default (its registry row): secant for the iterative method, one
+    #: load-factor problem for the energetic one, bisection for the PRP.
     AUTO = "auto"
     #: The seed paper's bisection.
     BISECTION = "bisection"
@@ -132,8 +133,9 @@ class Settings:
             less than this fraction in one step (authors' code: 1 %).
         max_iterations: Iteration cap (authors' code: 100); hitting it gives
             ``"not_converged"``.
-        variant: ``"single-step"``, ``"preload-first"`` or ``"settled-preload"`` (see the
-            module docstring); ``None`` picks the method's default.
+        variant: ``"single-step"``, ``"preload-first"`` or ``"settled-preload"`` (see
+            :mod:`pinograsp.analysis.response`); ``None`` picks the method's default (its
+            registry row, :mod:`pinograsp.analysis.registry`).
         tolerance: Audit tolerance on hand/complementarity/friction residuals, relative to the
             data scale.
         accelerate: Let the iterative scheme jump ahead in a mode that has held for
@@ -213,12 +215,6 @@ class Settings:
             if self.cone_tolerance <= 0:
                 raise InvalidInputError("cone_tolerance", "must be a positive angle [rad] or None")
         return self
-
-    def variant_for(self, method: str) -> Variant:
-        """The variant used for ``method``."""
-        if self.variant is not None:
-            return Variant(self.variant)
-        return Variant.SINGLE_STEP if method == Method.PRP else Variant.PRELOAD_FIRST
 
 
 def make_settings(settings: Settings | None = None, **overrides: object) -> Settings:

@@ -8,7 +8,7 @@ cvxpy.
 from __future__ import annotations
 
 import builtins
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -17,6 +17,7 @@ import numpy as np
 from ..core.actuation import Actuator, Coupling
 from ..core.contact import Contact
 from ..core.model import GraspModel
+from ..core.query import Query
 from ..core.settings import Method, Settings
 from ..errors import UnknownNameError
 
@@ -148,6 +149,11 @@ class SceneAnalysis:
     wrenches: dict[str, np.ndarray] = field(default_factory=dict)
     preloads: dict[str, dict[str, float]] = field(default_factory=dict)
 
+    @property
+    def query(self) -> Query:
+        """The block's search as one record: method, ``upper``, ``steps`` (search ``"auto"``)."""
+        return Query(self.method, self.upper, self.steps)
+
 
 @dataclass(frozen=True, eq=False)
 class Scene:
@@ -205,10 +211,11 @@ class Scene:
         return self.preload(command) if command is None or isinstance(command, str) else command
 
     def _query_args(self, overrides: dict[str, Any]) -> dict[str, Any]:
-        """The scene's analysis block (method, upper, steps, settings) with ``overrides``."""
-        kw = {k: overrides.pop(k, getattr(self.analysis, k)) for k in ("method", "upper", "steps")}
-        kw["settings"] = overrides.pop("settings", self.settings)
-        return kw
+        """The scene's query (:attr:`SceneAnalysis.query` with ``method``, ``upper``, ``steps``,
+        ``search`` from ``overrides``) and settings."""
+        change = {k: overrides.pop(k) for k in ("method", "upper", "steps", "search") if k in overrides}
+        query = replace(self.analysis.query, **change)
+        return {"query": query, "settings": overrides.pop("settings", self.settings)}
 
     def passive_response(
         self, wrench: builtins.object, command: builtins.object = None, **overrides: Any
@@ -219,7 +226,8 @@ class Scene:
 
         kw = self._query_args(overrides)
         cmd = self._command(command)
-        return passive_response(self.model, cmd, wrench, kw["method"], settings=kw["settings"], **overrides)
+        method = kw["query"].method.value
+        return passive_response(self.model, cmd, wrench, method, settings=kw["settings"], **overrides)
 
     def max_resistible_wrench(
         self, direction: builtins.object, command: builtins.object = None, **overrides: Any

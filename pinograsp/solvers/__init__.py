@@ -4,12 +4,13 @@ QPs) and the reference cvxpy MIQP backend (docs/solvers.md).
 Solvers never import Pinocchio or Coal; they only see a :class:`~pinograsp.GraspModel`.
 """
 
+from ..core.settings import Backend
 from .base import FAILED, INFEASIBLE, NODE_LIMIT, OPTIMAL, TIMEOUT, Mode, RawSolution, SolveStatus
 from .bnb import BranchAndBound
 from .formulation import Formulation, ScaledData
 from .miqp import MIQP_SOLVERS, CvxpyMIQP, available_miqp_solvers, resolve_solver
 from .problem import PairKind, Problem, ProblemKind, build_problem
-from .solve import Backend, BackendOptions, solve
+from .solve import BACKENDS, Capabilities, SolverBackend, available_backends, make_backend
 
 __all__ = [
     "FAILED",
@@ -18,8 +19,9 @@ __all__ = [
     "NODE_LIMIT",
     "OPTIMAL",
     "TIMEOUT",
+    "BACKENDS",
     "Backend",
-    "BackendOptions",
+    "Capabilities",
     "BranchAndBound",
     "CvxpyMIQP",
     "Formulation",
@@ -30,8 +32,10 @@ __all__ = [
     "RawSolution",
     "ScaledData",
     "SolveStatus",
+    "SolverBackend",
+    "available_backends",
     "available_miqp_solvers",
     "build_problem",
+    "make_backend",
     "resolve_solver",
-    "solve",
 ]

@@ -4,8 +4,12 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from enum import Enum
+from typing import TYPE_CHECKING
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from .formulation import Layout
 
 
 class SolveStatus(str, Enum):
@@ -64,6 +68,7 @@ class RawSolution:
         bigm_retries: How many times the big-M constants were enlarged.
         polished: Whether ``z`` comes from the exact fixed-mode QP (exact complementarity).
         message: Extra backend information.
+        layout: The problem's variable layout (``raw.layout.beta``), or None without ``z``.
     """
 
     status: SolveStatus
@@ -76,3 +81,4 @@ class RawSolution:
     bigm_retries: int = 0
     polished: bool = False
     message: str = ""
+    layout: Layout | None = None

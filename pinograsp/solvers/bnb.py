@@ -298,6 +298,7 @@ class BranchAndBound:
             backend="bnb",
             polished=True,
             message=self._count_message(),
+            layout=P.layout,
         )
 
     def _canonical(self, z: np.ndarray, sides: np.ndarray) -> np.ndarray:

@@ -52,6 +52,45 @@ from ..core.actuation import BACKDRIVABLE, LOCKED, NON_BACKDRIVABLE
 from ..core.model import GraspModel
 from ..errors import ModelError
 
+#: Names of the variable layouts: the values of :class:`~pinograsp.solvers.problem.ProblemKind`.
+LAYOUT_NAMES = ("prp", "move", "load", "energetic", "energetic-load")
+
+
+@dataclass(frozen=True)
+class Layout:
+    """Where each block of variables sits in the scaled vector ``z`` of one problem kind.
+
+    Every :class:`~pinograsp.solvers.problem.Problem` carries its layout and every
+    :class:`~pinograsp.solvers.base.RawSolution` keeps it (``raw.layout.beta``), so a solution
+    is read by names, not by re-deriving which algorithm produced it.
+
+    Attributes:
+        name: The problem kind (a ``ProblemKind`` value).
+        beta, obj, qh, fh, lam, slip: Slices of the edge weights (nb), the object displacement
+            (nx; one step for ``"move"``), joint displacements (nq), actuator forces (na),
+            coupling reactions (ncp) and slip magnitudes (nsl; energetic kinds only).
+        n: All of these (``slice(0, n)``); extra step variables of a multi-direction ``"move"``
+            problem and the load factor of load kinds follow.
+        t: Index of the load factor ``t`` (load kinds), else None.
+    """
+
+    name: str
+    beta: slice
+    obj: slice
+    qh: slice
+    fh: slice
+    lam: slice
+    slip: slice
+    n: slice
+    t: int | None = None
+
+    def __getitem__(self, key: str) -> slice:
+        """``layout["beta"]``: the slice by name."""
+        value = getattr(self, key)
+        if not isinstance(value, slice):
+            raise KeyError(key)
+        return value
+
 
 @dataclass(frozen=True, eq=False)
 class ScaledData:
@@ -169,23 +208,32 @@ class Formulation:
         self.tilt = float(np.tan(m.normal_uncertainty))
 
     # ------------------------------------------------------------------ layout
-    def layout(self, kind: str) -> dict[str, slice]:
-        """Variable slices for ``kind`` ``"prp"`` (object displacement), ``"move"`` (step) or
-        ``"energetic"`` (object displacement and one slip magnitude per friction contact)."""
-        nobj = 1 if kind == "move" else self.nx
-        nsl = self.nsl if kind == "energetic" else 0
+    def layout(self, kind: str) -> Layout:
+        """The named variable layout of the problem kind ``kind`` (a
+        :class:`~pinograsp.solvers.problem.ProblemKind` value): ``"prp"`` and ``"load"`` (object
+        displacement), ``"move"`` (one step) or ``"energetic"`` and ``"energetic-load"`` (object
+        displacement and one slip magnitude per friction contact). Load kinds add the load
+        factor ``t`` as their last variable."""
+        from ..errors import InvalidInputError  # (one import per line: errors above is ModelError)
+
+        name = str(getattr(kind, "value", kind))
+        if name not in LAYOUT_NAMES:
+            raise InvalidInputError("kind", f"must be one of {list(LAYOUT_NAMES)}, got {kind!r}")
+        nobj = 1 if name == "move" else self.nx
+        nsl = self.nsl if name.startswith("energetic") else 0
         o = self.nb
-        out = {"beta": slice(0, o), "obj": slice(o, o + nobj)}
+        beta, obj = slice(0, o), slice(o, o + nobj)
         o += nobj
-        out["qh"] = slice(o, o + self.nq)
+        qh = slice(o, o + self.nq)
         o += self.nq
-        out["fh"] = slice(o, o + self.na)
+        fh = slice(o, o + self.na)
         o += self.na
-        out["lam"] = slice(o, o + self.ncp)
+        lam = slice(o, o + self.ncp)
         o += self.ncp
-        out["slip"] = slice(o, o + nsl)
-        out["n"] = slice(0, o + nsl)
-        return out
+        slip = slice(o, o + nsl)
+        n = slice(0, o + nsl)
+        t = n.stop if name.endswith("load") else None
+        return Layout(name, beta, obj, qh, fh, lam, slip, n, t)
 
     # -------------------------------------------------------------- data scaling
     def scale_data(

@@ -244,8 +244,11 @@ class CvxpyMIQP:
         ``verify_infeasible`` is set (see the module docstring). ``t_max`` is the load-factor
         limit of kind ``"load"``.
         """
+        return self.solve_problem(self.problem(data, t_max), M)
+
+    def solve_problem(self, P: Problem, M: float) -> RawSolution:
+        """Solve the built problem ``P`` with the big-M constant ``M`` (see :meth:`solve`)."""
         backend = self.solver.lower()
-        P = self.problem(data, t_max)
         bad = P.empty_rows()
         if bad:
             return RawSolution(
@@ -342,6 +345,7 @@ class CvxpyMIQP:
             backend=backend,
             bigm_ratio=bigm_ratio(P, zv, M),
             message=raw_status,
+            layout=P.layout,
         )
 
     # ---------------------------------------------------------- indicator constraints
@@ -414,4 +418,5 @@ class CvxpyMIQP:
             backend=backend,
             bigm_ratio=0.0,
             message=status,
+            layout=P.layout,
         )

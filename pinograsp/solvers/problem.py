@@ -29,7 +29,7 @@ from enum import Enum
 import numpy as np
 
 from .base import Mode
-from .formulation import Formulation, ScaledData
+from .formulation import Formulation, Layout, ScaledData
 
 #: Stand-in for an infinite bound (every backend reads it as "no bound").
 INF = 1e30
@@ -129,6 +129,8 @@ class Problem:
         groups: Energetic problems: the friction pairs of each contact with friction, in the
             angular order of their edges (adjacent entries are adjacent edges, cyclically).
         group_owner: The contact of each group.
+        layout: Where each block of variables sits (:class:`~.formulation.Layout`); None for
+            programs that are not a passive-response problem (e.g. the preload program).
     """
 
     kind: ProblemKind
@@ -149,6 +151,7 @@ class Problem:
     eq_names: tuple[str, ...] = ()
     groups: tuple[tuple[int, ...], ...] = ()
     group_owner: tuple[int, ...] = ()
+    layout: Layout | None = None
 
     def empty_rows(self) -> list[str]:
         """Names of equality rows ``0 = b`` with ``b != 0``: nothing can satisfy them."""
@@ -250,11 +253,11 @@ def build_problem(
     """
     kind = ProblemKind(kind)
     move = kind is ProblemKind.MOVE
-    lay = form.layout("move" if move else ("energetic" if kind.energetic else "prp"))
+    lay = form.layout(kind)
     directions = np.asarray(data.direction, float)
     directions = directions.reshape(len(directions), -1) if move else directions
     extra = directions.shape[1] - 1 if move else (1 if kind.load else 0)
-    n = lay["n"].stop + extra
+    n = lay.n.stop + extra
     L, l_vec = _objective(form, kind, data, lay, n, t_max)
     A, b, eq_names = _equalities(form, kind, data, lay, n)
     rows = layout_rows(form, kind, directions.shape[1] if move else 1)
@@ -280,33 +283,34 @@ def build_problem(
         eq_names=eq_names,
         groups=tuple(g for _, g in groups),
         group_owner=tuple(i for i, _ in groups),
+        layout=lay,
     )
 
 
 def _objective(
-    f: Formulation, kind: ProblemKind, data: ScaledData, lay: dict[str, slice], n: int, t_max: float
+    f: Formulation, kind: ProblemKind, data: ScaledData, lay: Layout, n: int, t_max: float
 ) -> tuple[np.ndarray, np.ndarray]:
     """``L``, ``l`` of ``|L z + l|^2``: the net wrench (``MOVE``), ``t_max - t`` (``LOAD``) or
     the normal forces (``PRP``)."""
     if kind is ProblemKind.MOVE:
         L = np.zeros((f.nw, n))
-        L[:, lay["beta"]] = f.Gb
+        L[:, lay.beta] = f.Gb
         return L, np.asarray(data.w, float).copy()
     if kind.load:
         L = np.zeros((1, n))
         L[0, -1] = 1.0
         return L, np.array([-float(t_max)])
     L = np.zeros((f.nc, n))
-    L[:, lay["beta"]] = f.E
+    L[:, lay.beta] = f.E
     return L, np.zeros(f.nc)
 
 
 def _equalities(
-    f: Formulation, kind: ProblemKind, data: ScaledData, lay: dict[str, slice], n: int
+    f: Formulation, kind: ProblemKind, data: ScaledData, lay: Layout, n: int
 ) -> tuple[np.ndarray, np.ndarray, tuple[str, ...]]:
     """``A``, ``b`` and the row names of the equalities: equilibrium (not for ``MOVE``), hand,
     couplings."""
-    sb = lay["beta"]
+    sb = lay.beta
     eq, rhs = [], []
     names = []
     if kind is not ProblemKind.MOVE:
@@ -320,10 +324,10 @@ def _equalities(
     names += [f"hand[{j}]" for j in range(f.nq)] + [f"coupling[{r}]" for r in range(f.ncp)]
     Ah = np.zeros((f.nq, n))
     Ah[:, sb] = f.T
-    Ah[:, lay["fh"]] = -f.Rf
-    Ah[:, lay["lam"]] = -f.Cl
+    Ah[:, lay.fh] = -f.Rf
+    Ah[:, lay.lam] = -f.Cl
     Ac = np.zeros((f.ncp, n))
-    Ac[:, lay["qh"]] = f.Cq
+    Ac[:, lay.qh] = f.Cq
     eq += [Ah, Ac]
     rhs += [np.zeros(f.nq), np.zeros(f.ncp)]
     return np.vstack(eq), np.concatenate(rhs), tuple(names)
@@ -333,7 +337,7 @@ def _inequalities(
     f: Formulation,
     kind: ProblemKind,
     data: ScaledData,
-    lay: dict[str, slice],
+    lay: Layout,
     n: int,
     rows: Rows,
     directions: np.ndarray,
@@ -342,7 +346,7 @@ def _inequalities(
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``C``, ``lo``, ``up`` of the rows beta | c_n | gap | u | f | step (``MOVE``: steps in
     ``[0, gamma]``; ``LOAD``: ``t`` in ``[0, t_max]``)."""
-    sb, so, sq = lay["beta"], lay["obj"], lay["qh"]
+    sb, so, sq = lay.beta, lay.obj, lay.qh
     mi = rows.diss.stop
     C = np.zeros((mi, n))
     lo = np.full(mi, -INF)
@@ -355,7 +359,7 @@ def _inequalities(
     C[rows.gap, sq] = -f.Kq
     p = np.asarray(data.p, float)
     if kind is ProblemKind.MOVE:
-        cols = [so.start] + list(range(lay["n"].stop, n))
+        cols = [so.start] + list(range(lay.n.stop, n))
         KD = f.Kx @ directions
         lo[rows.gap] = p - f.Kx @ data.x0
         for k, c in enumerate(cols):
@@ -369,7 +373,7 @@ def _inequalities(
         C[rows.step, -1] = 1.0
         lo[rows.step], up[rows.step] = 0.0, float(t_max)
     if kind.energetic:
-        sl = lay["slip"]
+        sl = lay.slip
         C[rows.diss, so] = f.Sx
         C[rows.diss, sq] = f.Sq
         C[rows.diss, sl] = f.Sl
@@ -377,7 +381,7 @@ def _inequalities(
         # worst-case tilted normal: slip loses tan(u) of compression (cones.py)
         C[rows.gap.start + f.slip_contacts, sl.start + np.arange(f.nsl)] = f.tilt
     C[rows.u, sq] = f.Ru
-    C[rows.f, lay["fh"]] = np.eye(f.na)
+    C[rows.f, lay.fh] = np.eye(f.na)
     fc = np.asarray(data.fc, float)
     # actuator kinds: backdrivable f = f_c, u free; locked u = 0, f free; non-backdrivable
     # u >= 0, f >= f_c, complementary

@@ -1,0 +1,69 @@
+"""The method registry: one row per passive-response method (docs/design.md, "Adding a method").
+
+Every rule that differs between methods — its problem kinds, preload stage, variant and search
+defaults, whether it refines pyramids, how it finds the largest load — lives in its module
+(``analysis/method_*.py``) as an :class:`~pinograsp.analysis.protocols.AnalysisMethod`; the rest
+of the package asks this table. A new method is one module and one row of :data:`METHODS`
+(plus its name in :class:`~pinograsp.core.settings.Method`).
+"""
+
+from __future__ import annotations
+
+from ..core.settings import Method, Search
+from ..errors import InvalidInputError, UnknownChoiceError
+from .method_energetic import ENERGETIC
+from .method_iterative import ITERATIVE
+from .method_prp import PRP
+from .protocols import AnalysisMethod
+
+#: The registered methods, in the order they are listed to users.
+METHODS: dict[str, AnalysisMethod] = {m.name.value: m for m in (PRP, ITERATIVE, ENERGETIC)}
+
+
+def available_methods() -> tuple[str, ...]:
+    """Names of the registered methods."""
+    return tuple(METHODS)
+
+
+def get_method(name: object) -> AnalysisMethod:
+    """The method registered as ``name`` (a string or a
+    :class:`~pinograsp.core.settings.Method`).
+
+    Raises:
+        UnknownChoiceError: ``name`` is not registered (an ``InvalidInputError`` and an
+            ``UnknownNameError`` naming the valid methods).
+    """
+    key = name.value if isinstance(name, Method) else name
+    if not isinstance(key, str) or key not in METHODS:
+        raise UnknownChoiceError("method", name, available_methods())
+    return METHODS[key]
+
+
+def resolve_search(search: object, method: AnalysisMethod) -> Search:
+    """The search ``search`` names for ``method`` (``"auto"``: the method's default).
+
+    Raises:
+        InvalidInputError: An unknown search, or one ``method`` does not support.
+    """
+    valid = [x.value for x in Search]
+    if not isinstance(search, str) or search not in valid:
+        raise InvalidInputError("search", f"must be one of {tuple(valid)}, got {search!r}")
+    kind = Search(search)
+    if kind is Search.AUTO:
+        return method.searches[0]
+    if kind not in method.searches:
+        who = [m.name.value for m in METHODS.values() if kind in m.searches]
+        raise InvalidInputError(
+            "search",
+            f"'{kind}' exists for method={' and '.join(repr(w) for w in who)} only, "
+            f"not {method.name.value!r} (its searches: {[s.value for s in method.searches]})",
+        )
+    return kind
+
+
+def refining_methods() -> tuple[str, ...]:
+    """Names of the methods that ``Settings.cone_tolerance`` applies to."""
+    return tuple(n for n, m in METHODS.items() if m.refines)
+
+
+__all__ = ["METHODS", "available_methods", "get_method", "refining_methods", "resolve_search"]

@@ -1,0 +1,87 @@
+"""The query record: how a largest-load search runs (method, upper limit, steps, search).
+
+One validated, frozen value that scenes (their ``analysis`` block), profiles, sets, batches and
+the CLI pass down instead of four loose arguments. Which searches a method supports is its
+registry row's business (:func:`pinograsp.analysis.registry.resolve_search`); this record
+checks each field on its own. NumPy only.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+from ..errors import InvalidInputError
+from .settings import METHODS, Method, Search
+from .validate import choice, positive_number, whole_number
+
+SEARCHES = tuple(s.value for s in Search)
+
+
+@dataclass(frozen=True)
+class Query:
+    """How :func:`~pinograsp.max_resistible_wrench` (and every profile, set and score built on
+    it) searches the largest resisted magnitude along a direction.
+
+    Attributes:
+        method: ``"iterative"`` (default), ``"energetic"`` or ``"prp"``
+            (:class:`~pinograsp.core.settings.Method`).
+        upper: Upper limit of the search [N or N·m along the unit direction].
+        steps: Search steps; resolution ``upper / 2**steps``.
+        search: ``"auto"`` (the method's default), ``"bisection"``, ``"secant"`` or
+            ``"direct"`` (:class:`~pinograsp.core.settings.Search`).
+
+    Raises:
+        InvalidInputError: A field out of its domain (named).
+    """
+
+    method: Method = Method.ITERATIVE
+    upper: float = 1e3
+    steps: int = 20
+    search: Search = Search.AUTO
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "method", Method(choice("method", self.method, METHODS)))
+        object.__setattr__(self, "upper", positive_number("upper", self.upper))
+        object.__setattr__(self, "steps", whole_number("steps", self.steps))
+        object.__setattr__(self, "search", Search(choice("search", self.search, SEARCHES)))
+
+    @property
+    def resolution(self) -> float:
+        """``upper / 2**steps`` [N or N·m]."""
+        return self.upper / 2**self.steps
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain JSON-ready data."""
+        return {
+            "method": self.method.value,
+            "upper": self.upper,
+            "steps": self.steps,
+            "search": self.search.value,
+        }
+
+
+def make_query(
+    query: Query | None,
+    method: object = "iterative",
+    upper: object = 1e3,
+    steps: object = 20,
+    search: object = "auto",
+) -> Query:
+    """``query``, or a :class:`Query` of the loose arguments (each validated once).
+
+    Raises:
+        InvalidInputError: ``query`` is not a :class:`Query`, or is given together with loose
+            arguments other than their defaults.
+    """
+    if query is None:
+        return Query(method, upper, steps, search)  # type: ignore[arg-type]
+    if not isinstance(query, Query):
+        raise InvalidInputError("query", f"expected pinograsp.Query or None, got {type(query).__name__}")
+    loose = zip((method, upper, steps, search), ("iterative", 1e3, 20, "auto"))
+    if not all(isinstance(a, (str, int, float)) and not isinstance(a, bool) and a == b for a, b in loose):
+        raise InvalidInputError("query", "pass either query= or method/upper/steps/search, not both")
+    return query
+
+
+__all__ = ["SEARCHES", "Query", "make_query"]
