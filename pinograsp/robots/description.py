@@ -50,10 +50,7 @@ BUILTIN_HANDS: dict[str, tuple[str, str]] = {
         "example-robot-data:robots/allegro_hand_description/urdf/allegro_left_hand.urdf",
         "hands/allegro_left.yaml",
     ),
-    "ezgripper": (
-        "example-robot-data:robots/alex_description/urdf/alex_sake_hands.urdf",
-        "hands/ezgripper.yaml",
-    ),
+    "ezgripper": ("urdf/ezgripper.urdf", "hands/ezgripper.yaml"),
     "hey5": ("example-robot-data:robots/tiago_description/robots/tiago.urdf", "hands/hey5.yaml"),
     "ability": (
         "example-robot-data:robots/alex_description/urdf/alex_psyonic_hands.urdf",

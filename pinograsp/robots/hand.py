@@ -197,7 +197,9 @@ class Hand:
             share = example_robot_data_dir()
             urdf_path = share / "example-robot-data" / urdf.split(":", 1)[1]
             return cls.from_urdf(urdf_path, DATA_DIR / desc, package_dirs=[share])
-        return cls.from_urdf(DATA_DIR / urdf, DATA_DIR / desc)
+        text = (DATA_DIR / urdf).read_text()
+        dirs = [example_robot_data_dir()] if "package://example-robot-data/" in text else None
+        return cls.from_urdf(DATA_DIR / urdf, DATA_DIR / desc, package_dirs=dirs)
 
     # ------------------------------------------------------------ sizes and names
     @property
