@@ -52,14 +52,8 @@ BUILTIN_HANDS: dict[str, tuple[str, str]] = {
     ),
     "ezgripper": ("urdf/ezgripper.urdf", "hands/ezgripper.yaml"),
     "hey5": ("example-robot-data:robots/tiago_description/robots/tiago.urdf", "hands/hey5.yaml"),
-    "ability": (
-        "example-robot-data:robots/alex_description/urdf/alex_psyonic_hands.urdf",
-        "hands/ability.yaml",
-    ),
-    "dex3": (
-        "example-robot-data:robots/g1_description/urdf/g1_29dof_with_hand_rev_1_0.urdf",
-        "hands/dex3.yaml",
-    ),
+    "ability": ("urdf/ability.urdf", "hands/ability.yaml"),
+    "dex3": ("urdf/dex3.urdf", "hands/dex3.yaml"),
     "talos_gripper": (
         "example-robot-data:robots/talos_data/robots/talos_full_v2.urdf",
         "hands/talos_gripper.yaml",
