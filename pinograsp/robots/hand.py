@@ -185,7 +185,9 @@ class Hand:
         Names: ``barrett_bh8_282``, ``underactuated_2f``, ``parallel_jaw`` (URDFs in
         ``pinograsp/data/urdf``),
         ``allegro_right``, ``panda_hand`` and ``so101`` (URDFs from example-robot-data, descriptions in
-        ``pinograsp/data/hands``).
+        ``pinograsp/data/hands``), and the real hands ``allegro_left``, ``ezgripper``, ``hey5``,
+        ``ability``, ``dex3`` and ``talos_gripper`` (each with a built-in scene of the same name;
+        docs/hands.md, "Shipped and supported hands").
 
         Raises:
             UnknownNameError: Unknown hand name (the valid ones are listed).
