@@ -156,3 +156,31 @@ def test_named_directions_every_method_against_the_cached_validation(name):
             assert mw.status == row[method]["status"], (key, method)
             agreeing += _class(mw.status) == _class(sim.status)
         assert agreeing >= 1, key
+
+
+def test_a_hand_mesh_is_a_surface():
+    """docs/hands.md "Mesh hands are surfaces": a 10 mm ball centred in the Hey5's palm body is
+    20.3 mm from the palm's BVH surface, and touches nothing."""
+    hand = pg.Hand.builtin("hey5")
+    ball = pg.RigidObject.sphere(0.005, pose=[0.07, -0.005, 0.0])
+    q = np.zeros(hand.nq)
+    assert pg.link_distances(hand, q, ball)["hand_palm_link"] == pytest.approx(0.0203, abs=2e-4)
+    with pytest.raises(pg.NoContactError):
+        pg.detect_contacts(hand, q, ball)
+
+
+def test_a_two_point_pinch_leaves_the_rotation_about_the_chord_free():
+    """docs/hands.md "Grasps that leave a free rotation": the EZGripper's fingertips on a 40 mm
+    ball touch it at two points on the y axis; nothing resists a torque about that chord."""
+    scene = pg.load_scene(
+        "ezgripper",
+        object={"shape": "sphere", "radius": 0.02, "pose": {"xyz": [0.0, 0.0, -0.14]}},
+        expect_contacts=2,
+    )
+    p = scene.model.points
+    assert (
+        abs(p[0, 1]) == pytest.approx(0.0201, abs=2e-4) and np.abs(p[:, [0, 2]] - p[0, [0, 2]]).max() < 1e-4
+    )
+    assert scene.passive_response(np.zeros(6), method="iterative").status == "resisted"
+    mw = scene.max_resistible_wrench("my", method="iterative")
+    assert mw.status == "below_resolution" and mw.magnitude == 0.0
