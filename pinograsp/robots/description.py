@@ -46,6 +46,18 @@ BUILTIN_HANDS: dict[str, tuple[str, str]] = {
     ),
     "panda_hand": ("example-robot-data:robots/panda_description/urdf/panda.urdf", "hands/panda_hand.yaml"),
     "so101": ("example-robot-data:robots/so_arm_description/urdf/so101.urdf", "hands/so101.yaml"),
+    "allegro_left": (
+        "example-robot-data:robots/allegro_hand_description/urdf/allegro_left_hand.urdf",
+        "hands/allegro_left.yaml",
+    ),
+    "ezgripper": ("urdf/ezgripper.urdf", "hands/ezgripper.yaml"),
+    "hey5": ("example-robot-data:robots/tiago_description/robots/tiago.urdf", "hands/hey5.yaml"),
+    "ability": ("urdf/ability.urdf", "hands/ability.yaml"),
+    "dex3": ("urdf/dex3.urdf", "hands/dex3.yaml"),
+    "talos_gripper": (
+        "example-robot-data:robots/talos_data/robots/talos_full_v2.urdf",
+        "hands/talos_gripper.yaml",
+    ),
 }
 
 

@@ -185,7 +185,9 @@ class Hand:
         Names: ``barrett_bh8_282``, ``underactuated_2f``, ``parallel_jaw`` (URDFs in
         ``pinograsp/data/urdf``),
         ``allegro_right``, ``panda_hand`` and ``so101`` (URDFs from example-robot-data, descriptions in
-        ``pinograsp/data/hands``).
+        ``pinograsp/data/hands``), and the real hands ``allegro_left``, ``ezgripper``, ``hey5``,
+        ``ability``, ``dex3`` and ``talos_gripper`` (each with a built-in scene of the same name;
+        docs/hands.md, "Shipped and supported hands").
 
         Raises:
             UnknownNameError: Unknown hand name (the valid ones are listed).
@@ -197,7 +199,9 @@ class Hand:
             share = example_robot_data_dir()
             urdf_path = share / "example-robot-data" / urdf.split(":", 1)[1]
             return cls.from_urdf(urdf_path, DATA_DIR / desc, package_dirs=[share])
-        return cls.from_urdf(DATA_DIR / urdf, DATA_DIR / desc)
+        text = (DATA_DIR / urdf).read_text()
+        dirs = [example_robot_data_dir()] if "package://example-robot-data/" in text else None
+        return cls.from_urdf(DATA_DIR / urdf, DATA_DIR / desc, package_dirs=dirs)
 
     # ------------------------------------------------------------ sizes and names
     @property
