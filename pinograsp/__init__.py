@@ -84,6 +84,7 @@ _LAZY = {
     "evaluate_grasps": "batch.evaluate",
     "WorstAxisScore": "batch.evaluate",
     "save_results": "batch.evaluate",
+    "reason_counts": "batch.rows",
     "GraspSpec": "batch.grasps",
     "ObjectSpec": "batch.grasps",
     "sample_grasps": "batch.grasps",

@@ -365,6 +365,26 @@ def evaluate_grasps(
         raise InvalidInputError("resume", "needs out=: the table whose journal holds the finished rows")
     journal = None if out is None else Journal(check_output(out))
     done = {} if journal is None else journal.start(fingerprint(tasks, score), len(tasks), resume)
+    where = {"executor": executor, "workers": workers, "address": address, "timeout": timeout}
+    rows = _run(tasks, done, score, size, journal, progress, where)
+    table = results_frame(rows, score)
+    if journal is not None:
+        write_table(table, out, name="out")
+        journal.finish()
+    return table
+
+
+def _run(
+    tasks: list[tuple],
+    done: dict[tuple[int, str], dict],
+    score: Score,
+    size: int,
+    journal: Journal | None,
+    progress: Callable[[int, int], None] | None,
+    where: dict[str, Any],
+) -> list[dict[str, Any]]:
+    """The rows of every task: the finished ones (``done``) and the others, evaluated in chunks
+    of ``size`` on ``where`` (executor options), journaled as they finish."""
     rows = list(done.values())
     todo = [t for t in tasks if (t[0], t[1]) not in done]
     chunks = [todo[i : i + size] for i in range(0, len(todo), size)]
@@ -382,20 +402,15 @@ def evaluate_grasps(
     try:
         with interruptible():
             run_chunks(
-                _evaluate_chunk, chunks, (score,), executor=executor, workers=workers, address=address,
-                progress=counted if progress is not None else None, sizes=[len(c) for c in chunks],
-                on_result=arrived, timeout=timeout,
+                _evaluate_chunk, chunks, (score,), progress=counted if progress is not None else None,
+                sizes=[len(c) for c in chunks], on_result=arrived, **where,
             )  # fmt: skip
     except KeyboardInterrupt as exc:
         if journal is not None:
             journal.close()
         signum = exc.signum if isinstance(exc, Interrupted) else 2
         raise Interrupted(signum, len(rows), len(tasks), journal and journal.path) from None
-    table = results_frame(rows, score)
-    if journal is not None:
-        write_table(table, out, name="out")
-        journal.finish()
-    return table
+    return rows
 
 
 def save_results(table: Any, path: object) -> Path:
