@@ -117,7 +117,8 @@ class NoPreloadError(PreloadNotInEquilibriumError):
     Distinct from its base, :class:`PreloadNotInEquilibriumError` ("this command does not
     balance"): here no command was found at all (``pg.equilibrium_preload`` reported
     ``status``). A subclass so that code catching the base keeps working. Attributes:
-        status: ``pg.equilibrium_preload``'s status (``"infeasible"`` or ``"unverified"``).
+        status: ``pg.equilibrium_preload``'s status (``"infeasible"`` or ``"unverified"``), or
+            ``None`` when no design was attempted (no actuator reaches a contact).
         unloadable_contacts: Contacts that no preload can press.
         unbalanced_actuators: Actuators whose command no preload can balance.
     """
@@ -125,7 +126,7 @@ class NoPreloadError(PreloadNotInEquilibriumError):
     def __init__(
         self,
         detail: str,
-        status: str = "infeasible",
+        status: str | None = None,
         unloadable_contacts: Iterable[str] = (),
         unbalanced_actuators: Iterable[str] = (),
     ) -> None:
@@ -137,7 +138,9 @@ class NoPreloadError(PreloadNotInEquilibriumError):
         self.unbalanced_actuators = tuple(unbalanced_actuators)
         PinograspError.__init__(
             self,
-            f"no preload exists for this grasp (equilibrium_preload: {status}): {detail}. "
+            "no preload exists for this grasp"
+            + (f" (equilibrium_preload: {status})" if status else "")
+            + f": {detail}. "
             "Move the object or the hand so that opposing contacts press, raise max_command, or "
             "see docs/hands.md, 'Choosing a preload'",
         )

@@ -206,6 +206,7 @@ def test_timeout_row_is_never_a_number():
     df = pg.evaluate_grasps(["pinch", "wedge"], score=_slow_wedge, workers=1, timeout=1.0)
     assert df["status"].tolist() == ["ok", "timeout"] and df["reason"].tolist() == ["", "timeout"]
     assert math.isnan(df.loc[1, "score"]) and "wall-clock" in df.loc[1, "error_message"]
+    assert df.loc[1, "time_total"] >= 1.0
     with pytest.raises(pg.InvalidInputError, match="timeout"):
         pg.evaluate_grasps(["pinch"], executor="dask", timeout=1.0)
     with pytest.raises(pg.InvalidInputError, match="timeout"):
@@ -227,9 +228,12 @@ def test_rows_are_answers_no_preload_and_penetration():
     inside = BOX.with_pose((0.0, 0.0, 0.0678), (0.0, 0.0, 0.0))
     deep = pg.GraspSpec("barrett_bh8_282", pg.ObjectSpec("box", size=(0.16, 0.05, 0.1), xyz=inside.xyz),
                         q=CASE1_Q, command=0.5, max_penetration=0.001, id="deep")  # fmt: skip
-    df = pg.evaluate_grasps([sampled[2], deep], score=FAST, workers=1)
-    assert df["status"].tolist() == ["no_grasp", "no_grasp"]
-    assert df["reason"].tolist() == ["no_preload", "penetration"]
+    palm = pg.GraspSpec("barrett_bh8_282", pg.ObjectSpec("box", size=(0.05, 0.05, 0.1), xyz=(0, 0, 0.0505)),
+                        q=[0.0] * 8, id="palm-only")  # fmt: skip
+    df = pg.evaluate_grasps([sampled[2], deep, palm], score=FAST, workers=1)
+    assert df["status"].tolist() == ["no_grasp"] * 3
+    assert df["reason"].tolist() == ["no_preload", "penetration", "no_preload"]
+    assert "no actuator can press the object" in df.loc[2, "error_message"]
     assert df.loc[0, "error_type"] == "NoPreloadError" and "command None" not in df.loc[0, "error_message"]
     assert "no preload exists" in df.loc[0, "error_message"] and (df["score"] == 0).all()
     # the closing options reach the contact detection: a 5 mm limit accepts the same overlap
@@ -251,6 +255,15 @@ def test_output_checked_before_work(tmp_path, capsys):
     assert "--resume: needs --out" in capsys.readouterr().err
     with pytest.raises(pg.InvalidInputError, match="resume"):
         pg.evaluate_grasps(["pinch"], resume=True)
+
+
+def test_second_interrupt_exits_at_once():
+    code = "\n".join([
+        "import os, signal, time", "from pinograsp.batch.pool import hard_exit_on_signal",
+        "with hard_exit_on_signal():", "    os.kill(os.getpid(), signal.SIGINT)", "    time.sleep(60)",
+    ])  # fmt: skip
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(HERE.parent), os.environ.get("PYTHONPATH", "")]))
+    assert subprocess.run([sys.executable, "-c", code], env=env, timeout=30).returncode == 130
 
 
 def test_resume_refuses_another_batch(tmp_path):

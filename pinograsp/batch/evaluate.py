@@ -255,6 +255,7 @@ def failure_row(task: tuple[int, str, str, Any], failure: TaskFailure) -> dict[s
         failure.kind, "Exception"
     )
     row["error_message"] = failure.detail
+    row["time_total"] = float(failure.seconds)
     return row
 
 

@@ -365,7 +365,7 @@ def build_grasp(spec: GraspSpec) -> tuple[Any, dict[str, float], dict[str, float
     """
     import time
 
-    from ..errors import NoPreloadError
+    from ..errors import ModelError, NoPreloadError
     from ..robots.grasp import grasp_model_from_scene
 
     t0 = time.perf_counter()
@@ -380,11 +380,23 @@ def build_grasp(spec: GraspSpec) -> tuple[Any, dict[str, float], dict[str, float
         q = hand.configuration(
             _with_mimics(hand, spec.q) if spec.q and isinstance(spec.q[0], tuple) else list(spec.q)
         )
-    model = grasp_model_from_scene(hand, q, obj, mu=spec.mu, stiffness=spec.stiffness, **contact)
+    try:
+        model = grasp_model_from_scene(hand, q, obj, mu=spec.mu, stiffness=spec.stiffness, **contact)
+    except ModelError as exc:
+        if exc.argument != "contacts":
+            raise
+        raise NoPreloadError(  # only fixed links (the palm) touch: no actuator can press the object
+            f"{exc}; no actuator can press the object, so no preload exists"
+        ) from exc
     t1 = time.perf_counter()
     if spec.command == "auto":
         from ..analysis.preload import equilibrium_preload
 
+        if not any(kind != "locked" for kind in model.kinds):
+            raise NoPreloadError(
+                f"no driving actuator reaches the contacts {list(model.contact_names)} (their links are "
+                "carried by locked or undriven joints only)"
+            )
         pre = equilibrium_preload(model, spec.preload_method, max_command=spec.max_command)
         if pre.status != "found":
             raise NoPreloadError(pre.reason, pre.status, pre.unloadable_contacts, pre.unbalanced_actuators)

@@ -45,11 +45,13 @@ class TaskFailure:
             opt-in wall-clock limit) or ``"exception"`` (the function raised; text in ``detail``).
         detail: One sentence: the exit signal or code, the limit, or the exception.
         attempts: How many times the task was started.
+        seconds: Wall time of the last attempt [s] (when known).
     """
 
     kind: Literal["worker_crashed", "timeout", "exception"]
     detail: str
     attempts: int = 1
+    seconds: float = 0.0
 
 
 class Interrupted(KeyboardInterrupt):
@@ -309,6 +311,7 @@ def _outcome(
             f"the worker process died ({_signal_text(code)}) while evaluating it, on each of "
             f"{attempts[i]} attempts",
             attempts[i],
+            time.monotonic() - w.started,
         )
     if timeout is not None and time.monotonic() - w.started > timeout:
         w.kill()
@@ -317,5 +320,6 @@ def _outcome(
             f"not finished within the per-grasp time limit of {timeout:g} s (timeout={timeout:g}: "
             "an opt-in wall-clock limit, so whether it is hit depends on the machine)",
             attempts[i],
+            time.monotonic() - w.started,
         )
     return None
