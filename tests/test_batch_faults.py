@@ -283,3 +283,19 @@ def _interrupt_on_wedge(model, command):
     if values["score"] == 5.0:
         raise KeyboardInterrupt
     return values
+
+
+@pytest.mark.parametrize("suffix", ["csv", "parquet"])
+def test_resume_of_a_finished_batch_runs_nothing(tmp_path, suffix):
+    if suffix == "parquet":
+        pytest.importorskip("pyarrow")
+    out = tmp_path / f"r.{suffix}"
+    grasps = ["pinch", "no_such_scene", {"scene": "wedge", "id": "w"}]
+    first = pg.evaluate_grasps(grasps, score=FAST, workers=1, out=out)
+    calls = []
+    again = pg.evaluate_grasps(grasps, score=FAST, workers=1, out=out, resume=True,
+                               progress=lambda d, t: calls.append((d, t)))  # fmt: skip
+    assert calls == [(3, 3)]  # nothing evaluated: every row came from the table, bit for bit
+    pd.testing.assert_frame_equal(again, first, check_exact=True)
+    with pytest.raises(pg.InvalidInputError, match="another batch"):
+        pg.evaluate_grasps(["pinch", "wedge", "wedge"], score=FAST, workers=1, out=out, resume=True)

@@ -32,7 +32,7 @@ from ..core.validate import choice, positive_number, whole_number
 from ..errors import InvalidInputError, MissingDependencyError
 from .executors import check_executor, run_chunks
 from .grasps import GraspSpec, build_grasp, rpy_of
-from .journal import Journal, check_output, fingerprint, output_format, write_table
+from .journal import Journal, check_output, fingerprint, output_format, read_table, write_table
 from .pool import Interrupted, TaskFailure, interruptible
 from .rows import POOL_REASONS, Status, classify
 
@@ -365,7 +365,10 @@ def evaluate_grasps(
     if resume and out is None:
         raise InvalidInputError("resume", "needs out=: the table whose journal holds the finished rows")
     journal = None if out is None else Journal(check_output(out))
+    finished = resume and journal is not None and not journal.path.is_file() and Path(out).is_file()
     done = {} if journal is None else journal.start(fingerprint(tasks, score), len(tasks), resume)
+    if finished:  # a batch that finished: its table holds the rows
+        done = _table_rows(Path(out), tasks, score)
     where = {"executor": executor, "workers": workers, "address": address, "timeout": timeout}
     rows = _run(tasks, done, score, size, journal, progress, where)
     table = results_frame(rows, score)
@@ -373,6 +376,37 @@ def evaluate_grasps(
         write_table(table, out, name="out")
         journal.finish()
     return table
+
+
+#: Text columns of a table.
+TEXT_COLUMNS = ("id", "source", "status", "reason", "command", "error_type", "error_message", "warnings")
+
+
+def _table_rows(path: Path, tasks: list[tuple], score: Score) -> dict[tuple[int, str], dict]:
+    """The rows of a finished table ``{(index, id): row}`` for ``resume`` (its grasps must be this
+    batch's, its columns this score's)."""
+    df = read_table(path, TEXT_COLUMNS)
+    columns = list(df.columns)
+    names = columns[len(BASE_COLUMNS) : len(columns) - len(TAIL_COLUMNS)]
+    declared = getattr(score, "columns", None)
+    keys = {(t[0], t[1]) for t in tasks}
+    ends = (columns[: len(BASE_COLUMNS)], columns[len(columns) - len(TAIL_COLUMNS) :])
+    ok = ends == (list(BASE_COLUMNS), list(TAIL_COLUMNS))
+    if not ok or (isinstance(declared, (tuple, list)) and names[: len(declared)] != list(declared)):
+        raise InvalidInputError("resume", f"{str(path)!r} is not a table of this score: run without resume")
+    rows: dict[tuple[int, str], dict] = {}
+    for rec in df.to_dict("records"):
+        key = (int(rec["index"]), str(rec["id"]))
+        if key not in keys:
+            raise InvalidInputError(
+                "resume",
+                f"{str(path)!r} holds grasp {key[1]!r} (index {key[0]}) of another batch: run without resume",
+            )
+        row = {c: rec[c] for c in (*BASE_COLUMNS, *TAIL_COLUMNS)}
+        row.update(index=key[0], id=key[1], n_contacts=int(rec["n_contacts"]))
+        row["scores"] = {k: float(rec[k]) for k in names}
+        rows[key] = row
+    return rows
 
 
 def _run(

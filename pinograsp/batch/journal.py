@@ -105,6 +105,19 @@ def write_table(table: Any, path: object, name: str = "path") -> Path:
     return p
 
 
+def read_table(path: Path, text_columns: Sequence[str]) -> Any:
+    """A table written by :func:`write_table`, floats exactly as written (``text_columns`` as
+    strings, ``""`` where empty)."""
+    import pandas as pd
+
+    if output_format(path) == "parquet":
+        df = pd.read_parquet(path)
+    else:
+        exact = {} if int(pd.__version__.split(".")[0]) >= 3 else {"float_precision": "round_trip"}
+        df = pd.read_csv(path, dtype=dict.fromkeys(text_columns, str), **exact)
+    return df.fillna(dict.fromkeys([c for c in text_columns if c in df], ""))
+
+
 def fingerprint(tasks: Sequence[tuple], score: object) -> str:
     """A digest of the grasp records and the score: a journal resumes only the same batch."""
     h = hashlib.sha256()
