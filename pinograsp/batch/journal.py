@@ -195,9 +195,15 @@ class Journal:
         return rows, good
 
     def _write(self, records: Iterable[dict]) -> None:
-        for r in records:
-            self._file.write(json.dumps(r, allow_nan=True) + "\n")
-        self._file.flush()
+        try:
+            for r in records:
+                self._file.write(json.dumps(r, allow_nan=True) + "\n")
+            self._file.flush()
+        except OSError as exc:  # a full disk, a removed folder
+            raise InvalidInputError(
+                "out",
+                f"cannot append to {str(self.path)!r}: {exc.strerror or exc}; free space or move it",
+            ) from None
 
     def append(self, rows: Iterable[dict]) -> None:
         """Append finished rows (flushed: a kill of this process keeps them)."""

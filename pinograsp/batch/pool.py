@@ -248,13 +248,7 @@ def run_pool(
     left = len(tasks)
     try:
         while left:
-            while pending and len(pool) < workers:
-                pool.append(_Worker(ctx, fn, args))
-            for w in pool:
-                if w.task is None and pending:
-                    i = pending.popleft()
-                    attempts[i] += 1
-                    w.assign(i, tasks[i])
+            _fill(pool, pending, attempts, workers, lambda: _Worker(ctx, fn, args), tasks)
             busy = [w for w in pool if w.task is not None]
             limit = None
             if timeout is not None:
@@ -284,6 +278,36 @@ def run_pool(
     finally:
         for w in pool:
             w.stop()
+
+
+def _fill(
+    pool: list[_Worker],
+    pending: deque,
+    attempts: list[int],
+    workers: int,
+    new: Callable[[], _Worker],
+    tasks: Sequence[Any],
+) -> None:
+    """Give every idle worker a pending task, starting workers up to ``workers``; a worker that
+    died while idle is replaced (its task is not charged an attempt)."""
+    while pending:
+        while len(pool) < workers:
+            pool.append(new())
+        idle = [w for w in pool if w.task is None]
+        if not idle:
+            return
+        for w in idle:
+            if not pending:
+                return
+            i = pending.popleft()
+            try:
+                w.assign(i, tasks[i])
+                attempts[i] += 1
+            except (OSError, ValueError):  # the pipe of a worker that died while idle
+                w.task = None
+                pending.appendleft(i)
+                w.kill()
+                pool.remove(w)
 
 
 def _outcome(
