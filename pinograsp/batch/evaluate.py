@@ -362,20 +362,32 @@ def evaluate_grasps(
     check_executor(executor, address, timeout)
     if not isinstance(resume, bool):
         raise InvalidInputError("resume", f"expected True or False, got {resume!r}")
-    if resume and out is None:
-        raise InvalidInputError("resume", "needs out=: the table whose journal holds the finished rows")
-    journal = None if out is None else Journal(check_output(out))
-    finished = resume and journal is not None and not journal.path.is_file() and Path(out).is_file()
-    done = {} if journal is None else journal.start(fingerprint(tasks, score), len(tasks), resume)
-    if finished:  # a batch that finished: its table holds the rows
-        done = _table_rows(Path(out), tasks, score)
+    table_path, journal, done = _output(tasks, score, out, resume)
     where = {"executor": executor, "workers": workers, "address": address, "timeout": timeout}
     rows = _run(tasks, done, score, size, journal, progress, where)
     table = results_frame(rows, score)
-    if journal is not None:
-        write_table(table, out, name="out")
+    if journal is not None and table_path is not None:
+        write_table(table, table_path, name="out")
         journal.finish()
     return table
+
+
+def _output(
+    tasks: list[tuple], score: Score, out: object, resume: bool
+) -> tuple[Path | None, Journal | None, dict[tuple[int, str], dict]]:
+    """The checked table path, its journal (started) and the finished rows ``{(index, id): row}``
+    (from the journal, or from the table of a batch that finished)."""
+    if resume and out is None:
+        raise InvalidInputError("resume", "needs out=: the table whose journal holds the finished rows")
+    if out is None:
+        return None, None, {}
+    table_path = check_output(out)
+    journal = Journal(table_path)
+    finished = resume and not journal.path.is_file() and table_path.is_file()
+    done = journal.start(fingerprint(tasks, score), len(tasks), resume)
+    if finished:  # a batch that finished: its table holds the rows
+        done = _table_rows(table_path, tasks, score)
+    return table_path, journal, done
 
 
 #: Text columns of a table.

@@ -371,7 +371,7 @@ def build_grasp(spec: GraspSpec) -> tuple[Any, dict[str, float], dict[str, float
     t0 = time.perf_counter()
     hand = load_hand(spec)
     obj = spec.object.to_object()
-    contact = {} if spec.tolerance is None else {"tolerance": spec.tolerance}
+    contact: dict[str, Any] = {} if spec.tolerance is None else {"tolerance": spec.tolerance}
     if spec.max_penetration is not None:
         contact["max_penetration"] = spec.max_penetration
     if spec.q is None:
@@ -398,7 +398,7 @@ def build_grasp(spec: GraspSpec) -> tuple[Any, dict[str, float], dict[str, float
                 "carried by locked or undriven joints only)"
             )
         pre = equilibrium_preload(model, spec.preload_method, max_command=spec.max_command)
-        if pre.status != "found":
+        if pre.status != "found" or pre.command is None:
             raise NoPreloadError(pre.reason, pre.status, pre.unloadable_contacts, pre.unbalanced_actuators)
         command = dict(pre.command)
     elif isinstance(spec.command, tuple):
@@ -409,7 +409,7 @@ def build_grasp(spec: GraspSpec) -> tuple[Any, dict[str, float], dict[str, float
     return model, command, {"build": t1 - t0, "preload": time.perf_counter() - t1}
 
 
-def _close(hand: Any, obj: Any, spec: GraspSpec, contact: dict[str, float]) -> Any:
+def _close(hand: Any, obj: Any, spec: GraspSpec, contact: dict[str, Any]) -> Any:
     """``hand.close_on`` with the spec's closing options (``max_penetration`` where the
     auto-close takes it)."""
     import inspect
