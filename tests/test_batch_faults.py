@@ -299,3 +299,17 @@ def test_resume_of_a_finished_batch_runs_nothing(tmp_path, suffix):
     pd.testing.assert_frame_equal(again, first, check_exact=True)
     with pytest.raises(pg.InvalidInputError, match="another batch"):
         pg.evaluate_grasps(["pinch", "wedge", "wedge"], score=FAST, workers=1, out=out, resume=True)
+
+
+def _pinch_last(model, command):
+    values = FAST(model, command)
+    if values["score"] == 10.0:  # pinch rows finish after the wedge rows
+        time.sleep(0.5)
+    return values
+
+
+def test_rows_in_input_order_whatever_the_completion_order(tmp_path):
+    grasps = ["pinch", "wedge", "pinch", "wedge", "no_such_scene"]
+    df = pg.evaluate_grasps(grasps, score=_pinch_last, workers=3, out=tmp_path / "r.csv")
+    assert df["index"].tolist() == list(range(5))  # wedge rows arrived first; the table is sorted
+    same_table(df, pg.evaluate_grasps(grasps, score=FAST, workers=1))
