@@ -22,6 +22,7 @@ import pytest
 from test_batch import BOX, CASE1_Q, FAST, same_table
 
 import pinograsp as pg
+from pinograsp.batch.journal import Journal
 from pinograsp.batch.pool import Interrupted
 from pinograsp.cli import main
 
@@ -255,6 +256,13 @@ def test_output_checked_before_work(tmp_path, capsys):
     assert "--resume: needs --out" in capsys.readouterr().err
     with pytest.raises(pg.InvalidInputError, match="resume"):
         pg.evaluate_grasps(["pinch"], resume=True)
+    busy = Journal(tmp_path / "busy.csv")  # another batch writing the same table
+    busy.start("x", 1, resume=False)
+    with pytest.raises(pg.InvalidInputError, match="another pinograsp batch is writing"):
+        pg.evaluate_grasps(["pinch"], score=FAST, workers=1, out=tmp_path / "busy.csv")
+    busy.close()
+    done = pg.evaluate_grasps(["pinch"], score=FAST, workers=1, out=tmp_path / "busy.csv")
+    assert done["status"].tolist() == ["ok"]
 
 
 def test_second_interrupt_exits_at_once():

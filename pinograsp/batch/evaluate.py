@@ -362,32 +362,32 @@ def evaluate_grasps(
     check_executor(executor, address, timeout)
     if not isinstance(resume, bool):
         raise InvalidInputError("resume", f"expected True or False, got {resume!r}")
-    table_path, journal, done = _output(tasks, score, out, resume)
+    if resume and out is None:
+        raise InvalidInputError("resume", "needs out=: the table whose journal holds the finished rows")
+    table_path = None if out is None else check_output(out)
+    journal = None if table_path is None else Journal(table_path)
     where = {"executor": executor, "workers": workers, "address": address, "timeout": timeout}
-    rows = _run(tasks, done, score, size, journal, progress, where)
-    table = results_frame(rows, score)
-    if journal is not None and table_path is not None:
-        write_table(table, table_path, name="out")
-        journal.finish()
+    try:  # the journal is closed (and unlocked) whatever happens
+        done = {} if journal is None else _finished(journal, tasks, score, resume)
+        rows = _run(tasks, done, score, size, journal, progress, where)
+        table = results_frame(rows, score)
+        if journal is not None:
+            write_table(table, journal.table, name="out")
+            journal.finish()
+    finally:
+        if journal is not None:
+            journal.close()
     return table
 
 
-def _output(
-    tasks: list[tuple], score: Score, out: object, resume: bool
-) -> tuple[Path | None, Journal | None, dict[tuple[int, str], dict]]:
-    """The checked table path, its journal (started) and the finished rows ``{(index, id): row}``
-    (from the journal, or from the table of a batch that finished)."""
-    if resume and out is None:
-        raise InvalidInputError("resume", "needs out=: the table whose journal holds the finished rows")
-    if out is None:
-        return None, None, {}
-    table_path = check_output(out)
-    journal = Journal(table_path)
-    finished = resume and not journal.path.is_file() and table_path.is_file()
+def _finished(
+    journal: Journal, tasks: list[tuple], score: Score, resume: bool
+) -> dict[tuple[int, str], dict]:
+    """Start the journal; the finished rows ``{(index, id): row}`` of a resume (from the journal,
+    or from the table of a batch that finished)."""
+    finished = resume and not journal.path.is_file() and journal.table.is_file()
     done = journal.start(fingerprint(tasks, score), len(tasks), resume)
-    if finished:  # a batch that finished: its table holds the rows
-        done = _table_rows(table_path, tasks, score)
-    return table_path, journal, done
+    return _table_rows(journal.table, tasks, score) if finished else done
 
 
 #: Text columns of a table.

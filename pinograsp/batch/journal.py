@@ -135,10 +135,12 @@ class Journal:
     """The rows of a batch as they finish: ``<table>.partial.jsonl``.
 
     Attributes:
+        table: The table file.
         path: The journal file.
     """
 
     def __init__(self, table: Path) -> None:
+        self.table = table
         self.path = table.with_name(table.name + JOURNAL_SUFFIX)
         self._file: Any = None
 
@@ -150,29 +152,48 @@ class Journal:
             InvalidInputError: ``resume``: the journal belongs to another batch (another
                 fingerprint) or is not a journal.
         """
-        rows: dict[tuple[int, str], dict] = {}
-        good = 0
-        if resume and self.path.is_file():
-            rows, good = self._read(digest)
         try:
-            if good:
-                with open(self.path, "rb+") as f:  # drop a line cut by a kill
-                    f.truncate(good)
-                self._file = open(self.path, "a", encoding="utf-8")  # noqa: SIM115 - kept open
-            else:
-                self._file = open(self.path, "w", encoding="utf-8")  # noqa: SIM115 - kept open
-                header = {"journal": _MAGIC, "version": _VERSION, "fingerprint": digest, "grasps": total}
-                self._write([header])
+            self._file = open(self.path, "a+", encoding="utf-8")  # noqa: SIM115 - kept open
         except OSError as exc:
             raise InvalidInputError(
                 "out", f"cannot write {str(self.path)!r}: {exc.strerror or exc}"
             ) from None
+        self._lock()
+        rows: dict[tuple[int, str], dict] = {}
+        good = 0
+        if resume:
+            try:
+                rows, good = self._read(digest)
+            except BaseException:
+                self.close()
+                raise
+        self._file.truncate(good)  # a fresh journal, or the good lines (a line cut by a kill dropped)
+        if not good:
+            header = {"journal": _MAGIC, "version": _VERSION, "fingerprint": digest, "grasps": total}
+            self._write([header])
         return rows
+
+    def _lock(self) -> None:
+        """An exclusive advisory lock (POSIX): two batches never write one journal."""
+        try:
+            import fcntl
+        except ImportError:  # pragma: no cover - not POSIX
+            return
+        try:
+            fcntl.flock(self._file.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            self.close()
+            raise InvalidInputError(
+                "out",
+                f"another pinograsp batch is writing {str(self.path)!r}: wait for it, or choose another path",
+            ) from None
 
     def _read(self, digest: str) -> tuple[dict[tuple[int, str], dict], int]:
         rows: dict[tuple[int, str], dict] = {}
         data = self.path.read_bytes()
         good = 0
+        if not data:
+            return rows, 0
         for k, line in enumerate(data.splitlines(keepends=True)):
             try:
                 record = json.loads(line)

@@ -251,7 +251,7 @@ def run_pool(
             _fill(pool, pending, attempts, workers, lambda: _Worker(ctx, fn, args), tasks)
             busy = [w for w in pool if w.task is not None]
             limit = None
-            if timeout is not None:
+            if timeout is not None and busy:
                 limit = max(0.0, min(w.started + timeout for w in busy) - time.monotonic()) + 1e-3
             ready = set(wait([w.conn for w in busy] + [w.proc.sentinel for w in busy], limit))
             for w in busy:
@@ -290,8 +290,9 @@ def _fill(
 ) -> None:
     """Give every idle worker a pending task, starting workers up to ``workers``; a worker that
     died while idle is replaced (its task is not charged an attempt)."""
+    failures = 0
     while pending:
-        while len(pool) < workers:
+        while len(pool) < workers and sum(w.task is None for w in pool) < len(pending):
             pool.append(new())
         idle = [w for w in pool if w.task is None]
         if not idle:
@@ -308,6 +309,14 @@ def _fill(
                 pending.appendleft(i)
                 w.kill()
                 pool.remove(w)
+                failures += 1
+                if failures > 10 * workers:
+                    from ..errors import PinograspError
+
+                    raise PinograspError(
+                        f"{failures} worker processes died before they could take a task "
+                        "(memory? process limits?): run with workers=1 to see the cause"
+                    ) from None
 
 
 def _outcome(
