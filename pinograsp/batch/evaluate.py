@@ -360,12 +360,7 @@ def evaluate_grasps(
     size = whole_number("chunksize", chunksize)
     timeout = None if timeout is None else positive_number("timeout", timeout)
     check_executor(executor, address, timeout)
-    if not isinstance(resume, bool):
-        raise InvalidInputError("resume", f"expected True or False, got {resume!r}")
-    if resume and out is None:
-        raise InvalidInputError("resume", "needs out=: the table whose journal holds the finished rows")
-    table_path = None if out is None else check_output(out)
-    journal = None if table_path is None else Journal(table_path)
+    journal = _journal(out, resume)
     where = {"executor": executor, "workers": workers, "address": address, "timeout": timeout}
     try:  # the journal is closed (and unlocked) whatever happens
         done = {} if journal is None else _finished(journal, tasks, score, resume)
@@ -378,6 +373,15 @@ def evaluate_grasps(
         if journal is not None:
             journal.close()
     return table
+
+
+def _journal(out: object, resume: object) -> Journal | None:
+    """The journal of the checked table path ``out`` (None without ``out``)."""
+    if not isinstance(resume, bool):
+        raise InvalidInputError("resume", f"expected True or False, got {resume!r}")
+    if resume and out is None:
+        raise InvalidInputError("resume", "needs out=: the table whose journal holds the finished rows")
+    return None if out is None else Journal(check_output(out))
 
 
 def _finished(
