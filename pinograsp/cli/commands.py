@@ -309,8 +309,8 @@ def cmd_batch(args: argparse.Namespace) -> int:
     ok = table[table["status"] == "ok"]
     if len(ok):
         q = ok["score"].quantile([0.0, 0.5, 1.0]).tolist()
-        lines.append(f"score [N] (worst axis, {score.method}, upper {score.upper:g}, steps {score.steps}; "
-                     f"ok rows): min {q[0]:.4g}, median {q[1]:.4g}, max {q[2]:.4g}")  # fmt: skip
+        lines.append(f"score [N] of the ok rows (worst axis, {score.method}, upper {score.upper:g}, "
+                     f"steps {score.steps}): min {q[0]:.4g}, median {q[1]:.4g}, max {q[2]:.4g}")  # fmt: skip
     if args.out:
         lines.append(f"wrote {args.out}")
     print("\n".join(lines))
