@@ -16,6 +16,7 @@ import signal
 import subprocess
 import sys
 import time
+import types
 from pathlib import Path
 
 import pytest
@@ -321,3 +322,112 @@ def test_rows_in_input_order_whatever_the_completion_order(tmp_path):
     df = pg.evaluate_grasps(grasps, score=_pinch_last, workers=3, out=tmp_path / "r.csv")
     assert df["index"].tolist() == list(range(5))  # wedge rows arrived first; the table is sorted
     same_table(df, pg.evaluate_grasps(grasps, score=FAST, workers=1))
+
+
+class _Ref:
+    """An object reference: hashable by identity, holding its call."""
+
+    def __init__(self, f, args):
+        self.call = (f, args)
+
+
+class _FakeRay(types.ModuleType):
+    """Just enough of Ray's API (remote, put, wait, get, cancel) to run the executor's own logic
+    in this process: a task whose chunk holds ``crash`` fails as Ray's WorkerCrashedError does
+    after its retries; ``interrupt_after`` waits, Ctrl-C."""
+
+    def __init__(self, crash="", interrupt_after=None):
+        super().__init__("ray")
+        self.exceptions = types.SimpleNamespace(RayError=type("RayError", (Exception,), {}))
+        self.crash, self.interrupt_after, self.waits = crash, interrupt_after, 0
+        self.options, self.cancelled = {}, []
+
+    def is_initialized(self):
+        return True
+
+    def cluster_resources(self):
+        return {"CPU": 2}
+
+    def put(self, value):
+        return value
+
+    def remote(self, **options):
+        self.options = options
+        return lambda f: types.SimpleNamespace(remote=lambda *a: _Ref(f, a))
+
+    def wait(self, refs, num_returns=1):
+        self.waits += 1
+        if self.interrupt_after is not None and self.waits > self.interrupt_after:
+            raise KeyboardInterrupt
+        return refs[:1], refs[1:]
+
+    def get(self, ref):
+        f, (fn, chunk, args) = ref.call
+        if any(task[3] == self.crash for task in chunk):
+            raise self.exceptions.RayError("WorkerCrashedError: the worker died unexpectedly")
+        return f(fn, chunk, args)
+
+    def cancel(self, ref, force=False):
+        self.cancelled.append((ref.call[1][1][0][1], force))
+
+
+def test_ray_executor_retries_and_cancels(monkeypatch, tmp_path):
+    ray = _FakeRay(crash="wedge")
+    monkeypatch.setitem(sys.modules, "ray", ray)
+    df = pg.evaluate_grasps(["pinch", "wedge", "pinch"], score=FAST, executor="ray")
+    assert ray.options["max_retries"] == 1  # Ray retries a task whose worker died, once
+    assert df["status"].tolist() == ["ok", "error", "ok"] and df.loc[1, "reason"] == "worker_crashed"
+    ray = _FakeRay(interrupt_after=1)
+    monkeypatch.setitem(sys.modules, "ray", ray)
+    with pytest.raises(Interrupted) as info:
+        pg.evaluate_grasps(["pinch"] * 5, score=FAST, executor="ray", workers=1, out=tmp_path / "r.csv")
+    assert info.value.done == 1 and info.value.exit_code == 130
+    assert ray.cancelled == [("1", True), ("2", True)]  # in flight (two per worker); 3, 4 never sent
+    assert len(journal_rows(tmp_path / "r.csv.partial.jsonl")) == 1
+
+
+class _FakeFuture:
+    def __init__(self, key, call, crash):
+        self.key, self.call, self.crash = key, call, crash
+
+    def result(self):
+        f, fn, chunk, args = self.call
+        if any(task[3] == self.crash for task in chunk):
+            raise RuntimeError("KilledWorker: the task's worker died 3 times")
+        return f(fn, chunk, args)
+
+
+class _FakeClient:
+    """Just enough of ``distributed.Client`` (submit, cancel) for the executor's own logic."""
+
+    __module__ = "distributed.client"
+
+    def __init__(self, crash="", interrupt_after=None):
+        self.crash, self.interrupt_after = crash, interrupt_after
+        self.options, self.cancelled = {}, []
+
+    def submit(self, f, fn, chunk, args, **options):
+        self.options = options
+        return _FakeFuture(f"k{chunk[0][0]}", (f, fn, chunk, args), self.crash)
+
+    def cancel(self, futures):
+        self.cancelled = [f.key for f in futures]
+
+
+def test_dask_executor_retries_and_cancels(monkeypatch):
+    client = _FakeClient(crash="wedge", interrupt_after=None)
+
+    def as_completed(futures):
+        for k, f in enumerate(futures):
+            if client.interrupt_after is not None and k >= client.interrupt_after:
+                raise KeyboardInterrupt
+            yield f
+
+    monkeypatch.setitem(sys.modules, "distributed", types.SimpleNamespace(as_completed=as_completed))
+    df = pg.evaluate_grasps(["pinch", "wedge"], score=FAST, executor=client)
+    assert client.options == {"pure": False, "retries": 1}  # Dask retries a lost task once
+    assert df["reason"].tolist() == ["", "worker_crashed"] and "KilledWorker" in df.loc[1, "error_message"]
+    client.interrupt_after = 1
+    with pytest.raises(Interrupted):
+        pg.evaluate_grasps(["pinch", "pinch", "pinch"], score=FAST, executor=client)
+    assert client.cancelled == ["k0", "k1", "k2"]  # every future cancelled (finished ones: no-op)
