@@ -357,6 +357,7 @@ def evaluate_grasps(
     score = WorstAxisScore() if score is None else score
     if not callable(score):
         raise InvalidInputError("score", f"expected a callable score(model, command), got {score!r}")
+    _no_grasp_values(score)  # a malformed no_grasp mapping is refused before any work
     size = whole_number("chunksize", chunksize)
     timeout = None if timeout is None else positive_number("timeout", timeout)
     check_executor(executor, address, timeout)
