@@ -110,6 +110,42 @@ class PreloadNotInEquilibriumError(PinograspError):
         )
 
 
+class NoPreloadError(PreloadNotInEquilibriumError):
+    """No preload exists (or none was verified) for the grasp: the contacts left cannot all be
+    pressed by any admissible command, so there is no command to test for equilibrium.
+
+    Distinct from its base, :class:`PreloadNotInEquilibriumError` ("this command does not
+    balance"): here no command was found at all (``pg.equilibrium_preload`` reported
+    ``status``). A subclass so that code catching the base keeps working. Attributes:
+        status: ``pg.equilibrium_preload``'s status (``"infeasible"`` or ``"unverified"``), or
+            ``None`` when no design was attempted (no actuator reaches a contact).
+        unloadable_contacts: Contacts that no preload can press.
+        unbalanced_actuators: Actuators whose command no preload can balance.
+    """
+
+    def __init__(
+        self,
+        detail: str,
+        status: str | None = None,
+        unloadable_contacts: Iterable[str] = (),
+        unbalanced_actuators: Iterable[str] = (),
+    ) -> None:
+        self.command = None
+        self.detail = detail
+        self.residual = None
+        self.status = status
+        self.unloadable_contacts = tuple(unloadable_contacts)
+        self.unbalanced_actuators = tuple(unbalanced_actuators)
+        PinograspError.__init__(
+            self,
+            "no preload exists for this grasp"
+            + (f" (equilibrium_preload: {status})" if status else "")
+            + f": {detail}. "
+            "Move the object or the hand so that opposing contacts press, raise max_command, or "
+            "see docs/hands.md, 'Choosing a preload'",
+        )
+
+
 class PinograspWarning(UserWarning):
     """Root of every warning issued by pinograsp."""
 

@@ -46,8 +46,11 @@ def test_rows_statuses_and_errors(inprocess):
     assert list(df.columns[: len(BASE_COLUMNS)]) == list(BASE_COLUMNS)
     assert list(df.columns[-len(TAIL_COLUMNS) :]) == list(TAIL_COLUMNS)
     assert df["id"].tolist() == ["0", "w", "case1-q", "3", "no_such_scene"][:4] + ["4"]
-    assert df["status"].tolist() == ["ok", "ok", "ok", "error", "error"]
+    assert df["status"].tolist() == ["ok", "ok", "ok", "no_grasp", "error"]
+    assert df["reason"].tolist() == ["", "", "", "no_contact", "unknown_name"]
     assert df.loc[3, "error_type"] == "NoContactError" and "touches nothing" in df.loc[3, "error_message"]
+    # not a grasp: an answer, it resists nothing (0 N on every axis); a real error has no number
+    assert df.loc[3, "score"] == 0.0 and df.loc[3, "max_-fz"] == 0.0 and df.loc[3, "unbounded_fraction"] == 0
     assert df.loc[4, "error_type"] == "UnknownNameError"
     assert np.isnan(df.loc[4, "score"]) and df.loc[4, "n_contacts"] == 0
     # pinch: +-fy limit 2 mu tau0 / L = 10 N (below by at most the resolution 20/2**4), +-fx unbounded
@@ -157,8 +160,9 @@ def test_grasps_yaml_and_cli(tmp_path):
     out = tmp_path / "res.csv"
     assert main(["batch", str(path), "--out", str(out), "--workers", "1", "--no-progress"]) == 0
     df = pd.read_csv(out)
-    assert df["status"].tolist() == ["ok", "ok", "error", "error"]
-    assert df["error_type"].iloc[2] == "NoContactError" and df["score"].iloc[0] > 0
+    assert df["status"].tolist() == ["ok", "ok", "no_grasp", "no_grasp"]
+    assert df["reason"].iloc[2] == "no_contact" and df["score"].iloc[0] > 0 and df["score"].iloc[2] == 0
+    assert not (tmp_path / "res.csv.partial.jsonl").exists()  # the journal goes once the table is written
     pq = tmp_path / "res.parquet"
     pytest.importorskip("pyarrow")
     pg.save_results(pg.evaluate_grasps(["pinch"], score=FAST, workers=1), pq)

@@ -3,12 +3,16 @@
 ``pg.evaluate_grasps(grasps, score=..., executor="local" | "ray" | "dask" | client)`` builds each
 grasp (a scene, or a :class:`~pinograsp.batch.grasps.GraspSpec` auto-closed and preloaded), scores it
 with a pluggable ``score(model, command) -> {name: float}`` and returns a ``pandas.DataFrame``
-(columns :data:`BASE_COLUMNS`, the score's keys, :data:`TAIL_COLUMNS`). A grasp that fails is a
-row with ``status == "error"`` and the exception's type and message; the batch goes on.
+(columns :data:`BASE_COLUMNS`, the score's columns, :data:`TAIL_COLUMNS`). Every grasp is a row
+with a ``status`` and a typed ``reason`` (:mod:`.rows`): a record that is not a grasp (no
+contact, no preload, ...) is an answer (``"no_grasp"``, score 0), a real failure an
+``"error"`` row; the batch goes on. With ``out=`` rows are journaled as they finish
+(:mod:`.journal`), ``resume=True`` skips the finished ones, and the table is written atomically.
 
 Determinism: each grasp is evaluated from its own record alone, in one BLAS thread, by the
 exact (canonical) solvers, and rows are put back in input order, so every column except
-:data:`TIMING_COLUMNS` is identical whatever the executor, worker count or completion order.
+:data:`TIMING_COLUMNS` is identical whatever the executor, worker count, completion order or
+interruptions and resumes.
 """
 
 from __future__ import annotations
@@ -21,16 +25,18 @@ import warnings
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Literal
+from typing import Any, ClassVar
 
 from ..core.settings import METHODS, Method
-from ..core.validate import choice, positive_number, whole_number, writing
+from ..core.validate import choice, positive_number, whole_number
 from ..errors import InvalidInputError, MissingDependencyError
-from .executors import run_chunks
+from .executors import check_executor, run_chunks
 from .grasps import GraspSpec, build_grasp, rpy_of
+from .journal import Journal, check_output, fingerprint, output_format, read_table, write_table
+from .pool import Interrupted, TaskFailure, interruptible
+from .rows import POOL_REASONS, Status, classify
 
-#: Row status.
-Status = Literal["ok", "error"]
+__all__ = ["Status", "output_format"]  # re-exported: pg.batch.evaluate.output_format
 #: Score callable: ``score(model, command) -> {name: value}`` (floats; ``inf`` allowed).
 Score = Callable[[Any, dict[str, float]], Mapping[str, float]]
 
@@ -40,6 +46,7 @@ BASE_COLUMNS = (
     "id",
     "source",
     "status",
+    "reason",
     "n_contacts",
     "command",
     "obj_x",
@@ -76,6 +83,13 @@ class WorstAxisScore:
     upper: float = 50.0
     steps: int = 6
     method: Method | str = Method.ITERATIVE
+
+    #: The columns of every table scored with it (planar models leave ``max_±fz`` NaN).
+    columns: ClassVar[tuple[str, ...]] = (
+        "score", "unbounded_fraction", "max_+fx", "max_-fx", "max_+fy", "max_-fy", "max_+fz", "max_-fz",
+    )  # fmt: skip
+    #: The values of a record that is not a grasp (no contact, no preload, ...): it resists nothing.
+    no_grasp: ClassVar[dict[str, float]] = dict.fromkeys(columns, 0.0)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "upper", positive_number("upper", self.upper))
@@ -178,14 +192,35 @@ def _score_values(values: object) -> dict[str, float]:
     return out
 
 
+def _empty_row(task: tuple[int, str, str, Any]) -> dict[str, Any]:
+    """A row with every column, before the grasp is evaluated (source and pose when known)."""
+    index, gid, kind, payload = task
+    row: dict[str, Any] = {"index": index, "id": gid, "source": "", "status": "error", "reason": ""}
+    row.update({"n_contacts": 0, "command": "", **_pose_columns(None), "error_type": "", "error_message": ""})
+    row.update({"warnings": "", **dict.fromkeys(TIMING_COLUMNS, 0.0), "scores": {}})
+    if kind == "spec":
+        row["source"] = payload.hand
+        row.update(_pose_columns(payload.object))
+    elif kind == "scene":
+        row["source"] = payload
+    else:
+        row["source"] = payload[0]
+        row.update(_pose_columns(payload[3]))
+    return row
+
+
+def _no_grasp_values(score: Score) -> dict[str, float]:
+    """The score of a record that is not a grasp: the score's ``no_grasp`` (default ``score`` 0)."""
+    values = getattr(score, "no_grasp", None)
+    return _score_values(values) if isinstance(values, Mapping) else {"score": 0.0}
+
+
 def evaluate_one(task: tuple[int, str, str, Any], score: Score) -> dict[str, Any]:
-    """One grasp's row (never raises on a bad grasp: its error is recorded in the row)."""
+    """One grasp's row (never raises on a bad grasp: its status, reason and error are in the row)."""
     from ..solvers.threads import single_threaded_blas
 
-    index, gid, kind, payload = task
-    row: dict[str, Any] = {"index": index, "id": gid, "source": "", "status": "error", "n_contacts": 0}
-    row.update({"command": "", **_pose_columns(None), "error_type": "", "error_message": ""})
-    row.update({"warnings": "", **dict.fromkeys(TIMING_COLUMNS, 0.0), "scores": {}})
+    kind, payload = task[2], task[3]
+    row = _empty_row(task)
     t0 = time.perf_counter()
     with warnings.catch_warnings(record=True) as caught, single_threaded_blas():
         warnings.simplefilter("always")
@@ -198,8 +233,11 @@ def evaluate_one(task: tuple[int, str, str, Any], score: Score) -> dict[str, Any
             row["time_score"] = time.perf_counter() - t1
             row["status"] = "ok"
         except Exception as exc:  # one bad grasp never stops the batch
+            row["status"], row["reason"] = classify(exc)
             row["error_type"] = type(exc).__name__
             row["error_message"] = " ".join(str(exc).split())
+            if row["status"] == "no_grasp":
+                row["scores"] = _no_grasp_values(score)
     seen = dict.fromkeys(f"{w.category.__name__}: {' '.join(str(w.message).split())}" for w in caught)
     row["warnings"] = "; ".join(seen)
     row["time_total"] = time.perf_counter() - t0
@@ -210,12 +248,55 @@ def _evaluate_chunk(chunk: Sequence[tuple], score: Score) -> list[dict[str, Any]
     return [evaluate_one(task, score) for task in chunk]
 
 
+def failure_row(task: tuple[int, str, str, Any], failure: TaskFailure) -> dict[str, Any]:
+    """The row of a grasp that produced none: its worker died on every attempt
+    (``worker_crashed``), it hit the opt-in time limit (``timeout``) or the evaluation raised."""
+    row = _empty_row(task)
+    row["status"], row["reason"] = POOL_REASONS[failure.kind], failure.kind
+    row["error_type"] = {"worker_crashed": "WorkerCrashed", "timeout": "Timeout"}.get(
+        failure.kind, "Exception"
+    )
+    row["error_message"] = failure.detail
+    row["time_total"] = float(failure.seconds)
+    return row
+
+
 def _pandas() -> Any:
     try:
         import pandas
     except ImportError:
         raise MissingDependencyError("pandas", "evaluate_grasps", extra="tables") from None
     return pandas
+
+
+def score_columns(score: Score, rows: Sequence[dict[str, Any]]) -> list[str]:
+    """The score's columns: its ``columns`` attribute if it has one, else ``score`` then the
+    keys the rows returned (so ``score`` is a column even when every row is an error)."""
+    declared = getattr(score, "columns", None)
+    names: dict[str, None] = dict.fromkeys(declared if isinstance(declared, (tuple, list)) else ("score",))
+    for r in rows:
+        names.update(dict.fromkeys(r["scores"]))
+    return list(names)
+
+
+def results_frame(rows: Sequence[dict[str, Any]], score: Score) -> Any:
+    """The table of rows (any order): sorted by ``index``, every column present, fixed dtypes."""
+    pd = _pandas()
+    rows = sorted(rows, key=lambda r: r["index"])
+    names = score_columns(score, rows)
+    table = []
+    for r in rows:
+        table.append({k: v for k, v in r.items() if k != "scores"})
+        table[-1].update({k: r["scores"].get(k, math.nan) for k in names})
+    columns = [*BASE_COLUMNS, *names, *TAIL_COLUMNS]
+    df = pd.DataFrame(table, columns=columns)
+    return df.astype({"index": "int64", "n_contacts": "int64", **dict.fromkeys(names, "float64")})
+
+
+def _tasks(grasps: object) -> list[tuple[int, str, str, Any]]:
+    if isinstance(grasps, (str, bytes, Mapping)) or not isinstance(grasps, Sequence):
+        raise InvalidInputError("grasps", f"expected a list of grasp records, got {type(grasps).__name__}")
+    return [_task(i, g) for i, g in enumerate(grasps)]
 
 
 def evaluate_grasps(
@@ -227,84 +308,168 @@ def evaluate_grasps(
     address: str | None = None,
     progress: Callable[[int, int], None] | None = None,
     chunksize: int = 1,
+    out: str | os.PathLike | None = None,
+    resume: bool = False,
+    timeout: float | None = None,
 ) -> Any:
-    """Score a batch of grasps, one row each, on a local process pool, Ray or Dask.
+    """Score a batch of grasps, one row each, on local processes, Ray or Dask.
 
     Args:
         grasps: Grasp records: :class:`~pinograsp.batch.grasps.GraspSpec` (or a mapping of its
             fields), a scene name or YAML path, ``{"scene": ..., "id": ...}``, or a loaded
             :class:`~pinograsp.scenes.loading.Scene` (its model and preload are shipped).
         score: ``score(model, command) -> {name: float}``; default :class:`WorstAxisScore`.
-            Must be picklable for Ray, Dask and non-fork process pools (cloudpickle: lambdas
-            are fine for Ray and Dask; a local pool on Linux forks and needs nothing).
-        executor: ``"local"`` (``concurrent.futures.ProcessPoolExecutor``; ``workers=1``: in
-            this process), ``"ray"``, ``"dask"``, a ``dask.distributed.Client`` or any
-            ``concurrent.futures.Executor``.
+            Optional attributes: ``columns`` (the table's score columns, present even when
+            every row is an error) and ``no_grasp`` (values of a record that is not a grasp;
+            default ``{"score": 0.0}``). Must be picklable for Ray, Dask and non-fork process
+            pools (cloudpickle: lambdas are fine for Ray and Dask; the local pool on Linux
+            forks and needs nothing).
+        executor: ``"local"`` (pinograsp's own process pool, :mod:`.pool`; ``workers=1``
+            without ``timeout``: in this process), ``"ray"``, ``"dask"``, a
+            ``dask.distributed.Client`` or any ``concurrent.futures.Executor``.
         workers: Local processes, Ray tasks in flight or Dask local workers (``0`` or ``None``:
             one per CPU; on an existing cluster ``None`` uses all of it).
         address: An existing Ray (``"auto"``) or Dask (``"tcp://host:8786"``) cluster.
         progress: ``progress(done, total)`` as grasps finish (in this process).
         chunksize: Grasps per task.
+        out: The table file (``.csv`` or ``.parquet``), checked before any work starts; rows
+            are journaled to ``<out>.partial.jsonl`` as they finish, and the table is written
+            atomically at the end (then the journal is removed).
+        resume: Keep the finished rows of ``out``'s journal (same batch and score) and
+            evaluate only the others: the same table as an uninterrupted run.
+        timeout: Opt-in per-grasp wall-clock limit [s] (local executor): a grasp still running
+            after it is a ``"timeout"`` row, never a number. Whether it is hit depends on the
+            machine: leave it ``None`` for reproducible tables.
 
     Returns:
         A ``pandas.DataFrame``, one row per grasp in input order: :data:`BASE_COLUMNS`, the
-        score's keys (NaN in error rows), :data:`TAIL_COLUMNS`. ``status`` is ``"ok"`` or
-        ``"error"``; ``command`` the preload as JSON ``{actuator: value}`` [N·m or N];
-        ``obj_*`` the object pose (hand base frame, [m] and roll-pitch-yaw [rad]).
+        score's columns, :data:`TAIL_COLUMNS`. ``status`` is ``"ok"``, ``"no_grasp"`` (an
+        answer: score 0), ``"timeout"`` or ``"error"``, ``reason`` the typed cause
+        (:mod:`pinograsp.batch.rows`); ``command`` the preload as JSON ``{actuator: value}``
+        [N·m or N]; ``obj_*`` the object pose (hand base frame, [m] and roll-pitch-yaw [rad]).
 
     Raises:
-        InvalidInputError: A malformed record, executor or option.
+        InvalidInputError: A malformed record, executor or option, or ``out`` not writable.
         MissingDependencyError: pandas, or the chosen executor's package, is not installed.
+        Interrupted: Ctrl-C or SIGTERM: pending work cancelled, workers stopped, the finished
+            rows kept in the journal (a ``KeyboardInterrupt``; ``exit_code`` 130 or 143).
     """
-    pd = _pandas()
-    if isinstance(grasps, (str, bytes, Mapping)) or not isinstance(grasps, Sequence):
-        raise InvalidInputError("grasps", f"expected a list of grasp records, got {type(grasps).__name__}")
-    tasks = [_task(i, g) for i, g in enumerate(grasps)]
+    _pandas()
+    tasks = _tasks(grasps)
     score = WorstAxisScore() if score is None else score
     if not callable(score):
         raise InvalidInputError("score", f"expected a callable score(model, command), got {score!r}")
+    _no_grasp_values(score)  # a malformed no_grasp mapping is refused before any work
     size = whole_number("chunksize", chunksize)
-    chunks = [tasks[i : i + size] for i in range(0, len(tasks), size)]
-    results = run_chunks(
-        _evaluate_chunk,
-        chunks,
-        (score,),
-        executor=executor,
-        workers=workers,
-        address=address,
-        progress=progress,
-        sizes=[len(c) for c in chunks],
-    )
-    rows = [r for chunk in results for r in chunk]
-    names: dict[str, None] = {}
-    for r in rows:
-        names.update(dict.fromkeys(r["scores"]))
-    table = [{**r, **{k: r["scores"].get(k, math.nan) for k in names}} for r in rows]
-    columns = [*BASE_COLUMNS, *names, *TAIL_COLUMNS]
-    return pd.DataFrame(table, columns=columns)
+    timeout = None if timeout is None else positive_number("timeout", timeout)
+    check_executor(executor, address, timeout)
+    journal = _journal(out, resume)
+    where = {"executor": executor, "workers": workers, "address": address, "timeout": timeout}
+    try:  # the journal is closed (and unlocked) whatever happens
+        done = {} if journal is None else _finished(journal, tasks, score, resume)
+        rows = _run(tasks, done, score, size, journal, progress, where)
+        table = results_frame(rows, score)
+        if journal is not None:
+            write_table(table, journal.table, name="out")
+            journal.finish()
+    finally:
+        if journal is not None:
+            journal.close()
+    return table
 
 
-def output_format(path: object) -> Literal["csv", "parquet"]:
-    """The table format of ``path`` by its suffix (checked before a long batch starts).
+def _journal(out: object, resume: object) -> Journal | None:
+    """The journal of the checked table path ``out`` (None without ``out``)."""
+    if not isinstance(resume, bool):
+        raise InvalidInputError("resume", f"expected True or False, got {resume!r}")
+    if resume and out is None:
+        raise InvalidInputError("resume", "needs out=: the table whose journal holds the finished rows")
+    return None if out is None else Journal(check_output(out))
 
-    Raises:
-        InvalidInputError: Not a ``.csv``, ``.parquet`` or ``.pq`` path.
-        MissingDependencyError: Parquet without pyarrow (``pip install "pinograsp[parquet]"``).
-    """
-    suffix = Path(str(path)).suffix.lower() if isinstance(path, (str, os.PathLike)) else ""
-    if suffix == ".csv":
-        return "csv"
-    if suffix in (".parquet", ".pq"):
-        try:
-            import pyarrow  # noqa: F401
-        except ImportError:
-            raise MissingDependencyError("pyarrow", "Parquet output", extra="parquet") from None
-        return "parquet"
-    raise InvalidInputError("path", f"expected a .csv or .parquet file, got {path!r}")
+
+def _finished(
+    journal: Journal, tasks: list[tuple], score: Score, resume: bool
+) -> dict[tuple[int, str], dict]:
+    """Start the journal; the finished rows ``{(index, id): row}`` of a resume (from the journal,
+    or from the table of a batch that finished)."""
+    finished = resume and not journal.path.is_file() and journal.table.is_file()
+    done = journal.start(fingerprint(tasks, score), len(tasks), resume)
+    return _table_rows(journal.table, tasks, score) if finished else done
+
+
+#: Text columns of a table.
+TEXT_COLUMNS = ("id", "source", "status", "reason", "command", "error_type", "error_message", "warnings")
+
+
+def _table_rows(path: Path, tasks: list[tuple], score: Score) -> dict[tuple[int, str], dict]:
+    """The rows of a finished table ``{(index, id): row}`` for ``resume`` (its grasps must be this
+    batch's, its columns this score's)."""
+    df = read_table(path, TEXT_COLUMNS)
+    columns = list(df.columns)
+    names = columns[len(BASE_COLUMNS) : len(columns) - len(TAIL_COLUMNS)]
+    declared = getattr(score, "columns", None)
+    keys = {(t[0], t[1]) for t in tasks}
+    ends = (columns[: len(BASE_COLUMNS)], columns[len(columns) - len(TAIL_COLUMNS) :])
+    ok = ends == (list(BASE_COLUMNS), list(TAIL_COLUMNS))
+    if not ok or (isinstance(declared, (tuple, list)) and names[: len(declared)] != list(declared)):
+        raise InvalidInputError("resume", f"{str(path)!r} is not a table of this score: run without resume")
+    rows: dict[tuple[int, str], dict] = {}
+    for rec in df.to_dict("records"):
+        key = (int(rec["index"]), str(rec["id"]))
+        if key not in keys:
+            raise InvalidInputError(
+                "resume",
+                f"{str(path)!r} holds grasp {key[1]!r} (index {key[0]}) of another batch: run without resume",
+            )
+        row = {c: rec[c] for c in (*BASE_COLUMNS, *TAIL_COLUMNS)}
+        row.update(index=key[0], id=key[1], n_contacts=int(rec["n_contacts"]))
+        row["scores"] = {k: float(rec[k]) for k in names}
+        rows[key] = row
+    return rows
+
+
+def _run(
+    tasks: list[tuple],
+    done: dict[tuple[int, str], dict],
+    score: Score,
+    size: int,
+    journal: Journal | None,
+    progress: Callable[[int, int], None] | None,
+    where: dict[str, Any],
+) -> list[dict[str, Any]]:
+    """The rows of every task: the finished ones (``done``) and the others, evaluated in chunks
+    of ``size`` on ``where`` (executor options), journaled as they finish."""
+    rows = list(done.values())
+    todo = [t for t in tasks if (t[0], t[1]) not in done]
+    chunks = [todo[i : i + size] for i in range(0, len(todo), size)]
+
+    def arrived(i: int, result: Any) -> None:
+        new = [failure_row(t, result) for t in chunks[i]] if isinstance(result, TaskFailure) else result
+        rows.extend(new)
+        if journal is not None:
+            journal.append(new)
+
+    def counted(d: int, t: int) -> None:
+        if progress is not None:
+            progress(d + len(done), t + len(done))
+
+    try:
+        with interruptible():
+            run_chunks(
+                _evaluate_chunk, chunks, (score,), progress=counted if progress is not None else None,
+                sizes=[len(c) for c in chunks], on_result=arrived, **where,
+            )  # fmt: skip
+    except KeyboardInterrupt as exc:
+        if journal is not None:
+            journal.close()
+        signum = exc.signum if isinstance(exc, Interrupted) else 2
+        raise Interrupted(signum, len(rows), len(tasks), journal and journal.path) from None
+    return rows
 
 
 def save_results(table: Any, path: object) -> Path:
-    """Write a batch table to ``.csv`` or ``.parquet`` (by the suffix; no index column).
+    """Write a batch table to ``.csv`` or ``.parquet`` (by the suffix; no index column),
+    atomically (a temporary file renamed over ``path``).
 
     Returns:
         The path written (parent folders are created).
@@ -313,6 +478,4 @@ def save_results(table: Any, path: object) -> Path:
         InvalidInputError: Another suffix, or the path cannot be written.
         MissingDependencyError: Parquet without pyarrow (``pip install "pinograsp[parquet]"``).
     """
-    if output_format(path) == "csv":
-        return writing(path, lambda p: table.to_csv(p, index=False), name="path")
-    return writing(path, lambda p: table.to_parquet(p, index=False), name="path")
+    return write_table(table, path, name="path")

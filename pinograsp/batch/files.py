@@ -28,6 +28,9 @@ GRASP_KEYS = (
     "q",
     "q_open",
     "step",
+    "tolerance",
+    "max_penetration",
+    "max_steps",
     "mu",
     "stiffness",
     "command",
@@ -122,8 +125,12 @@ def _grasp_fields(f: SceneFile, g: Mapping, key: str) -> dict[str, Any]:
             kw[k] = _values(f, v, kk)
             if k == "q_open" and not isinstance(v, Mapping):
                 raise f.error(kk, "expected a mapping joint -> value [rad or m]")
-        elif k in ("step", "stiffness", "max_command"):
+        elif k in ("step", "stiffness", "max_command", "tolerance"):
             kw[k] = f.number(v, kk, positive=True)
+        elif k == "max_penetration":
+            kw[k] = f.number(v, kk, nonneg=True)
+        elif k == "max_steps":
+            kw[k] = f.integer(v, kk)
         elif k == "mu":
             kw[k] = f.number(v, kk, nonneg=True)
         elif k == "command":

@@ -157,6 +157,12 @@ class GraspSpec:
             hand joint; ``None``: auto-close (``Hand.close_on``) from ``q_open``.
         q_open: Open configuration of the auto-close ``{joint: value}`` (default: the description's).
         step: Largest joint step of the auto-close [rad].
+        tolerance: Contact tolerance [m] of the auto-close and of the contact detection
+            (``None``: the default, 1 mm).
+        max_penetration: Deepest accepted overlap of a link into the object [m], for the
+            auto-close and the contact detection (``None``: the default, 5 mm); deeper is a
+            ``PenetrationError`` (a ``no_grasp`` row, reason ``penetration``).
+        max_steps: Step limit of the auto-close (a count).
         mu: Friction coefficient of every contact.
         stiffness: Normal stiffness of every contact [N/m].
         command: ``"auto"`` (``pg.equilibrium_preload``), a number (every actuator) or
@@ -178,6 +184,9 @@ class GraspSpec:
     q: tuple[tuple[str, float], ...] | tuple[float, ...] | None = None
     q_open: tuple[tuple[str, float], ...] | None = None
     step: float = 0.03
+    tolerance: float | None = None
+    max_penetration: float | None = None
+    max_steps: int = 2000
     mu: float = 0.5
     stiffness: float = 1.0
     command: Literal["auto"] | float | tuple[tuple[str, float], ...] = "auto"
@@ -210,6 +219,14 @@ class GraspSpec:
             object.__setattr__(self, "q_open", _pairs("q_open", dict(self.q_open)))
         for key in ("step", "max_command"):
             object.__setattr__(self, key, positive_number(key, getattr(self, key)))
+        if self.tolerance is not None:
+            object.__setattr__(self, "tolerance", positive_number("tolerance", self.tolerance))
+        if self.max_penetration is not None:
+            depth = finite_number("max_penetration", self.max_penetration)
+            if depth < 0:
+                raise InvalidInputError("max_penetration", f"must be >= 0 [m], got {self.max_penetration!r}")
+            object.__setattr__(self, "max_penetration", depth)
+        object.__setattr__(self, "max_steps", whole_number("max_steps", self.max_steps))
         mu = finite_number("mu", self.mu)
         if mu < 0:
             raise InvalidInputError("mu", f"must be >= 0, got {self.mu!r}")
@@ -345,34 +362,65 @@ def build_grasp(spec: GraspSpec) -> tuple[Any, dict[str, float], dict[str, float
         contacts) and ``preload`` (the ``"auto"`` preload design).
 
     Raises:
-        PinograspError: the hand cannot be loaded, nothing touches, no preload is found, ...
+        NoContactError: Nothing touches.
+        PenetrationError: A link is deeper in the object than ``max_penetration``.
+        NoPreloadError: ``command="auto"`` and no preload exists (or none was verified).
+        PinograspError: the hand cannot be loaded, ...
     """
     import time
 
-    from ..errors import PreloadNotInEquilibriumError
+    from ..errors import ModelError, NoPreloadError
     from ..robots.grasp import grasp_model_from_scene
 
     t0 = time.perf_counter()
     hand = load_hand(spec)
     obj = spec.object.to_object()
+    contact: dict[str, Any] = {} if spec.tolerance is None else {"tolerance": spec.tolerance}
+    if spec.max_penetration is not None:
+        contact["max_penetration"] = spec.max_penetration
     if spec.q is None:
-        q = hand.close_on(obj, None if spec.q_open is None else dict(spec.q_open), step=spec.step)
+        q = _close(hand, obj, spec, contact)
     else:
         q = hand.configuration(
             _with_mimics(hand, spec.q) if spec.q and isinstance(spec.q[0], tuple) else list(spec.q)
         )
-    model = grasp_model_from_scene(hand, q, obj, mu=spec.mu, stiffness=spec.stiffness)
+    try:
+        model = grasp_model_from_scene(hand, q, obj, mu=spec.mu, stiffness=spec.stiffness, **contact)
+    except ModelError as exc:
+        if exc.argument != "contacts":
+            raise
+        raise NoPreloadError(  # only fixed links (the palm) touch: no actuator can press the object
+            f"{exc}; no actuator can press the object, so no preload exists"
+        ) from exc
     t1 = time.perf_counter()
     if spec.command == "auto":
         from ..analysis.preload import equilibrium_preload
 
+        if not any(kind != "locked" for kind in model.kinds):
+            raise NoPreloadError(
+                f"no driving actuator reaches the contacts {list(model.contact_names)} (their links are "
+                "carried by locked or undriven joints only)"
+            )
         pre = equilibrium_preload(model, spec.preload_method, max_command=spec.max_command)
-        if pre.status != "found":
-            raise PreloadNotInEquilibriumError(None, f"no auto preload ({pre.status}): {pre.reason}")
-        command = dict(pre.command or {})  # "found": a command
+        if pre.status != "found" or pre.command is None:
+            raise NoPreloadError(pre.reason, pre.status, pre.unloadable_contacts, pre.unbalanced_actuators)
+        command = dict(pre.command)
     elif isinstance(spec.command, tuple):
         command = {a: 0.0 for a in model.all_actuator_names} | dict(spec.command)
     else:
         command = dict.fromkeys(model.all_actuator_names, float(spec.command))
     model.command_vector(command)  # validated here: a bad command is this grasp's error
     return model, command, {"build": t1 - t0, "preload": time.perf_counter() - t1}
+
+
+def _close(hand: Any, obj: Any, spec: GraspSpec, contact: dict[str, Any]) -> Any:
+    """``hand.close_on`` with the spec's closing options (``max_penetration`` where the
+    auto-close takes it)."""
+    import inspect
+
+    from ..robots.autoclose import close_on
+
+    options: dict[str, Any] = {"step": spec.step, "max_steps": spec.max_steps}
+    options.update({k: v for k, v in contact.items() if k in inspect.signature(close_on).parameters})
+    q_open = None if spec.q_open is None else dict(spec.q_open)
+    return close_on(hand, obj, q_open, **options)

@@ -6,6 +6,8 @@ from __future__ import annotations
 
 import argparse
 import json
+import signal
+import sys
 import time
 from typing import Any
 
@@ -254,15 +256,28 @@ def cmd_optimal_preload(args: argparse.Namespace) -> int:
     return 0
 
 
-def cmd_batch(args: argparse.Namespace) -> int:
-    """``pinograsp batch GRASPS.yaml``: score every grasp of the file; a summary, ``--out`` table."""
-    from ..batch.evaluate import output_format
+def signal_name(signum: int) -> str:
+    """``"SIGINT"`` for 2, ..."""
+    try:
+        return signal.Signals(signum).name
+    except ValueError:
+        return f"signal {signum}"
 
+
+def cmd_batch(args: argparse.Namespace) -> int:
+    """``pinograsp batch GRASPS.yaml``: score every grasp of the file; a summary, ``--out`` table.
+
+    ``--out`` is checked before any work; rows are journaled next to it as they finish;
+    ``--resume`` keeps the journal's finished rows; Ctrl-C/SIGTERM keeps what finished and
+    exits 130/143 (docs/batch.md, "Faults, interruption and resume")."""
+    from ..batch.journal import check_output
+    from ..batch.pool import Interrupted
+    from ..batch.rows import reason_counts
+
+    if args.resume and not args.out:
+        raise InvalidInputError("--resume", "needs --out (the table whose journal holds the finished rows)")
     if args.out:
-        try:
-            output_format(args.out)
-        except InvalidInputError as exc:
-            raise InvalidInputError("--out", str(exc).split(": ", 1)[-1]) from None
+        check_output(args.out, "--out")
     batch = pg.load_grasps(args.grasps)
     options = dict(batch.score)
     for key in ("upper", "steps", "method"):
@@ -274,21 +289,31 @@ def cmd_batch(args: argparse.Namespace) -> int:
     try:
         table = pg.evaluate_grasps(
             list(batch.grasps), score=score, executor=args.executor, workers=args.workers,
-            address=args.address, progress=bar,
+            address=args.address, progress=bar, out=args.out, resume=args.resume, timeout=args.timeout,
         )  # fmt: skip
+    except Interrupted as exc:
+        bar.close()
+        kept = f"; kept in {exc.journal} (rerun with --resume to finish)" if exc.journal else ""
+        print(f"\npinograsp: interrupted ({signal_name(exc.signum)}): {exc.done} of {exc.total} grasps "
+              f"finished{kept}", file=sys.stderr)  # fmt: skip
+        return exc.exit_code
     finally:
         bar.close()
     wall = time.perf_counter() - t0
+    counts = reason_counts(table)
+    by_status = counts.groupby("status", sort=False)["rows"].sum()
+    lines = [f"{len(table)} grasps from {args.grasps}: "
+             + ", ".join(f"{n} {s}" for s, n in by_status.items())
+             + f" ({wall:.1f} s, {len(table) / wall:.2f} grasps/s, executor {args.executor})"]  # fmt: skip
+    for r in counts.itertuples():
+        if r.status != "ok":
+            lines.append(f"  {r.status} {r.reason}: {r.rows}")
     ok = table[table["status"] == "ok"]
-    lines = [f"{len(table)} grasps from {args.grasps}: {len(ok)} ok, {len(table) - len(ok)} errors "
-             f"({wall:.1f} s, {len(table) / wall:.2f} grasps/s, executor {args.executor})"]  # fmt: skip
-    for kind, n in table.loc[table["status"] == "error", "error_type"].value_counts().items():
-        lines.append(f"  error {kind}: {n}")
-    if len(ok) and "score" in ok:
+    if len(ok):
         q = ok["score"].quantile([0.0, 0.5, 1.0]).tolist()
-        lines.append(f"score [N] (worst axis, {score.method}, upper {score.upper:g}, steps {score.steps}): "
-                     f"min {q[0]:.4g}, median {q[1]:.4g}, max {q[2]:.4g}")  # fmt: skip
+        lines.append(f"score [N] of the ok rows (worst axis, {score.method}, upper {score.upper:g}, "
+                     f"steps {score.steps}): min {q[0]:.4g}, median {q[1]:.4g}, max {q[2]:.4g}")  # fmt: skip
     if args.out:
-        lines.append(f"wrote {pg.save_results(table, args.out)}")
+        lines.append(f"wrote {args.out}")
     print("\n".join(lines))
     return 0

@@ -12,6 +12,7 @@ Sub-commands::
     pinograsp preload SCENE [--objective balanced|least_norm]
     pinograsp optimal-preload SCENE -w W [-w W ...] [--budget B]
     pinograsp batch GRASPS.yaml [--executor local|ray|dask] [--workers N] [--out results.parquet]
+                    [--resume] [--timeout SECONDS]
     pinograsp simulate SCENE -d DIRECTION [--compare] [--upper N] [--preload NAME]
 
 ``SCENE`` is a built-in scene name (``pinograsp scenes``) or the path of a scene YAML file.
@@ -98,11 +99,11 @@ def _run(args: argparse.Namespace, debug: bool) -> int:
         msg = " ".join(str(exc).split())
         print(f"pinograsp: error: {msg}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as exc:
         if debug:
             raise
         print("\npinograsp: interrupted", file=sys.stderr)
-        return 130
+        return int(getattr(exc, "exit_code", 130))
     except BrokenPipeError:  # pragma: no cover - e.g. `pinograsp ... | head`
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 1

@@ -297,7 +297,23 @@ def _add_batch(sub: argparse._SubParsersAction) -> None:
     b.add_argument("--executor", choices=("local", "ray", "dask"), default="local")
     b.add_argument("--workers", type=int, help="processes / Ray tasks / Dask workers (0: one per CPU)")
     b.add_argument("--address", help="existing cluster: Ray 'auto' or ray://..., Dask tcp://host:8786")
-    b.add_argument("--out", help="results table: .parquet or .csv (default: print a summary only)")
+    b.add_argument(
+        "--out",
+        help="results table: .parquet or .csv, checked before any work; rows are journaled to "
+        "OUT.partial.jsonl as they finish and the table is written atomically at the end",
+    )
+    b.add_argument(
+        "--resume",
+        action="store_true",
+        help="keep the finished rows of OUT.partial.jsonl (an interrupted run) and evaluate the others",
+    )
+    b.add_argument(
+        "--timeout",
+        type=float,
+        metavar="SECONDS",
+        help="opt-in per-grasp wall-clock limit: a grasp still running is a 'timeout' row (machine-"
+        "dependent: leave unset for reproducible tables)",
+    )
     b.add_argument("--upper", type=float, help="score search limit [N] (default: the file's score block)")
     b.add_argument("--steps", type=int, help="score search steps (default: the file's score block)")
     b.add_argument(
