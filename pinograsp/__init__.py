@@ -73,6 +73,7 @@ if TYPE_CHECKING:
     from .batch.grasps import GraspSpec as GraspSpec
     from .batch.grasps import ObjectSpec as ObjectSpec
     from .batch.grasps import sample_grasps as sample_grasps
+    from .batch.rows import reason_counts as reason_counts
     from .core import examples as examples
     from .robots.autoclose import close_on as close_on
     from .robots.closing import ClosingCheck as ClosingCheck

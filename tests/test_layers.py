@@ -193,7 +193,7 @@ def test_no_cycles_between_layers():
 
 #: Stand-ins still present while issue 24 item 3 replaces ``solver: Any`` by a typed protocol in
 #: the stages and response assembly (branch h-registry). Empty this set when they are gone.
-BEING_REPLACED = {"analysis.assemble: Solver = Any", "analysis.stages: Solver = Any"}
+BEING_REPLACED: set[str] = set()
 
 
 def test_no_any_stand_in_aliases():
