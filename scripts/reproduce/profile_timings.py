@@ -42,7 +42,8 @@ def main() -> None:
         for name, n in (("case1", 72), ("case2", 24)):
             dt, cpu, digest, solves = run(name, n)
             print(
-                f"{name} n={n}: wall {dt:.2f} s, cpu {cpu:.2f} s, solves={solves}, magnitudes sha256 {digest}",
+                f"{name} n={n}: wall {dt:.2f} s, cpu {cpu:.2f} s, solves={solves}, "
+                f"magnitudes sha256 {digest}",
                 flush=True,
             )
 
