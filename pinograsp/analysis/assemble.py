@@ -138,14 +138,14 @@ def _energy(
 def _audit(
     solver: SolveContext,
     raw: RawSolution,
+    lay: Layout,
     z: np.ndarray,
     st: Stage,
     ph: _Physical,
     energy: EnergyCheck | None,
 ) -> Audit:
     """Residual checks of the solution ``raw`` (variables ``z``) in force units [N]."""
-    m, f, lay = solver.model, solver.form, raw.layout
-    assert lay is not None  # a solution with variables has a layout
+    m, f = solver.model, solver.form
     hand = (
         (m.J.T @ ph.c - m.R @ ph.fa - m.C.T @ ph.lam) / np.where(f.lever > 0, f.lever, 1.0)
         if m.nq
@@ -209,7 +209,7 @@ def build_response(
     z, lay, mode = raw.z, raw.layout, raw.mode
     ph = _physical(solver, lay, z, w6, st, pre)
     energy = _energy(solver, w6, fc, st, pre, ph) if status == "resisted" else None  # an equilibrium
-    audit = _audit(solver, raw, z, st, ph, energy)
+    audit = _audit(solver, raw, lay, z, st, ph, energy)
     slip = _slip(solver, lay, z, st, ph)
     if energy is not None and not (energy.energy_ok and energy.displacement_ok):
         warnings.warn(audit_message(name, energy), AuditWarning, stacklevel=6)
