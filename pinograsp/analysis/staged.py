@@ -37,16 +37,17 @@ def preload_method_of(method: AnalysisMethod, variant: Variant) -> Method:
 
 
 def _preload_beta(pre: Stage) -> np.ndarray:
-    """Friction-edge weights [N] (nb,) of a converged preload stage."""
+    """Scaled friction-edge weights (nb,) of a converged preload stage (times ``pre.data.F``:
+    [N])."""
     raw = pre.raw
     if raw is None or raw.z is None or raw.layout is None:
         raise SolverError("a converged preload stage carries no solution", status="failed")
-    return raw.z[raw.layout.beta] * pre.data.F
+    return raw.z[raw.layout.beta]
 
 
 def precompression(session: SessionLike, pre: Stage) -> np.ndarray:
     """Spring pre-compression [N] (nc,) left by a converged preload stage."""
-    return session.form.E @ _preload_beta(pre)
+    return session.form.E @ _preload_beta(pre) * pre.data.F
 
 
 def carried(
@@ -60,7 +61,8 @@ def carried(
     m = session.model
     if not method.carries_residual or pre_method.exact:
         return np.zeros(m.nw)
-    return -(m.G @ (m.D @ _preload_beta(pre)))
+    beta = _preload_beta(pre) * pre.data.F
+    return -(m.G @ (m.D @ beta))
 
 
 def _preload(
