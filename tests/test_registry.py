@@ -3,19 +3,28 @@ profiles that record failed directions (issues #24 items 1-4, #27 item 9)."""
 
 from __future__ import annotations
 
+import json
 import re
 from pathlib import Path
 
 import numpy as np
 import pytest
-from clirun import run, run_json
 
 import pinograsp as pg
 from pinograsp.analysis.registry import available_methods, get_method, resolve_search
+from pinograsp.cli import main
 from pinograsp.core import examples
 from pinograsp.solvers import BACKENDS, Formulation, ProblemKind, available_backends, build_problem
 
 PACKAGE = Path(pg.__file__).parent
+
+
+def run(capsys, *argv: str) -> tuple[int, str]:
+    """Exit code and stdout of ``pinograsp ARGV`` (in this process)."""
+    rc = main(list(argv))
+    return rc, capsys.readouterr().out
+
+
 F_MAX = 10.0  # the pinch's closed form 2 mu tau0 / L [N] along +y
 
 
@@ -182,11 +191,9 @@ def test_profile_records_failed_directions_and_keeps_the_others(pinch, capsys, t
     text = (PACKAGE / "data" / "scenes" / "pinch.yaml").read_text()
     scene = tmp_path / "pinch_limited.yaml"
     scene.write_text(text.replace("analysis:\n", "analysis:\n  max_nodes: 1\n"))
-    rc, out, _ = run(
-        capsys, "profile", str(scene), "-n", "8", "--upper", "50", "--steps", "8", "--method", "prp"
-    )
+    argv = ("profile", str(scene), "-n", "8", "--upper", "50", "--steps", "8", "--method", "prp")
+    rc, out = run(capsys, *argv)
     assert rc == 0 and f"{len(failed)} direction(s) FAILED" in out and "45° (node_limit)" in out
-    data = run_json(
-        capsys, "profile", str(scene), "-n", "8", "--upper", "50", "--steps", "8", "--method", "prp"
-    )
+    rc, out = run(capsys, *argv, "--json")
+    data = json.loads(out)
     assert data["statuses"] == list(p.statuses) and [f["index"] for f in data["failures"]] == failed

@@ -10,9 +10,10 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..core.audit import EnergyCheck, audit_message, energy_check, friction_use
-from ..core.results import Audit, PassiveResponse
+from ..core.results import Audit, ContactState, PassiveResponse, ResponseStatus
 from ..core.settings import Variant
 from ..errors import AuditWarning
+from ..solvers.base import RawSolution
 from ..solvers.formulation import Layout
 from .context import SolveContext
 from .stages import Stage
@@ -37,7 +38,7 @@ class _Physical:
     net: np.ndarray  # net wrench on the object (reduced)
 
 
-def _nan_response(solver: SolveContext, status: str, common: dict[str, Any]) -> PassiveResponse:
+def _nan_response(solver: SolveContext, status: ResponseStatus, common: dict[str, Any]) -> PassiveResponse:
     """No solution: every quantity is NaN."""
     m = solver.model
 
@@ -67,11 +68,12 @@ def _nan_response(solver: SolveContext, status: str, common: dict[str, Any]) -> 
 
 
 def _physical(
-    solver: SolveContext, lay: Layout, w6: np.ndarray, st: Stage, pre: Stage | None, pre_lay: Layout | None
+    solver: SolveContext, lay: Layout, z: np.ndarray, w6: np.ndarray, st: Stage, pre: Stage | None
 ) -> _Physical:
-    """Unscale the stage's solution and add the preload stage's displacements (when solved)."""
+    """Unscale the stage's solution ``z`` and add the preload stage's displacements (when
+    solved)."""
     m, f = solver.model, solver.form
-    z, F = st.raw.z, st.data.F
+    F = st.data.F
     beta = z[lay.beta] * F
     c = m.D @ beta  # (nc*d,)
     cf = np.zeros((m.nc, 3))
@@ -81,18 +83,19 @@ def _physical(
     q = z[lay.qh] * F / f.qscale if m.nq else np.zeros(0)
     x = f.unscale_x(st.xh, F)
     x_load = m.expand_twist(x)
-    if pre is not None and pre.raw is not None and pre.raw.z is not None and pre_lay is not None:
-        q = q + pre.raw.z[pre_lay.qh] * pre.data.F / f.qscale
+    pre_raw = pre.raw if pre is not None else None
+    if pre is not None and pre_raw is not None and pre_raw.z is not None and pre_raw.layout is not None:
+        q = q + pre_raw.z[pre_raw.layout.qh] * pre.data.F / f.qscale
         x = x + f.unscale_x(pre.xh, pre.data.F)
     u = m.R.T @ q
     net = m.G @ c + m.reduce_wrench(w6)
     return _Physical(beta, c, cf, fa, lam, q, x_load, x, u, net)
 
 
-def _complementarity(solver: SolveContext, lay: Layout, st: Stage, ph: _Physical) -> float:
+def _complementarity(solver: SolveContext, lay: Layout, z: np.ndarray, st: Stage, ph: _Physical) -> float:
     """Largest ``min(a, b)`` of the complementary pairs [N] (contact force / spring gap,
     actuator motion / over-force)."""
-    f, z, F = solver.form, st.raw.z, st.data.F
+    f, F = solver.form, st.data.F
     qh = z[lay.qh]
     slip = z[lay.slip] if lay.slip.stop > lay.slip.start else None
     gap = f.spring_gap(z[lay.beta], st.xh, qh, st.data.p, slip) * F
@@ -132,9 +135,17 @@ def _energy(
     )
 
 
-def _audit(solver: SolveContext, lay: Layout, st: Stage, ph: _Physical, energy: EnergyCheck | None) -> Audit:
-    """Residual checks of the solution in force units [N]."""
-    m, f, raw = solver.model, solver.form, st.raw
+def _audit(
+    solver: SolveContext,
+    raw: RawSolution,
+    lay: Layout,
+    z: np.ndarray,
+    st: Stage,
+    ph: _Physical,
+    energy: EnergyCheck | None,
+) -> Audit:
+    """Residual checks of the solution ``raw`` (variables ``z``) in force units [N]."""
+    m, f = solver.model, solver.form
     hand = (
         (m.J.T @ ph.c - m.R @ ph.fa - m.C.T @ ph.lam) / np.where(f.lever > 0, f.lever, 1.0)
         if m.nq
@@ -143,7 +154,7 @@ def _audit(solver: SolveContext, lay: Layout, st: Stage, ph: _Physical, energy: 
     return Audit(
         equilibrium=float(np.linalg.norm(ph.net * f.wscale)),
         hand=float(np.abs(hand).max(initial=0.0)),
-        complementarity=_complementarity(solver, lay, st, ph),
+        complementarity=_complementarity(solver, lay, z, st, ph),
         friction=float(max(0.0, -ph.beta.min(initial=0.0))),
         bigm_ratio=raw.bigm_ratio,
         bigm_retries=raw.bigm_retries,
@@ -195,12 +206,11 @@ def build_response(
     raw = st.raw
     if raw is None or raw.z is None or raw.layout is None or raw.mode is None:
         return _nan_response(solver, status, common)
-    lay = raw.layout
-    pre_lay = pre.raw.layout if pre is not None and pre.raw is not None else None
-    ph = _physical(solver, lay, w6, st, pre, pre_lay)
+    z, lay, mode = raw.z, raw.layout, raw.mode
+    ph = _physical(solver, lay, z, w6, st, pre)
     energy = _energy(solver, w6, fc, st, pre, ph) if status == "resisted" else None  # an equilibrium
-    audit = _audit(solver, lay, st, ph, energy)
-    slip = _slip(solver, lay, st, ph)
+    audit = _audit(solver, raw, lay, z, st, ph, energy)
+    slip = _slip(solver, lay, z, st, ph)
     if energy is not None and not (energy.energy_ok and energy.displacement_ok):
         warnings.warn(audit_message(name, energy), AuditWarning, stacklevel=6)
     resistible = status == "resisted"
@@ -217,28 +227,28 @@ def build_response(
         object_displacement=m.expand_twist(ph.x),
         joint_displacements=ph.q,
         actuator_displacements=ph.u,
-        contact_modes=tuple("touching" if t else "separated" for t in raw.mode.touching),
+        contact_modes=tuple("touching" if t else "separated" for t in mode.touching),
         actuator_modes=tuple(
             ("moving" if mv else "holding") if k == "non-backdrivable" else k
-            for k, mv in zip(m.kinds, raw.mode.moving)
+            for k, mv in zip(m.kinds, mode.moving)
         ),
         net_wrench=m.expand_wrench(ph.net),
         audit=audit,
-        friction_use=friction_use(ph.cf, m.mu, raw.mode.touching, audit.tolerance),
+        friction_use=friction_use(ph.cf, m.mu, mode.touching, audit.tolerance),
         converged=st.converged,
         solver=raw.backend,
-        contact_states=contact_states(ph.cf[:, 0], slip, m.k, raw.mode.touching, audit.tolerance),
+        contact_states=contact_states(ph.cf[:, 0], slip, m.k, mode.touching, audit.tolerance),
         contact_slip=slip,
         edge_counts=m.edge_counts,
         **common,
     )
 
 
-def _slip(solver: SolveContext, lay: Layout, st: Stage, ph: _Physical) -> np.ndarray:
+def _slip(solver: SolveContext, lay: Layout, z: np.ndarray, st: Stage, ph: _Physical) -> np.ndarray:
     """Slip of the object over the hand at each contact during the load stage, world frame
     (nc, 3) [m]: the tangential part of ``G^T x - J q``."""
     m = solver.model
-    q_stage = st.raw.z[lay.qh] * st.data.F / solver.form.qscale if m.nq else np.zeros(0)
+    q_stage = z[lay.qh] * st.data.F / solver.form.qscale if m.nq else np.zeros(0)
     v = m.G.T @ m.reduce_wrench(ph.x_load)
     if m.nq:
         v = v - m.J @ q_stage
@@ -249,10 +259,10 @@ def _slip(solver: SolveContext, lay: Layout, st: Stage, ph: _Physical) -> np.nda
 
 def contact_states(
     cn: np.ndarray, slip: np.ndarray, k: np.ndarray, touching: tuple[bool, ...], tol: float
-) -> tuple[str, ...]:
+) -> tuple[ContactState, ...]:
     """``"separated"`` (not touching or no normal force), ``"sliding"`` (slip above ``tol`` in
     spring-force units ``k |s|``) or ``"sticking"`` per contact."""
-    out = []
+    out: list[ContactState] = []
     for i, on in enumerate(touching):
         if not on or cn[i] <= tol:
             out.append("separated")

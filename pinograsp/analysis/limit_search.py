@@ -12,7 +12,7 @@ import warnings
 import numpy as np
 
 from ..core.audit import audit_message
-from ..core.results import MaxWrench, PassiveResponse
+from ..core.results import MaxWrench, MaxWrenchStatus, PassiveResponse
 from ..core.settings import Search
 from ..errors import AuditWarning, PreloadNotInEquilibriumError, SolverError, SolverTimeoutError
 from ..solvers.base import SolveStatus
@@ -72,6 +72,7 @@ def finish(q: LimitQuery, magnitude: float, at_upper: bool, response: PassiveRes
     """The :class:`MaxWrench` of a search that ended at ``magnitude`` (``at_upper``: ``upper``
     itself was resisted; the direction is unbounded only if the zero-preload limit says so)."""
     extra_time = 0.0
+    status: MaxWrenchStatus
     if at_upper:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", AuditWarning)

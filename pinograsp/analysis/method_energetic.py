@@ -27,7 +27,7 @@ class EnergeticMethod:
     load_kind: ProblemKind | None = ProblemKind.ENERGETIC
     load_factor_kind: ProblemKind | None = ProblemKind.ENERGETIC_LOAD
     default_variant = Variant.PRELOAD_FIRST
-    searches = (Search.DIRECT, Search.BISECTION)
+    searches: tuple[Search, ...] = (Search.DIRECT, Search.BISECTION)
     refines = True
     exact = True
     limit_point = True

@@ -26,7 +26,7 @@ class IterativeMethod:
     load_kind: ProblemKind | None = ProblemKind.MOVE
     load_factor_kind: ProblemKind | None = None  # a trajectory: no one-solve limit
     default_variant = Variant.PRELOAD_FIRST
-    searches = (Search.SECANT, Search.BISECTION)
+    searches: tuple[Search, ...] = (Search.SECANT, Search.BISECTION)
     refines = False
     exact = False  # converged to the tolerance eps + eps_rel F
     limit_point = False

@@ -25,7 +25,7 @@ class PrpMethod:
     load_kind: ProblemKind | None = ProblemKind.PRP
     load_factor_kind: ProblemKind | None = ProblemKind.LOAD
     default_variant = Variant.SINGLE_STEP
-    searches = (Search.BISECTION, Search.DIRECT)
+    searches: tuple[Search, ...] = (Search.BISECTION, Search.DIRECT)
     refines = True
     exact = True
     limit_point = False

@@ -179,7 +179,7 @@ def _solve_program(solver: PassiveSolver, loads: np.ndarray, spec: dict, task: s
             solver=solver.backend.name,
             status=raw.status.value,
         )
-    if raw.status == INFEASIBLE:
+    if raw.status == INFEASIBLE or raw.z is None:
         return False, None, None
     f = np.maximum(raw.z[prog.command], 0.0) * F / form.rho
     return True, f, raw.z[prog.factors]

@@ -183,6 +183,12 @@ class PassiveSolver:
             )
         return not self.model.planar
 
+    def _cone_tolerance(self) -> float:
+        tol = self.settings.cone_tolerance
+        if tol is None:
+            raise InvalidInputError("cone_tolerance", "refinement needs a tolerance [rad]")
+        return float(tol)
+
     def plain(self, model: GraspModel) -> PassiveSolver:
         """A session of ``model`` (a refinement of this one's) with these settings but no
         further refinement."""
@@ -207,9 +213,7 @@ class PassiveSolver:
             probe = sub.response(command, w6 * (lf.magnitude * (1.0 - 1e-6) / size), method)
             return r, (probe if probe.resistible else None)
 
-        tol = self.settings.cone_tolerance
-        assert tol is not None
-        return refine(self.model, float(tol), run)[0]
+        return refine(self.model, self._cone_tolerance(), run)[0]
 
     def _refined_load_factor(
         self, command: object, direction: np.ndarray, upper: float, method: str
@@ -227,9 +231,7 @@ class PassiveSolver:
                 probe = sub.response(command, at * np.asarray(direction, float), method)
             return lf, (probe if probe.resistible else None)
 
-        tol = self.settings.cone_tolerance
-        assert tol is not None
-        return refine(self.model, float(tol), run)[0]
+        return refine(self.model, self._cone_tolerance(), run)[0]
 
     # ------------------------------------------------------- direct search
     def max_load_factor(

@@ -15,7 +15,7 @@ import numpy as np
 
 from ..core.results import PassiveResponse
 from ..core.settings import Method, Settings, Variant
-from ..errors import InvalidInputError
+from ..errors import InvalidInputError, SolverError
 from ..solvers.base import INFEASIBLE, OPTIMAL
 from ..solvers.formulation import ScaledData
 from .assemble import build_response
@@ -36,10 +36,18 @@ def preload_method_of(method: AnalysisMethod, variant: Variant) -> Method:
     return SETTLED_PRELOAD_METHOD if variant is Variant.SETTLED_PRELOAD else method.preload_method
 
 
+def _preload_beta(pre: Stage) -> np.ndarray:
+    """Scaled friction-edge weights (nb,) of a converged preload stage (times ``pre.data.F``:
+    [N])."""
+    raw = pre.raw
+    if raw is None or raw.z is None or raw.layout is None:
+        raise SolverError("a converged preload stage carries no solution", status="failed")
+    return raw.z[raw.layout.beta]
+
+
 def precompression(session: SessionLike, pre: Stage) -> np.ndarray:
     """Spring pre-compression [N] (nc,) left by a converged preload stage."""
-    assert pre.raw is not None and pre.raw.z is not None and pre.raw.layout is not None
-    return session.form.E @ pre.raw.z[pre.raw.layout.beta] * pre.data.F
+    return session.form.E @ _preload_beta(pre) * pre.data.F
 
 
 def carried(
@@ -53,8 +61,7 @@ def carried(
     m = session.model
     if not method.carries_residual or pre_method.exact:
         return np.zeros(m.nw)
-    assert pre.raw is not None and pre.raw.z is not None and pre.raw.layout is not None
-    beta = pre.raw.z[pre.raw.layout.beta] * pre.data.F
+    beta = _preload_beta(pre) * pre.data.F
     return -(m.G @ (m.D @ beta))
 
 
@@ -82,9 +89,9 @@ def staged_response(
     if not pre.converged:  # not resisted: the preload alone has no equilibrium
         failed = pre if pre_method.name is method.name else replace(pre, raw=None)
         return build_response(session, method, variant, w6, fc, failed, None)
-    assert pre.raw is not None
     p = precompression(session, pre)
-    stage = method.stage(session, w + carried(session, method, pre_method, pre), fc, p, pre.raw.mode)
+    start = pre.raw.mode if pre.raw is not None else None
+    stage = method.stage(session, w + carried(session, method, pre_method, pre), fc, p, start)
     return build_response(session, method, variant, w6, fc, stage, pre, pre_fresh=fresh)
 
 

@@ -21,7 +21,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..solvers.base import INFEASIBLE, OPTIMAL, Mode, RawSolution
+from ..core.results import ResponseStatus
+from ..solvers.base import INFEASIBLE, OPTIMAL, Mode, RawSolution, SolveStatus
 from ..solvers.formulation import ScaledData
 from ..solvers.problem import INF, ProblemKind, build_problem
 from .context import SolveContext
@@ -52,7 +53,7 @@ class Stage:
     raw: RawSolution | None
     data: ScaledData
     xh: np.ndarray
-    status: str
+    status: ResponseStatus
     converged: bool
     iterations: int
     history: tuple[float, ...]
@@ -60,8 +61,14 @@ class Stage:
     n_solves: int
 
 
-def _failed_status(raw: RawSolution) -> str:
-    return "not_resisted" if raw.status == INFEASIBLE else raw.status.value
+def _failed_status(raw: RawSolution) -> ResponseStatus:
+    """The verdict of a solve without an optimum (infeasible: the load is not resisted)."""
+    verdicts: dict[SolveStatus, ResponseStatus] = {
+        INFEASIBLE: "not_resisted",
+        SolveStatus.TIMEOUT: "timeout",
+        SolveStatus.NODE_LIMIT: "node_limit",
+    }
+    return verdicts.get(raw.status, "failed")
 
 
 def prp_stage(
@@ -93,7 +100,8 @@ def iterative_stage(
     direction = np.zeros(f.nx)
     history: list[float] = []
     total, n = 0.0, 0
-    status, converged, raw_best = "not_converged", False, None
+    status: ResponseStatus = "not_converged"
+    converged, raw_best = False, None
     prev, guess = None, start
     streak: list[np.ndarray] = []  # net wrenches of the current mode's real steps
     for _ in range(int(s.max_iterations)):
@@ -101,7 +109,7 @@ def iterative_stage(
         raw = solver.solve(ProblemKind.MOVE, data, guess)
         total += raw.solve_time
         n += 1
-        if raw.status != OPTIMAL:
+        if raw.status != OPTIMAL or raw.z is None or raw.mode is None:
             status = _failed_status(raw)
             break
         if raw.mode != guess:
@@ -152,7 +160,7 @@ def jump(
     problem = build_problem(f, ProblemKind.MOVE, data, INF)
     sol = solver.solve_fixed_mode(problem, mode)
     dt = time.perf_counter() - t0
-    if sol.status != OPTIMAL:
+    if sol.status != OPTIMAL or sol.z is None:
         return None, np.zeros(f.nx), dt
     a = problem.step_lengths(sol.z)
     r = base.w + f.Gb @ sol.z[f.layout(ProblemKind.MOVE).beta]

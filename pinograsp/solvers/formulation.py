@@ -232,7 +232,7 @@ class Formulation:
         o += self.ncp
         slip = slice(o, o + nsl)
         n = slice(0, o + nsl)
-        t = n.stop if name.endswith("load") else None
+        t = int(n.stop) if name.endswith("load") else None
         return Layout(name, beta, obj, qh, fh, lam, slip, n, t)
 
     # -------------------------------------------------------------- data scaling
