@@ -93,13 +93,19 @@ class Formulation:
         nrows = m.normal_rows
         Jn = m.J[nrows]  # (nc, nq)
         absJ = np.abs(m.J)
+        # joints that move no contact are only kept when rigidly coupled to one that does (a
+        # motor driving its fingers through mimics, core/build.py): they take the length scale
+        # and the stiffest contact as their scales (their Jacobian columns are zero)
         self.lever = absJ.max(axis=0) if nq else np.zeros(0)  # (nq,) [m/rad]
-        if nq and np.any(self.lever <= 0):
+        free = self.lever <= 0
+        if np.any(free) and (m.ncp == 0 or np.any(np.all(m.C[:, free] == 0, axis=0))):
             raise AssertionError("joints without contact must be pruned before solving")
+        self.lever = np.where(free, ell, self.lever)
         # stiffness of each joint's contacts
         reach = np.zeros((nc, nq), bool)
         for i in range(nc):
             reach[i] = np.any(absJ[i * m.d : (i + 1) * m.d] > 0, axis=0)
+        reach[:, free] = True
         self.kq = np.array([m.k[reach[:, j]].max() for j in range(nq)]) if nq else np.zeros(0)
         self.kx = float(m.k.max())
         self.qscale = self.kq * self.lever  # qh = qscale * q
