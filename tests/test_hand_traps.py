@@ -92,3 +92,18 @@ def test_preload_of_a_model_without_actuators_is_an_answer():
     m = pg.grasp_model_from_scene(hand, hand.close_on(box), box, mu=0.5, actuators=[])
     assert m.na == 0
     assert pg.equilibrium_preload(m).status == "infeasible"
+
+
+# ------------------------------------------------------ 3. energetic "finite" at upper
+@pytest.mark.parametrize("backend", ["bnb", "miqp"])
+def test_energetic_limit_at_upper_is_not_finite(pinch, backend):
+    # before: backend="miqp" gave +fx "finite 49.99994 N" at upper=50 (the bound binding within
+    # the MIQP gap) and +fy "finite 4.99997 N" at upper=5; the PRP says unbounded / above_limit
+    cmd = {"left": 1.0, "right": 1.0}
+    r = pg.max_resistible_wrench(pinch, cmd, "fx", "energetic", upper=50, backend=backend)
+    assert r.status == "unbounded" and r.magnitude == float("inf")
+    r = pg.max_resistible_wrench(pinch, cmd, "fy", "energetic", upper=5, backend=backend)
+    assert r.status == "above_limit" and r.magnitude == 5.0
+    # a finite limit well inside the bound is untouched: F = 2 mu f / L = 10 N
+    r = pg.max_resistible_wrench(pinch, cmd, "fy", "energetic", upper=50, backend=backend)
+    assert r.status == "finite" and abs(r.magnitude - 10.0) < 1e-5

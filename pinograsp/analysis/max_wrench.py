@@ -220,6 +220,11 @@ def _finish(q: _Query, magnitude: float, at_upper: bool, response: PassiveRespon
     )
 
 
+#: A direct (load-factor) limit within this fraction of ``upper`` (or within the resolution
+#: ``upper / 2**steps`` if coarser) is checked by solving at ``upper`` itself.
+NEAR_UPPER = 1e-4
+
+
 def _direct(q: _Query) -> tuple[float, PassiveResponse]:
     """The exact limit by one load-factor problem, and the response at it: the energetic
     problem's own point there, or (PRP) the response just below it. ``inf``: ``upper``."""
@@ -236,6 +241,14 @@ def _direct(q: _Query) -> tuple[float, PassiveResponse]:
         raise PreloadNotInEquilibriumError(
             solver.model.command_vector(q.command).tolist(), "load-factor problem infeasible"
         )
+    if np.isfinite(mag) and mag >= upper * (1.0 - max(2.0**-q.steps, NEAR_UPPER)):
+        # the problem is bounded by ``upper``: a limit this close to it may be the bound binding
+        # within the solver's tolerance (49.99994 of 50 for a MIQP gap of 1e-6), not a finite
+        # limit. ``upper`` itself decides: resisted -> the zero-preload limit then says unbounded
+        # or above_limit, as when a search finds ``upper`` resisted
+        ok, _ = q.test(upper)
+        if ok:
+            mag = float("inf")
     if lf.response is not None:  # energetic: the point at the limit
         q.tally.evidence.append((float(q.upper) if np.isinf(mag) else mag, True))
         q.tally.flag(mag, lf.response)
