@@ -107,3 +107,66 @@ def test_energetic_limit_at_upper_is_not_finite(pinch, backend):
     # a finite limit well inside the bound is untouched: F = 2 mu f / L = 10 N
     r = pg.max_resistible_wrench(pinch, cmd, "fy", "energetic", upper=50, backend=backend)
     assert r.status == "finite" and abs(r.magnitude - 10.0) < 1e-5
+
+
+# ------------------------------------------- 4. energetic on a plain 7-contact Allegro grasp
+ALLEGRO_DESCRIPTION = {
+    "name": "allegro_left",
+    "base_link": "palm_link",
+    "actuators": [
+        {"name": f"joint_{j}.0", "kind": "locked" if j in (0, 4, 8, 12) else "non-backdrivable",
+         "transmission": {f"joint_{j}.0": 1.0}}
+        for j in range(16)
+    ],
+    "open_configuration": {"joint_12.0": 1.2},
+}
+
+
+@functools.lru_cache(maxsize=None)
+def allegro_left_grasp() -> tuple[pg.Hand, np.ndarray, pg.RigidObject, pg.GraspModel]:
+    """example-robot-data's Allegro left hand (the shipped right hand's description) on the
+    README's ball: 7 contacts."""
+    hand = pg.Hand.from_urdf(
+        robots_dir() / "allegro_hand_description/urdf/allegro_left_hand.urdf",
+        ALLEGRO_DESCRIPTION,
+        package_dirs=[pg.example_robot_data_dir()],
+    )
+    ball = pg.RigidObject.sphere(0.04, pose=[0.07, 0.0, 0.03])
+    q = hand.close_on(ball, {"joint_12.0": 1.2})
+    return hand, q, ball, pg.grasp_model_from_scene(hand, q, ball, mu=0.5)
+
+
+def test_energetic_zero_load_on_allegro_left_is_resisted():
+    # before: "NOT RESISTED (status failed)" with a net wrench of 1.04e-4 N and "audit: ok", and
+    # max_resistible_wrench raised "SolverError: solver failed at magnitude 0": the energetic load
+    # stage carries the held-still preload's residual (<= eps = 1e-3 N) and was then checked
+    # against 1e-6 of the force scale
+    _, _, _, m = allegro_left_grasp()
+    assert m.nc == 7
+    choice = pg.equilibrium_preload(m, max_command=0.5)
+    assert choice.status == "found"
+    r = pg.passive_response(m, choice.command, np.zeros(6), "energetic")
+    assert r.status == "resisted" and r.audit.ok
+    assert r.audit.equilibrium < 1e-3 <= r.audit.equilibrium_tolerance
+    # with no load the energetic answer is the held-still preload (to its residual, eps)
+    it = pg.passive_response(m, choice.command, np.zeros(6), "iterative")
+    np.testing.assert_allclose(r.normal_forces, it.normal_forces, atol=5e-3)
+    assert abs(float(np.sum(r.normal_forces)) - 22.07) < 0.01
+
+
+@pytest.mark.slow
+def test_energetic_max_wrench_on_allegro_left():
+    _, _, _, m = allegro_left_grasp()
+    choice = pg.equilibrium_preload(m, max_command=0.5)
+    r = pg.max_resistible_wrench(m, choice.command, "-fz", "energetic", upper=20)
+    assert r.status == "finite" and abs(r.magnitude - 6.498) < 0.01
+
+
+def test_a_failed_equilibrium_never_passes_the_audit():
+    # the rule behind "status failed ... audit: ok": the equilibrium bound is part of the audit
+    from pinograsp.core.results import Audit
+
+    bad = Audit(equilibrium=1e-4, hand=0.0, complementarity=0.0, friction=0.0, equilibrium_tolerance=1e-6)
+    assert not bad.ok and "NOT OK" in bad.summary()
+    good = Audit(equilibrium=1e-4, hand=0.0, complementarity=0.0, friction=0.0, equilibrium_tolerance=1e-3)
+    assert good.ok and good.to_dict()["equilibrium_tolerance"] == 1e-3

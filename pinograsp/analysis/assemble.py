@@ -138,7 +138,27 @@ def _energy(
     )
 
 
-def _audit(solver: Solver, lay: dict, st: Stage, ph: _Physical, energy: EnergyCheck | None) -> Audit:
+#: Net wrench an exact (PRP, energetic) equilibrium may leave, relative to the force scale.
+EXACT_EQUILIBRIUM = 1e-6
+
+
+def _equilibrium_tolerance(solver: Solver, method: str, st: Stage, pre: Stage | None, pre_kind: str) -> float | None:
+    """What the object's net wrench [N] may be for ``method``'s equilibrium (None: iterative,
+    judged by ``eps``): exact methods ``1e-6`` of the force scale; an energetic load stage on the
+    held-still (iterative) preload also carries that preload's residual, at most its tolerance
+    ``eps + eps_rel F`` (``PassiveSolver._carried``)."""
+    if method == Method.ITERATIVE:
+        return None
+    tol = EXACT_EQUILIBRIUM * max(st.data.F, 1e-300)
+    if method == Method.ENERGETIC and pre is not None and pre_kind == Method.ITERATIVE:
+        s = solver.settings
+        tol += s.eps + s.eps_rel * pre.data.F
+    return tol
+
+
+def _audit(
+    solver: Solver, lay: dict, st: Stage, ph: _Physical, energy: EnergyCheck | None, eq_tol: float | None
+) -> Audit:
     """Residual checks of the solution in force units [N]."""
     m, f, raw = solver.model, solver.form, st.raw
     hand = (
@@ -156,6 +176,7 @@ def _audit(solver: Solver, lay: dict, st: Stage, ph: _Physical, energy: EnergyCh
         polished=raw.polished,
         tolerance=solver.settings.tolerance * max(st.data.F, 1e-300),
         energy=energy,
+        equilibrium_tolerance=eq_tol,
     )
 
 
@@ -206,12 +227,14 @@ def build_response(
     lay = layout_of(solver, method)
     ph = _physical(solver, lay, w6, st, pre, layout_of(solver, pre_kind or method))
     energy = _energy(solver, w6, fc, st, pre, ph) if status == "resisted" else None  # an equilibrium
-    audit = _audit(solver, lay, st, ph, energy)
+    eq_tol = _equilibrium_tolerance(solver, method, st, pre, pre_kind or method)
+    audit = _audit(solver, lay, st, ph, energy, eq_tol)
     slip = _slip(solver, lay, st, ph)
     if energy is not None and not (energy.energy_ok and energy.displacement_ok):
         warnings.warn(audit_message(method, energy), AuditWarning, stacklevel=4)
     resistible = status == "resisted"
-    if method != Method.ITERATIVE and resistible and audit.equilibrium > 1e-6 * max(st.data.F, 1e-300):
+    if eq_tol is not None and resistible and audit.equilibrium > eq_tol:
+        # an "equilibrium" that does not balance the object: no verdict (and the audit fails)
         status, resistible = "failed", False
     return PassiveResponse(
         resistible=resistible,

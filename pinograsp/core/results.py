@@ -53,6 +53,12 @@ class Audit:
         tolerance: Tolerance the residuals are compared with [N].
         energy: Energy balance and displacement size of an equilibrium (None when the load is
             not resisted): :class:`~pinograsp.core.audit.EnergyCheck`.
+        equilibrium_tolerance: Bound on ``equilibrium`` [N] the method guarantees for an
+            equilibrium (``None``: not checked here — the iterative scheme's residual is judged
+            by its ``eps``). The PRP and energetic solves balance the object exactly (``1e-6``
+            of the force scale); an energetic load stage on the iterative (held-still) preload
+            carries that preload's own residual (at most ``eps``) on top. A resisted answer
+            above this bound is reported ``status="failed"`` and fails the audit.
     """
 
     equilibrium: float
@@ -64,14 +70,18 @@ class Audit:
     polished: bool = False
     tolerance: float = 1e-6
     energy: EnergyCheck | None = None
+    equilibrium_tolerance: float | None = None
 
     @property
     def ok(self) -> bool:
-        """All hand/complementarity/friction residuals within tolerance, no big-M saturation,
-        and (for an equilibrium) the energy balance and displacement size hold."""
+        """All hand/complementarity/friction residuals within tolerance, the object's net wrench
+        within ``equilibrium_tolerance`` (when given), no big-M saturation, and (for an
+        equilibrium) the energy balance and displacement size hold."""
         physical = self.energy is None or (self.energy.energy_ok and self.energy.displacement_ok)
+        balanced = self.equilibrium_tolerance is None or self.equilibrium <= self.equilibrium_tolerance
         return (
-            self.hand <= self.tolerance
+            balanced
+            and self.hand <= self.tolerance
             and self.complementarity <= self.tolerance
             and self.friction <= self.tolerance
             and self.bigm_ratio < 0.1

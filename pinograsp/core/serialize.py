@@ -194,6 +194,7 @@ def audit_dict(a: Audit) -> dict[str, Any]:
             "bigm_retries": a.bigm_retries,
             "polished": a.polished,
             "tolerance": a.tolerance,
+            "equilibrium_tolerance": a.equilibrium_tolerance,
             "energy": None if a.energy is None else energy_dict(a.energy),
         }
     )
