@@ -170,3 +170,26 @@ def test_a_failed_equilibrium_never_passes_the_audit():
     assert not bad.ok and "NOT OK" in bad.summary()
     good = Audit(equilibrium=1e-4, hand=0.0, complementarity=0.0, friction=0.0, equilibrium_tolerance=1e-3)
     assert good.ok and good.to_dict()["equilibrium_tolerance"] == 1e-3
+
+
+# ------------------------------------------------- 5. default contact links through locked joints
+def test_default_contact_links_include_links_below_locked_joints():
+    # before: TIAGo's Hey5 with its three motor joints as hand joints checked only hand_palm_link
+    # and the motors' 1 mm spheres: the finger links hang below joints the description locks
+    hand = pg.Hand.from_urdf(
+        robots_dir() / "tiago_description/robots/tiago.urdf",
+        {"joints": ["hand_thumb_joint", "hand_index_joint", "hand_mrl_joint"], "base_link": "hand_palm_link"},
+        package_dirs=[pg.example_robot_data_dir()],
+    )
+    links = hand.contact_link_names
+    assert len(links) == 37 and len(hand.geometry.geometryObjects) == 37
+    for name in ("hand_palm_link", "hand_thumb_flex_2_link", "hand_index_flex_3_link", "hand_little_flex_3_link"):
+        assert name in links
+    # nothing above or beside the base link (TIAGo's arm, torso, base)
+    assert all(n.startswith("hand_") for n in links)
+
+
+def test_default_contact_links_stop_at_the_base_link():
+    # Talos: the whole humanoid is locked; only the left gripper's links are at/below its base
+    links = talos_gripper().contact_link_names
+    assert len(links) == 8 and all(n.startswith("gripper_left_") for n in links)
