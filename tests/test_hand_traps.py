@@ -193,3 +193,51 @@ def test_default_contact_links_stop_at_the_base_link():
     # Talos: the whole humanoid is locked; only the left gripper's links are at/below its base
     links = talos_gripper().contact_link_names
     assert len(links) == 8 and all(n.startswith("gripper_left_") for n in links)
+
+
+# ------------------------------------------------------------------- 6. check_closing advice
+def test_check_closing_allegro_locked_joints_and_the_thumb():
+    # before: joint_8.0 (a locked abduction) flagged OPENS, and joint_13.0 flagged OPENS with
+    # "use closing: {joint_13.0: -1}", contradicting the shipped file (with -1 the thumb misses)
+    hand = pg.Hand.builtin("allegro_right")
+    ball = pg.RigidObject.sphere(0.04, pose=[0.07, 0.0, 0.03])
+    r = pg.check_closing(hand, ball, {"joint_12.0": 1.2})
+    assert r.ok and r.wrong == ()
+    for j in ("joint_0.0", "joint_4.0", "joint_8.0", "joint_12.0"):
+        assert r[j].verdict == "locked" and r[j].suggested_sign == 1
+    assert r["joint_13.0"].verdict == "closes"
+    assert r["joint_13.0"].distance_after < r["joint_13.0"].distance_other < r["joint_13.0"].distance_before
+    assert r.suggested_closing == {j: 1 for j in hand.joint_names}
+
+
+def test_check_closing_never_suggests_a_sense_a_limit_blocks():
+    # before: every Allegro joint at its lower limit that moved away was told "use closing: -1"
+    # (joint_9.0: "7.65 mm -> 9.37 mm ... OPENS"), a sense in which it cannot move at all
+    hand = pg.Hand.builtin("allegro_right")
+    back = pg.RigidObject.sphere(0.02, pose=[-0.04, 0.0, 0.1])
+    r = pg.check_closing(hand, back, dict(zip(hand.joint_names, hand.lower)))
+    assert r.ok and r.wrong == ()
+    j9 = r["joint_9.0"]
+    assert j9.verdict == "no effect" and j9.distance_other == float("inf")
+    assert j9.distance_after > j9.distance_before and "limit blocks the other sense" in j9.note
+
+
+def test_check_closing_mimic_followers_and_the_printed_distances():
+    # before: with the right signs the followers fingertip_1/2/3 were judged alone and flagged
+    # OPENS; with gripper_left_joint's sign wrong the report printed
+    # "gripper_left_motor_double_link 54.42 mm -> 52.85 mm ... OPENS" (a decrease called opening)
+    box = pg.RigidObject.box((0.1, 0.03, 0.02), pose=[0.0, 0.0, -0.135])
+    r = pg.check_closing(talos_gripper(), box)
+    assert r.ok
+    assert [j.verdict for j in r.joints].count("follows") == 6
+    assert r["gripper_left_joint"].verdict == "closes"
+    assert abs(r["gripper_left_joint"].distance_after - 0.01721) < 2e-4
+    wrong = pg.Hand.from_urdf(
+        robots_dir() / "talos_data/robots/talos_full_v2.urdf",
+        {"joints": TALOS_JOINTS, "base_link": "gripper_left_base_link"},
+        package_dirs=[pg.example_robot_data_dir()],
+    )
+    w = pg.check_closing(wrong, box)
+    assert w.wrong == ("gripper_left_joint",) and w.suggested_closing["gripper_left_joint"] == -1
+    line = w["gripper_left_joint"].line()
+    assert "closing sense blocked by a joint limit, other sense 17.21 mm" in line and "OPENS" in line
