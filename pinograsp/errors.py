@@ -187,7 +187,8 @@ class PenetrationError(PinograspError):
         super().__init__(
             f"deep penetration (more than {self.max_penetration * 1e3:.3f} mm) of links into the object: "
             f"{shown}; "
-            "move the hand or the object, or raise max_penetration"
+            "move the hand or the object, or pass a larger max_penetration [m] (default 5 mm) to "
+            "close_on / grasp_model_from_scene (scene files: 'max_penetration')"
         )
 
 

@@ -241,3 +241,32 @@ def test_check_closing_mimic_followers_and_the_printed_distances():
     assert w.wrong == ("gripper_left_joint",) and w.suggested_closing["gripper_left_joint"] == -1
     line = w["gripper_left_joint"].line()
     assert "closing sense blocked by a joint limit, other sense 17.21 mm" in line and "OPENS" in line
+
+
+# ------------------------------------------------------------- 7. max_penetration in close_on
+def sake_hand() -> pg.Hand:
+    return pg.Hand.from_urdf(
+        robots_dir() / "alex_description/urdf/alex_sake_hands.urdf",
+        {"joints": ["Right_GRIPPER_X1", "Right_GRIPPER_X2"], "base_link": "RightSakePalmLink"},
+        package_dirs=[pg.example_robot_data_dir()],
+    )
+
+
+def test_close_on_accepts_max_penetration_and_defaults_to_5_mm():
+    # before: a ball 2.95 mm into the SAKE palm raised PenetrationError "more than 1.000 mm ...
+    # raise max_penetration" from close_on, which had no max_penetration (docs: 5 mm)
+    from pinograsp.robots.collision import DEFAULT_MAX_PENETRATION
+
+    hand = sake_hand()
+    ball = pg.RigidObject.sphere(0.02, pose=[0.0, 0.0, -0.095])
+    q = hand.close_on(ball)
+    np.testing.assert_allclose(q, [0.0, 0.0])  # both fingers already touch: nothing moves
+    m = pg.grasp_model_from_scene(hand, q, ball)
+    assert "RightSakePalmLink" in m.contact_names
+    assert DEFAULT_MAX_PENETRATION == 5e-3
+    with pytest.raises(pg.PenetrationError, match=r"more than 2\.000 mm.*max_penetration.*close_on") as exc:
+        hand.close_on(ball, max_penetration=0.002)
+    assert exc.value.max_penetration == 0.002
+    assert abs(exc.value.depths["RightSakePalmLink"] + 2.947e-3) < 1e-5
+    with pytest.raises(pg.InvalidInputError, match="max_penetration"):
+        hand.close_on(ball, max_penetration=-1.0)
