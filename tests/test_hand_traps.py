@@ -270,3 +270,25 @@ def test_close_on_accepts_max_penetration_and_defaults_to_5_mm():
     assert abs(exc.value.depths["RightSakePalmLink"] + 2.947e-3) < 1e-5
     with pytest.raises(pg.InvalidInputError, match="max_penetration"):
         hand.close_on(ball, max_penetration=-1.0)
+
+
+# --------------------------------------------------------------- 8. a mimic naming no joint
+def test_mimic_of_a_missing_joint_points_to_use_mimic_false():
+    # before: "joint 'Left_index_q2' mimics 'index_q1' but only one of them is a hand joint; keep
+    # both in" -- impossible, the PSYONIC URDF has no joint 'index_q1' (it is 'Left_index_q1')
+    urdf = robots_dir() / "alex_description/urdf/alex_psyonic_hands.urdf"
+    share = pg.example_robot_data_dir()
+    with pytest.raises(pg.ModelError, match=r"'index_q1', which is not a movable joint.*use_mimic: false") as e:
+        pg.Hand.from_urdf(urdf, package_dirs=[share])
+    assert "ratio: 1.05851" in str(e.value)
+    # the advice works: mimics off, the linkage given as a coupling (closing coordinates)
+    hand = pg.Hand.from_urdf(
+        urdf,
+        {
+            "use_mimic": False,
+            "joints": ["Right_index_q1", "Right_index_q2"],
+            "couplings": [{"follower": "Right_index_q2", "leader": "Right_index_q1", "ratio": 1.05851325}],
+        },
+        package_dirs=[share],
+    )
+    np.testing.assert_allclose(hand.coupling_matrix(), [[-1.05851325, 1.0]])

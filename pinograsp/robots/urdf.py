@@ -196,10 +196,19 @@ def _reduce(
         f_in, l_in = m.follower in hand_joints, m.leader in hand_joints
         if f_in and l_in:
             hand_mimics.append(m)
+        elif f_in and m.leader not in movable:
+            raise ModelError(
+                f"{path}: joint {m.follower!r} mimics {m.leader!r}, which is not a movable joint of "
+                f"this URDF (a name the file gets wrong?). Set 'use_mimic: false' in the description "
+                "(URDF mimics ignored: each joint moves on its own) and, to keep the linkage, add the "
+                f"coupling yourself: couplings: [{{follower: {m.follower}, leader: <the real joint>, "
+                f"ratio: {m.multiplier:g}}}] (closing coordinates; docs/hands.md)"
+            )
         elif f_in != l_in:
             raise ModelError(
                 f"{path}: joint {m.follower!r} mimics {m.leader!r} but only one of them is a hand joint; "
-                "keep both in (or both out of) the description's 'joints'"
+                "keep both in (or both out of) the description's 'joints', or set 'use_mimic: false' "
+                "(URDF mimics ignored) and give the couplings you want under 'couplings'"
             )
     return model, geom, tuple(hand_mimics)
 
