@@ -292,3 +292,19 @@ def test_mimic_of_a_missing_joint_points_to_use_mimic_false():
         package_dirs=[share],
     )
     np.testing.assert_allclose(hand.coupling_matrix(), [[-1.05851325, 1.0]])
+
+
+# ------------------------------------------------------ 10. audit wording per method
+def test_audit_message_names_the_wedging_artefact_only_for_the_prp():
+    # before: every method's failed energy balance was called "the wedging artefact", while the
+    # PRP's own warning said that iterative and energetic have none
+    from pinograsp.core.audit import EnergyCheck, audit_message
+
+    check = EnergyCheck(2.0, 0.5, 0.5, 1.0, ("left",))
+    assert not check.energy_ok
+    prp = audit_message("prp", check)
+    assert "the wedging artefact" in prp and "have no wedging artefact" in prp
+    for method in ("iterative", "energetic"):
+        text = audit_message(method, check)
+        assert "not the PRP's wedging artefact (this method has none)" in text
+        assert "simulate_max_wrench" in text and "springs store 2 J" in text

@@ -160,10 +160,17 @@ def audit_message(method: str, check: EnergyCheck) -> str:
     parts = []
     if not check.energy_ok:
         supplied = check.load_work + check.actuator_work
+        cause = (
+            "the wedging artefact"
+            if method == "prp"
+            else "not the PRP's wedging artefact (this method has none): the balance prices the "
+            "final state alone, which this method reached along a path (the held-still preload, "
+            "the iterative steps), or the solver's tolerance; cross-check with pg.simulate_max_wrench"
+        )
         parts.append(
             f"its springs store {check.spring_energy:.4g} J but the load and the actuators supply "
             f"only {supplied:.4g} J on its displacements (contacts {', '.join(check.contacts)}): "
-            "the wedging artefact"
+            + cause
         )
     if not check.displacement_ok:
         parts.append(

@@ -238,8 +238,10 @@ class MaxWrench:
             complementarity problem, PRP only).
         audit_failures: Resisted magnitudes whose solution fails the audit (energy balance or
             displacement size; ``inf`` for the zero-preload limit test), ascending. Non-empty
-            means the PRP's wedging artefact carries the verdict above ``min(audit_failures)``;
-            one :class:`~pinograsp.errors.AuditWarning` says so.
+            means, for the PRP, that its wedging artefact carries the verdict above
+            ``min(audit_failures)`` (the iterative and energetic methods have none: there the
+            warning names the path or the solver's tolerance); one
+            :class:`~pinograsp.errors.AuditWarning` says so.
     """
 
     direction: np.ndarray
