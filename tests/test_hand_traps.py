@@ -308,3 +308,49 @@ def test_audit_message_names_the_wedging_artefact_only_for_the_prp():
         text = audit_message(method, check)
         assert "not the PRP's wedging artefact (this method has none)" in text
         assert "simulate_max_wrench" in text and "springs store 2 J" in text
+
+
+# ------------------------------------------------------------------------- 13. smaller traps
+def test_passive_response_with_no_command_says_so(pinch):
+    # before: passive_response(model, None, w) -> "command: contains NaN or inf"
+    with pytest.raises(pg.InvalidInputError, match=r"command.*is None.*equilibrium_preload returns command=None"):
+        pg.passive_response(pinch, None, np.zeros(6))
+
+
+def test_two_point_grasp_names_the_free_rotation_about_the_contact_chord():
+    # before: SO-101's two-jaw grasp of a ball was below_resolution along +fy, mx, mz with no word
+    # that the object spins about the line through its two contacts
+    hand = pg.Hand.builtin("so101")
+    ball = pg.RigidObject.sphere(0.012, pose=[0.00175, 0.0, -0.08])
+    m = pg.grasp_model_from_scene(hand, hand.close_on(ball), ball, mu=0.5)
+    assert m.nc == 2
+    free = m.free_motions()
+    assert free.shape == (1, 6)
+    chord = m.points[1] - m.points[0]
+    np.testing.assert_allclose(abs(free[0, 3:] @ chord) / np.linalg.norm(chord), 1.0, atol=1e-9)
+    # the axis passes through both contacts: their velocities vanish
+    for p in m.points:
+        v = free[0, :3] + np.cross(free[0, 3:], p - m.reference_point)
+        assert np.linalg.norm(v) < 1e-9
+    r = pg.max_resistible_wrench(m, {"gripper": 1.0}, "fy", upper=10, steps=10)
+    assert r.status == "below_resolution"
+    assert "free to rotate about the axis" in r.note and "two contacts" in r.note
+    assert "note: no contact resists this load" in r.summary() and r.to_dict()["note"] == r.note
+    fx = pg.max_resistible_wrench(m, {"gripper": 1.0}, "fx", upper=10, steps=10)
+    assert fx.status == "finite" and fx.note == ""
+
+
+def test_object_inside_a_hand_mesh_says_the_mesh_is_a_surface():
+    # before: a ball inside the SAKE palm body: NoContactError "RightSakePalmLink: 7.400 mm", no
+    # word that a hand mesh is a surface (Coal BVH)
+    hand = sake_hand()
+    ball = pg.RigidObject.sphere(0.005, pose=[0.0, 0.0, -0.04])
+    with pytest.raises(pg.NoContactError, match=r"RightSakePalmLink: 7\.400 mm.*mesh is a surface") as e:
+        hand.close_on(ball)
+    assert e.value.surfaces == ("RightSakePalmLink",)
+    with pytest.raises(pg.NoContactError) as e:
+        pg.grasp_model_from_scene(hand, hand.q_open, ball)
+    assert e.value.surfaces == ("RightSakePalmLink",)
+    with pytest.raises(pg.NoContactError) as e:  # far below the hand: no such hint
+        hand.close_on(pg.RigidObject.sphere(0.005, pose=[0.0, 0.0, -0.3]))
+    assert e.value.surfaces == ()

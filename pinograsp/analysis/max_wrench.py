@@ -201,6 +201,7 @@ def _finish(q: _Query, magnitude: float, at_upper: bool, response: PassiveRespon
     message = _audit_warning(q)
     if message is not None:
         warnings.warn(message, AuditWarning, stacklevel=4)
+    note = _free_motion_note(q.solver.model, q.direction) if status == "below_resolution" else ""
     return MaxWrench(
         direction=q.direction,
         magnitude=magnitude,
@@ -217,7 +218,36 @@ def _finish(q: _Query, magnitude: float, at_upper: bool, response: PassiveRespon
         response=response,
         search=q.search.value,
         audit_failures=tuple(sorted(m for m, _ in q.tally.flagged)),
+        note=note,
     )
+
+
+def _free_motion_note(model: GraspModel, d: np.ndarray) -> str:
+    """Why a direction resists nothing when the contacts leave the object a free motion that the
+    load drives (does work on): ``""`` otherwise."""
+    for t in model.free_motions():
+        power = float(d[:3] @ t[:3] + d[3:] @ t[3:])
+        size = float(
+            np.linalg.norm(d[:3]) * np.linalg.norm(t[:3]) + np.linalg.norm(d[3:]) * np.linalg.norm(t[3:])
+        )
+        if abs(power) <= 1e-6 * max(size, 1e-300):
+            continue
+        w, v = t[3:], t[:3]
+        if np.linalg.norm(w) > 0:
+            p = model.reference_point + np.cross(w, v) / float(w @ w)  # a point on the axis
+            axis = ", ".join(f"{c:.3g}" for c in w)
+            where = ", ".join(f"{1e3 * c:.1f}" for c in p)
+            motion = f"rotate about the axis ({axis}) through ({where}) mm"
+            if model.nc == 2:
+                motion += " (the line through the two contacts)"
+        else:
+            motion = "translate along (" + ", ".join(f"{c:.3g}" for c in t[:3]) + ")"
+        return (
+            f"no contact resists this load: the contacts leave the object free to {motion}, and the "
+            "load drives that motion (point contacts carry no torsional friction); add a contact "
+            "off that axis, or model the contact patch with several points"
+        )
+    return ""
 
 
 #: A direct (load-factor) limit within this fraction of ``upper`` (or within the resolution

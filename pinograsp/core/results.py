@@ -242,6 +242,9 @@ class MaxWrench:
             ``min(audit_failures)`` (the iterative and energetic methods have none: there the
             warning names the path or the solver's tolerance); one
             :class:`~pinograsp.errors.AuditWarning` says so.
+        note: Why the answer is what it is when the model explains it (e.g. a
+            ``below_resolution`` direction that loads a motion no contact resists:
+            :meth:`GraspModel.free_motions`), else ``""``.
     """
 
     direction: np.ndarray
@@ -259,6 +262,7 @@ class MaxWrench:
     response: PassiveResponse | None = field(default=None, repr=False)
     search: str = "bisection"
     audit_failures: tuple[float, ...] = ()
+    note: str = ""
 
     @property
     def physically_audited(self) -> bool:

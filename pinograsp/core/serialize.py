@@ -300,6 +300,7 @@ def max_wrench_dict(
         "method": mw.method,
         "monotone": mw.monotone,
         "audit_failures": [None if np.isinf(m) else m for m in mw.audit_failures],
+        "note": getattr(mw, "note", ""),
         "evidence": [[m, ok] for m, ok in mw.evidence],
         "n_solves": mw.n_solves,
         "solve_time": mw.solve_time,

@@ -137,6 +137,8 @@ def max_wrench_summary(mw: MaxWrench, label: str | None = None) -> str:
             lines.append(f"contact states {at}: {states}")
     if mw.audit_failures:
         lines.append(f"audit failures at {', '.join(f'{m:.6g}' for m in mw.audit_failures)}")
+    if getattr(mw, "note", ""):
+        lines.append(f"note: {mw.note}")
     return "\n".join(lines)
 
 

@@ -15,7 +15,13 @@ import numpy as np
 
 from ..core.validate import finite_number, positive_number, whole_number
 from ..errors import InvalidInputError, NoContactError, PenetrationError
-from .collision import DEFAULT_MAX_PENETRATION, DEFAULT_TOLERANCE, closest_per_link, geometry_distances
+from .collision import (
+    DEFAULT_MAX_PENETRATION,
+    DEFAULT_TOLERANCE,
+    closest_per_link,
+    geometry_distances,
+    inside_surfaces,
+)
 from .kinematics import HandConfiguration
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -183,5 +189,6 @@ def close_on(
                 stops.stop_group(int(j))
     if not np.any(dist <= tol):  # every joint stopped at a limit without touching: say where the object is
         links = (hand.link_of_geometry(k) for k in range(len(dist)))
-        raise NoContactError(closest_per_link(links, dist), tol)
+        inside = inside_surfaces(HandConfiguration.at(hand, q), obj)
+        raise NoContactError(closest_per_link(links, dist), tol, inside)
     return q
