@@ -161,9 +161,7 @@ class NoContactError(PinograspError):
             bounding box: the object may be inside the link, where no distance sees it.
     """
 
-    def __init__(
-        self, distances: dict[str, float], tolerance: float, surfaces: tuple[str, ...] = ()
-    ) -> None:
+    def __init__(self, distances: dict[str, float], tolerance: float, surfaces: tuple[str, ...] = ()) -> None:
         self.distances = dict(distances)
         self.tolerance = float(tolerance)
         self.surfaces = tuple(surfaces)

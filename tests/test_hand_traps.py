@@ -27,7 +27,7 @@ def robots_dir():
     return pg.example_robot_data_dir() / "example-robot-data" / "robots"
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def talos_gripper() -> pg.Hand:
     """Talos' left gripper: one motor, ``gripper_left_joint``, drives six ``<mimic>`` joints."""
     return pg.Hand.from_urdf(
@@ -114,15 +114,18 @@ ALLEGRO_DESCRIPTION = {
     "name": "allegro_left",
     "base_link": "palm_link",
     "actuators": [
-        {"name": f"joint_{j}.0", "kind": "locked" if j in (0, 4, 8, 12) else "non-backdrivable",
-         "transmission": {f"joint_{j}.0": 1.0}}
+        {
+            "name": f"joint_{j}.0",
+            "kind": "locked" if j in (0, 4, 8, 12) else "non-backdrivable",
+            "transmission": {f"joint_{j}.0": 1.0},
+        }
         for j in range(16)
     ],
     "open_configuration": {"joint_12.0": 1.2},
 }
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def allegro_left_grasp() -> tuple[pg.Hand, np.ndarray, pg.RigidObject, pg.GraspModel]:
     """example-robot-data's Allegro left hand (the shipped right hand's description) on the
     README's ball: 7 contacts."""
@@ -183,7 +186,12 @@ def test_default_contact_links_include_links_below_locked_joints():
     )
     links = hand.contact_link_names
     assert len(links) == 37 and len(hand.geometry.geometryObjects) == 37
-    for name in ("hand_palm_link", "hand_thumb_flex_2_link", "hand_index_flex_3_link", "hand_little_flex_3_link"):
+    for name in (
+        "hand_palm_link",
+        "hand_thumb_flex_2_link",
+        "hand_index_flex_3_link",
+        "hand_little_flex_3_link",
+    ):
         assert name in links
     # nothing above or beside the base link (TIAGo's arm, torso, base)
     assert all(n.startswith("hand_") for n in links)
@@ -278,7 +286,9 @@ def test_mimic_of_a_missing_joint_points_to_use_mimic_false():
     # both in" -- impossible, the PSYONIC URDF has no joint 'index_q1' (it is 'Left_index_q1')
     urdf = robots_dir() / "alex_description/urdf/alex_psyonic_hands.urdf"
     share = pg.example_robot_data_dir()
-    with pytest.raises(pg.ModelError, match=r"'index_q1', which is not a movable joint.*use_mimic: false") as e:
+    with pytest.raises(
+        pg.ModelError, match=r"'index_q1', which is not a movable joint.*use_mimic: false"
+    ) as e:
         pg.Hand.from_urdf(urdf, package_dirs=[share])
     assert "ratio: 1.05851" in str(e.value)
     # the advice works: mimics off, the linkage given as a coupling (closing coordinates)
@@ -313,7 +323,9 @@ def test_audit_message_names_the_wedging_artefact_only_for_the_prp():
 # ------------------------------------------------------------------------- 13. smaller traps
 def test_passive_response_with_no_command_says_so(pinch):
     # before: passive_response(model, None, w) -> "command: contains NaN or inf"
-    with pytest.raises(pg.InvalidInputError, match=r"command.*is None.*equilibrium_preload returns command=None"):
+    with pytest.raises(
+        pg.InvalidInputError, match=r"command.*is None.*equilibrium_preload returns command=None"
+    ):
         pg.passive_response(pinch, None, np.zeros(6))
 
 
@@ -354,3 +366,78 @@ def test_object_inside_a_hand_mesh_says_the_mesh_is_a_surface():
     with pytest.raises(pg.NoContactError) as e:  # far below the hand: no such hint
         hand.close_on(pg.RigidObject.sphere(0.005, pose=[0.0, 0.0, -0.3]))
     assert e.value.surfaces == ()
+
+
+# ------------------------------------------------------------------------------ 12. pictures
+def test_big_hand_meshes_are_decimated_into_surfaces_not_slivers():
+    # before: the G1 Dex3-1 meshes were cut to every k-th face, drawn as scattered slivers
+    import trimesh
+
+    from pinograsp.viz.meshes import geometry_mesh
+    from pinograsp.viz.scene_mpl import _decimate
+
+    hand = pg.Hand.from_urdf(
+        robots_dir() / "g1_description/urdf/g1_29dof_with_hand_rev_1_0.urdf",
+        {"joints": ["left_hand_index_0_joint"], "base_link": "left_hand_palm_link"},
+        package_dirs=[pg.example_robot_data_dir()],
+    )
+    palm = hand.geometry.geometryObjects[hand.contact_link_names.index("left_hand_palm_link")]
+    mesh = geometry_mesh(palm.geometry)
+    v, f = np.asarray(mesh.vertices), np.asarray(mesh.faces)
+    assert len(f) > 4000
+    v2, f2 = _decimate(v, f, 4000)
+    assert 0 < len(f2) <= 4000
+    area = trimesh.Trimesh(v, f, process=False).area
+    kept = trimesh.Trimesh(v2, f2, process=False).area
+    every_kth = trimesh.Trimesh(v, f[:: int(np.ceil(len(f) / 4000))], process=False).area
+    assert abs(kept / area - 1.0) < 0.15  # the decimated surface covers the palm
+    assert every_kth / area < 0.6  # what was drawn before: a fraction of it
+    np.testing.assert_array_equal(_decimate(v, f, 4000)[1], f2)  # deterministic
+
+
+def test_scene_hand_is_see_through_and_the_external_force_visible():
+    # before: Talos' opaque gripper was painted over the box, and the 0.5 N external force next to
+    # ~6 N contact forces was an arrow of 2 % of the scene inside the box
+    from pinograsp.viz.scene_elements import EXTERNAL_MIN_FRACTION, scene_elements
+
+    box = pg.RigidObject.box((0.1, 0.03, 0.02), pose=[0.0, 0.0, -0.135])
+    hand = talos_gripper()
+    q = hand.close_on(box)
+    m = pg.grasp_model_from_scene(hand, q, box, mu=0.5)
+    r = pg.passive_response(m, {"gripper_left_joint": 1.0}, [0, 0, -0.5, 0, 0, 0])
+    el = scene_elements(m, r, hand=hand, q=q, obj=box)
+    opacity = {mesh.name: mesh.opacity for mesh in el.meshes}
+    assert opacity["hand"] < 1.0 and opacity["hand"] <= opacity["object"]
+    (shaft,) = [s for s in el.segments if s.name == "external force"]
+    head = [mesh for mesh in el.meshes if mesh.name == "external force"][0]
+    tip = head.vertices[0]  # the cone's apex is the arrow tip
+    length = float(np.linalg.norm(tip - shaft.segments[0][0]))
+    np.testing.assert_allclose(length, EXTERNAL_MIN_FRACTION * el.size, rtol=1e-9)
+    np.testing.assert_allclose((tip - shaft.segments[0][0]) / length, [0, 0, -1], atol=1e-12)
+
+
+def test_above_limit_is_drawn_as_a_lower_bound(pinch):
+    # before: a direction resisted at upper (above_limit) was a plain profile point at upper,
+    # read as a limit; the resistance-set map coloured it like a finite limit
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    cmd = {"left": 1.0, "right": 1.0}
+    p = pg.resistance_profile(pinch, cmd, ("fx", "fy"), n=8, upper=5, steps=8)
+    assert p.statuses.count("above_limit") == 6 and p.statuses.count("unbounded") == 2
+    ax = pg.plot_profile(p)
+    (tri,) = [ln for ln in ax.lines if ln.get_gid() == "pinograsp-above-limit"]
+    assert len(tri.get_xdata()) == 6 and tri.get_marker() == "^"
+    np.testing.assert_allclose(tri.get_ydata(), 5.0)
+    assert "above upper (≥, a lower bound)" in [t.get_text() for t in ax.get_legend().get_texts()]
+    plt.close(ax.figure)
+    rs = pg.resistance_set(pinch, cmd, directions=[[0, 1, 0, 0, 0, 0], [1, 0, 0, 0, 0, 0]], upper=5, steps=8)
+    assert rs.statuses == ("above_limit", "unbounded")
+    fig = pg.plot_resistance_set(rs)
+    gids = [c.get_gid() for a in fig.axes for c in a.collections]
+    assert "pinograsp-above-limit" in gids
+    (above,) = [c for a in fig.axes for c in a.collections if c.get_gid() == "pinograsp-above-limit"]
+    assert len(above.get_offsets()) == 1
+    plt.close(fig)

@@ -142,7 +142,9 @@ def _energy(
 EXACT_EQUILIBRIUM = 1e-6
 
 
-def _equilibrium_tolerance(solver: Solver, method: str, st: Stage, pre: Stage | None, pre_kind: str) -> float | None:
+def _equilibrium_tolerance(
+    solver: Solver, method: str, st: Stage, pre: Stage | None, pre_kind: str
+) -> float | None:
     """What the object's net wrench [N] may be for ``method``'s equilibrium (None: iterative,
     judged by ``eps``): exact methods ``1e-6`` of the force scale; an energetic load stage on the
     held-still (iterative) preload also carries that preload's residual, at most its tolerance

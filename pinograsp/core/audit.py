@@ -169,8 +169,7 @@ def audit_message(method: str, check: EnergyCheck) -> str:
         )
         parts.append(
             f"its springs store {check.spring_energy:.4g} J but the load and the actuators supply "
-            f"only {supplied:.4g} J on its displacements (contacts {', '.join(check.contacts)}): "
-            + cause
+            f"only {supplied:.4g} J on its displacements (contacts {', '.join(check.contacts)}): " + cause
         )
     if not check.displacement_ok:
         parts.append(

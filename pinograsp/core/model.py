@@ -198,7 +198,11 @@ class GraspModel:
         out = []
         for v in vt[rank:]:
             x = self.expand_twist(v * scale)
-            size = np.linalg.norm(x[3:]) if np.linalg.norm(x[3:]) > 1e-12 * np.abs(x).max() else np.linalg.norm(x)
+            size = (
+                np.linalg.norm(x[3:])
+                if np.linalg.norm(x[3:]) > 1e-12 * np.abs(x).max()
+                else np.linalg.norm(x)
+            )
             out.append(x / size)
         return np.array(out).reshape(-1, 6)
 

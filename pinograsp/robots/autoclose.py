@@ -159,7 +159,11 @@ def close_on(
             error lists each link's closest distance [m]).
     """
     tol = DEFAULT_TOLERANCE if tolerance is None else positive_number("tolerance", tolerance)
-    pen = DEFAULT_MAX_PENETRATION if max_penetration is None else finite_number("max_penetration", max_penetration)
+    pen = (
+        DEFAULT_MAX_PENETRATION
+        if max_penetration is None
+        else finite_number("max_penetration", max_penetration)
+    )
     if pen < 0:
         raise InvalidInputError("max_penetration", f"must be finite and >= 0 [m], got {pen}")
     pen = max(pen, tol)

@@ -340,7 +340,17 @@ def _check_joint(
         verdict = "closes" if a_close >= a_open else "opens"
     after = d_close if np.isfinite(d_close) else before
     return JointClosing(
-        name, sign, verdict, pairs[k0].link, before, after, t_close, after - before, displacement, d_open, note
+        name,
+        sign,
+        verdict,
+        pairs[k0].link,
+        before,
+        after,
+        t_close,
+        after - before,
+        displacement,
+        d_open,
+        note,
     )
 
 

@@ -324,7 +324,13 @@ class Hand:
             The closed configuration (URDF coordinates), (nq,) [rad or m].
         """
         return autoclose.close_on(
-            self, obj, q_open, tolerance=tolerance, step=step, max_steps=max_steps, max_penetration=max_penetration
+            self,
+            obj,
+            q_open,
+            tolerance=tolerance,
+            step=step,
+            max_steps=max_steps,
+            max_penetration=max_penetration,
         )
 
     def __repr__(self) -> str:

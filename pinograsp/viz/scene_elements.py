@@ -14,7 +14,9 @@ scene's analysis axes — says otherwise; hand and object are then re-expressed 
   that *ends* at the contact point (the finger pushes). An arrow inside its cone is a force
   inside the friction cone.
 * The external force (the force part of ``response.wrench``) is an arrow starting at the
-  object's reference point. Torques are not drawn.
+  object's reference point, at the contact forces' scale but never shorter than
+  :data:`EXTERNAL_MIN_FRACTION` × the scene size (a 0.5 N load beside 7 N contact forces was a
+  dot inside the object); torques are not drawn.
 * With a response that reports contact states (``PassiveResponse.contact_states``), each
   contact point is drawn in the colour and marker of its state (:data:`STATE_STYLES`: sticking,
   sliding, separated), and each sliding contact gets a slip arrow starting at the contact along
@@ -49,6 +51,12 @@ from .view3d import (
 if TYPE_CHECKING:  # pragma: no cover
     from ..robots.hand import Hand
     from ..robots.objects import RigidObject
+
+#: Opacity of the hand and the object: mplot3d sorts faces by their centres only, so a body can
+#: be painted over the object it is behind (Hey5, Talos); a see-through hand keeps the object
+#: visible wherever the sort goes wrong.
+HAND_OPACITY = 0.55
+OBJECT_OPACITY = 0.6
 
 #: Default colours (hand, object, contacts, cones, contact forces, external force, normals,
 #: the contact states and the slip arrows).
@@ -217,7 +225,7 @@ def _hand_mesh(hand: Hand, q: object, to_model: np.ndarray, skipped: list[str]) 
             )
         )
     v, f, lab = merge(parts)
-    return Mesh("hand", v, f, COLORS["hand"], 1.0, lab) if len(v) else None
+    return Mesh("hand", v, f, COLORS["hand"], HAND_OPACITY, lab) if len(v) else None
 
 
 def _object_mesh(obj: RigidObject, to_model: np.ndarray, skipped: list[str]) -> Mesh | None:
@@ -227,7 +235,9 @@ def _object_mesh(obj: RigidObject, to_model: np.ndarray, skipped: list[str]) -> 
         skipped.append(str(obj.name))
         return None
     v = transform(np.asarray(m.vertices, float), to_model @ np.asarray(obj.pose, float))
-    return Mesh("object", v, np.asarray(m.faces, int), COLORS["object"], 0.45, [str(obj.name)] * len(v))
+    return Mesh(
+        "object", v, np.asarray(m.faces, int), COLORS["object"], OBJECT_OPACITY, [str(obj.name)] * len(v)
+    )
 
 
 def _contacts(model: GraspModel | None, obj: RigidObject | None, to_model: np.ndarray) -> _Contacts:
@@ -322,6 +332,11 @@ def _title(nc: int, status: str, states: tuple[str, ...]) -> str:
     return title + (f": {', '.join(counts)}" if counts else "")
 
 
+#: Shortest external-force arrow, as a fraction of the scene size (it is drawn to the contact
+#: forces' scale when that is longer).
+EXTERNAL_MIN_FRACTION = 0.2
+
+
 def _largest_force(forces: np.ndarray | None, wrench: np.ndarray | None) -> float:
     """Largest finite contact force or external force [N] (0 without forces)."""
     if forces is None:
@@ -352,7 +367,8 @@ def _force_arrows(
         meshes.append(Mesh("contact forces", v, f_, COLORS["forces"], 1.0, lab))
     if wrench is not None and np.all(np.isfinite(wrench)) and np.linalg.norm(wrench[:3]) * s > 1e-9 * size:
         o = c.ref_point
-        shaft, (v, f_, _) = _arrow(o, o + s * wrench[:3], wrench[:3], s, size, "external force")
+        se = max(s, EXTERNAL_MIN_FRACTION * size / float(np.linalg.norm(wrench[:3])))
+        shaft, (v, f_, _) = _arrow(o, o + se * wrench[:3], wrench[:3], se, size, "external force")
         segments.append(Segments("external force", shaft[None], COLORS["external"], 6.0))
         meshes.append(Mesh("external force", v, f_, COLORS["external"], 1.0, ["external force"] * len(v)))
     return segments, meshes
