@@ -441,3 +441,14 @@ def test_above_limit_is_drawn_as_a_lower_bound(pinch):
     (above,) = [c for a in fig.axes for c in a.collections if c.get_gid() == "pinograsp-above-limit"]
     assert len(above.get_offsets()) == 1
     plt.close(fig)
+
+
+@pytest.mark.slow
+def test_talos_motor_joint_simulates():
+    # a joint kept only through its mimics moves no contact: the simulation gave it a zero
+    # (massless) armature and the object "gave way below the first load of the ramp, 2e-05 N"
+    m = talos_model()
+    s = pg.simulate_max_wrench(m, "fx", {"gripper_left_joint": 1.0}, upper=20)
+    r = pg.max_resistible_wrench(m, {"gripper_left_joint": 1.0}, "fx", upper=20, steps=10)
+    assert s.status == "gave_way" and r.status == "finite"
+    assert abs(s.load / r.magnitude - 1.0) < 0.1  # 6.3 N simulated, 6.15 N predicted
