@@ -158,6 +158,13 @@ def _equilibrium_tolerance(
     return tol
 
 
+def _balanced(status: str, audit: Audit) -> str:
+    """``"failed"`` for a resisted answer that does not balance the object within the method's
+    ``equilibrium_tolerance`` (no verdict; its audit fails too), else ``status``."""
+    tol = audit.equilibrium_tolerance
+    return "failed" if status == "resisted" and tol is not None and audit.equilibrium > tol else status
+
+
 def _audit(
     solver: Solver, lay: dict, st: Stage, ph: _Physical, energy: EnergyCheck | None, eq_tol: float | None
 ) -> Audit:
@@ -234,10 +241,8 @@ def build_response(
     slip = _slip(solver, lay, st, ph)
     if energy is not None and not (energy.energy_ok and energy.displacement_ok):
         warnings.warn(audit_message(method, energy), AuditWarning, stacklevel=4)
+    status = _balanced(status, audit)
     resistible = status == "resisted"
-    if eq_tol is not None and resistible and audit.equilibrium > eq_tol:
-        # an "equilibrium" that does not balance the object: no verdict (and the audit fails)
-        status, resistible = "failed", False
     return PassiveResponse(
         resistible=resistible,
         status=status,

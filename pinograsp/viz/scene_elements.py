@@ -14,9 +14,8 @@ scene's analysis axes — says otherwise; hand and object are then re-expressed 
   that *ends* at the contact point (the finger pushes). An arrow inside its cone is a force
   inside the friction cone.
 * The external force (the force part of ``response.wrench``) is an arrow starting at the
-  object's reference point, at the contact forces' scale but never shorter than
-  :data:`EXTERNAL_MIN_FRACTION` × the scene size (a 0.5 N load beside 7 N contact forces was a
-  dot inside the object); torques are not drawn.
+  object's reference point, never shorter than :data:`EXTERNAL_MIN_FRACTION` × the scene size;
+  torques are not drawn.
 * With a response that reports contact states (``PassiveResponse.contact_states``), each
   contact point is drawn in the colour and marker of its state (:data:`STATE_STYLES`: sticking,
   sliding, separated), and each sliding contact gets a slip arrow starting at the contact along
@@ -52,11 +51,9 @@ if TYPE_CHECKING:  # pragma: no cover
     from ..robots.hand import Hand
     from ..robots.objects import RigidObject
 
-#: Opacity of the hand and the object: mplot3d sorts faces by their centres only, so a body can
-#: be painted over the object it is behind (Hey5, Talos); a see-through hand keeps the object
-#: visible wherever the sort goes wrong.
-HAND_OPACITY = 0.55
-OBJECT_OPACITY = 0.6
+#: Opacities (mplot3d sorts faces by centre only: a see-through hand keeps the object visible)
+#: and the shortest external-force arrow / scene size (the contact forces' scale when longer).
+HAND_OPACITY, OBJECT_OPACITY, EXTERNAL_MIN_FRACTION = 0.55, 0.6, 0.2
 
 #: Default colours (hand, object, contacts, cones, contact forces, external force, normals,
 #: the contact states and the slip arrows).
@@ -235,9 +232,8 @@ def _object_mesh(obj: RigidObject, to_model: np.ndarray, skipped: list[str]) -> 
         skipped.append(str(obj.name))
         return None
     v = transform(np.asarray(m.vertices, float), to_model @ np.asarray(obj.pose, float))
-    return Mesh(
-        "object", v, np.asarray(m.faces, int), COLORS["object"], OBJECT_OPACITY, [str(obj.name)] * len(v)
-    )
+    f = np.asarray(m.faces, int)
+    return Mesh("object", v, f, COLORS["object"], OBJECT_OPACITY, [str(obj.name)] * len(v))
 
 
 def _contacts(model: GraspModel | None, obj: RigidObject | None, to_model: np.ndarray) -> _Contacts:
@@ -330,11 +326,6 @@ def _title(nc: int, status: str, states: tuple[str, ...]) -> str:
     title = f"{nc} contacts" + (f" — {status}" if status else "")
     counts = [f"{states.count(k)} {k}" for k in CONTACT_STATES if k in states]
     return title + (f": {', '.join(counts)}" if counts else "")
-
-
-#: Shortest external-force arrow, as a fraction of the scene size (it is drawn to the contact
-#: forces' scale when that is longer).
-EXTERNAL_MIN_FRACTION = 0.2
 
 
 def _largest_force(forces: np.ndarray | None, wrench: np.ndarray | None) -> float:
