@@ -193,17 +193,30 @@ class NoContactError(PinograspError):
     Attributes:
         distances: Closest signed distance [m] of each hand link to the object.
         tolerance: The contact tolerance [m] that was used.
+        surfaces: Links whose mesh (a surface, Coal BVH) contains the object's centre in its
+            bounding box: the object may be inside the link, where no distance sees it.
     """
 
-    def __init__(self, distances: dict[str, float], tolerance: float) -> None:
+    def __init__(self, distances: dict[str, float], tolerance: float, surfaces: tuple[str, ...] = ()) -> None:
         self.distances = dict(distances)
         self.tolerance = float(tolerance)
+        self.surfaces = tuple(surfaces)
         ordered = sorted(self.distances.items(), key=lambda kv: kv[1])
         shown = ", ".join(f"{k}: {v * 1e3:.3f} mm" for k, v in ordered)
+        note = ""
+        if self.surfaces:
+            note = (
+                f"; the object's centre lies within the mesh of {', '.join(self.surfaces)}: a hand mesh "
+                "is a surface (Coal BVH), not a solid, so an object inside it reports its positive "
+                "distance to the wall; move the object out of that link (docs/hands.md, mesh hands)"
+            )
         super().__init__(
             f"the hand touches nothing (contact tolerance {self.tolerance * 1e3:.3f} mm); "
-            f"closest signed distances per link: {shown or 'no collision geometry'}"
+            f"closest signed distances per link: {shown or 'no collision geometry'}{note}"
         )
+
+    def __reduce__(self) -> tuple:  # picklable (batch workers) with its attributes
+        return (type(self), (self.distances, self.tolerance, self.surfaces))
 
 
 class PenetrationError(PinograspError):
@@ -223,8 +236,12 @@ class PenetrationError(PinograspError):
         super().__init__(
             f"deep penetration (more than {self.max_penetration * 1e3:.3f} mm) of links into the object: "
             f"{shown}; "
-            "move the hand or the object, or raise max_penetration"
+            "move the hand or the object, or pass a larger max_penetration [m] (default 5 mm) to "
+            "close_on / grasp_model_from_scene (scene files: 'max_penetration')"
         )
+
+    def __reduce__(self) -> tuple:  # picklable (batch workers) with its attributes
+        return (type(self), (self.depths, self.max_penetration, self.distances))
 
 
 class MissingDependencyError(PinograspError, ImportError):

@@ -58,10 +58,11 @@ def test_tangent_frame_is_right_handed():
 
 
 def test_pruning_records_what_is_dropped():
-    # joint 2 reaches no contact; actuator "idle" drives only it; contact c1 has mu = 0
-    j = np.zeros((3, 3))
+    # joints 2 and 3 reach no contact and are coupled only to each other; actuator "idle" drives
+    # only joint 2; contact c1 has mu = 0
+    j = np.zeros((3, 4))
     j[:, 0] = [0.1, 0, 0]
-    j2 = np.zeros((3, 3))
+    j2 = np.zeros((3, 4))
     j2[:, 1] = [-0.1, 0, 0]
     cs = [
         pg.Contact([-0.05, 0, 0], [1, 0, 0], mu=0.5, jacobian=j, name="c0"),
@@ -72,9 +73,10 @@ def test_pruning_records_what_is_dropped():
         pg.Actuator({1: 1.0}, name="a1"),
         pg.Actuator({2: 1.0}, name="idle"),
     ]
-    cps = [pg.Coupling.follow(2, 1, 0.5, name="k")]
-    m = pg.GraspModel.from_contacts(cs, acts, cps, joint_names=("j0", "j1", "j2"))
-    assert m.joint_names == ("j0", "j1") and m.pruned.joints == ("j2",)
+    cps = [pg.Coupling.follow(3, 2, 0.5, name="k")]
+    names = ("j0", "j1", "j2", "j3")
+    m = pg.GraspModel.from_contacts(cs, acts, cps, joint_names=names)
+    assert m.joint_names == ("j0", "j1") and m.pruned.joints == ("j2", "j3")
     assert m.actuator_names == ("a0", "a1") and m.pruned.actuators == ("idle",)
     assert m.pruned.couplings == ("k",) and m.ncp == 0
     assert m.pruned.tangential == ("c1",)
@@ -82,12 +84,40 @@ def test_pruning_records_what_is_dropped():
     # commands may be given for all actuators (pruned ones dropped) or by name
     np.testing.assert_allclose(m.command_vector([1, 2, 3]), [1, 2])
     np.testing.assert_allclose(m.command_vector({"a1": 4.0}), [0, 4])
-    unpruned = pg.GraspModel.from_contacts(cs, acts, cps, joint_names=("j0", "j1", "j2"), prune=False)
-    assert unpruned.nq == 3 and unpruned.nb == 16
-    # a solver cannot hold a joint that moves no contact: a named error, not an AssertionError
-    with pytest.raises(pg.ModelError, match="j2.*prune=True") as err:
+    unpruned = pg.GraspModel.from_contacts(cs, acts, cps, joint_names=names, prune=False)
+    assert unpruned.nq == 4 and unpruned.nb == 16
+    # a solver cannot hold joints that move no contact and are coupled to none that does (j3
+    # follows j2 only): a named error, not an AssertionError
+    with pytest.raises(pg.ModelError, match="j2, j3.*prune=True") as err:
         pg.passive_response(unpruned, [1, 2, 3], np.zeros(6), method="prp")
     assert err.value.argument == "prune"
+
+
+def test_pruning_keeps_a_motor_coupled_to_a_touching_joint():
+    # issue 27 item 1: "idle" drives j2, whose own link touches nothing, but j2 drives j1 (which
+    # touches) through the coupling q1 = 0.5 q2 (a URDF mimic): j2, "idle" and the coupling stay
+    j = np.zeros((3, 3))
+    j[:, 0] = [0.1, 0, 0]
+    j2 = np.zeros((3, 3))
+    j2[:, 1] = [-0.1, 0, 0]
+    cs = [
+        pg.Contact([-0.05, 0, 0], [1, 0, 0], mu=0.5, jacobian=j, name="c0"),
+        pg.Contact([0.05, 0, 0], [-1, 0, 0], mu=0.5, jacobian=j2, name="c1"),
+    ]
+    acts = [
+        pg.Actuator({0: 1.0}, kind="backdrivable", name="a0"),
+        pg.Actuator({2: 1.0}, kind="backdrivable", name="idle"),
+    ]
+    m = pg.GraspModel.from_contacts(
+        cs, acts, [pg.Coupling.follow(1, 2, 0.5, name="k")], joint_names=("j0", "j1", "j2")
+    )
+    assert m.joint_names == ("j0", "j1", "j2") and not m.pruned
+    assert m.actuator_names == ("a0", "idle") and m.coupling_names == ("k",)
+    # closed form (virtual work): a0 at 1 N·m presses c0 with 1 / 0.1 m = 10 N; "idle" moves c1
+    # 0.5 * 0.1 m per rad, so tau_idle = 0.5 N·m presses it with 10 N and balances the object
+    r = pg.passive_response(m, {"a0": 1.0, "idle": 0.5}, np.zeros(6), "prp")
+    assert r.status == "resisted"
+    np.testing.assert_allclose(r.normal_forces, [10.0, 10.0], rtol=1e-6)
 
 
 @pytest.mark.parametrize(

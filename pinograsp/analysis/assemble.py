@@ -135,6 +135,40 @@ def _energy(
     )
 
 
+#: Net wrench an exact method's equilibrium may leave, relative to the force scale.
+EXACT_EQUILIBRIUM = 1e-6
+
+
+def carries_residual(method: AnalysisMethod, pre_method: AnalysisMethod | None) -> bool:
+    """Whether ``method``'s load stage balances the net wrench its preload stage (solved by
+    ``pre_method``; None: no preload stage) left: :attr:`AnalysisMethod.carries_residual` on an
+    inexact preload (the energetic method on the held-still, iterative preload)."""
+    return pre_method is not None and method.carries_residual and not pre_method.exact
+
+
+def equilibrium_tolerance(
+    solver: SolveContext, method: AnalysisMethod, st: Stage, pre: Stage | None, carried: bool
+) -> float | None:
+    """What the object's net wrench [N] may be at ``method``'s equilibrium (None: an inexact
+    method, judged by its own tolerance ``eps``): an exact method :data:`EXACT_EQUILIBRIUM` of the
+    force scale; a load stage that carried its preload stage's residual (``carried``,
+    :func:`carries_residual`) also that residual, at most the preload's tolerance
+    ``eps + eps_rel F`` (docs/methods.md)."""
+    if not method.exact:
+        return None
+    tol = EXACT_EQUILIBRIUM * max(st.data.F, 1e-300)
+    if carried and pre is not None:
+        s = solver.settings
+        tol += s.eps + s.eps_rel * pre.data.F
+    return tol
+
+
+def _balanced(status: str, audit: Audit) -> str:
+    """``"failed"`` for a resisted answer that does not balance the object within the method's
+    ``equilibrium_tolerance`` (no verdict; its audit fails too), else ``status``."""
+    return "failed" if status == "resisted" and not audit.balanced else status
+
+
 def _audit(
     solver: SolveContext,
     raw: RawSolution,
@@ -143,8 +177,10 @@ def _audit(
     st: Stage,
     ph: _Physical,
     energy: EnergyCheck | None,
+    eq_tol: float | None,
 ) -> Audit:
-    """Residual checks of the solution ``raw`` (variables ``z``) in force units [N]."""
+    """Residual checks of the solution ``raw`` (variables ``z``) in force units [N]; ``eq_tol``:
+    the net wrench [N] the method's equilibrium may leave (None: judged by ``eps``)."""
     m, f = solver.model, solver.form
     hand = (
         (m.J.T @ ph.c - m.R @ ph.fa - m.C.T @ ph.lam) / np.where(f.lever > 0, f.lever, 1.0)
@@ -161,6 +197,7 @@ def _audit(
         polished=raw.polished,
         tolerance=solver.settings.tolerance * max(st.data.F, 1e-300),
         energy=energy,
+        equilibrium_tolerance=eq_tol,
     )
 
 
@@ -174,6 +211,7 @@ def build_response(
     pre: Stage | None,
     *,
     pre_fresh: bool = True,
+    pre_method: AnalysisMethod | None = None,
 ) -> PassiveResponse:
     """The :class:`PassiveResponse` of the load stage ``st`` on top of the preload stage ``pre``
     (each solution read with its own layout, ``raw.layout``).
@@ -183,6 +221,7 @@ def build_response(
         method: The method of the load stage; variant: the ``Variant`` used.
         w6: Applied wrench (6,) [N, N·m]; fc: commands (na,) [N·m or N].
         pre_fresh: The preload stage was solved by this query (it counts in time and solves).
+        pre_method: The method that solved ``pre`` (its residual carried? :func:`carries_residual`).
     """
     m = solver.model
     status = st.status
@@ -209,15 +248,14 @@ def build_response(
     z, lay, mode = raw.z, raw.layout, raw.mode
     ph = _physical(solver, lay, z, w6, st, pre)
     energy = _energy(solver, w6, fc, st, pre, ph) if status == "resisted" else None  # an equilibrium
-    audit = _audit(solver, raw, lay, z, st, ph, energy)
+    eq_tol = equilibrium_tolerance(solver, method, st, pre, carries_residual(method, pre_method))
+    audit = _audit(solver, raw, lay, z, st, ph, energy, eq_tol)
     slip = _slip(solver, lay, z, st, ph)
     if energy is not None and not (energy.energy_ok and energy.displacement_ok):
         warnings.warn(audit_message(name, energy), AuditWarning, stacklevel=6)
-    resistible = status == "resisted"
-    if method.exact and resistible and audit.equilibrium > 1e-6 * max(st.data.F, 1e-300):
-        status, resistible = "failed", False
+    status = _balanced(status, audit)
     return PassiveResponse(
-        resistible=resistible,
+        resistible=status == "resisted",
         status=status,
         contact_forces=ph.cf,
         contact_forces_world=m.world_forces(ph.c),

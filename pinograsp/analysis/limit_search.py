@@ -12,6 +12,7 @@ import warnings
 import numpy as np
 
 from ..core.audit import audit_message
+from ..core.model import GraspModel
 from ..core.results import MaxWrench, MaxWrenchStatus, PassiveResponse
 from ..core.settings import Search
 from ..errors import AuditWarning, PreloadNotInEquilibriumError, SolverError, SolverTimeoutError
@@ -89,6 +90,7 @@ def finish(q: LimitQuery, magnitude: float, at_upper: bool, response: PassiveRes
     message = audit_warning(q)
     if message is not None:
         warnings.warn(message, AuditWarning, stacklevel=7)
+    note = free_motion_note(q.session.model, q.direction) if status == "below_resolution" else ""
     return MaxWrench(
         direction=q.direction,
         magnitude=magnitude,
@@ -105,7 +107,42 @@ def finish(q: LimitQuery, magnitude: float, at_upper: bool, response: PassiveRes
         response=response,
         search=q.search.value,
         audit_failures=tuple(sorted(m for m, _ in q.tally.flagged)),
+        note=note,
     )
+
+
+def free_motion_note(model: GraspModel, d: np.ndarray) -> str:
+    """Why the unit direction ``d`` (6,) resists nothing when the contacts leave the object a
+    free motion (:meth:`GraspModel.free_motions`) that the load drives (does work on): ``""``
+    otherwise."""
+    for t in model.free_motions():
+        power = float(d[:3] @ t[:3] + d[3:] @ t[3:])
+        size = float(
+            np.linalg.norm(d[:3]) * np.linalg.norm(t[:3]) + np.linalg.norm(d[3:]) * np.linalg.norm(t[3:])
+        )
+        if abs(power) <= 1e-6 * max(size, 1e-300):
+            continue
+        w, v = t[3:], t[:3]
+        if np.linalg.norm(w) > 0:
+            p = model.reference_point + np.cross(w, v) / float(w @ w)  # a point on the axis
+            axis = ", ".join(f"{c:.3g}" for c in w)
+            where = ", ".join(f"{1e3 * c:.1f}" for c in p)
+            motion = f"rotate about the axis ({axis}) through ({where}) mm"
+            if model.nc == 2:
+                motion += " (the line through the two contacts)"
+        else:
+            motion = "translate along (" + ", ".join(f"{c:.3g}" for c in t[:3]) + ")"
+        return (
+            f"no contact resists this load: the contacts leave the object free to {motion}, and the "
+            "load drives that motion (point contacts carry no torsional friction); add a contact "
+            "off that axis, or model the contact patch with several points"
+        )
+    return ""
+
+
+#: A direct (load-factor) limit within this fraction of ``upper`` (or within the resolution
+#: ``upper / 2**steps`` if coarser) is checked by solving at ``upper`` itself.
+NEAR_UPPER = 1e-4
 
 
 def direct(q: LimitQuery) -> tuple[float, PassiveResponse]:
@@ -126,6 +163,16 @@ def direct(q: LimitQuery) -> tuple[float, PassiveResponse]:
         raise PreloadNotInEquilibriumError(
             session.model.command_vector(q.command).tolist(), "load-factor problem infeasible"
         )
+    near_upper = np.isfinite(mag) and mag >= upper * (1.0 - max(2.0**-q.steps, NEAR_UPPER))
+    if near_upper and q.method.limit_point:
+        # the problem is bounded by ``upper``: a limit this close to it may be the bound binding
+        # within the solver's tolerance (49.99994 of 50 for a MIQP gap of 1e-6), not a finite
+        # limit. ``upper`` itself decides: resisted -> the zero-preload limit then says unbounded
+        # or above_limit, as when a search finds ``upper`` resisted. (A method without its own
+        # limit point reaches ``direct`` only after ``upper`` was tested not resisted.)
+        ok, _ = q.test(upper)
+        if ok:
+            mag = float("inf")
     if lf.response is not None:  # the method's own point at the limit
         q.tally.evidence.append((float(q.upper) if np.isinf(mag) else mag, True))
         q.tally.flag(mag, lf.response)
@@ -149,4 +196,4 @@ def direct(q: LimitQuery) -> tuple[float, PassiveResponse]:
     return mag, resp
 
 
-__all__ = ["audit_warning", "direct", "finish", "searched_max_load"]
+__all__ = ["NEAR_UPPER", "audit_warning", "direct", "finish", "free_motion_note", "searched_max_load"]

@@ -118,9 +118,9 @@ def _constraints(
     import cvxpy as cp
 
     m = model
-    drive = np.array([kind != "locked" for kind in m.kinds])
+    drive = np.array([kind != "locked" for kind in m.kinds], dtype=bool)
     bidir = np.array([n in m.bidirectional for n in m.actuator_names], dtype=bool)
-    nbd = np.array([kind == "non-backdrivable" for kind in m.kinds]) & ~bidir
+    nbd = np.array([kind == "non-backdrivable" for kind in m.kinds], dtype=bool) & ~bidir
     beta = cp.Variable(m.nb, nonneg=True)
     f = cp.Variable(m.na)
     q = cp.Variable(m.nq)
@@ -174,7 +174,7 @@ def _design(model: GraspModel, fmax: np.ndarray, method: str, objective: str, gr
         target = grip
     if not _solved(cp.Problem(cp.Minimize(cp.sum_squares(f / float(fmax.max()))), [*cons, cn >= target])):
         return None
-    drive = np.array([kind != "locked" for kind in m.kinds])
+    drive = np.array([kind != "locked" for kind in m.kinds], dtype=bool)
     bidir = np.array([n in m.bidirectional for n in m.actuator_names], dtype=bool)
     fv = np.where(drive, np.where(bidir, f.value, np.maximum(f.value, 0.0)), 0.0)
     cv = np.asarray(cn.value, float)

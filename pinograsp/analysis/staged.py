@@ -18,7 +18,7 @@ from ..core.settings import Method, Settings, Variant
 from ..errors import InvalidInputError, SolverError
 from ..solvers.base import INFEASIBLE, OPTIMAL
 from ..solvers.formulation import ScaledData
-from .assemble import build_response
+from .assemble import build_response, carries_residual
 from .protocols import AnalysisMethod, LoadFactor, SessionLike
 from .stages import Stage
 
@@ -59,7 +59,7 @@ def carried(
     exact balance of that residual would have to slip the contacts. Zero otherwise and for an
     exact preload."""
     m = session.model
-    if not method.carries_residual or pre_method.exact:
+    if not carries_residual(method, pre_method):
         return np.zeros(m.nw)
     beta = _preload_beta(pre) * pre.data.F
     return -(m.G @ (m.D @ beta))
@@ -92,7 +92,9 @@ def staged_response(
     p = precompression(session, pre)
     start = pre.raw.mode if pre.raw is not None else None
     stage = method.stage(session, w + carried(session, method, pre_method, pre), fc, p, start)
-    return build_response(session, method, variant, w6, fc, stage, pre, pre_fresh=fresh)
+    return build_response(
+        session, method, variant, w6, fc, stage, pre, pre_fresh=fresh, pre_method=pre_method
+    )
 
 
 @dataclass(frozen=True)
@@ -102,6 +104,7 @@ class _LimitPoint:
 
     stage: Stage
     pre: Stage | None
+    pre_method: AnalysisMethod | None
     variant: Variant
     fresh: bool
     at: float  # the magnitude of the point [N or N·m] (``upper`` when unbounded)
@@ -119,7 +122,15 @@ def staged_load_factor(
         return lf
     w6 = point.at * np.asarray(direction, float)
     resp = build_response(
-        session, method, point.variant, w6, fc, point.stage, point.pre, pre_fresh=point.fresh
+        session,
+        method,
+        point.variant,
+        w6,
+        fc,
+        point.stage,
+        point.pre,
+        pre_fresh=point.fresh,
+        pre_method=point.pre_method,
     )
     return replace(lf, response=resp)
 
@@ -135,7 +146,7 @@ def solve_load_factor(
     m, f = session.model, session.form
     p = np.zeros(m.nc)
     pre_time = 0.0
-    pre, fresh = None, True
+    pre, pre_method, fresh = None, None, True
     variant = variant_of(session.settings, method)
     if variant is not Variant.SINGLE_STEP:
         pre_method, pre, fresh = _preload(session, method, variant, fc)
@@ -162,5 +173,5 @@ def solve_load_factor(
     # the load-factor problem's point: an equilibrium of the problem at t d
     at_t = replace(data, w=data.w + t * d)
     stage = Stage(raw, at_t, raw.z[raw.layout.obj], "resisted", True, 1, (), raw.solve_time, 1)
-    point = _LimitPoint(stage, pre, variant, fresh, float(upper) if at_upper else magnitude)
+    point = _LimitPoint(stage, pre, pre_method, variant, fresh, float(upper) if at_upper else magnitude)
     return LoadFactor(OPTIMAL, magnitude, dt), point

@@ -282,12 +282,32 @@ def _actuation(actuators: object, couplings: object, joint_names: tuple[str, ...
 
 
 # --------------------------------------------------------------------------- 4. pruning
+def coupled_closure(reaches: np.ndarray, C: np.ndarray) -> np.ndarray:
+    """The joints that reach a contact, plus every joint rigidly coupled to one, (nq,) bool.
+
+    A coupling row touching a kept joint keeps all its joints, repeated until nothing changes:
+    a motor whose own link touches nothing but that drives touching joints through ``<mimic>``
+    couplings (the Talos gripper's ``gripper_left_joint``) keeps its joint, so its actuator and
+    couplings survive and its torque balances the contact forces through the coupling ratios.
+    """
+    keep = np.array(reaches, dtype=bool)
+    rows = C != 0
+    changed = bool(rows.size)
+    while changed:
+        changed = False
+        for row in rows:
+            if np.any(keep & row) and not np.all(keep[row]):
+                keep |= row
+                changed = True
+    return keep
+
+
 def _prune(act: _Actuation, jw: np.ndarray, joint_names: tuple[str, ...], prune: bool) -> _Kept:
-    """Drop joints that reach no contact, then actuators that reach no kept joint and couplings
-    through a dropped joint (everything is kept when ``prune`` is false)."""
+    """Drop joints that reach no contact and are coupled to none that does, then actuators that reach
+    no kept joint and couplings through a dropped joint (everything is kept when ``prune`` is false)."""
     nq = len(joint_names)
     reaches = np.any(np.abs(jw) > ZERO_TOL * max(np.abs(jw).max(), 1e-300), axis=(0, 1))
-    keep_j = reaches if prune else np.ones(nq, bool)
+    keep_j = coupled_closure(reaches, act.C) if prune else np.ones(nq, bool)
     dropped = tuple(
         (act.actuator_names[a], joint_names[j])
         for a in range(act.R.shape[1])

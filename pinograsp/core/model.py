@@ -178,6 +178,34 @@ class GraspModel:
         """Full 6-vector ``(translation [m], rotation [rad])`` of an object displacement."""
         return self.expand_wrench(x)
 
+    def free_motions(self) -> np.ndarray:
+        """Object motions no contact resists to first order, (k, 6) twists ``(translation [m],
+        rotation [rad])`` in the base frame about the reference point, each with a unit rotation
+        (or a unit translation if it has none); ``k = 0`` for a grasp that constrains every motion.
+
+        They span the null space of ``G^T``: no contact point moves along any axis of its frame.
+        Two point contacts leave the rotation about the line through them (the contact chord):
+        a load with a moment about it is resisted by nothing, so every direction is
+        ``below_resolution``. Point contacts carry no torsional friction; add a contact off the
+        chord (or model the patch with several points) to hold it.
+        """
+        nt = 2 if self.planar else 3
+        scale = np.ones(self.nw)
+        scale[nt:] = 1.0 / self.length_scale  # rotations in length units
+        A = self.G.T * scale[None, :]
+        _, sv, vt = np.linalg.svd(A)
+        rank = int(np.sum(sv > 1e-9 * max(float(sv.max(initial=0.0)), 1e-300)))
+        out = []
+        for v in vt[rank:]:
+            x = self.expand_twist(v * scale)
+            size = (
+                np.linalg.norm(x[3:])
+                if np.linalg.norm(x[3:]) > 1e-12 * np.abs(x).max()
+                else np.linalg.norm(x)
+            )
+            out.append(x / size)
+        return np.array(out).reshape(-1, 6)
+
     def command_vector(self, command: object) -> np.ndarray:
         """Validate an actuator command and return it for the kept actuators, (na,).
 
@@ -189,6 +217,13 @@ class GraspModel:
         negative value for any other actuator is an :class:`InvalidInputError`.
         """
         names_all = self.all_actuator_names
+        if command is None:
+            raise InvalidInputError(
+                "command",
+                "is None: give the actuator commands [N·m or N] (a number, one per actuator, or "
+                "{actuator: value}). equilibrium_preload returns command=None when no preload "
+                "exists (status 'infeasible'; its .reason says why)",
+            )
         if isinstance(command, Mapping):
             vals = dict.fromkeys(names_all, 0.0)
             for key, value in command.items():

@@ -124,8 +124,13 @@ class MaxWrench:
             complementarity problem, PRP only).
         audit_failures: Resisted magnitudes whose solution fails the audit (energy balance or
             displacement size; ``inf`` for the zero-preload limit test), ascending. Non-empty
-            means the PRP's wedging artefact carries the verdict above ``min(audit_failures)``;
-            one :class:`~pinograsp.errors.AuditWarning` says so.
+            means, for the PRP, that its wedging artefact carries the verdict above
+            ``min(audit_failures)`` (the iterative and energetic methods have none: there the
+            warning names the path or the solver's tolerance); one
+            :class:`~pinograsp.errors.AuditWarning` says so.
+        note: Why the answer is what it is when the model explains it (e.g. a
+            ``below_resolution`` direction that loads a motion no contact resists:
+            :meth:`GraspModel.free_motions`), else ``""``.
     """
 
     direction: np.ndarray
@@ -143,6 +148,7 @@ class MaxWrench:
     response: PassiveResponse | None = field(default=None, repr=False)
     search: str = "bisection"
     audit_failures: tuple[float, ...] = ()
+    note: str = ""
 
     @property
     def physically_audited(self) -> bool:
@@ -190,6 +196,7 @@ class MaxWrench:
             "method": self.method,
             "monotone": self.monotone,
             "audit_failures": [None if np.isinf(m) else m for m in self.audit_failures],
+            "note": self.note,
             "evidence": [[m, ok] for m, ok in self.evidence],
             "n_solves": self.n_solves,
             "solve_time": self.solve_time,
@@ -223,6 +230,8 @@ class MaxWrench:
                 lines.append(f"contact states {at}: {states}")
         if self.audit_failures:
             lines.append(f"audit failures at {', '.join(f'{m:.6g}' for m in self.audit_failures)}")
+        if self.note:
+            lines.append(f"note: {self.note}")
         return "\n".join(lines)
 
     def __repr__(self) -> str:

@@ -14,9 +14,15 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..core.validate import positive_number, whole_number
-from ..errors import NoContactError, PenetrationError
-from .collision import DEFAULT_TOLERANCE, closest_per_link, geometry_distances
+from ..core.validate import finite_number, positive_number, whole_number
+from ..errors import InvalidInputError, NoContactError, PenetrationError
+from .collision import (
+    DEFAULT_MAX_PENETRATION,
+    DEFAULT_TOLERANCE,
+    closest_per_link,
+    geometry_distances,
+    inside_surfaces,
+)
 from .hand_protocol import HandLike
 from .kinematics import HandConfiguration
 
@@ -126,6 +132,7 @@ def close_on(
     tolerance: float | None = None,
     step: float = 0.03,
     max_steps: int = 2000,
+    max_penetration: float | None = None,
 ) -> np.ndarray:
     """Close the hand on an object (like GraspIt!'s auto-grasp) and return the configuration.
 
@@ -143,16 +150,28 @@ def close_on(
         tolerance: Contact tolerance [m] (default :data:`pinograsp.robots.collision.DEFAULT_TOLERANCE`).
         step: Largest joint step per iteration [rad]; thin objects need a smaller one.
         max_steps: Safety limit on the number of steps.
+        max_penetration: Deepest overlap [m] accepted at ``q_open`` (default
+            :data:`pinograsp.robots.collision.DEFAULT_MAX_PENETRATION`, 5 mm, as in
+            :func:`~pinograsp.grasp_model_from_scene`): a link that already overlaps the object
+            by at most this much touches it (its joints do not move); deeper raises.
 
     Returns:
         The closed configuration (URDF coordinates), (nq,) [rad or m].
 
     Raises:
-        PenetrationError: ``q_open`` already penetrates the object.
+        PenetrationError: ``q_open`` already penetrates the object by more than ``max_penetration``.
         NoContactError: every joint reached its limit and no link touches the object (the
             error lists each link's closest distance [m]).
     """
     tol = DEFAULT_TOLERANCE if tolerance is None else positive_number("tolerance", tolerance)
+    pen = (
+        DEFAULT_MAX_PENETRATION
+        if max_penetration is None
+        else finite_number("max_penetration", max_penetration)
+    )
+    if pen < 0:
+        raise InvalidInputError("max_penetration", f"must be finite and >= 0 [m], got {pen}")
+    pen = max(pen, tol)
     step = positive_number("step", step)
     max_steps = whole_number("max_steps", max_steps)
     q = np.clip(hand.configuration(q_open, "q_open"), hand.lower, hand.upper)
@@ -160,9 +179,9 @@ def close_on(
     rate = d * np.where(hand.prismatic, step / 10.0, step)
     stops = _Stops(hand, d != 0)
     dist = geometry_distances(HandConfiguration.at(hand, q), obj)
-    deep = {hand.link_of_geometry(k): v for k, v in enumerate(dist) if v < -tol}
+    deep = {hand.link_of_geometry(k): v for k, v in enumerate(dist) if v < -pen}
     if deep:
-        raise PenetrationError(deep, tol, {hand.link_of_geometry(k): v for k, v in enumerate(dist)})
+        raise PenetrationError(deep, pen, {hand.link_of_geometry(k): v for k, v in enumerate(dist)})
     for k in np.flatnonzero(dist <= tol / 2):
         stops.stop_geometry(int(k))
     for _ in range(max_steps):
@@ -179,5 +198,6 @@ def close_on(
                 stops.stop_group(int(j))
     if not np.any(dist <= tol):  # every joint stopped at a limit without touching: say where the object is
         links = (hand.link_of_geometry(k) for k in range(len(dist)))
-        raise NoContactError(closest_per_link(links, dist), tol)
+        inside = inside_surfaces(HandConfiguration.at(hand, q), obj)
+        raise NoContactError(closest_per_link(links, dist), tol, inside)
     return q

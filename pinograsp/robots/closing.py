@@ -13,6 +13,13 @@ to the object:
 * it does **not change**: the joint moves no link towards or away from the object (verdict
   ``"no effect"``, e.g. a spread joint, or a finger whose closest point slides along the object).
 
+The joint is judged with what it carries: the joints below it close with it in their declared
+senses (as :meth:`~pinograsp.Hand.close_on` moves them), over ``steps`` samples of ``step`` in
+each sense, clipped to the limits, and the closest distance reached in the declared sense is
+compared with the other sense's. A sense a limit blocks is never suggested. Joints held only by
+locked actuators are ``"locked"`` and URDF mimic followers ``"follows"`` (checked with their
+leader, whose step moves them by the mimic ratio): neither decides how the hand closes.
+
 Only distances are used (no Jacobian, no grasp model), so the check works before the hand
 touches the object, at any configuration, and for one-joint grippers.
 """
@@ -24,7 +31,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..core.validate import finite_number, positive_number
+from ..core.validate import finite_number, positive_number, whole_number
 from ..errors import InvalidInputError, UnknownNameError
 from .collision import PairDistance, closest_per_link, geometry_distances, pair_distances_at
 from .hand_protocol import HandLike
@@ -35,7 +42,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from .objects import RigidObject
 
 #: Verdicts of :class:`JointClosing`.
-VERDICTS = ("closes", "opens", "no effect")
+VERDICTS = ("closes", "opens", "no effect", "locked", "follows")
 
 
 def moved_geometries(hand: Hand) -> list[list[int]]:
@@ -71,7 +78,10 @@ class JointClosing:
             step was taken the other way, the change being scaled accordingly).
         change: Rate of change of the distance per closing step, ``(after - before)`` [m]
             normalised to a step in the closing sense.
-        displacement: How far the closest hand point moved [m] during the step.
+        displacement: How far the closest hand point moved [m] during the sweep.
+        distance_other: Closest distance [m] reached sweeping the other way (``inf``: no room).
+        note: Why the verdict is what it is when that is not obvious (locked, mimic follower,
+            blocked by a limit), else ``""``.
     """
 
     joint: str
@@ -83,6 +93,8 @@ class JointClosing:
     step: float
     change: float
     displacement: float
+    distance_other: float = float("inf")
+    note: str = ""
 
     @property
     def sign_ok(self) -> bool | None:
@@ -91,7 +103,8 @@ class JointClosing:
 
     @property
     def suggested_sign(self) -> int:
-        """The closing sign to put in the description (``-sign`` when the joint opens)."""
+        """The closing sign to put in the description (``-sign`` when the joint opens; a locked
+        joint or a mimic follower keeps its sign: it does not decide how the hand closes)."""
         return -self.sign if self.verdict == "opens" else self.sign
 
     def to_dict(self) -> dict[str, Any]:
@@ -108,23 +121,30 @@ class JointClosing:
             "step": self.step,
             "change": self.change,
             "displacement": self.displacement,
+            "distance_other": self.distance_other,
+            "note": self.note,
         }
 
     def line(self) -> str:
         """One readable line: joint, sign, distances [mm] and verdict."""
         head = f"{self.joint} (closing {self.sign:+d})"
+        if self.verdict in ("locked", "follows"):
+            return f"{head}: {self.verdict}: {self.note}"
         if self.link is None:
             return f"{head}: moves no collision geometry -> no effect"
-        what = (
-            f"{self.link} {1e3 * self.distance_before:.2f} mm -> {1e3 * self.distance_after:.2f} mm"
-            f" ({1e3 * self.change:+.3f} mm per closing step)"
-        )
+
+        def mm(d: float) -> str:
+            return "blocked by a joint limit" if not np.isfinite(d) else f"{1e3 * d:.2f} mm"
+
+        closing = mm(self.distance_after) if self.step != 0.0 else "blocked by a joint limit"
+        what = f"{self.link} {1e3 * self.distance_before:.2f} mm; closing sense {closing}, other sense "
+        what += mm(self.distance_other)
         if self.verdict == "closes":
             tail = "closes: sign ok"
         elif self.verdict == "opens":
             tail = f"OPENS: sign likely wrong, use closing: {{{self.joint}: {self.suggested_sign}}}"
         else:
-            tail = "no effect: the joint moves no link towards the object"
+            tail = f"no effect: {self.note or 'the joint moves no link towards the object'}"
         return f"{head}: {what} -> {tail}"
 
 
@@ -195,18 +215,75 @@ class ClosingCheck:
         return self.summary()
 
 
-def _joint_step(hand: HandLike, q0: np.ndarray, j: int, step: float) -> tuple[float, float]:
-    """Sense (``+1`` closing, ``-1`` opening) and length [rad or m] of joint ``j``'s check step.
+def _group_step(hand: Hand, j: int) -> np.ndarray:
+    """URDF-coordinate motion of a unit closing step of joint ``j`` with its URDF mimic
+    followers (recursively: ``dq_f = multiplier dq_l``), (nq,)."""
+    dq = np.zeros(hand.nq)
+    dq[j] = hand.closing_signs[j]
+    todo = [j]
+    while todo:
+        lead = hand.joint_names[todo.pop()]
+        for m in hand.mimics:
+            if m.leader == lead:
+                f = hand.joint_names.index(m.follower)
+                if dq[f] == 0.0:
+                    dq[f] = m.multiplier * dq[hand.joint_names.index(lead)]
+                    todo.append(f)
+    return dq
 
-    A joint at its closing limit is stepped the other way; the length is clipped to the limits.
-    """
-    sign = hand.closing_signs[j]
-    h = step / 10.0 if hand.prismatic[j] else step
-    room_close = (hand.upper[j] - q0[j]) if sign > 0 else (q0[j] - hand.lower[j])
-    room_open = (q0[j] - hand.lower[j]) if sign > 0 else (hand.upper[j] - q0[j])
-    if room_close < 0.5 * h and room_open > room_close:
-        return -1.0, min(h, max(room_open, 0.0))
-    return 1.0, min(h, max(room_close, 0.0))
+
+def _carried_closing(hand: Hand, locked: set[int]) -> list[np.ndarray]:
+    """Per hand joint, the URDF-coordinate closing motion of the joints it carries (below it in
+    the chain, declared senses, mimics followed, locked ones still), (nq,) each."""
+    followers = {m.follower for m in hand.mimics}
+    out = []
+    for j in range(hand.nq):
+        dq = np.zeros(hand.nq)
+        for i in range(hand.nq):
+            if i == j or i in locked or hand.joint_names[i] in followers:
+                continue
+            if (j + 1) in [int(s) for s in hand.model.supports[i + 1]]:
+                step = _group_step(hand, i)
+                dq = np.where(dq == 0.0, step, dq)
+        dq[j] = 0.0
+        out.append(dq)
+    return out
+
+
+def _room(hand: HandLike, q0: np.ndarray, dq: np.ndarray, sense: float) -> float:
+    """Largest ``t >= 0`` with ``q0 + sense t dq`` within the joint limits."""
+    t = np.inf
+    for i in np.flatnonzero(dq):
+        v = sense * dq[i]
+        t = min(t, (hand.upper[i] - q0[i]) / v if v > 0 else (hand.lower[i] - q0[i]) / v)
+    return max(float(t), 0.0)
+
+
+def _locked_joints(hand: Hand) -> set[int]:
+    """Joints moved only by locked actuators (their closing sign does not matter)."""
+    driven: set[int] = set()
+    locked: set[int] = set()
+    for a in hand.actuators:
+        for key in a.transmission:
+            (locked if a.kind == "locked" else driven).add(hand.joint_index(str(key)))
+    return locked - driven
+
+
+def _sweep(
+    config: HandConfiguration, obj: RigidObject, dq: np.ndarray, geoms: list[int], t_max: float, n: int
+) -> tuple[float, float]:
+    """Closest distance [m] of ``geoms`` over ``n`` samples of ``q0 + t dq``, ``0 < t <= t_max``,
+    and the path length [m] the geometries' closest point sweeps (``inf, 0`` without room)."""
+    hand, q0 = config.hand, config.q
+    if t_max <= 0.0:
+        return float("inf"), 0.0
+    mask = np.zeros(len(hand.geometry.geometryObjects), bool)
+    mask[geoms] = True
+    best = float("inf")
+    for k in range(1, n + 1):
+        moved = HandConfiguration.at(hand, np.clip(q0 + (k / n) * t_max * dq, hand.lower, hand.upper))
+        best = min(best, float(geometry_distances(moved, obj, mask=mask)[geoms].min()))
+    return best, 0.0
 
 
 def _check_joint(
@@ -217,34 +294,65 @@ def _check_joint(
     geoms: list[int],
     step: float,
     threshold: float,
+    context: dict[str, Any],
 ) -> JointClosing:
     """:class:`JointClosing` of hand joint ``j`` (moving the geometries ``geoms``) at ``config``."""
     hand, q0 = config.hand, config.q
     name, sign = hand.joint_names[j], int(hand.closing_signs[j])
+    inf = float("inf")
+    if j in context["locked"]:
+        note = "held by a locked actuator; its sign does not matter for closing"
+        return JointClosing(name, sign, "locked", None, inf, inf, 0.0, 0.0, 0.0, inf, note)
+    if name in context["leader_of"]:
+        note = f"URDF mimic of {context['leader_of'][name]!r}, checked with it (its sign is a convention)"
+        return JointClosing(name, sign, "follows", None, inf, inf, 0.0, 0.0, 0.0, inf, note)
+    dq = context["group"][j]
+    geoms = sorted({k for i in np.flatnonzero(dq) for k in context["moved"][i]})
+    # the joints below it close with it, in their declared senses (as close_on moves them): a
+    # joint is judged by the finger it carries, not alone (the Allegro thumb's joint_13.0 alone
+    # turns link_14.0 away, while with the thumb closing it brings the tip onto the object)
+    below = context["below"][j]
     if not geoms:
-        return JointClosing(name, sign, "no effect", None, np.inf, np.inf, 0.0, 0.0, 0.0)
-    direction, h = _joint_step(hand, q0, j, step)
+        return JointClosing(name, sign, "no effect", None, inf, inf, 0.0, 0.0, 0.0)
+    h = step / 10.0 if hand.prismatic[j] else step
+    span = context["steps"] * h
     k0 = min(geoms, key=lambda k: pairs[k].distance)
     before = float(pairs[k0].distance)
-    if h <= 0.0:  # the joint cannot move at all (lower == upper)
-        return JointClosing(name, sign, "no effect", pairs[k0].link, before, before, 0.0, 0.0, 0.0)
-    q1 = q0.copy()
-    q1[j] += direction * sign * h
-    mask = np.zeros(len(pairs), bool)
-    mask[geoms] = True
-    moved = HandConfiguration.at(hand, q1)
-    after = float(geometry_distances(moved, obj, mask=mask)[geoms].min())
-    # displacement of the closest hand point, carried rigidly with its link
+    t_close = min(span, _room(hand, q0, dq, 1.0))
+    t_open = min(span, _room(hand, q0, dq, -1.0))
+    n = context["steps"]
+    d_close, _ = _sweep(config, obj, dq + below, geoms, t_close, n)
+    d_open, _ = _sweep(config, obj, -dq + below, geoms, t_open, n)
+    # how far the closest hand point travels over the longer sweep, carried with its link
+    t_far, sense = (t_close, 1.0) if t_close >= t_open else (t_open, -1.0)
+    moved = HandConfiguration.at(hand, np.clip(q0 + sense * t_far * (dq + below), hand.lower, hand.upper))
     local = config.geometry_data.oMg[k0].actInv(pairs[k0].point_hand)
-    moved_point = moved.geometry_data.oMg[k0].act(local)
-    displacement = float(np.linalg.norm(moved_point - pairs[k0].point_hand))
-    change = direction * (after - before)
-    if displacement <= 1e-12 or abs(change) <= threshold * displacement:
+    displacement = float(np.linalg.norm(moved.geometry_data.oMg[k0].act(local) - pairs[k0].point_hand))
+    a_close = before - d_close if np.isfinite(d_close) else 0.0
+    a_open = before - d_open if np.isfinite(d_open) else 0.0
+    note = ""
+    if displacement <= 1e-12 or max(a_close, a_open) <= threshold * displacement:
         verdict = "no effect"
+        if a_close < 0.0 and not np.isfinite(d_open):
+            note = (
+                "it moves away in its closing sense and a joint limit blocks the other sense: "
+                "the object is not where this joint closes (move it, or the open configuration)"
+            )
     else:
-        verdict = "closes" if change < 0 else "opens"
+        verdict = "closes" if a_close >= a_open else "opens"
+    after = d_close if np.isfinite(d_close) else before
     return JointClosing(
-        name, sign, verdict, pairs[k0].link, before, after, direction * h, change, displacement
+        name,
+        sign,
+        verdict,
+        pairs[k0].link,
+        before,
+        after,
+        t_close,
+        after - before,
+        displacement,
+        d_open,
+        note,
     )
 
 
@@ -255,6 +363,7 @@ def check_closing(
     *,
     step: float = 0.02,
     threshold: float = 0.1,
+    steps: int = 10,
 ) -> ClosingCheck:
     """Move each hand joint a small step in its declared closing sense; does it approach the object?
 
@@ -292,7 +401,17 @@ def check_closing(
     config = HandConfiguration.at(hand, q)
     pairs = pair_distances_at(config, obj)
     moved = moved_geometries(hand)
-    results = tuple(_check_joint(config, obj, pairs, j, moved[j], step, threshold) for j in range(hand.nq))
+    context = {
+        "locked": _locked_joints(hand),
+        "leader_of": {m.follower: m.leader for m in hand.mimics},
+        "moved": moved,
+        "group": [_group_step(hand, j) for j in range(hand.nq)],
+        "steps": whole_number("steps", steps),
+        "below": _carried_closing(hand, _locked_joints(hand)),
+    }
+    results = tuple(
+        _check_joint(config, obj, pairs, j, moved[j], step, threshold, context) for j in range(hand.nq)
+    )
     q0 = tuple(float(v) for v in config.q)
     return ClosingCheck(
         str(hand.name),

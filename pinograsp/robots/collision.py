@@ -258,8 +258,29 @@ def detect_contacts_at(
         raise PenetrationError(deep, max_penetration, dist)
     contacts = tuple(p for p in pairs if p.distance <= tolerance)
     if require and not contacts:
-        raise NoContactError(dist, tolerance)
+        raise NoContactError(dist, tolerance, inside_surfaces(config, obj))
     return ContactReport(contacts, pairs, float(tolerance), dist)
+
+
+def inside_surfaces(config: HandConfiguration, obj: RigidObject) -> tuple[str, ...]:
+    """Links whose mesh is a surface (Coal BVH) with the object's centre inside its local
+    bounding box: the object may sit inside the link, where the signed distance (to the wall)
+    is positive (a hint for :class:`~pinograsp.errors.NoContactError`)."""
+    hand = config.hand
+    centre = np.asarray(obj.center_of_mass, float)
+    out: list[str] = []
+    for k, g in enumerate(hand.geometry.geometryObjects):
+        geo = g.geometry
+        if not type(geo).__name__.startswith("BVH"):
+            continue
+        geo.computeLocalAABB()
+        local = config.geometry_data.oMg[k].actInv(centre)
+        box = geo.aabb_local
+        if np.all(local >= np.asarray(box.min_)) and np.all(local <= np.asarray(box.max_)):
+            name = hand.link_of_geometry(k)
+            if name not in out:
+                out.append(name)
+    return tuple(out)
 
 
 def detect_contacts(

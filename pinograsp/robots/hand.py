@@ -318,6 +318,7 @@ class Hand:
         tolerance: float | None = None,
         step: float = 0.03,
         max_steps: int = 2000,
+        max_penetration: float | None = None,
     ) -> np.ndarray:
         """Close the hand on an object (like GraspIt!'s auto-grasp) and return the configuration.
 
@@ -327,7 +328,15 @@ class Hand:
         Returns:
             The closed configuration (URDF coordinates), (nq,) [rad or m].
         """
-        return autoclose.close_on(self, obj, q_open, tolerance=tolerance, step=step, max_steps=max_steps)
+        return autoclose.close_on(
+            self,
+            obj,
+            q_open,
+            tolerance=tolerance,
+            step=step,
+            max_steps=max_steps,
+            max_penetration=max_penetration,
+        )
 
     def __repr__(self) -> str:
         return (

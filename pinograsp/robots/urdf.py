@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import xml.etree.ElementTree as ET
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -45,12 +45,28 @@ class UrdfXml:
         links: Link names in file order.
         mimics: The ``<mimic>`` tags.
         collisions: Number of ``<collision>`` elements per link.
+        parents: Parent link of each child link, over every joint (fixed ones included).
     """
 
     robot_name: str | None
     links: tuple[str, ...]
     mimics: tuple[Mimic, ...]
     collisions: dict[str, int]
+    parents: dict[str, str] = field(default_factory=dict)
+
+    def at_or_below(self, base: str) -> set[str]:
+        """The link ``base`` and every link below it in the URDF tree, through every joint
+        (moving, fixed or locked by the description)."""
+        children: dict[str, list[str]] = {}
+        for child, parent in self.parents.items():
+            children.setdefault(parent, []).append(child)
+        out, todo = {base}, [base]
+        while todo:
+            for c in children.get(todo.pop(), ()):
+                if c not in out:
+                    out.add(c)
+                    todo.append(c)
+        return out
 
 
 @dataclass(frozen=True)
@@ -83,10 +99,14 @@ def parse_urdf_xml(path: Path) -> UrdfXml:
     if root.tag != "robot":
         raise UrdfError(path, f"root element is <{root.tag}>, expected <robot>")
     mimics = []
+    parents: dict[str, str] = {}
     for jt in root.findall("joint"):
         name = jt.get("name")
         if not name:
             raise UrdfError(path, "a <joint> has no name")
+        parent, child = jt.find("parent"), jt.find("child")
+        if parent is not None and child is not None and parent.get("link") and child.get("link"):
+            parents[str(child.get("link"))] = str(parent.get("link"))
         m = jt.find("mimic")
         if m is None:
             continue
@@ -104,6 +124,7 @@ def parse_urdf_xml(path: Path) -> UrdfXml:
         tuple(ln.get("name", "") for ln in links),
         tuple(mimics),
         {ln.get("name", ""): len(ln.findall("collision")) for ln in links},
+        parents,
     )
 
 
@@ -175,10 +196,19 @@ def _reduce(
         f_in, l_in = m.follower in hand_joints, m.leader in hand_joints
         if f_in and l_in:
             hand_mimics.append(m)
+        elif f_in and m.leader not in movable:
+            raise ModelError(
+                f"{path}: joint {m.follower!r} mimics {m.leader!r}, which is not a movable joint of "
+                f"this URDF (a name the file gets wrong?). Set 'use_mimic: false' in the description "
+                "(URDF mimics ignored: each joint moves on its own) and, to keep the linkage, add the "
+                f"coupling yourself: couplings: [{{follower: {m.follower}, leader: <the real joint>, "
+                f"ratio: {m.multiplier:g}}}] (closing coordinates; docs/hands.md)"
+            )
         elif f_in != l_in:
             raise ModelError(
                 f"{path}: joint {m.follower!r} mimics {m.leader!r} but only one of them is a hand joint; "
-                "keep both in (or both out of) the description's 'joints'"
+                "keep both in (or both out of) the description's 'joints', or set 'use_mimic: false' "
+                "(URDF mimics ignored) and give the couplings you want under 'couplings'"
             )
     return model, geom, tuple(hand_mimics)
 
@@ -216,19 +246,16 @@ def _move_base(path: Path, model: pin.Model, geom: pin.GeometryModel, base_link:
 
 
 def _contact_geometry(
-    model: pin.Model, geom: pin.GeometryModel, contact_links: tuple[str, ...] | None, base_id: int
+    model: pin.Model,
+    geom: pin.GeometryModel,
+    contact_links: tuple[str, ...] | None,
+    base_id: int,
+    xml: UrdfXml,
 ) -> pin.GeometryModel:
-    """The geometry of ``contact_links``, or of every link at or below the base link."""
-
-    def below_base(fid: int) -> bool:
-        while True:
-            if fid == base_id:
-                return True
-            parent = model.frames[fid].parentFrame
-            if parent == fid:
-                return False
-            fid = parent
-
+    """The geometry of ``contact_links``, or of every link at or below the base link in the
+    URDF tree (through locked joints too: a finger whose joints the description locks still
+    touches; Pinocchio's reduced model does not link a locked joint's frame to its parent, so
+    the tree comes from the XML)."""
     if contact_links is not None:
         body_frames = [f.name for f in model.frames if f.type == pin.FrameType.BODY]
         for ln in contact_links:
@@ -236,7 +263,8 @@ def _contact_geometry(
                 raise UnknownNameError("link", ln, body_frames)
         keep = [g for g in geom.geometryObjects if model.frames[g.parentFrame].name in contact_links]
     else:
-        keep = [g for g in geom.geometryObjects if below_base(g.parentFrame)]
+        below = xml.at_or_below(model.frames[base_id].name)
+        keep = [g for g in geom.geometryObjects if model.frames[g.parentFrame].name in below]
     contact_geom = pin.GeometryModel()
     for g in keep:
         contact_geom.addGeometryObject(g)
@@ -258,4 +286,4 @@ def load_urdf_hand(
     model, geom = _build_models(path, dirs, xml)
     model, geom, mimics = _reduce(path, model, geom, desc, xml.mimics)
     base_id = _move_base(path, model, geom, desc.base_link)
-    return UrdfHand(model, _contact_geometry(model, geom, desc.contact_links, base_id), mimics, xml)
+    return UrdfHand(model, _contact_geometry(model, geom, desc.contact_links, base_id, xml), mimics, xml)

@@ -153,8 +153,11 @@ def _joint_values(f: SceneFile, hand: Hand, value: object, key: str) -> dict[str
     return out
 
 
-def _configuration(f: SceneFile, hand: Hand, obj: RigidObject, value: object, tol: float) -> np.ndarray:
-    """The hand configuration: joint values, or ``auto_close`` on the object (tolerance [m])."""
+def _configuration(
+    f: SceneFile, hand: Hand, obj: RigidObject, value: object, tol: float, pen: float | None = None
+) -> np.ndarray:
+    """The hand configuration: joint values, or ``auto_close`` on the object (tolerance and
+    deepest accepted overlap [m])."""
     if value is None:
         raise f.error("configuration", "missing required key (joint values, or auto_close)")
     v = f.mapping(value, "configuration", "a mapping joint -> value, or {auto_close: {...}}")
@@ -170,7 +173,7 @@ def _configuration(f: SceneFile, hand: Hand, obj: RigidObject, value: object, to
         q_open = _joint_values(f, hand, ac["from"], "configuration.auto_close.from")
     step = f.number(ac.get("step", 0.03), "configuration.auto_close.step", positive=True)
     try:
-        return hand.close_on(obj, q_open, tolerance=tol, step=step)
+        return hand.close_on(obj, q_open, tolerance=tol, step=step, max_penetration=pen)
     except PinograspError as exc:
         raise f.error("configuration.auto_close", str(exc)) from exc
 
@@ -242,7 +245,7 @@ def build_urdf(f: SceneFile, d: Mapping) -> GraspParts:
     tol = f.number(d.get("tolerance", DEFAULT_TOLERANCE), "tolerance", positive=True)
     pen = f.number(d.get("max_penetration", DEFAULT_MAX_PENETRATION), "max_penetration", positive=True)
     obj = _load_object(f, f.require(d, "object", ""))
-    q = _configuration(f, hand, obj, d.get("configuration"), tol)
+    q = _configuration(f, hand, obj, d.get("configuration"), tol, pen)
     links = list(hand.contact_link_names)
     mu = f.per_name(d.get("friction"), "friction", links, 0.5, nonneg=True)
     k = f.per_name(d.get("stiffness"), "stiffness", links, 1.0, positive=True)

@@ -49,6 +49,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..core.actuation import BACKDRIVABLE, LOCKED, NON_BACKDRIVABLE
+from ..core.build import coupled_closure
 from ..core.model import GraspModel
 from ..errors import ModelError
 
@@ -133,18 +134,26 @@ class Formulation:
         nrows = m.normal_rows
         Jn = m.J[nrows]  # (nc, nq)
         absJ = np.abs(m.J)
+        # joints that move no contact are only kept when rigidly coupled to one that does (a
+        # motor driving its fingers through mimics, core/build.py): they take the length scale
+        # and the stiffest contact as their scales (their Jacobian columns are zero)
         self.lever = absJ.max(axis=0) if nq else np.zeros(0)  # (nq,) [m/rad]
-        if nq and np.any(self.lever <= 0):
-            idle = ", ".join(m.joint_names[j] for j in np.flatnonzero(self.lever <= 0))
+        free = self.lever <= 0
+        idle = ~coupled_closure(~free, m.C) if nq else free  # coupled to no joint that moves one
+        if np.any(idle):
+            names = ", ".join(m.joint_names[j] for j in np.flatnonzero(idle))
             raise ModelError(
-                f"joint(s) {idle} move no contact (a zero Jacobian column), so no force can hold "
-                "them; build the model with prune=True (the default), which removes them",
+                f"joint(s) {names} move no contact (a zero Jacobian column) and are coupled to no "
+                "joint that does, so no force can hold them; build the model with prune=True (the "
+                "default), which removes them",
                 "prune",
             )
+        self.lever = np.where(free, ell, self.lever)
         # stiffness of each joint's contacts
         reach = np.zeros((nc, nq), bool)
         for i in range(nc):
             reach[i] = np.any(absJ[i * m.d : (i + 1) * m.d] > 0, axis=0)
+        reach[:, free] = True
         self.kq = np.array([m.k[reach[:, j]].max() for j in range(nq)]) if nq else np.zeros(0)
         self.kx = float(m.k.max())
         self.qscale = self.kq * self.lever  # qh = qscale * q

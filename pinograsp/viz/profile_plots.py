@@ -210,6 +210,10 @@ def _sample_intervals(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return lo, hi
 
 
+#: ``gid`` of the markers of ``above_limit`` directions in a profile plot.
+GID_ABOVE_LIMIT = "pinograsp-above-limit"
+
+
 def _run_middles(unbounded: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
     """Angle [rad] at the middle of each circular run of unbounded samples."""
     return np.array(
@@ -313,7 +317,7 @@ def plot_profile(
     from matplotlib.patches import Patch
 
     handles: list[Artist] = []
-    any_unbounded = False
+    any_unbounded = any_above = False
     for i, (p, r, name) in enumerate(zip(profiles, radii, names)):
         color = colors[i] if colors is not None else f"C{i % 10}"
         a = np.mod(np.asarray(p.angles, dtype=float), 2 * np.pi)
@@ -323,12 +327,28 @@ def plot_profile(
         closed_a, closed_r = np.append(a, a[0] + 2 * np.pi), np.append(curve, curve[0])
         (line,) = ax.plot(closed_a, closed_r, marker=".", color=color, lw=1.6, label=name)
         handles.append(line)
+        # above_limit: resisted at ``upper`` (a lower bound, the limit lies beyond): a hollow
+        # triangle at ``upper`` instead of a point that reads as a limit
+        above = np.array([st == "above_limit" for st in p.statuses], bool)[order] if p.results else None
+        if above is not None and above.any():
+            ax.plot(
+                a[above], r[above], ls="none", marker="^", ms=7, mfc="none", mec=color, gid=GID_ABOVE_LIMIT
+            )
+            any_above = True
         unb = ~np.isfinite(r)
         if unb.any():
             any_unbounded = True
             _draw_unbounded(ax, a, unb, color, _HATCHES[i % len(_HATCHES)], rmax)
     if any_unbounded:
         handles.append(Patch(facecolor="0.6", alpha=0.4, hatch="//", edgecolor="0.4", label="unbounded (∞)"))
+    if any_above:
+        from matplotlib.lines import Line2D
+
+        handles.append(
+            Line2D(
+                [], [], ls="none", marker="^", mfc="none", mec="0.3", label="above upper (≥, a lower bound)"
+            )
+        )
     ax.set_ylim(0.0, rmax)
     b1, b2 = plane
     ax.set_thetagrids(

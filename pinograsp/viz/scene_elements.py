@@ -14,7 +14,8 @@ scene's analysis axes — says otherwise; hand and object are then re-expressed 
   that *ends* at the contact point (the finger pushes). An arrow inside its cone is a force
   inside the friction cone.
 * The external force (the force part of ``response.wrench``) is an arrow starting at the
-  object's reference point. Torques are not drawn.
+  object's reference point, never shorter than :data:`EXTERNAL_MIN_FRACTION` × the scene size;
+  torques are not drawn.
 * With a response that reports contact states (``PassiveResponse.contact_states``), each
   contact point is drawn in the colour and marker of its state (:data:`STATE_STYLES`: sticking,
   sliding, separated), and each sliding contact gets a slip arrow starting at the contact along
@@ -49,6 +50,10 @@ from .view3d import (
 if TYPE_CHECKING:  # pragma: no cover
     from ..robots.hand import Hand
     from ..robots.objects import RigidObject
+
+#: Opacities (mplot3d sorts faces by centre only: a see-through hand keeps the object visible)
+#: and the shortest external-force arrow / scene size (the contact forces' scale when longer).
+HAND_OPACITY, OBJECT_OPACITY, EXTERNAL_MIN_FRACTION = 0.55, 0.6, 0.2
 
 #: Default colours (hand, object, contacts, cones, contact forces, external force, normals,
 #: the contact states and the slip arrows).
@@ -217,7 +222,7 @@ def _hand_mesh(hand: Hand, q: object, to_model: np.ndarray, skipped: list[str]) 
             )
         )
     v, f, lab = merge(parts)
-    return Mesh("hand", v, f, COLORS["hand"], 1.0, lab) if len(v) else None
+    return Mesh("hand", v, f, COLORS["hand"], HAND_OPACITY, lab) if len(v) else None
 
 
 def _object_mesh(obj: RigidObject, to_model: np.ndarray, skipped: list[str]) -> Mesh | None:
@@ -227,7 +232,8 @@ def _object_mesh(obj: RigidObject, to_model: np.ndarray, skipped: list[str]) -> 
         skipped.append(str(obj.name))
         return None
     v = transform(np.asarray(m.vertices, float), to_model @ np.asarray(obj.pose, float))
-    return Mesh("object", v, np.asarray(m.faces, int), COLORS["object"], 0.45, [str(obj.name)] * len(v))
+    f = np.asarray(m.faces, int)
+    return Mesh("object", v, f, COLORS["object"], OBJECT_OPACITY, [str(obj.name)] * len(v))
 
 
 def _contacts(model: GraspModel | None, obj: RigidObject | None, to_model: np.ndarray) -> _Contacts:
@@ -352,7 +358,8 @@ def _force_arrows(
         meshes.append(Mesh("contact forces", v, f_, COLORS["forces"], 1.0, lab))
     if wrench is not None and np.all(np.isfinite(wrench)) and np.linalg.norm(wrench[:3]) * s > 1e-9 * size:
         o = c.ref_point
-        shaft, (v, f_, _) = _arrow(o, o + s * wrench[:3], wrench[:3], s, size, "external force")
+        se = max(s, EXTERNAL_MIN_FRACTION * size / float(np.linalg.norm(wrench[:3])))
+        shaft, (v, f_, _) = _arrow(o, o + se * wrench[:3], wrench[:3], se, size, "external force")
         segments.append(Segments("external force", shaft[None], COLORS["external"], 6.0))
         meshes.append(Mesh("external force", v, f_, COLORS["external"], 1.0, ["external force"] * len(v)))
     return segments, meshes

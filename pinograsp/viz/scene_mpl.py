@@ -31,11 +31,30 @@ _ARROW_HEADS = ("contact forces", "external force", SLIP_NAME)
 GID_CONTACTS = "pinograsp-contacts:"
 
 
-def _decimate(f: np.ndarray, max_faces: int) -> np.ndarray:
-    """At most ``max_faces`` faces (every k-th face: a coarse preview of big meshes)."""
+def _decimate(v: np.ndarray, f: np.ndarray, max_faces: int) -> tuple[np.ndarray, np.ndarray]:
+    """At most ``max_faces`` faces of the mesh ``(v, f)``, by vertex clustering: vertices are
+    merged per cell of a grid over the mesh's box (each cell's mean), collapsed faces dropped,
+    the grid coarsened until the mesh fits. A coarse but closed surface (keeping every k-th face
+    instead draws a big mesh, e.g. the G1 hand's, as scattered slivers); deterministic."""
     if len(f) <= max_faces:
-        return f
-    return f[:: int(np.ceil(len(f) / max_faces))]
+        return v, f
+    lo, hi = v.min(axis=0), v.max(axis=0)
+    extent = float(np.max(hi - lo)) or 1.0
+    cells = max(int(np.sqrt(max_faces / 2.0)), 2)
+    while True:
+        size = extent / cells
+        keys = np.floor((v - lo) / size).astype(np.int64)
+        _, cluster, counts = np.unique(keys, axis=0, return_inverse=True, return_counts=True)
+        cluster = cluster.reshape(-1)
+        merged = np.zeros((len(counts), 3))
+        np.add.at(merged, cluster, v)
+        merged /= counts[:, None]
+        g = cluster[f]
+        keep = (g[:, 0] != g[:, 1]) & (g[:, 1] != g[:, 2]) & (g[:, 0] != g[:, 2])
+        g = np.unique(np.sort(g[keep], axis=1), axis=0) if keep.any() else g[:0]
+        if len(g) <= max_faces or cells <= 2:
+            return merged, g[:max_faces]
+        cells = max(int(cells * 0.7), 2)
 
 
 def _axes3d(ax: Any) -> Any:
@@ -64,8 +83,8 @@ def _draw_surfaces(ax: Any, meshes: list[Mesh], max_faces: int, handles: list[An
 
     surf_polys, surf_face, surf_edge = [], [], []
     for m in meshes:
-        faces = _decimate(m.faces, int(max_faces))
-        surf_polys.append(m.vertices[faces])
+        verts, faces = _decimate(m.vertices, m.faces, int(max_faces))
+        surf_polys.append(verts[faces])
         surf_face += [to_rgba(m.color, m.opacity)] * len(faces)
         surf_edge += [to_rgba("0.2", 0.4) if m.name == "hand" else (0.0, 0.0, 0.0, 0.0)] * len(faces)
         _add_handle(handles, m.name, Line2D([], [], color=m.color, lw=6, alpha=max(m.opacity, 0.4)))
@@ -146,7 +165,7 @@ def scene_axes(
 ) -> Any:
     """Draw the scene of :func:`~pinograsp.viz.viewer.scene_figure` on a matplotlib 3D Axes and return it.
 
-    Meshes are ``Poly3DCollection`` (each limited to ``max_faces`` faces, every k-th face kept),
+    Meshes are ``Poly3DCollection`` (each limited to ``max_faces`` faces by vertex clustering),
     segments lines, contacts points. ``ax``: a 3D Axes (default: a new pyplot figure). Other
     arguments as :func:`~pinograsp.viz.viewer.scene_figure`. ``elev``/``azim``: view angles
     [deg] (z vertical); by default (both ``None`` and ``upright=True``) the view of

@@ -27,6 +27,8 @@ if TYPE_CHECKING:  # pragma: no cover
 
 #: ``gid`` of the markers of directions that are not resistible at all.
 GID_NOT_RESISTIBLE = "pinograsp-not-resistible"
+#: ``gid`` of the map markers of ``above_limit`` directions (resisted at ``upper``: a lower bound).
+GID_ABOVE_LIMIT = "pinograsp-above-limit"
 
 
 def _colour_norm(values: np.ndarray) -> Any:
@@ -43,9 +45,23 @@ def _colour_norm(values: np.ndarray) -> Any:
 
 def _draw_map(ax: Any, lon: np.ndarray, lat_or_y: np.ndarray, size: np.ndarray, rs: ResistanceSet, norm: Any):
     s = np.array(rs.statuses)
-    fin = (s == "finite") | (s == "above_limit")
+    fin = s == "finite"
     sc = ax.scatter(
         lon[fin], lat_or_y[fin], c=rs.scaled[fin], s=size[fin], cmap="viridis", norm=norm, edgecolors="none"
+    )
+    # above_limit: resisted at ``upper``, the limit lies above it (a lower bound, not a limit)
+    m = s == "above_limit"
+    ax.scatter(
+        lon[m],
+        lat_or_y[m],
+        c=rs.scaled[m],
+        s=np.maximum(size[m], 30.0),
+        marker="^",
+        cmap="viridis",
+        norm=norm,
+        edgecolors="k",
+        linewidths=0.8,
+        gid=GID_ABOVE_LIMIT,
     )
     m = s == "unbounded"
     big = np.maximum(size[m], 40.0)
@@ -123,7 +139,7 @@ def plot_resistance_set(rset: ResistanceSet, *, title: str | None = None) -> Fig
             ax.tick_params(labelsize=7)
             maps.append(ax)
     cb = fig.colorbar(sc, ax=maps, orientation="horizontal", fraction=0.06, pad=0.18 if planar else 0.06)
-    cb.set_label("scaled limit [N]  (×: unbounded, red ring: not resistible)")
+    cb.set_label("scaled limit [N]  (×: unbounded, ▲: above upper, a lower bound, red ring: not resistible)")
     _ecdf(fig.add_subplot(grid[-1]), rset)
     c = rset.classes()
     fig.suptitle(

@@ -46,6 +46,10 @@ COUNT_FREE = ("profile", "set", "score")
 #: Fields added after the baseline (compared only where the baseline has them): a profile's
 #: ``failures`` (issue #27 item 9), empty when every direction answered.
 ADDED = {"profile": ("failures",)}
+#: Record fields added after the baseline, by record type (absent from the baseline, so left out
+#: of every comparison): the audit's ``equilibrium_tolerance`` (issue #27 item 4) and a max-wrench
+#: ``note`` (issue #27 item 13).
+ADDED_FIELDS = {"Audit": ("equilibrium_tolerance",), "MaxWrench": ("note",)}
 
 
 def canon(x: object, depth: int = 0) -> object:
@@ -309,10 +313,20 @@ def run(only: str | None = None) -> list[str]:
     return lines
 
 
+def _drop_added(x: object) -> object:
+    """``x`` without the record fields of :data:`ADDED_FIELDS`."""
+    if isinstance(x, dict):
+        added = ADDED_FIELDS.get(str(x.get("__type__")), ())
+        return {k: _drop_added(v) for k, v in x.items() if k not in added}
+    if isinstance(x, list):
+        return [_drop_added(v) for v in x]
+    return x
+
+
 def _drop_counts(line: str) -> str:
     name, _, body = line.partition("\t")
     if not name.startswith(COUNT_FREE):
-        return line
+        return name + "\t" + json.dumps(_drop_added(json.loads(body)), sort_keys=True)
     added = ADDED.get(name.split("/")[0], ())
 
     def strip(x: object) -> object:
@@ -322,7 +336,7 @@ def _drop_counts(line: str) -> str:
             return [strip(v) for v in x]
         return x
 
-    value = strip(json.loads(body))
+    value = strip(_drop_added(json.loads(body)))
     if isinstance(value, dict):
         value = {k: v for k, v in value.items() if not (k in added and v == [])}
     return name + "\t" + json.dumps(value, sort_keys=True)
