@@ -13,10 +13,11 @@ import math
 import numpy as np
 import pytest
 import yaml
-from hypothesis import HealthCheck, given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 from strategies import (  # noqa: E402
     FUZZ,
+    SLOW,
     expect_pinograsp_error,
     finite,
     floats,
@@ -242,7 +243,7 @@ def test_fuzz_command_and_wrench_vectors(models, kind, command, wrench):
         assert w.shape == (6,) and np.all(np.isfinite(w))
 
 
-@settings(max_examples=25, deadline=None, database=None, suppress_health_check=[HealthCheck.too_slow])
+@SLOW
 @given(
     command=st.one_of(
         st.floats(-1e6, 1e6), st.floats(0.01, 100), st.sampled_from([0.0, 1e-300, 1e300, math.nan]), junk

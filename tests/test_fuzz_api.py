@@ -12,14 +12,13 @@ import numpy as np
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
-from strategies import FUZZ, expect_pinograsp_error, junk, scalars, vec
+from strategies import FAST, FUZZ, expect_pinograsp_error, junk, scalars, vec
 
 import pinograsp as pg
 from pinograsp import examples
 
 matplotlib.use("Agg")
 
-FAST = FUZZ.__class__(FUZZ, max_examples=max(10, FUZZ.max_examples // 3))
 
 directions = st.one_of(
     st.sampled_from(["fx", "-fy", "mz", "torque_x", "+fz", "fq", "", "--fx"]),
