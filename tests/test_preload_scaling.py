@@ -1,0 +1,83 @@
+"""``equilibrium_preload`` right by construction (issue 26): the design problem is homogeneous in
+the commands, so a bound only scales the answer. ``pinograsp preload`` on every built-in scene
+gives the same verdict for every bound, and commands proportional to it; a model with no
+driving actuator and a failing solver are named pinograsp errors."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from clirun import run_json
+
+import pinograsp as pg
+from pinograsp.scenes.loading import builtin_scenes
+
+BOUNDS = (0.1, 0.2, 0.5, 0.6, 1, 1.5, 2, 10, 100, 1e3)
+
+
+@pytest.mark.parametrize("scene", sorted(builtin_scenes()))
+def test_preload_verdict_and_commands_scale_with_the_bound(capsys, scene):
+    runs = {b: run_json(capsys, "preload", scene, "--max-command", repr(b)) for b in BOUNDS}
+    ref = runs[1]
+    assert ref["status"] == "found", ref["reason"]  # every built-in scene has a preload
+    for b, r in runs.items():
+        assert r["status"] == ref["status"], (b, r["reason"])
+        got = np.array(list(r["preload"].values())) / b
+        want = np.array(list(ref["preload"].values()))
+        np.testing.assert_allclose(got, want, rtol=1e-12, atol=0, err_msg=f"bound {b}")
+        np.testing.assert_allclose(np.array(r["normal_forces"]) / b, ref["normal_forces"], rtol=1e-9)
+        assert max(r["preload"].values()) == pytest.approx(b, rel=1e-12)  # a command meets its bound
+
+
+def test_pinch_preload_at_two_is_twice_the_one_at_one(capsys):
+    """The reported case: ``pinograsp preload pinch --max-command 2`` was "infeasible"."""
+    r = run_json(capsys, "preload", "pinch", "--max-command", "2")
+    assert r["status"] == "found" and r["preload"] == {"left": 2.0, "right": 2.0}
+
+
+def test_no_actuator_is_a_named_error():
+    """0 kept actuators (e.g. a motor pruned with its mimic joints): a ModelError naming the
+    cause, not numpy's TypeError."""
+    c = pg.Contact.revolute([-0.05, 0, 0], [1, 0, 0], {0: ([-0.05, -0.1, 0], [0, 0, -1])}, nq=2)
+    d = pg.Contact.revolute([0.05, 0, 0], [-1, 0, 0], {1: ([0.05, -0.1, 0], [0, 0, 1])}, nq=2)
+    m = pg.GraspModel.from_contacts([c, d], actuators=[], planar=True)
+    with pytest.raises(pg.ModelError, match="no actuator reaches a contact"):
+        pg.equilibrium_preload(m)
+    locked = pg.GraspModel.from_contacts(
+        [c, d],
+        actuators=[pg.Actuator({0: 1.0}, kind="locked"), pg.Actuator({1: 1.0}, kind="locked")],
+        planar=True,
+    )
+    with pytest.raises(pg.ModelError, match="all locked"):
+        pg.equilibrium_preload(locked)
+
+
+def test_a_solver_failure_is_a_pinograsp_error(monkeypatch):
+    """Clarabel failing on the design problem is a pg.SolverError saying what to try."""
+    import cvxpy as cp
+
+    def fail(self, *args, **kwargs):
+        raise cp.error.SolverError("Solver 'CLARABEL' failed.")
+
+    monkeypatch.setattr(cp.Problem, "solve", fail)
+    with pytest.raises(pg.SolverError, match="badly scaled"):
+        pg.equilibrium_preload(pg.examples.pinch())
+
+
+def test_failed_verification_is_never_found(monkeypatch):
+    """Status "found" only when the method's own verification is an equilibrium passing the
+    audit: a verification that fails the audit makes the answer "unverified"."""
+    from pinograsp.analysis import preload as mod
+    from pinograsp.core.results import Audit
+
+    real = mod.passive_response
+
+    def bad_audit(*args, **kwargs):
+        r = real(*args, **kwargs)
+        import dataclasses
+
+        return dataclasses.replace(r, audit=Audit(0.0, 1.0, 0.0, 0.0, tolerance=1e-6))
+
+    monkeypatch.setattr(mod, "passive_response", bad_audit)
+    r = pg.equilibrium_preload(pg.examples.pinch())
+    assert r.status == "unverified" and not r.found and "fails the audit" in r.reason
