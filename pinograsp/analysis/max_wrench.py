@@ -18,7 +18,7 @@ from ..core.axes import WRENCH_AXES, wrench_direction
 from ..core.model import GraspModel
 from ..core.results import MaxWrench, PassiveResponse
 from ..core.settings import METHODS, Method, Search, Settings
-from ..core.validate import choice, positive_number, whole_number
+from ..core.validate import choice, search_bounds
 from ..errors import (
     AuditWarning,
     InvalidInputError,
@@ -302,9 +302,9 @@ def max_resistible_wrench(
     """
     t0 = time.perf_counter()
     choice("method", method, METHODS)
-    upper = positive_number("upper", upper)
-    steps = whole_number("steps", steps)
     solver = solver_for(model, settings, **overrides)
+    eps = solver.settings.eps if method == Method.ITERATIVE else None
+    upper, steps = search_bounds(model, command, upper, steps, eps)  # domains: docs/errors.md
     d = wrench_direction(model, direction)
     tally = Tally()
     if check_preload_first:

@@ -28,7 +28,7 @@ import numpy as np
 from ..core.model import GraspModel
 from ..core.results import PassiveResponse
 from ..core.settings import METHODS, Method, Settings
-from ..core.validate import choice, positive_number
+from ..core.validate import choice, force
 from ..errors import InvalidInputError, ModelError, PinograspError, SolverError, UnknownNameError
 from .response import passive_response
 
@@ -94,9 +94,9 @@ def command_bounds(model: GraspModel, max_command: object) -> np.ndarray:
             if key not in model.all_actuator_names:
                 raise UnknownNameError("actuator", key, model.all_actuator_names)
             if key in model.actuator_names:
-                out[model.actuator_names.index(key)] = positive_number(f"max_command[{key!r}]", value)
+                out[model.actuator_names.index(key)] = force(f"max_command[{key!r}]", value, "N·m or N")
         return out
-    return np.full(model.na, positive_number("max_command", max_command))
+    return np.full(model.na, force("max_command", max_command, "N·m or N"))
 
 
 def force_scale(model: GraspModel, fmax: np.ndarray) -> float:
@@ -300,7 +300,7 @@ def equilibrium_preload(
     choice("method", method, METHODS)
     choice("objective", objective, OBJECTIVES)
     fmax = command_bounds(model, max_command)
-    grip = positive_number("grip", grip)
+    grip = force("grip", grip)
     _require_actuators(model)
     scale = float(fmax.max())  # homogeneous: one solve with the largest bound 1, then scaled
     unit = fmax / scale

@@ -13,7 +13,7 @@ from ..core.axes import circle_directions, plane_basis, wrench_direction
 from ..core.model import GraspModel
 from ..core.results import ResistanceProfile
 from ..core.settings import METHODS, Settings
-from ..core.validate import choice, whole_number
+from ..core.validate import choice, directions, search_bounds
 from ..solvers.solve import single_threaded
 from .directions import run_directions
 from .max_wrench import check_preload, max_resistible_wrench
@@ -92,9 +92,10 @@ def resistance_profile(
         Other arguments: as :func:`max_resistible_wrench`.
     """
     t0 = time.perf_counter()
-    n = whole_number("n", n)
+    n = directions(n)
     basis, labels = plane_basis(model, plane)
     solver = solver_for(model, settings, **overrides)
+    search_bounds(model, command, upper, steps)  # before any work (docs/errors.md)
     check_preload(solver, command, choice("method", method, METHODS))
     angles, dirs = circle_directions(basis, n)
     results, _ = run_directions(

@@ -30,7 +30,8 @@ from ..core.model import GraspModel
 from ..core.results import MaxWrench, ResistanceProfile
 from ..core.serialize import format_magnitude, jsonable, vector_text
 from ..core.settings import METHODS
-from ..core.validate import choice, finite_array, positive_number, whole_number
+from ..core.validate import choice, finite_array, relative_length, search_bounds, whole_number
+from ..core.validate import directions as n_directions
 from ..errors import InvalidInputError
 
 #: Outcome per direction: a :data:`~pinograsp.core.results.MaxWrenchStatus`, or ``"failed"`` (the
@@ -347,7 +348,7 @@ def _requested_directions(
     """The wrenches (k, 6) of :func:`resistance_set`: ``directions`` as given, or ``n`` points
     of the sphere of ``seed`` (then also the seed used)."""
     if directions is None:
-        raw, _ = _sphere_directions(model, whole_number("n", 500 if n is None else n), seed, length)
+        raw, _ = _sphere_directions(model, n_directions(500 if n is None else n), seed, length)
         return raw, whole_number("seed", seed, 0)
     return wrench_rows(model, directions, "directions"), None
 
@@ -395,9 +396,11 @@ def resistance_set(
 
     t0 = time.perf_counter()
     choice("method", method, METHODS)
-    upper, steps = positive_number("upper", upper), whole_number("steps", steps)
+    upper, steps = search_bounds(model, command, upper, steps)  # domains: docs/errors.md
     source = "model.length_scale" if length is None else "given"
-    length = float(model.length_scale) if length is None else positive_number("length", length)
+    length = (
+        float(model.length_scale) if length is None else relative_length("length", length, model.length_scale)
+    )
     raw, seed_used = _requested_directions(model, n, seed, length, directions)
     dirs = np.array([wrench_direction(model, w, f"directions[{i}]") for i, w in enumerate(raw)])
     with single_threaded_blas():  # as every public query: one BLAS thread, one reduction order

@@ -43,7 +43,7 @@ import numpy as np
 from ..core.model import GraspModel
 from ..core.results import PassiveResponse
 from ..core.settings import METHODS, Method, Settings, Variant, make_settings
-from ..core.validate import choice
+from ..core.validate import choice, load_within
 from ..errors import ConditioningWarning, InvalidInputError
 from ..solvers import OPTIMAL, Formulation, ScaledData, resolve_solver
 from ..solvers.base import INFEASIBLE, Mode, RawSolution, SolveStatus
@@ -425,7 +425,10 @@ def passive_response(
         resisted, ``status`` why not (``"timeout"``/``"failed"`` are never reported as resisted).
     """
     choice("method", method, METHODS)
-    return solver_for(model, settings, **overrides).response(command, wrench, method)
+    solver = solver_for(model, settings, **overrides)
+    if isinstance(model, GraspModel):  # the load within the grasp's force scale (docs/errors.md)
+        load_within(model, model.command_vector(command), "wrench", model.wrench_vector(wrench))
+    return solver.response(command, wrench, method)
 
 
 __all__ = ["LoadFactor", "PassiveSolver", "Session", "passive_response", "solver_for"]
