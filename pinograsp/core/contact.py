@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import InvalidInputError
-from .validate import check_name, finite_number, vector
+from .validate import MAX_JOINTS, MAX_MU, STIFFNESS, check_name, count, number_in, vector
 
 #: Tolerance on ``|n| = 1`` and ``t1 ⟂ n`` for user-supplied normals and tangents.
 UNIT_TOL = 1e-6
@@ -66,12 +66,8 @@ class Contact:
                 f"{label}.normal", f"must be a unit vector, |n| = {np.linalg.norm(normal):.9g}"
             )
         normal = normal / np.linalg.norm(normal)
-        mu = finite_number(f"{label}.mu", self.mu)
-        if mu < 0:
-            raise InvalidInputError(f"{label}.mu", f"must be finite and >= 0, got {self.mu}")
-        k = finite_number(f"{label}.stiffness", self.stiffness)
-        if k <= 0:
-            raise InvalidInputError(f"{label}.stiffness", f"must be finite and > 0, got {self.stiffness}")
+        mu = number_in(f"{label}.mu", self.mu, 0.0, MAX_MU)  # domains: docs/errors.md
+        k = number_in(f"{label}.stiffness", self.stiffness, *STIFFNESS, "N/m")
         if self.tangent is None:
             t1 = default_tangent(normal)
         else:
@@ -123,9 +119,7 @@ class Contact:
             **kwargs: Passed to :class:`Contact` (``mu``, ``stiffness``, ``name``, ...).
         """
         p = vector("point", point, 3)
-        if isinstance(nq, (bool, np.bool_)) or not isinstance(nq, (int, np.integer)) or nq < 0:
-            raise InvalidInputError("nq", f"expected a number of joints >= 0, got {nq!r}")
-        nq = int(nq)
+        nq = count("nq", nq, MAX_JOINTS, minimum=0, what="joints of a hand; checked before allocating")
         if pivots is None:
             pivots = {}
         if not isinstance(pivots, Mapping):

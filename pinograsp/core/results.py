@@ -53,6 +53,9 @@ class Audit:
         tolerance: Tolerance the residuals are compared with [N].
         energy: Energy balance and displacement size of an equilibrium (None when the load is
             not resisted): :class:`~pinograsp.core.audit.EnergyCheck`.
+        pull: Largest pulling normal force ``max(0, -min c_n)`` [N]: contacts are push-only, so
+            beyond ``tolerance`` the numbers cannot be trusted (docs/errors.md).
+        finite: Every force, displacement and residual of the solution is finite (no overflow).
     """
 
     equilibrium: float
@@ -64,14 +67,19 @@ class Audit:
     polished: bool = False
     tolerance: float = 1e-6
     energy: EnergyCheck | None = None
+    pull: float = 0.0
+    finite: bool = True
 
     @property
     def ok(self) -> bool:
         """All hand/complementarity/friction residuals within tolerance, no big-M saturation,
-        and (for an equilibrium) the energy balance and displacement size hold."""
+        no pulling contact, every number finite, and (for an equilibrium) the energy balance
+        and displacement size hold."""
         physical = self.energy is None or (self.energy.energy_ok and self.energy.displacement_ok)
         return (
-            self.hand <= self.tolerance
+            self.finite
+            and self.pull <= self.tolerance
+            and self.hand <= self.tolerance
             and self.complementarity <= self.tolerance
             and self.friction <= self.tolerance
             and self.bigm_ratio < 0.1

@@ -194,6 +194,8 @@ def audit_dict(a: Audit) -> dict[str, Any]:
             "bigm_retries": a.bigm_retries,
             "polished": a.polished,
             "tolerance": a.tolerance,
+            "pull": a.pull,
+            "finite": a.finite,
             "energy": None if a.energy is None else energy_dict(a.energy),
         }
     )

@@ -65,6 +65,10 @@ def audit_summary(a: Audit) -> str:
         f"complementarity {a.complementarity:.2e} N, friction {a.friction:.2e} N, "
         f"big-M use {a.bigm_ratio:.1%})"
     )
+    if a.pull > a.tolerance:
+        text += f"\n  a contact PULLS with {a.pull:.3g} N (contacts only push): the numbers cannot be trusted"
+    if not a.finite:
+        text += "\n  non-finite numbers (overflow): the solution cannot be trusted"
     return text if a.energy is None else text + "\n  " + energy_summary(a.energy)
 
 
