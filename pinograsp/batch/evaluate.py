@@ -24,7 +24,8 @@ from pathlib import Path
 from typing import Any, Literal
 
 from ..core.settings import METHODS, Method
-from ..core.validate import choice, positive_number, whole_number, writing
+from ..core.validate import choice, force, whole_number, writing
+from ..core.validate import steps as n_steps
 from ..errors import InvalidInputError, MissingDependencyError
 from .executors import run_chunks
 from .grasps import GraspSpec, build_grasp, rpy_of
@@ -78,8 +79,8 @@ class WorstAxisScore:
     method: Method | str = Method.ITERATIVE
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "upper", positive_number("upper", self.upper))
-        object.__setattr__(self, "steps", whole_number("steps", self.steps))
+        object.__setattr__(self, "upper", force("upper", self.upper, "N or N·m"))  # docs/errors.md
+        object.__setattr__(self, "steps", n_steps(self.steps))
         object.__setattr__(self, "method", Method(choice("method", self.method, METHODS)))
 
     def __call__(self, model: Any, command: Mapping[str, float]) -> dict[str, float]:

@@ -266,3 +266,13 @@ def relative_length(name: str, value: object, scale: float) -> float:
     divided by it: beyond, one half of wrench space vanishes in double precision)."""
     lo, hi = LENGTH[0] * scale, LENGTH[1] * scale
     return number_in(name, value, lo, hi, f"m ({LENGTH[0]:g} to {LENGTH[1]:g} times the length scale)")
+
+
+#: Object and link sizes [m] (box sides, radii, lengths): a micro-gripper's 1 µm to a 1 km
+#: structure; beyond, Coal's distance tolerances (1e-9 m) or the contact tolerance lose meaning.
+SIZE = (1e-6, 1e3)
+
+
+def size(name: str, value: object) -> float:
+    """A length [m] in :data:`SIZE`."""
+    return number_in(name, value, *SIZE, "m")
