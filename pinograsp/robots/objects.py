@@ -26,7 +26,8 @@ from pathlib import Path
 import coal
 import numpy as np
 
-from ..core.validate import positive_number, size
+from ..core.validate import positive_number
+from ..core.validate import size as check_size
 from ..errors import InvalidInputError, ModelFileError
 
 #: Tolerance on the orthonormality of a pose's rotation block.
@@ -148,7 +149,7 @@ class RigidObject:
             s = np.full(3, float(s))
         if s.shape != (3,):
             raise InvalidInputError("size", f"expected 3 edge lengths, got {size!r}")
-        sx, sy, sz = (size(f"size[{i}]", v) for i, v in enumerate(s))
+        sx, sy, sz = (check_size(f"size[{i}]", v) for i, v in enumerate(s))
         return cls(coal.Box(sx, sy, sz), pose_matrix(pose), np.zeros(3), "box", name, {"size": (sx, sy, sz)})
 
     @classmethod
@@ -163,7 +164,7 @@ class RigidObject:
             pose: Cylinder frame in the hand base frame.
             name: Label.
         """
-        r, h = size("radius", radius), size("length", length)
+        r, h = check_size("radius", radius), check_size("length", length)
         return cls(
             coal.Cylinder(r, h), pose_matrix(pose), np.zeros(3), "cylinder", name, {"radius": r, "length": h}
         )
@@ -171,7 +172,7 @@ class RigidObject:
     @classmethod
     def sphere(cls, radius: float, pose: object = None, name: str = "sphere") -> RigidObject:
         """A solid sphere centred on its frame (``pose`` may be a 3-vector: the centre [m])."""
-        r = size("radius", radius)
+        r = check_size("radius", radius)
         return cls(coal.Sphere(r), pose_matrix(pose), np.zeros(3), "sphere", name, {"radius": r})
 
     @classmethod
