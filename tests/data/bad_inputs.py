@@ -108,7 +108,7 @@ case("preload-1e300", "api", lambda t: pg.passive_response(pinch(), 1e300, [0, 1
 case(
     "pinch-x-unbounded-forces-physical", "api",
     lambda t: pg.passive_response(pinch(), 1.0, [20.0, 0, 0]), None,
-    verdict=lambda r: r.resistible and r.audit.ok and r.audit.pull <= r.audit.tolerance
+    verdict=lambda r: r.resistible and r.audit.ok
     and (r.contact_forces[:, 0] >= -r.audit.tolerance).all(),
 )  # fmt: skip
 case("audit-pulling-contact", "api", lambda t: pg.Audit(0.0, 0.0, 0.0, 0.0, pull=5.9), None,
