@@ -276,3 +276,23 @@ SIZE = (1e-6, 1e3)
 def size(name: str, value: object) -> float:
     """A length [m] in :data:`SIZE`."""
     return number_in(name, value, *SIZE, "m")
+
+
+#: Contact detection tolerance [m]: a link within it of the object touches. Above 5 cm links that
+#: do not touch would count as contacts (``close_on(tolerance=1e300)`` stopped at q = 0).
+CONTACT_TOLERANCE = (0.0, 0.05)
+#: Largest joint value [rad or m] and object position [m]: beyond 1e3, angles lose their
+#: sub-micro-radian resolution and positions leave any workspace.
+MAX_COORDINATE = 1e3
+
+
+def contact_tolerance(name: str, value: object, *, positive: bool = False) -> float:
+    """A contact tolerance [m] in :data:`CONTACT_TOLERANCE` (``positive``: above 0)."""
+    return number_in(name, value, *CONTACT_TOLERANCE, "m", open_low=positive)
+
+
+def coordinates(name: str, values: np.ndarray, unit: str = "rad or m") -> np.ndarray:
+    """Finite values within ±:data:`MAX_COORDINATE` (joint values, positions)."""
+    if np.any(np.abs(values) > MAX_COORDINATE):
+        raise InvalidInputError(name, f"must be within ±{MAX_COORDINATE:g} {unit}", values)
+    return values

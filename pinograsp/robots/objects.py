@@ -26,7 +26,7 @@ from pathlib import Path
 import coal
 import numpy as np
 
-from ..core.validate import positive_number
+from ..core.validate import coordinates, positive_number
 from ..core.validate import size as check_size
 from ..errors import InvalidInputError, ModelFileError
 
@@ -68,6 +68,7 @@ def pose_matrix(pose: object, name: str = "pose") -> np.ndarray:
         raise InvalidInputError(name, "the upper-left 3x3 block is not a rotation matrix")
     if np.abs(arr[3] - [0.0, 0.0, 0.0, 1.0]).max() > 0:
         raise InvalidInputError(name, "the last row must be (0, 0, 0, 1)")
+    coordinates(f"{name} translation", arr[:3, 3], "m")  # domain: docs/errors.md
     return arr.copy()
 
 

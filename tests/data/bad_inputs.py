@@ -198,6 +198,27 @@ case("sample-n-zero", "api",
 case("settings-eps-1e300", "api", lambda t: pg.Settings(eps=1e300).validated(), match="eps: must be in")
 case("settings-max-nodes-1e12", "api", lambda t: pg.Settings(max_nodes=10**12).validated(), match="max_nodes")
 
+
+def hand_and_box() -> tuple[Any, Any]:
+    return pg.Hand.builtin("underactuated_2f"), pg.RigidObject.box((0.05, 0.05, 0.02), [0.0, 0.07, 0.0])
+
+
+def close(**kw: Any) -> Callable[[Path], Any]:
+    return lambda t: (lambda h, o: h.close_on(o, **kw))(*hand_and_box())
+
+
+case("close-tolerance-1e300", "api", close(tolerance=1e300), match="tolerance: must be in (0, 0.05] m")
+case("close-step-1e-300", "api", close(step=1e-300), match="step: must be in")
+case("close-max-steps-1e12", "api", close(max_steps=10**12), match="max_steps")
+case("detect-tolerance-1e300", "api",
+     lambda t: pg.detect_contacts(*hand_and_box()[:1], None, hand_and_box()[1], tolerance=1e300),
+     match="tolerance")  # fmt: skip
+case("hand-q-1e300", "api",
+     lambda t: pg.link_distances(hand_and_box()[0], {"uf_j11": 1e300}, hand_and_box()[1]),
+     match="within ±1000")  # fmt: skip
+case("object-pose-1e300", "api", lambda t: pg.RigidObject.box((0.05, 0.05, 0.02), [1e300, 0, 0]),
+     match="pose translation")  # fmt: skip
+
 # ------------------------------------------------------------------------------ CLI
 case("cli-preload-pinch-2", "cli", cli_json("preload", "pinch", "--max-command", "2"), None,
      verdict=lambda d: d["status"] == "found" and d["preload"] == {"left": 2.0, "right": 2.0})  # fmt: skip
