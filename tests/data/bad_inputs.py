@@ -287,7 +287,7 @@ def pinch_with(old: str, new: str) -> str:
     return PINCH.replace(old, new)
 
 
-case("scene-alias-bomb", "scene", scene(BOMB), pg.SceneError, "aliases")
+case("scene-alias-bomb", "scene", scene(BOMB + "\nname: *i\n"), pg.SceneError, "aliases")
 case("scene-one-alias", "scene", scene(PINCH + "\nx: &x 1\ny: *x\n"), pg.SceneError, "aliases")
 case("scene-upper-1e300", "scene", scene(pinch_with("upper: 1000", "upper: 1.0e+300")), pg.SceneError,
      "analysis.upper: must be in")  # fmt: skip
@@ -313,7 +313,7 @@ case("scene-preload-1e300", "scene",
 case(
     "scene-eps-1e300",
     "scene",
-    scene(pinch_with("  steps: 20", "  steps: 20\n  settings: {eps: 1.0e+300}")),
+    scene(pinch_with("  steps: 20", "  steps: 20\n  eps: 1.0e+300")),
     pg.PinograspError,
     "eps",
 )
@@ -331,7 +331,7 @@ def hand_file(text: str) -> Callable[[Path], Any]:
     return run
 
 
-case("hand-alias-bomb", "hand", hand_file(BOMB), pg.ModelFileError, "aliases")
+case("hand-alias-bomb", "hand", hand_file(BOMB + "\njoints: *i\n"), pg.ModelFileError, "aliases")
 case("hand-missing-file", "hand", lambda t: pg.HandDescription.from_yaml(t / "none.yaml"), pg.ModelFileError,
      "not found")  # fmt: skip
 case("hand-malformed", "hand", hand_file("joints: [a, b\n"), pg.ModelFileError, "malformed YAML")
@@ -362,7 +362,7 @@ def batch_with(old: str, new: str) -> str:
     return BATCH.replace(old, new)
 
 
-case("batch-alias-bomb", "batch", batch(BOMB), pg.SceneError, "aliases")
+case("batch-alias-bomb", "batch", batch(BOMB + "\nscore: {upper: *i}\n"), pg.SceneError, "aliases")
 case("batch-upper-1e300", "batch", batch(batch_with("upper: 50", "upper: 1.0e+300")), pg.SceneError,
      "score.upper")  # fmt: skip
 case("batch-steps-1024", "batch", batch(batch_with("steps: 6", "steps: 1024")), pg.SceneError, "score.steps")
