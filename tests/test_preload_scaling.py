@@ -81,3 +81,20 @@ def test_failed_verification_is_never_found(monkeypatch):
     monkeypatch.setattr(mod, "passive_response", bad_audit)
     r = pg.equilibrium_preload(pg.examples.pinch())
     assert r.status == "unverified" and not r.found and "fails the audit" in r.reason
+
+
+def test_a_clarabel_failure_on_the_verdict_falls_back_to_highs(monkeypatch):
+    """The verdict (a linear program) is settled by HiGHS when Clarabel fails: the same answer."""
+    import cvxpy as cp
+
+    real = cp.Problem.solve
+    want = pg.equilibrium_preload(pg.examples.pinch(), max_command=2.0)
+
+    def flaky(self, *args, solver=None, **kwargs):
+        if solver == cp.CLARABEL and self.objective.expr.is_affine():
+            raise cp.error.SolverError("Solver 'CLARABEL' failed.")
+        return real(self, *args, solver=solver, **kwargs)
+
+    monkeypatch.setattr(cp.Problem, "solve", flaky)
+    got = pg.equilibrium_preload(pg.examples.pinch(), max_command=2.0)
+    assert got.status == want.status == "found" and got.command == want.command

@@ -147,25 +147,35 @@ def _constraints(
 
 
 def _solved(problem: object, what: str, required: bool = True) -> bool:
-    """Solve with Clarabel; ``True`` for an optimal answer. A solver failure (cvxpy's
-    ``SolverError``) of a ``required`` solve is a :class:`~pinograsp.errors.SolverError` saying
-    what to try; of an optional one (a refinement) it is ``False``."""
+    """Solve; ``True`` for an optimal answer, ``False`` for a proven infeasible one. Clarabel
+    first, HiGHS (exact simplex) for a linear program Clarabel cannot settle: a failure or an
+    inaccurate status is never a verdict. Without any verdict, a ``required`` solve is a
+    :class:`~pinograsp.errors.SolverError` saying what to try; an optional one (a refinement)
+    is ``False``."""
     import cvxpy as cp
 
-    try:
-        problem.solve(solver=cp.CLARABEL)  # type: ignore[attr-defined]
-    except (cp.error.SolverError, ArithmeticError, ValueError) as exc:
-        if not required:
-            return False
-        raise SolverError(
-            f"equilibrium_preload: Clarabel failed on the {what} ({exc}); the model is probably "
-            "badly scaled (contact stiffness or lever ratios beyond 1e6, a near-zero contact "
-            "Jacobian): check the contacts, or give the commands yourself "
-            "(docs/hands.md, 'Choosing a preload')",
-            solver="clarabel",
-            status="failed",
-        ) from exc
-    return problem.status == "optimal" and problem.value is not None  # type: ignore[attr-defined]
+    linear = problem.objective.expr.is_affine()  # type: ignore[attr-defined]
+    tried = []
+    for solver in (cp.CLARABEL, cp.HIGHS) if linear else (cp.CLARABEL,):
+        try:
+            problem.solve(solver=solver)  # type: ignore[attr-defined]
+        except (cp.error.SolverError, ArithmeticError, ValueError) as exc:
+            tried.append(f"{solver}: {' '.join(str(exc).split())[:200]}")
+            continue
+        status = problem.status  # type: ignore[attr-defined]
+        if status in ("optimal", "infeasible", "unbounded"):
+            return status == "optimal" and problem.value is not None  # type: ignore[attr-defined]
+        tried.append(f"{solver}: status {status}")
+    if not required:
+        return False
+    raise SolverError(
+        f"equilibrium_preload: no solver settled the {what} ({'; '.join(tried)}); the model is "
+        "probably badly scaled (contact stiffness or lever ratios beyond 1e6, a near-zero contact "
+        "Jacobian): check the contacts, or give the commands yourself "
+        "(docs/hands.md, 'Choosing a preload')",
+        solver="clarabel",
+        status="failed",
+    )
 
 
 def _design(model: GraspModel, unit: np.ndarray, objective: str, grip: float, normal_only: bool):
