@@ -98,3 +98,24 @@ def test_a_clarabel_failure_on_the_verdict_falls_back_to_highs(monkeypatch):
     monkeypatch.setattr(cp.Problem, "solve", flaky)
     got = pg.equilibrium_preload(pg.examples.pinch(), max_command=2.0)
     assert got.status == want.status == "found" and got.command == want.command
+
+
+def test_optimal_preload_is_never_optimal_when_its_verification_fails(monkeypatch):
+    """optimal_preload's status is "unverified" (never "optimal"/"bound_hit") when a disturbance
+    is not resisted at its own answer (issue 26: "optimal" with "NOT verified" in the reason)."""
+    import dataclasses
+
+    from pinograsp.analysis import optimal_search as mod
+
+    m = pg.examples.pinch()
+    ok = pg.optimal_preload(m, ["fy"], "prp")
+    assert ok.status in ("optimal", "bound_hit") and ok.verified
+    real = mod._checks
+
+    def unresisted(*args, **kwargs):
+        return tuple(dataclasses.replace(c, resisted=False) for c in real(*args, **kwargs))
+
+    monkeypatch.setattr(mod, "_checks", unresisted)
+    bad = pg.optimal_preload(m, ["fy"], "prp")
+    assert bad.status == "unverified" and not bad.verified and "NOT verified" in bad.reason
+    assert bad.to_dict()["status"] == "unverified"
