@@ -347,6 +347,14 @@ def equilibrium_preload(
                 f"< grip = {grip:g} N: raise max_command or lower grip",
             )  # fmt: skip
     contacts, actuators = _diagnose(model, unit)
+    return PreloadChoice(
+        "infeasible", None, None, method, objective, None, contacts, actuators,
+        _why_none(contacts, actuators),
+    )  # fmt: skip
+
+
+def _why_none(contacts: tuple[str, ...], actuators: tuple[str, ...]) -> str:
+    """The reason of an infeasible design, from :func:`_diagnose`."""
     parts = []
     if contacts:
         parts.append(f"no preload presses contact(s) {list(contacts)}")
@@ -360,7 +368,4 @@ def equilibrium_preload(
         parts[-1] += " (no other contact or finger can oppose them)"
     if not parts:
         parts.append("each contact can be pressed, but not all at once")
-    return PreloadChoice(
-        "infeasible", None, None, method, objective, None, contacts, actuators,
-        "; ".join(parts),
-    )  # fmt: skip
+    return "; ".join(parts)
