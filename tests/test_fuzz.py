@@ -561,3 +561,20 @@ def test_malformed_description_file_names_the_file(tmp_path):
     bad.write_text("couplings:\n  - {follower: uf_j12, leader: uf_j11, ratio: [1]}\n")
     with pytest.raises(pg.ModelFileError, match="ratio"):
         pg.Hand.from_urdf(DATA_DIR / "urdf" / "underactuated_2f.urdf", bad)
+
+
+# ------------------------------------------------------------------------------ the profile
+def test_the_default_profile_cannot_fail_by_chance():
+    """Without HYPOTHESIS_PROFILE (and in .ci/run) the fuzz tests run the derandomised ``ci``
+    profile: the same examples in every clone, no database, no deadline (tests/conftest.py)."""
+    import os
+
+    from hypothesis import settings
+
+    if os.environ.get("HYPOTHESIS_PROFILE", "ci") != "ci":
+        pytest.skip("another profile was asked for")
+    s = settings.default
+    assert s.derandomize and s.database is None and s.deadline is None and s.max_examples == 150
+    assert FUZZ.derandomize and FUZZ.database is None and FUZZ.max_examples == 150
+    run = (__import__("pathlib").Path(__file__).parents[1] / ".ci" / "run").read_text()
+    assert "HYPOTHESIS_PROFILE=ci" in run and "CI=1" in run
