@@ -298,12 +298,18 @@ def equilibrium_preload(
             bounds) or ``"least_norm"`` (the smallest commands pressing every contact with at
             least ``grip``).
         max_command: Upper bound of every command, or ``{actuator: bound}`` (others 1)
-            [N·m or N].
+            [N·m or N], in (0, 1e12]. The design is homogeneous in the commands: a scalar
+            bound scales the answer and never changes the verdict.
         grip: Smallest normal force at every contact for ``"least_norm"`` [N].
         settings: Solver settings of the verification.
 
     Returns:
         A :class:`PreloadChoice`; ``choice.command`` goes straight into every analysis.
+
+    Raises:
+        ModelError: No driving actuator ("no actuator reaches a contact").
+        SolverError: No solver settles the design problem (with what to try).
+        InvalidInputError: A bad method, objective, bound or grip.
     """
     if not isinstance(model, GraspModel):
         raise InvalidInputError("model", f"expected pinograsp.GraspModel, got {type(model).__name__}")

@@ -37,13 +37,13 @@ class Contact:
     Attributes:
         point: Contact point ``p`` in the world (hand base) frame [m], shape (3,).
         normal: Unit normal ``n`` from the hand into the object, shape (3,).
-        mu: Coulomb friction coefficient (>= 0).
+        mu: Coulomb friction coefficient, in [0, 100] (docs/errors.md, "Input domains").
         jacobian: World-frame linear velocity of the **hand** point at ``p`` per unit closing
             joint velocity, shape (3, nq) [m/rad]. ``None`` means the point is on a part that
             cannot move (e.g. the palm): a zero Jacobian.
         tangent: Unit tangent ``t1`` orthogonal to ``normal``; ``None`` picks
             :func:`default_tangent`.
-        stiffness: Normal stiffness ``k`` of the virtual contact spring [N/m] (> 0).
+        stiffness: Normal stiffness ``k`` of the virtual contact spring [N/m], in [1e-6, 1e12].
         name: Label used in results and error messages (e.g. the hand link's name).
     """
 
@@ -115,7 +115,7 @@ class Contact:
             pivots: ``{joint_index: (pivot_point, closing_axis)}``: each joint upstream of the
                 contact, a point on its axis [m] and its unit axis oriented so that positive
                 rotation closes the hand. The Jacobian column is ``axis × (p − pivot)``.
-            nq: Number of joints of the hand.
+            nq: Number of joints of the hand, in [0, 10000].
             **kwargs: Passed to :class:`Contact` (``mu``, ``stiffness``, ``name``, ...).
         """
         p = vector("point", point, 3)
