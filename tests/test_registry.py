@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from clirun import run, run_json
+from support.clirun import run, run_json
 
 import pinograsp as pg
 from pinograsp.analysis.registry import available_methods, get_method, resolve_search

@@ -150,6 +150,8 @@ def _audit(solver: SolveContext, lay: Layout, st: Stage, ph: _Physical, energy: 
         polished=raw.polished,
         tolerance=solver.settings.tolerance * max(st.data.F, 1e-300),
         energy=energy,
+        pull=float(max(0.0, -ph.cf[:, 0].min(initial=0.0))),
+        finite=bool(all(np.all(np.isfinite(a)) for a in (ph.c, ph.fa, ph.lam, ph.q, ph.x, ph.net))),
     )
 
 

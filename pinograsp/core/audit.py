@@ -117,6 +117,9 @@ class Audit:
         tolerance: Tolerance the residuals are compared with [N].
         energy: Energy balance and displacement size of an equilibrium (None when the load is
             not resisted): :class:`EnergyCheck`.
+        pull: Largest pulling normal force ``max(0, -min c_n)`` [N]: contacts are push-only, so
+            beyond ``tolerance`` the numbers cannot be trusted (docs/errors.md).
+        finite: Every force, displacement and residual of the solution is finite (no overflow).
     """
 
     equilibrium: float
@@ -128,14 +131,19 @@ class Audit:
     polished: bool = False
     tolerance: float = 1e-6
     energy: EnergyCheck | None = None
+    pull: float = 0.0
+    finite: bool = True
 
     @property
     def ok(self) -> bool:
         """All hand/complementarity/friction residuals within tolerance, no big-M saturation,
-        and (for an equilibrium) the energy balance and displacement size hold."""
+        no pulling contact, every number finite, and (for an equilibrium) the energy balance
+        and displacement size hold."""
         physical = self.energy is None or (self.energy.energy_ok and self.energy.displacement_ok)
         return (
-            self.hand <= self.tolerance
+            self.finite
+            and self.pull <= self.tolerance
+            and self.hand <= self.tolerance
             and self.complementarity <= self.tolerance
             and self.friction <= self.tolerance
             and self.bigm_ratio < 0.1
@@ -155,6 +163,8 @@ class Audit:
                 "bigm_retries": self.bigm_retries,
                 "polished": self.polished,
                 "tolerance": self.tolerance,
+                "pull": self.pull,
+                "finite": self.finite,
                 "energy": None if self.energy is None else self.energy.to_dict(),
             }
         )
@@ -166,6 +176,13 @@ class Audit:
             f"hand {self.hand:.2e} N, complementarity {self.complementarity:.2e} N, "
             f"friction {self.friction:.2e} N, big-M use {self.bigm_ratio:.1%})"
         )
+        if self.pull > self.tolerance:
+            text += (
+                f"\n  a contact PULLS with {self.pull:.3g} N (contacts only push): "
+                "the numbers cannot be trusted"
+            )
+        if not self.finite:
+            text += "\n  non-finite numbers (overflow): the solution cannot be trusted"
         return text if self.energy is None else text + "\n  " + self.energy.summary()
 
 
