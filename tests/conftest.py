@@ -1,10 +1,48 @@
-"""Fixtures shared by the test files; helpers (grasps, strategies, the CLI runner, the stress
-catalogue) live in ``tests/support/``. Every shared fixture is immutable or module-scoped."""
+"""Fixtures shared by the test files and the hypothesis profiles; helpers (grasps, strategies,
+the CLI runner, the stress catalogue) live in ``tests/support/``. Every shared fixture is
+immutable or module-scoped.
+
+Hypothesis profiles (``HYPOTHESIS_PROFILE``, default ``ci``; docs/errors.md, "Tests that cannot
+fail by chance"):
+
+* ``ci``: derandomised (examples derived from each test's source, the same in every process and
+  clone), no example database, a bounded number of examples and no deadline (limits are counts,
+  never wall-clock): the default suite and ``.ci/run`` pass or fail the same way every time.
+* ``explore``: random examples with the local database (``.hypothesis/``), many examples; run on
+  demand to look for new failures, e.g. ``HYPOTHESIS_PROFILE=explore pytest
+  tests/test_fuzz_constructors.py tests/test_fuzz_api.py --hypothesis-seed=7``. Every failure
+  found becomes an explicit ``@example`` or a plain regression test.
+"""
+
+import os
 
 import pytest
+from hypothesis import HealthCheck, settings
+from hypothesis.database import DirectoryBasedExampleDatabase
 
 import pinograsp as pg
 from pinograsp import examples
+
+_SUPPRESS = [HealthCheck.too_slow, HealthCheck.filter_too_much, HealthCheck.data_too_large]
+settings.register_profile(
+    "ci",
+    derandomize=True,
+    database=None,
+    max_examples=150,
+    deadline=None,
+    print_blob=True,
+    suppress_health_check=_SUPPRESS,
+)
+settings.register_profile(
+    "explore",
+    derandomize=False,
+    database=DirectoryBasedExampleDatabase(".hypothesis/examples"),
+    max_examples=1000,
+    deadline=None,
+    print_blob=True,
+    suppress_health_check=_SUPPRESS,
+)
+settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
 
 @pytest.fixture(scope="session")

@@ -10,16 +10,15 @@ import warnings
 import matplotlib
 import numpy as np
 import pytest
-from hypothesis import given
+from hypothesis import example, given
 from hypothesis import strategies as st
-from support.strategies import FUZZ, expect_pinograsp_error, junk, scalars, vec
+from support.strategies import FAST, FUZZ, expect_pinograsp_error, junk, scalars, vec
 
 import pinograsp as pg
 from pinograsp import examples
 
 matplotlib.use("Agg")
 
-FAST = FUZZ.__class__(FUZZ, max_examples=max(10, FUZZ.max_examples // 3))
 
 directions = st.one_of(
     st.sampled_from(["fx", "-fy", "mz", "torque_x", "+fz", "fq", "", "--fx"]),
@@ -52,6 +51,12 @@ overrides = st.dictionaries(setting_names, setting_values, max_size=2)
     search=searches,
     kw=overrides,
     command=st.one_of(st.floats(0.1, 5.0), scalars),
+)
+@example(direction="fy", method="iterative", upper=1e300, steps=20, search="auto", kw={}, command=1.0)
+@example(direction="fy", method="prp", upper=1.0, steps=1024, search="bisection", kw={}, command=1.0)
+@example(direction="fx", method="iterative", upper=1e12, steps=3, search="auto", kw={}, command=1.0)
+@example(
+    direction="fy", method="iterative", upper=100.0, steps=3, search="auto", kw={"eps": 1e300}, command=1.0
 )
 def test_fuzz_max_resistible_wrench(pinch, direction, method, upper, steps, search, kw, command):
     r = expect_pinograsp_error(
@@ -105,6 +110,7 @@ def test_fuzz_settings_and_sessions(pinch, kw):
     kt=st.one_of(st.none(), st.floats(0.1, 10), scalars),
     tol=st.one_of(st.just(1e-9), scalars),
 )
+@example(wrench=[0.0, 1.0, 0.0], internal=None, kt=[[1.0, 2.0], [3.0]], tol=1e-9)  # ragged: raw ValueError
 def test_fuzz_linear_compliance(pinch, wrench, internal, kt, tol):
     r = expect_pinograsp_error(
         pg.linear_compliance, pinch, wrench, internal, tangential_stiffness=kt, tol=tol
@@ -252,6 +258,17 @@ def test_fuzz_hand_and_mesh_loaders(name, path, description):
     directions=st.one_of(st.none(), vec(3), st.lists(vec(3), min_size=1, max_size=2), junk),
     quantile=st.one_of(st.floats(0.0, 0.99), scalars),
 )
+@example(
+    n=None,
+    method="iterative",
+    length=1e300,
+    seed=False,
+    directions=[[1.0, 2.0], [3.0]],
+    quantile=2.1097682793637356e-169,
+)  # explore seed 1: OverflowError in _scale_of
+@example(n=2, method="iterative", length=1e-300, seed=0, directions=None, quantile=0.0)  # NaN score
+@example(n=2, method="iterative", length=1.35e154, seed=0, directions=None, quantile=0.0)  # OverflowError
+@example(n=2, method="iterative", length=1e-17, seed=0, directions=None, quantile=0.0)  # ferrari_canny 0.0
 def test_fuzz_resistance_set_and_score(pinch, n, method, length, seed, directions, quantile):
     s = expect_pinograsp_error(
         pg.resistance_set, pinch, 1.0, n, method, length, seed, upper=20.0, steps=4, directions=directions

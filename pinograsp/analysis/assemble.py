@@ -198,6 +198,8 @@ def _audit(
         tolerance=solver.settings.tolerance * max(st.data.F, 1e-300),
         energy=energy,
         equilibrium_tolerance=eq_tol,
+        pull=float(max(0.0, -ph.cf[:, 0].min(initial=0.0))),
+        finite=bool(all(np.all(np.isfinite(a)) for a in (ph.c, ph.fa, ph.lam, ph.q, ph.x, ph.net))),
     )
 
 

@@ -21,7 +21,7 @@ import proxsuite
 
 from ..core.model import GraspModel
 from ..core.serialize import format_magnitude, jsonable
-from ..core.validate import finite_array, finite_number, positive_number
+from ..core.validate import STIFFNESS, finite_array, finite_number, positive_number
 from ..errors import InvalidInputError, SolverError
 
 
@@ -94,12 +94,14 @@ def _tangential_stiffness(m: GraspModel, tangential_stiffness: object | None) ->
     """Tangential stiffness per contact (nc,) [N/m] (default ``mu * k``)."""
     if tangential_stiffness is None:
         kt = m.mu * m.k
-    elif np.ndim(tangential_stiffness) == 0 and not isinstance(tangential_stiffness, (str, bytes)):  # type: ignore[arg-type]
+    elif isinstance(tangential_stiffness, (int, float, np.number)):  # a ragged list is no scalar
         kt = np.full(m.nc, finite_number("tangential_stiffness", tangential_stiffness))
     else:
         kt = finite_array("tangential_stiffness", tangential_stiffness, (m.nc,))
-    if np.any(kt < 0):
-        raise InvalidInputError("tangential_stiffness", f"expected {m.nc} finite values >= 0")
+    if np.any(kt < 0) or np.any(kt > STIFFNESS[1]):
+        raise InvalidInputError(
+            "tangential_stiffness", f"expected {m.nc} values in [0, {STIFFNESS[1]:g}] N/m (docs/errors.md)"
+        )
     return kt
 
 

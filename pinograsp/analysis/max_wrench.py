@@ -19,6 +19,7 @@ from ..core.model import GraspModel
 from ..core.query import Query, make_query
 from ..core.results import MaxWrench, PassiveResponse
 from ..core.settings import Settings
+from ..core.validate import search_bounds
 from ..errors import PreloadNotInEquilibriumError
 from ..solvers.threads import single_threaded
 from .protocols import LimitQuery, SessionLike, Tally, verdict
@@ -41,6 +42,22 @@ def check_preload(solver: SessionLike, command: object, method: str) -> PassiveR
             detail += f" (net wrench {resp.residual_history[-1]:.3g} N)"
         raise PreloadNotInEquilibriumError(solver.model.command_vector(command).tolist(), detail, residual)
     return resp
+
+
+def query_within(session: PassiveSolver, command: object, query: Query, *, eps: bool = True) -> np.ndarray:
+    """The validated commands (na,) of a query, its ``upper`` checked against the grasp they
+    preload: within :data:`~pinograsp.core.validate.LOAD_RATIO` of its force scale; with ``eps``,
+    for a method converged to a tolerance (not
+    :attr:`~pinograsp.analysis.protocols.AnalysisMethod.exact`), ``Settings.eps`` within
+    :data:`~pinograsp.core.validate.EPS_RATIO` of it (docs/errors.md, "Input domains").
+
+    Raises:
+        InvalidInputError: A bad command, or ``upper`` or ``eps`` out of its domain for this grasp.
+    """
+    fc = session.model.command_vector(command)
+    tolerance = None if not eps or get_method(query.method).exact else session.settings.eps
+    search_bounds(session.source, fc, query.upper, query.steps, tolerance)
+    return fc
 
 
 def max_wrench_on(
@@ -112,9 +129,9 @@ def max_resistible_wrench(
     q = make_query(query, method, upper, steps, search)
     solver = session_for(model, session, settings, overrides)
     d = wrench_direction(model, direction)
-    fc = solver.model.command_vector(command)
+    fc = query_within(solver, command, q)  # domains: docs/errors.md
     mw = max_wrench_on(solver, fc, d, q, check_preload_first=check_preload_first)
     return replace(mw, wall_time=time.perf_counter() - t0)
 
 
-__all__ = ["Tally", "check_preload", "max_resistible_wrench", "max_wrench_on"]
+__all__ = ["Tally", "check_preload", "max_resistible_wrench", "max_wrench_on", "query_within"]

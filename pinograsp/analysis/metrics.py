@@ -19,7 +19,7 @@ import numpy as np
 
 from ..core.model import GraspModel
 from ..core.serialize import format_magnitude, jsonable
-from ..core.validate import finite_array, positive_number
+from ..core.validate import finite_array, relative_length
 from ..errors import InvalidInputError
 from .resistance_set import ResistanceSet, resistance_set, wrench_rows
 
@@ -30,7 +30,9 @@ ScoreKind = Literal["quantile", "worst", "disturbances"]
 def primitive_wrenches(model: GraspModel, length: float | None = None) -> np.ndarray:
     """Wrenches on the object of every pyramid edge with unit normal force, torques divided by
     ``length`` [m] (default ``model.length_scale``), (nb, nw) [N] (``nw`` 6, or 3 planar)."""
-    length = float(model.length_scale) if length is None else positive_number("length", length)
+    length = (
+        float(model.length_scale) if length is None else relative_length("length", length, model.length_scale)
+    )
     W = (np.asarray(model.G) @ np.asarray(model.D)).T.copy()  # (nb, nw): G c with c = D beta
     W[:, (2 if model.planar else 3) :] /= length
     return W

@@ -28,7 +28,8 @@ import numpy as np
 
 from ..core.model import GraspModel
 from ..core.settings import METHODS, Settings, Variant
-from ..core.validate import choice, finite_array, positive_number, whole_number
+from ..core.validate import choice, count, finite_array, force, positive_number
+from ..core.validate import steps as n_steps
 from ..errors import AuditWarning, InvalidInputError
 from ..solvers.problem import ProblemKind
 from .optimal_search import GRID, OBJECTIVES, RESISTANCES, DisturbanceCheck, Status, simplex_grid
@@ -44,7 +45,9 @@ class OptimalPreload:
 
     Attributes:
         status: ``"optimal"``; ``"bound_hit"`` (a bound of ``max_command`` binds: ``bound``
-            names it); ``"infeasible"`` (``infeasible`` names the disturbances that no preload
+            names it); ``"unverified"`` (an answer was found, but the verification at it does
+            not resist every disturbance: ``checks`` says which; never ``"optimal"``);
+            ``"infeasible"`` (``infeasible`` names the disturbances that no preload
             within the bounds resists).
         task: ``"smallest"`` (the least preload resisting every disturbance) or ``"split"``
             (the best use of ``budget``).
@@ -65,7 +68,7 @@ class OptimalPreload:
         reason: One sentence on the outcome.
     """
 
-    status: Status
+    status: Status | Literal["unverified"]
     task: Literal["smallest", "split"]
     command: dict[str, float] | None
     value: float
@@ -139,7 +142,7 @@ def _disturbances(model: GraspModel, disturbances: object) -> np.ndarray:
         elif (
             isinstance(item, tuple) and len(item) == 2 and (isinstance(item[0], str) or np.ndim(item[0]) == 1)
         ):
-            w = wrench_direction(model, item[0], name) * positive_number(f"{name} magnitude", item[1])
+            w = wrench_direction(model, item[0], name) * force(f"{name} magnitude", item[1], "N or N·m")
         else:
             w = model.wrench_vector(item, name)
         if not np.any(w != 0):
@@ -161,6 +164,27 @@ def _cost(model: GraspModel, weights: object, free: np.ndarray) -> np.ndarray:
                 raise InvalidInputError("weights", f"unknown actuator {key!r}; valid: {model.actuator_names}")
             w[model.actuator_names.index(key)] = positive_number(f"weights[{key!r}]", value)
     return np.where(free, w, 0.0)
+
+
+#: Largest number of pattern-search halvings (2**-30 of the grid step is below the design accuracy).
+MAX_REFINE = 30
+#: Largest simplex grid: at most this many candidate points looped over ((grid + 1)**(n - 1)).
+MAX_GRID_LOOP = 1_000_000
+
+
+def _grid(grid: object, nfree: int) -> int:
+    """Divisions of the simplex (default by the number of actuators), refused before any work
+    when the grid's loop ``(grid + 1)**(nfree - 1)`` exceeds :data:`MAX_GRID_LOOP`."""
+    if grid is None:
+        return GRID.get(nfree, 2)
+    g = count("grid", grid, MAX_GRID_LOOP, what="divisions of the command simplex")
+    if nfree > 1 and (g + 1) ** (nfree - 1) > MAX_GRID_LOOP:
+        raise InvalidInputError(
+            "grid",
+            f"{g} divisions for {nfree} actuators is a grid of (grid + 1)**{nfree - 1} > "
+            f"{MAX_GRID_LOOP:g} points: choose grid <= {int(MAX_GRID_LOOP ** (1 / (nfree - 1))) - 1}",
+        )
+    return g
 
 
 def _free(model: GraspModel, actuators: object) -> np.ndarray:
@@ -248,13 +272,13 @@ def optimal_preload(
     cost = _cost(model, weights, free)
     bound = np.where(free, command_bounds(model, max_command), 0.0)
     if budget is not None:
-        budget = positive_number("budget", budget)
+        budget = force("budget", budget, "N·m or N")
     dw = _direction_weights(direction_weights, len(loads))
     nfree = int(free.sum())
-    grid = whole_number("grid", grid) if grid is not None else GRID.get(nfree, 2)
-    refine = whole_number("refine", refine, minimum=0)
-    upper = positive_number("upper", upper)
-    steps = whole_number("steps", steps)
+    grid = _grid(grid, nfree)
+    refine = count("refine", refine, MAX_REFINE, minimum=0, what="each halves the pattern step")
+    upper = force("upper", upper, "(a load factor)")
+    steps = n_steps(steps)
     solver = solver_for(model, settings)
     spec = dict(objective=objective, budget=budget, resistance=resistance, cost=cost, bound=bound, dw=dw)
     with warnings.catch_warnings():
@@ -264,6 +288,8 @@ def optimal_preload(
             out = exact_prp(solver, loads, free, spec, upper)
         else:
             out = search(solver, method, loads, free, spec, grid, refine, upper, steps)
+    if out["command"] is not None and not all(c.resisted for c in out["checks"]):
+        out["status"] = "unverified"  # its own verification failed: never "optimal"/"bound_hit"
     return OptimalPreload(**out, method=method, wall_time=time.perf_counter() - t0)
 
 

@@ -28,8 +28,8 @@ import numpy as np
 from ..core.model import GraspModel
 from ..core.results import PassiveResponse
 from ..core.settings import METHODS, Settings
-from ..core.validate import choice, positive_number
-from ..errors import InvalidInputError, UnknownNameError
+from ..core.validate import choice, force
+from ..errors import InvalidInputError, ModelError, PinograspError, SolverError, UnknownNameError
 from .registry import get_method
 from .response import passive_response
 from .staged import SETTLED_PRELOAD_METHOD
@@ -96,9 +96,9 @@ def command_bounds(model: GraspModel, max_command: object) -> np.ndarray:
             if key not in model.all_actuator_names:
                 raise UnknownNameError("actuator", key, model.all_actuator_names)
             if key in model.actuator_names:
-                out[model.actuator_names.index(key)] = positive_number(f"max_command[{key!r}]", value)
+                out[model.actuator_names.index(key)] = force(f"max_command[{key!r}]", value, "N·m or N")
         return out
-    return np.full(model.na, positive_number("max_command", max_command))
+    return np.full(model.na, force("max_command", max_command, "N·m or N"))
 
 
 def force_scale(model: GraspModel, fmax: np.ndarray) -> float:
@@ -111,7 +111,7 @@ def force_scale(model: GraspModel, fmax: np.ndarray) -> float:
 
 
 def _constraints(
-    model: GraspModel, fmax: np.ndarray, method: str, signed: bool = False
+    model: GraspModel, fmax: np.ndarray, signed: bool = False
 ) -> tuple[list, object, object, object]:
     """The equilibrium constraints of the module docstring: (constraints, f, c, c_n). With
     ``signed`` the commands may be negative (the diagnosis: which actuator would have to pull)."""
@@ -148,65 +148,103 @@ def _constraints(
     return cons, f, c, cn
 
 
-def _solved(problem: object) -> bool:
+def _solved(problem: object, what: str, required: bool = True) -> bool:
+    """Solve; ``True`` for an optimal answer, ``False`` for a proven infeasible one. Clarabel
+    first, HiGHS (exact simplex) for a linear program Clarabel cannot settle: a failure or an
+    inaccurate status is never a verdict. Without any verdict, a ``required`` solve is a
+    :class:`~pinograsp.errors.SolverError` saying what to try; an optional one (a refinement)
+    is ``False``."""
     import cvxpy as cp
 
-    problem.solve(solver=cp.CLARABEL)  # type: ignore[attr-defined]
-    return problem.status == "optimal" and problem.value is not None  # type: ignore[attr-defined]
+    linear = problem.objective.expr.is_affine()  # type: ignore[attr-defined]
+    tried = []
+    for solver in (cp.CLARABEL, cp.HIGHS) if linear else (cp.CLARABEL,):
+        try:
+            problem.solve(solver=solver)  # type: ignore[attr-defined]
+        except (cp.error.SolverError, ArithmeticError, ValueError) as exc:
+            tried.append(f"{solver}: {' '.join(str(exc).split())[:200]}")
+            continue
+        status = problem.status  # type: ignore[attr-defined]
+        if status in ("optimal", "infeasible", "unbounded"):
+            return status == "optimal" and problem.value is not None  # type: ignore[attr-defined]
+        tried.append(f"{solver}: status {status}")
+    if not required:
+        return False
+    raise SolverError(
+        f"equilibrium_preload: no solver settled the {what} ({'; '.join(tried)}); the model is "
+        "probably badly scaled (contact stiffness or lever ratios beyond 1e6, a near-zero contact "
+        "Jacobian): check the contacts, or give the commands yourself "
+        "(docs/hands.md, 'Choosing a preload')",
+        solver="clarabel",
+        status="failed",
+    )
 
 
-def _design(model: GraspModel, fmax: np.ndarray, method: str, objective: str, grip: float, normal_only: bool):
-    """Commands (na,) and normal forces (nc,) of the design problem, or None."""
+def _design(model: GraspModel, unit: np.ndarray, objective: str, grip: float, normal_only: bool):
+    """Commands (na,) and normal forces (nc,) of the design problem with command bounds
+    ``unit`` (largest 1), or None when no preload presses every contact.
+
+    ``"balanced"`` is homogeneous in (commands, forces, displacements): the verdict is the one
+    solve maximising the smallest normal force ``t``; the least-norm commands at that force are
+    a refinement (when it fails, the first solve's commands are kept), then everything is
+    scaled up until a command meets its bound exactly. ``"least_norm"`` (``grip`` in the same
+    normalised units) is one solve."""
     import cvxpy as cp
 
     m = model
-    cons, f, c, cn = _constraints(m, fmax, method)
+    cons, f, c, cn = _constraints(m, unit)
     if normal_only:
         cons.append(c[np.setdiff1d(np.arange(m.nc * m.d), m.normal_rows)] == 0)
     if objective == "balanced":
         t = cp.Variable()
-        if not _solved(cp.Problem(cp.Maximize(t), [*cons, cn >= t])) or t.value <= LOADED * force_scale(
-            m, fmax
-        ):
+        if not _solved(cp.Problem(cp.Maximize(t), [*cons, cn >= t]), "design problem") or float(
+            t.value
+        ) <= LOADED * force_scale(m, unit):
             return None  # no force above the solver's noise: nothing presses every contact
+        fv, cv = np.asarray(f.value, float), np.asarray(cn.value, float)
         target = float(t.value) * (1.0 - 1e-6)
+        least = cp.Problem(cp.Minimize(cp.sum_squares(f)), [*cons, cn >= target])
+        if _solved(least, "least-norm refinement", required=False):
+            fv, cv = np.asarray(f.value, float), np.asarray(cn.value, float)
     else:
-        target = grip
-    if not _solved(cp.Problem(cp.Minimize(cp.sum_squares(f / float(fmax.max()))), [*cons, cn >= target])):
-        return None
+        if not _solved(cp.Problem(cp.Minimize(cp.sum_squares(f)), [*cons, cn >= grip]), "design problem"):
+            return None
+        fv, cv = np.asarray(f.value, float), np.asarray(cn.value, float)
     drive = np.array([kind != "locked" for kind in m.kinds], dtype=bool)
     bidir = np.array([n in m.bidirectional for n in m.actuator_names], dtype=bool)
-    fv = np.where(drive, np.where(bidir, f.value, np.maximum(f.value, 0.0)), 0.0)
-    cv = np.asarray(cn.value, float)
+    fv = np.where(drive, np.where(bidir, fv, np.maximum(fv, 0.0)), 0.0)
     if objective == "balanced":  # homogeneous: scale up until a command meets its bound exactly
         a = np.abs(fv)
-        s = float(np.min(fmax[a > 0] / a[a > 0])) if (a > 0).any() else 1.0
-        fv, cv = np.clip(fv * s, -fmax, fmax), cv * s
-    return np.round(fv / fmax, 6) * fmax, cv  # to the design accuracy (1e-6 of the bounds)
+        s = float(np.min(unit[a > 0] / a[a > 0])) if (a > 0).any() else 1.0
+        fv, cv = np.clip(fv * s, -unit, unit), cv * s
+    return np.round(fv / unit, 6) * unit, cv  # to the design accuracy (1e-6 of the bounds)
 
 
-def _diagnose(model: GraspModel, fmax: np.ndarray, method: str) -> tuple[tuple[str, ...], tuple[str, ...]]:
+def _diagnose(model: GraspModel, unit: np.ndarray) -> tuple[tuple[str, ...], tuple[str, ...]]:
     """Why no preload exists: the driving actuators that would have to pull (a negative
     command) for every contact to press, or, if even pulling does not help, the contacts that
-    no preload can press."""
+    no preload can press (bounds ``unit``, homogeneous: the diagnosis does not depend on their
+    scale)."""
     import cvxpy as cp
 
     m = model
-    cons, f, _, cn = _constraints(m, fmax, method, signed=True)
+    cons, f, _, cn = _constraints(m, unit, signed=True)
     t = cp.Variable()
-    if _solved(cp.Problem(cp.Maximize(t), [*cons, cn >= t])) and t.value > LOADED * force_scale(m, fmax):
+    if _solved(cp.Problem(cp.Maximize(t), [*cons, cn >= t]), "diagnosis", required=False) and float(
+        t.value
+    ) > LOADED * force_scale(m, unit):
         floor = float(t.value) * 0.5  # press every contact; pull as little as possible
-        pull = cp.sum(cp.multiply(cp.neg(f), 1.0 / fmax))
-        if _solved(cp.Problem(cp.Minimize(pull), [*cons, cn >= floor])):
-            need = np.maximum(-np.asarray(f.value, float), 0.0) / fmax
+        pull = cp.sum(cp.multiply(cp.neg(f), 1.0 / unit))
+        if _solved(cp.Problem(cp.Minimize(pull), [*cons, cn >= floor]), "diagnosis", required=False):
+            need = np.maximum(-np.asarray(f.value, float), 0.0) / unit
             return (), tuple(n for n, v in zip(m.actuator_names, need) if v > 1e-6)
-    cons, f, _, cn = _constraints(m, fmax, method)
+    cons, f, _, cn = _constraints(m, unit)
     unloadable = []
     for i, name in enumerate(m.contact_names):  # vs the force its finger presses on a held object
         p = cp.Problem(cp.Maximize(cn[i]), cons)
         alone = cp.Problem(cp.Maximize(cn[i]), cons[1:])  # cons[0]: the object's equilibrium
-        best = float(p.value) if _solved(p) else 0.0
-        ref = float(alone.value) if _solved(alone) else 0.0
+        best = float(p.value) if _solved(p, "diagnosis", required=False) else 0.0
+        ref = float(alone.value) if _solved(alone, "diagnosis", required=False) else 0.0
         if best <= LOADED * ref or ref <= 0:
             unloadable.append(name)
     return tuple(unloadable), ()
@@ -215,6 +253,37 @@ def _diagnose(model: GraspModel, fmax: np.ndarray, method: str) -> tuple[tuple[s
 def _held_still(method: str) -> bool:
     """Whether ``method``'s own preload stage holds the object still (not the settling one)."""
     return get_method(method).preload_method != SETTLED_PRELOAD_METHOD
+
+
+def _require_actuators(model: GraspModel) -> None:
+    """A preload needs a driving actuator: 0 kept (or only locked) actuators is a
+    :class:`~pinograsp.errors.ModelError` naming the cause."""
+    if model.na == 0 or all(kind == "locked" for kind in model.kinds):
+        dropped = [n for n in model.all_actuator_names if n not in model.actuator_names]
+        raise ModelError(
+            "no actuator reaches a contact: the model has "
+            + (f"{model.na} kept actuator(s), all locked" if model.na else "no kept actuator")
+            + (f" (pruned: {dropped})" if dropped else "")
+            + "; no command can press the contacts. Add an actuator (or a coupling) that drives a "
+            "joint moving a contact, or check the contact links (docs/hands.md)",
+            argument="actuators",
+        )
+
+
+def _verify(
+    model: GraspModel, command: dict[str, float], method: str, settings: Settings | None
+) -> tuple[PassiveResponse | None, str | None]:
+    """The method's response at ``w = 0`` under ``command``, and None when it is an
+    equilibrium whose numbers pass the audit, else what went wrong (one phrase)."""
+    try:
+        resp = passive_response(model, command, np.zeros(6), method, settings=settings)
+    except PinograspError as exc:  # a solver failure of the verification is no equilibrium
+        return None, f"could not be solved ({type(exc).__name__}: {exc})"
+    if not resp.resistible:
+        return resp, f"ends {resp.status!r} with it"
+    if not resp.audit.ok:
+        return resp, f"settles, but its solution fails the audit ({resp.audit.summary()})"
+    return resp, None
 
 
 def equilibrium_preload(
@@ -236,49 +305,69 @@ def equilibrium_preload(
             bounds) or ``"least_norm"`` (the smallest commands pressing every contact with at
             least ``grip``).
         max_command: Upper bound of every command, or ``{actuator: bound}`` (others 1)
-            [N·m or N].
+            [N·m or N], in (0, 1e12]. The design is homogeneous in the commands: a scalar
+            bound scales the answer and never changes the verdict.
         grip: Smallest normal force at every contact for ``"least_norm"`` [N].
         settings: Solver settings of the verification.
 
     Returns:
         A :class:`PreloadChoice`; ``choice.command`` goes straight into every analysis.
+
+    Raises:
+        ModelError: No driving actuator ("no actuator reaches a contact").
+        SolverError: No solver settles the design problem (with what to try).
+        InvalidInputError: A bad method, objective, bound or grip.
     """
     if not isinstance(model, GraspModel):
         raise InvalidInputError("model", f"expected pinograsp.GraspModel, got {type(model).__name__}")
     choice("method", method, METHODS)
     choice("objective", objective, OBJECTIVES)
     fmax = command_bounds(model, max_command)
-    grip = positive_number("grip", grip)
+    grip = force("grip", grip)
+    _require_actuators(model)
+    scale = float(fmax.max())  # homogeneous: one solve with the largest bound 1, then scaled
+    unit = fmax / scale
+    design, last = None, None
     for normal_only in (False, True):  # friction allowed first; then pressing without friction
-        design = _design(model, fmax, method, objective, grip, normal_only)
+        design = _design(model, unit, objective, grip / scale, normal_only)
         if design is None:
             continue
-        f, cn = design
+        f, cn = design[0] * scale, design[1] * scale
         command = {n: 0.0 for n in model.all_actuator_names}
         command.update({n: float(v) for n, v in zip(model.actuator_names, f)})
-        resp = passive_response(model, command, np.zeros(6), method, settings=settings)
-        if resp.resistible:
+        resp, failure = _verify(model, command, method, settings)
+        if failure is None:
             how = "without friction" if normal_only else "with friction"
             return PreloadChoice(
                 "found", command, cn, method, objective, resp, (), (),
                 f"every contact presses (smallest normal force {cn.min():.4g} N, {how}) and the "
                 f"{method} preload stage is in equilibrium",
             )  # fmt: skip
-    if design is not None:
+        last = (command, cn, resp, failure)
+    if last is not None:
+        command, cn, resp, failure = last
         return PreloadChoice(
             "unverified", command, cn, method, objective, resp, (), (),
-            f"the design balances, but the {method} preload stage ends {resp.status!r} with it"
+            f"the design balances, but the {method} preload stage {failure}"
             + ("; method='prp' lets the object settle" if _held_still(method) else ""),
         )  # fmt: skip
     if objective == "least_norm":  # bounded by max_command?
-        best = _design(model, fmax, method, "balanced", grip, False)
+        best = _design(model, unit, "balanced", 1.0, False)
         if best is not None:
             return PreloadChoice(
                 "infeasible", None, None, method, objective, None, (), (),
-                f"within max_command every contact presses with at most {best[1].min():.4g} N "
+                f"within max_command every contact presses with at most {best[1].min() * scale:.4g} N "
                 f"< grip = {grip:g} N: raise max_command or lower grip",
             )  # fmt: skip
-    contacts, actuators = _diagnose(model, fmax, method)
+    contacts, actuators = _diagnose(model, unit)
+    return PreloadChoice(
+        "infeasible", None, None, method, objective, None, contacts, actuators,
+        _why_none(contacts, actuators),
+    )  # fmt: skip
+
+
+def _why_none(contacts: tuple[str, ...], actuators: tuple[str, ...]) -> str:
+    """The reason of an infeasible design, from :func:`_diagnose`."""
     parts = []
     if contacts:
         parts.append(f"no preload presses contact(s) {list(contacts)}")
@@ -292,7 +381,4 @@ def equilibrium_preload(
         parts[-1] += " (no other contact or finger can oppose them)"
     if not parts:
         parts.append("each contact can be pressed, but not all at once")
-    return PreloadChoice(
-        "infeasible", None, None, method, objective, None, contacts, actuators,
-        "; ".join(parts),
-    )  # fmt: skip
+    return "; ".join(parts)

@@ -17,10 +17,10 @@ from ..core.model import GraspModel
 from ..core.query import Query, make_query
 from ..core.results import MaxWrench, ResistanceProfile
 from ..core.settings import Settings
-from ..core.validate import whole_number
+from ..core.validate import directions
 from ..solvers.threads import single_threaded
 from .directions import run_directions
-from .max_wrench import check_preload, max_wrench_on
+from .max_wrench import check_preload, max_wrench_on, query_within
 from .registry import get_method, resolve_search
 from .response import PassiveSolver, session_for
 
@@ -138,10 +138,10 @@ def resistance_profile(
     """
     t0 = time.perf_counter()
     q = make_query(query, method, upper, steps, search)
-    n = whole_number("n", n)
+    n = directions(n)
     basis, labels = plane_basis(model, plane)
     solver = session_for(model, session, settings, overrides)
-    fc = solver.model.command_vector(command)
+    fc = query_within(solver, command, q, eps=False)  # before any work (docs/errors.md)
     check_preload(solver, fc, q.method.value)
     angles, dirs = circle_directions(basis, n)
     found, failures = run_directions(solver, fc, dirs, q, workers=workers, progress=progress, catch=True)

@@ -31,7 +31,8 @@ from ..core.model import GraspModel
 from ..core.query import Query, make_query
 from ..core.results import MaxWrench, ResistanceProfile
 from ..core.serialize import format_magnitude, jsonable, vector_text
-from ..core.validate import finite_array, positive_number, whole_number
+from ..core.validate import directions as n_directions
+from ..core.validate import finite_array, relative_length, whole_number
 from ..errors import InvalidInputError
 
 if TYPE_CHECKING:
@@ -345,13 +346,21 @@ def _sphere_directions(model: GraspModel, n: int, seed: int, length: float) -> t
     return u6 * np.r_[1.0, 1.0, 1.0, length, length, length], u6
 
 
+def _length(model: GraspModel, length: object) -> tuple[float, str]:
+    """The length [m] scaling torques and where it came from: ``model.length_scale`` by default,
+    else ``length`` within :data:`~pinograsp.core.validate.LENGTH` times it (docs/errors.md)."""
+    if length is None:
+        return float(model.length_scale), "model.length_scale"
+    return relative_length("length", length, model.length_scale), "given"
+
+
 def _requested_directions(
     model: GraspModel, n: int | None, seed: int, length: float, directions: object
 ) -> tuple[np.ndarray, int | None]:
     """The wrenches (k, 6) of :func:`resistance_set`: ``directions`` as given, or ``n`` points
     of the sphere of ``seed`` (then also the seed used)."""
     if directions is None:
-        raw, _ = _sphere_directions(model, whole_number("n", 500 if n is None else n), seed, length)
+        raw, _ = _sphere_directions(model, n_directions(500 if n is None else n), seed, length)
         return raw, whole_number("seed", seed, 0)
     return wrench_rows(model, directions, "directions"), None
 
@@ -401,18 +410,17 @@ def resistance_set(
     """
     from ..solvers.threads import single_threaded_blas
     from .directions import run_directions
-    from .max_wrench import check_preload
+    from .max_wrench import check_preload, query_within
     from .response import session_for
 
     t0 = time.perf_counter()
     q = make_query(query, method, upper, steps, search)
-    source = "model.length_scale" if length is None else "given"
-    length = float(model.length_scale) if length is None else positive_number("length", length)
+    length, source = _length(model, length)
     raw, seed_used = _requested_directions(model, n, seed, length, directions)
     dirs = np.array([wrench_direction(model, w, f"directions[{i}]") for i, w in enumerate(raw)])
     with single_threaded_blas():  # as every public query: one BLAS thread, one reduction order
         solver = session_for(model, session, settings, overrides)
-        fc = solver.model.command_vector(command)
+        fc = query_within(solver, command, q, eps=False)  # domains: docs/errors.md
         check_preload(solver, fc, q.method.value)
         results, failures = run_directions(solver, fc, raw, q, workers=workers, progress=progress, catch=True)
     mags = np.array([np.nan if r is None else r.magnitude for r in results])

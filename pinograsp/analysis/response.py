@@ -47,6 +47,7 @@ import numpy as np
 from ..core.model import GraspModel
 from ..core.results import PassiveResponse
 from ..core.settings import Backend, Method, Settings, make_settings
+from ..core.validate import load_within
 from ..errors import ConditioningWarning, InvalidInputError
 from ..solvers.base import Mode, RawSolution, SolveStatus
 from ..solvers.formulation import Formulation, ScaledData
@@ -347,7 +348,10 @@ def passive_response(
         resisted, ``status`` why not (``"timeout"``/``"failed"`` are never reported as resisted).
     """
     get_method(method)
-    return solver_for(model, settings, **overrides).response(command, wrench, method)
+    solver = solver_for(model, settings, **overrides)
+    # the load within the grasp's force scale, at the public boundary (docs/errors.md)
+    load_within(model, model.command_vector(command), "wrench", model.wrench_vector(wrench))
+    return solver.response(command, wrench, method)
 
 
 __all__ = ["LoadFactor", "PassiveSolver", "Session", "passive_response", "session_for", "solver_for"]

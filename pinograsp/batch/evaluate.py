@@ -28,7 +28,8 @@ from pathlib import Path
 from typing import Any, ClassVar
 
 from ..core.settings import METHODS, Method
-from ..core.validate import choice, positive_number, whole_number
+from ..core.validate import choice, force, positive_number, whole_number
+from ..core.validate import steps as n_steps
 from ..errors import InvalidInputError, MissingDependencyError
 from .executors import check_executor, run_chunks
 from .grasps import GraspSpec, build_grasp, rpy_of
@@ -92,8 +93,8 @@ class WorstAxisScore:
     no_grasp: ClassVar[dict[str, float]] = dict.fromkeys(columns, 0.0)
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "upper", positive_number("upper", self.upper))
-        object.__setattr__(self, "steps", whole_number("steps", self.steps))
+        object.__setattr__(self, "upper", force("upper", self.upper, "N or N·m"))  # docs/errors.md
+        object.__setattr__(self, "steps", n_steps(self.steps))
         object.__setattr__(self, "method", Method(choice("method", self.method, METHODS)))
 
     def __call__(self, model: Any, command: Mapping[str, float]) -> dict[str, float]:

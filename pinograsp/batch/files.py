@@ -14,6 +14,8 @@ from pathlib import Path
 from typing import Any
 
 from ..core.settings import METHODS, Method
+from ..core.validate import force
+from ..core.validate import steps as n_steps
 from ..errors import PinograspError
 from ..scenes.loading import SceneFile, read_yaml
 from .grasps import SHAPES, GraspSpec, ObjectSpec, sample_grasps
@@ -225,9 +227,9 @@ def load_grasps(path: str | Path) -> GraspBatch:
     f.keys(s, SCORE_KEYS, "score")
     score: dict[str, Any] = {}
     if "upper" in s:
-        score["upper"] = f.number(s["upper"], "score.upper", positive=True)
-    if "steps" in s:
-        score["steps"] = f.integer(s["steps"], "score.steps")
+        score["upper"] = f.domain(lambda k, v: force(k, v, "N or N·m"), s["upper"], "score.upper")
+    if "steps" in s:  # domains checked before any grasp runs (docs/errors.md)
+        score["steps"] = f.domain(lambda k, v: n_steps(v, k), s["steps"], "score.steps")
     if "method" in s:
         if s["method"] not in METHODS:
             raise f.error("score.method", f"must be one of {', '.join(METHODS)}, got {s['method']!r}")

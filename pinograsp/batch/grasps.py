@@ -20,7 +20,8 @@ import numpy as np
 
 from ..core.poses import rotation_rpy, rpy_of
 from ..core.settings import METHODS, Method
-from ..core.validate import choice, finite_number, positive_number, whole_number
+from ..core.validate import MAX_SAMPLES, choice, count, finite_number, positive_number, whole_number
+from ..core.validate import size as check_size
 from ..errors import InvalidInputError
 
 #: Object shapes of :class:`ObjectSpec`.
@@ -83,11 +84,11 @@ class ObjectSpec:
         if self.size is not None:
             sz = _floats("size", self.size, 3)
             for i, v in enumerate(sz):
-                positive_number(f"size[{i}]", v)
+                check_size(f"size[{i}]", v)
             object.__setattr__(self, "size", sz)
         for key in ("radius", "length"):
             if getattr(self, key) is not None:
-                object.__setattr__(self, key, positive_number(key, getattr(self, key)))
+                object.__setattr__(self, key, check_size(key, getattr(self, key)))
         if self.file is not None and (not isinstance(self.file, str) or not self.file):
             raise InvalidInputError("file", f"expected a mesh file path, got {self.file!r}")
         object.__setattr__(self, "scale", positive_number("scale", self.scale))
@@ -297,7 +298,7 @@ def sample_grasps(
     Returns:
         ``n`` grasps with ids ``"s<seed>-<i>"``.
     """
-    n = whole_number("n", n)
+    n = count("n", n, MAX_SAMPLES, what="grasps, checked before sampling")  # docs/errors.md
     seed = whole_number("seed", seed, minimum=0)
     spec = obj if isinstance(obj, ObjectSpec) else ObjectSpec.from_object(obj)
     half = np.asarray(_floats("translation", np.broadcast_to(np.asarray(translation, dtype=float), 3)))

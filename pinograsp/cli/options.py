@@ -18,6 +18,7 @@ import pinograsp as pg
 
 from ..core.axes import WRENCH_AXES, axis_index
 from ..core.settings import Settings, make_settings
+from ..core.validate import MAX_FORCE, MAX_STEPS
 from ..errors import InvalidInputError, PinograspError, UnknownNameError
 
 
@@ -47,10 +48,10 @@ def upper_steps(args: argparse.Namespace, scene: Any, default_steps: int | None 
         steps = default_steps
     else:
         steps = int(scene.analysis.steps)
-    if not (math.isfinite(upper) and upper > 0):
-        raise InvalidInputError("--upper", f"must be finite and > 0, got {upper!r}")
-    if steps < 1:
-        raise InvalidInputError("--steps", f"must be >= 1, got {steps}")
+    if not (math.isfinite(upper) and 0 < upper <= MAX_FORCE):  # domains: docs/errors.md
+        raise InvalidInputError("--upper", f"must be in (0, {MAX_FORCE:g}] [N or N·m], got {upper!r}")
+    if not 1 <= steps <= MAX_STEPS:
+        raise InvalidInputError("--steps", f"must be an integer in [1, {MAX_STEPS}], got {steps}")
     return upper, steps
 
 

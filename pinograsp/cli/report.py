@@ -6,6 +6,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 import sys
 import time
 from collections.abc import Callable
@@ -25,6 +26,15 @@ class Output:
         self.json = bool(getattr(args, "json", False))
         self.out = Path(args.out) if getattr(args, "out", None) else None
         self.written: list[Path] = []
+        if self.out is not None:  # writable before any work (docs/errors.md)
+            try:
+                self.out.mkdir(parents=True, exist_ok=True)
+            except OSError as exc:
+                raise pg.InvalidInputError(
+                    "--out", f"cannot create the folder {str(self.out)!r}: {exc.strerror or exc}"
+                ) from exc
+            if not os.access(self.out, os.W_OK):
+                raise pg.InvalidInputError("--out", f"the folder {str(self.out)!r} is not writable")
 
     def print(self, *lines: str) -> None:
         """Print ``lines`` on stdout, unless ``--json``."""

@@ -123,6 +123,9 @@ class Audit:
             of the force scale; an energetic load stage on the iterative (held-still) preload
             carries that preload's own residual (at most ``eps + eps_rel F``) on top. A resisted
             answer above this bound is reported ``status="failed"`` and fails the audit.
+        pull: Largest pulling normal force ``max(0, -min c_n)`` [N]: contacts are push-only, so
+            beyond ``tolerance`` the numbers cannot be trusted (docs/errors.md).
+        finite: Every force, displacement and residual of the solution is finite (no overflow).
     """
 
     equilibrium: float
@@ -135,15 +138,20 @@ class Audit:
     tolerance: float = 1e-6
     energy: EnergyCheck | None = None
     equilibrium_tolerance: float | None = None
+    pull: float = 0.0
+    finite: bool = True
 
     @property
     def ok(self) -> bool:
         """All hand/complementarity/friction residuals within tolerance, the object's net wrench
-        within ``equilibrium_tolerance`` (when given), no big-M saturation, and (for an
-        equilibrium) the energy balance and displacement size hold."""
+        within ``equilibrium_tolerance`` (when given), no big-M saturation, no pulling contact,
+        every number finite, and (for an equilibrium) the energy balance and displacement size
+        hold."""
         physical = self.energy is None or (self.energy.energy_ok and self.energy.displacement_ok)
         return (
-            self.balanced
+            self.finite
+            and self.balanced
+            and self.pull <= self.tolerance
             and self.hand <= self.tolerance
             and self.complementarity <= self.tolerance
             and self.friction <= self.tolerance
@@ -170,6 +178,8 @@ class Audit:
                 "polished": self.polished,
                 "tolerance": self.tolerance,
                 "equilibrium_tolerance": self.equilibrium_tolerance,
+                "pull": self.pull,
+                "finite": self.finite,
                 "energy": None if self.energy is None else self.energy.to_dict(),
             }
         )
@@ -181,6 +191,13 @@ class Audit:
             f"hand {self.hand:.2e} N, complementarity {self.complementarity:.2e} N, "
             f"friction {self.friction:.2e} N, big-M use {self.bigm_ratio:.1%})"
         )
+        if self.pull > self.tolerance:
+            text += (
+                f"\n  a contact PULLS with {self.pull:.3g} N (contacts only push): "
+                "the numbers cannot be trusted"
+            )
+        if not self.finite:
+            text += "\n  non-finite numbers (overflow): the solution cannot be trusted"
         return text if self.energy is None else text + "\n  " + self.energy.summary()
 
 

@@ -14,7 +14,7 @@ from typing import cast
 import numpy as np
 
 from ..errors import InvalidInputError
-from .validate import check_name, finite_number, vector
+from .validate import MAX_JOINTS, MAX_MU, STIFFNESS, check_name, count, number_in, vector
 
 #: Tolerance on ``|n| = 1`` and ``t1 ⟂ n`` for user-supplied normals and tangents.
 UNIT_TOL = 1e-6
@@ -38,13 +38,13 @@ class Contact:
     Attributes:
         point: Contact point ``p`` in the world (hand base) frame [m], shape (3,).
         normal: Unit normal ``n`` from the hand into the object, shape (3,).
-        mu: Coulomb friction coefficient (>= 0).
+        mu: Coulomb friction coefficient, in [0, 100] (docs/errors.md, "Input domains").
         jacobian: World-frame linear velocity of the **hand** point at ``p`` per unit closing
             joint velocity, shape (3, nq) [m/rad]. ``None`` means the point is on a part that
             cannot move (e.g. the palm): a zero Jacobian.
         tangent: Unit tangent ``t1`` orthogonal to ``normal``; ``None`` picks
             :func:`default_tangent`.
-        stiffness: Normal stiffness ``k`` of the virtual contact spring [N/m] (> 0).
+        stiffness: Normal stiffness ``k`` of the virtual contact spring [N/m], in [1e-6, 1e12].
         name: Label used in results and error messages (e.g. the hand link's name).
     """
 
@@ -67,12 +67,8 @@ class Contact:
                 f"{label}.normal", f"must be a unit vector, |n| = {np.linalg.norm(normal):.9g}"
             )
         normal = normal / np.linalg.norm(normal)
-        mu = finite_number(f"{label}.mu", self.mu)
-        if mu < 0:
-            raise InvalidInputError(f"{label}.mu", f"must be finite and >= 0, got {self.mu}")
-        k = finite_number(f"{label}.stiffness", self.stiffness)
-        if k <= 0:
-            raise InvalidInputError(f"{label}.stiffness", f"must be finite and > 0, got {self.stiffness}")
+        mu = number_in(f"{label}.mu", self.mu, 0.0, MAX_MU)  # domains: docs/errors.md
+        k = number_in(f"{label}.stiffness", self.stiffness, *STIFFNESS, "N/m")
         if self.tangent is None:
             t1 = default_tangent(normal)
         else:
@@ -120,13 +116,11 @@ class Contact:
             pivots: ``{joint_index: (pivot_point, closing_axis)}``: each joint upstream of the
                 contact, a point on its axis [m] and its unit axis oriented so that positive
                 rotation closes the hand. The Jacobian column is ``axis × (p − pivot)``.
-            nq: Number of joints of the hand.
+            nq: Number of joints of the hand, in [0, 10000].
             **kwargs: Passed to :class:`Contact` (``mu``, ``stiffness``, ``name``, ...).
         """
         p = vector("point", point, 3)
-        if isinstance(nq, (bool, np.bool_)) or not isinstance(nq, (int, np.integer)) or nq < 0:
-            raise InvalidInputError("nq", f"expected a number of joints >= 0, got {nq!r}")
-        nq = int(nq)
+        nq = count("nq", nq, MAX_JOINTS, minimum=0, what="joints of a hand; checked before allocating")
         if pivots is None:
             pivots = {}
         if not isinstance(pivots, Mapping):

@@ -23,7 +23,7 @@ from .axes import PLANAR_AXES
 from .build import PruneRecord, build_model, readonly
 from .cones import edge_counts, with_normal_uncertainty
 from .contact import Contact
-from .validate import finite_number
+from .validate import MAX_FORCE, finite_number
 
 
 @dataclass(frozen=True, eq=False)
@@ -253,6 +253,8 @@ class GraspModel:
                 )
         if not np.all(np.isfinite(raw)):
             raise InvalidInputError("command", "contains NaN or inf", raw)
+        if np.any(np.abs(raw) > MAX_FORCE):  # domain: docs/errors.md
+            raise InvalidInputError("command", f"must be within ±{MAX_FORCE:g} [N·m or N]", raw)
         if np.any(raw < 0):
             names = names_all if full else self.actuator_names
             bad = [n for n, v in zip(names, raw) if v < 0 and n not in self.bidirectional]

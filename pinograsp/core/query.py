@@ -13,7 +13,8 @@ from typing import Any
 
 from ..errors import InvalidInputError
 from .settings import METHODS, Method, Search
-from .validate import choice, positive_number, whole_number
+from .validate import choice, force
+from .validate import steps as n_steps
 
 SEARCHES = tuple(s.value for s in Search)
 
@@ -26,8 +27,9 @@ class Query:
     Attributes:
         method: ``"iterative"`` (default), ``"energetic"`` or ``"prp"``
             (:class:`~pinograsp.core.settings.Method`).
-        upper: Upper limit of the search [N or N·m along the unit direction].
-        steps: Search steps; resolution ``upper / 2**steps``.
+        upper: Upper limit of the search [N or N·m along the unit direction], in (0, 1e12]
+            (and within 1e6 times the grasp's force scale, checked per query).
+        steps: Search steps, in [1, 60]; resolution ``upper / 2**steps``.
         search: ``"auto"`` (the method's default), ``"bisection"``, ``"secant"`` or
             ``"direct"`` (:class:`~pinograsp.core.settings.Search`).
 
@@ -42,8 +44,9 @@ class Query:
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "method", Method(choice("method", self.method, METHODS)))
-        object.__setattr__(self, "upper", positive_number("upper", self.upper))
-        object.__setattr__(self, "steps", whole_number("steps", self.steps))
+        # domains (docs/errors.md, "Input domains"); against a grasp: analysis.max_wrench.query_within
+        object.__setattr__(self, "upper", force("upper", self.upper, "N or N·m"))
+        object.__setattr__(self, "steps", n_steps(self.steps))
         object.__setattr__(self, "search", Search(choice("search", self.search, SEARCHES)))
 
     @property

@@ -14,7 +14,7 @@ import numpy as np
 
 from ..errors import InvalidInputError, SolverNotAvailableError, UnknownNameError
 from .cones import check_angle
-from .validate import choice, positive_number, whole_number
+from .validate import choice, count, number_in, positive_number, whole_number
 
 
 class Vocabulary(str, Enum):
@@ -186,8 +186,10 @@ class Settings:
             )
         for name in ("time_limit", "bigm", "gamma", "eps", "tolerance"):
             positive_number(name, getattr(self, name))
+        for name, (lo, hi, unit) in SETTING_DOMAINS.items():  # docs/errors.md, "Input domains"
+            number_in(name, getattr(self, name), lo, hi, unit)
         for name in ("max_iterations", "max_nodes"):
-            whole_number(name, getattr(self, name))
+            count(name, getattr(self, name), MAX_COUNTS[name], what="a count limit, not a hang")
         whole_number("bigm_retries", self.bigm_retries, minimum=0)
         for name in ("accelerate", "verify_infeasible"):
             if not isinstance(getattr(self, name), bool):
@@ -215,6 +217,20 @@ class Settings:
             if self.cone_tolerance <= 0:
                 raise InvalidInputError("cone_tolerance", "must be a positive angle [rad] or None")
         return self
+
+
+#: Ranges of the numeric settings (docs/errors.md): the audit tolerance is relative (below 1e-12
+#: it is rounding, above 1e-2 no check), ``eps`` [N] is at most MAX_FORCE (and, in a search, 1e-2
+#: of the grasp's force scale or upper), a step bound ``gamma`` above 1e3 no bound.
+SETTING_DOMAINS = {
+    "tolerance": (1e-12, 1e-2, "(relative)"),
+    "eps": (1e-12, 1e12, "N"),
+    "gamma": (1e-6, 1e3, ""),
+    "bigm": (1.0, 1e12, "(scaled force units)"),
+    "time_limit": (1e-9, 1e6, "s"),
+}
+#: Largest count limits: iterations of the iterative scheme, nodes of one branch-and-bound.
+MAX_COUNTS = {"max_iterations": 1_000_000, "max_nodes": 10**9}
 
 
 def make_settings(settings: Settings | None = None, **overrides: object) -> Settings:

@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..core.validate import finite_number, positive_number, whole_number
+from ..core.validate import contact_tolerance, count, finite_number, number_in
 from ..errors import InvalidInputError, NoContactError, PenetrationError
 from .collision import (
     DEFAULT_MAX_PENETRATION,
@@ -163,7 +163,7 @@ def close_on(
         NoContactError: every joint reached its limit and no link touches the object (the
             error lists each link's closest distance [m]).
     """
-    tol = DEFAULT_TOLERANCE if tolerance is None else positive_number("tolerance", tolerance)
+    tol = DEFAULT_TOLERANCE if tolerance is None else contact_tolerance("tolerance", tolerance, positive=True)
     pen = (
         DEFAULT_MAX_PENETRATION
         if max_penetration is None
@@ -172,8 +172,8 @@ def close_on(
     if pen < 0:
         raise InvalidInputError("max_penetration", f"must be finite and >= 0 [m], got {pen}")
     pen = max(pen, tol)
-    step = positive_number("step", step)
-    max_steps = whole_number("max_steps", max_steps)
+    step = number_in("step", step, 1e-6, 1.0, "rad (prismatic: x 0.1 m)")  # domains: docs/errors.md
+    max_steps = count("max_steps", max_steps, 10**6, what="closing steps")
     q = np.clip(hand.configuration(q_open, "q_open"), hand.lower, hand.upper)
     d = hand.closing_direction() * hand.closing_signs  # URDF-coordinate rates
     rate = d * np.where(hand.prismatic, step / 10.0, step)

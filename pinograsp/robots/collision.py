@@ -33,7 +33,7 @@ import coal
 import numpy as np
 
 from ..core.serialize import jsonable
-from ..core.validate import finite_number
+from ..core.validate import contact_tolerance, finite_number
 from ..errors import InvalidInputError, NoContactError, PenetrationError, UnknownNameError
 from .hand_protocol import HandLike
 from .kinematics import HandConfiguration
@@ -219,9 +219,7 @@ def contact_options(
     hand: HandLike, tolerance: object, max_penetration: object, links: object
 ) -> tuple[float, float, tuple[str, ...] | None]:
     """Validated ``tolerance`` [m], ``max_penetration`` [m] and ``links`` of :func:`detect_contacts`."""
-    tolerance = finite_number("tolerance", tolerance)
-    if tolerance < 0:
-        raise InvalidInputError("tolerance", f"must be finite and >= 0, got {tolerance}")
+    tolerance = contact_tolerance("tolerance", tolerance)  # domain: docs/errors.md
     max_penetration = finite_number("max_penetration", max_penetration)
     if max_penetration < 0:
         raise InvalidInputError("max_penetration", f"must be finite and >= 0, got {max_penetration}")

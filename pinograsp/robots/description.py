@@ -30,6 +30,7 @@ import numpy as np
 from ..core.actuation import Actuator, Coupling
 from ..core.validate import finite_number
 from ..errors import InvalidInputError, ModelFileError, UnknownNameError
+from .yamlfile import load_file
 
 #: Folder of the URDF files and hand descriptions shipped with pinograsp.
 DATA_DIR = Path(__file__).resolve().parents[1] / "data"
@@ -230,9 +231,11 @@ class HandDescription:
         if not p.is_file():
             raise ModelFileError(p, "hand description file not found")
         try:
-            data = yaml.safe_load(p.read_text())
+            data = load_file(p)  # no aliases, bounded size (docs/errors.md)
         except yaml.YAMLError as exc:
-            raise ModelFileError(p, f"malformed YAML: {exc}") from exc
+            raise ModelFileError(p, f"malformed YAML: {' '.join(str(exc).split())[:500]}") from exc
+        except (OSError, UnicodeDecodeError, ValueError) as exc:
+            raise ModelFileError(p, f"cannot read the file: {exc}") from exc
         try:
             return cls.from_dict(data or {}, source=str(p))
         except (InvalidInputError, UnknownNameError) as exc:

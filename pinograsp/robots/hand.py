@@ -21,7 +21,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..core.actuation import Actuator, Coupling
-from ..core.validate import finite_number
+from ..core.validate import coordinates, finite_number
 from ..errors import InvalidInputError, ModelError, UnknownNameError, UrdfError
 from . import autoclose
 from .description import BUILTIN_HANDS, DATA_DIR, HandDescription, example_robot_data_dir
@@ -259,7 +259,7 @@ class Hand:
                 )
         if not np.all(np.isfinite(arr)):
             raise InvalidInputError(name, "contains NaN or inf", arr)
-        return np.array(arr, dtype=float)
+        return np.array(coordinates(name, arr), dtype=float)  # domain: docs/errors.md
 
     def link_of_geometry(self, index: int) -> str:
         """Name of the link carrying collision geometry ``index``."""

@@ -26,7 +26,8 @@ from pathlib import Path
 import coal
 import numpy as np
 
-from ..core.validate import positive_number
+from ..core.validate import coordinates, positive_number
+from ..core.validate import size as check_size
 from ..errors import InvalidInputError, ModelFileError
 
 #: Tolerance on the orthonormality of a pose's rotation block.
@@ -67,6 +68,7 @@ def pose_matrix(pose: object, name: str = "pose") -> np.ndarray:
         raise InvalidInputError(name, "the upper-left 3x3 block is not a rotation matrix")
     if np.abs(arr[3] - [0.0, 0.0, 0.0, 1.0]).max() > 0:
         raise InvalidInputError(name, "the last row must be (0, 0, 0, 1)")
+    coordinates(f"{name} translation", arr[:3, 3], "m")  # domain: docs/errors.md
     return arr.copy()
 
 
@@ -148,7 +150,7 @@ class RigidObject:
             s = np.full(3, float(s))
         if s.shape != (3,):
             raise InvalidInputError("size", f"expected 3 edge lengths, got {size!r}")
-        sx, sy, sz = (positive_number(f"size[{i}]", v) for i, v in enumerate(s))
+        sx, sy, sz = (check_size(f"size[{i}]", v) for i, v in enumerate(s))
         return cls(coal.Box(sx, sy, sz), pose_matrix(pose), np.zeros(3), "box", name, {"size": (sx, sy, sz)})
 
     @classmethod
@@ -163,7 +165,7 @@ class RigidObject:
             pose: Cylinder frame in the hand base frame.
             name: Label.
         """
-        r, h = positive_number("radius", radius), positive_number("length", length)
+        r, h = check_size("radius", radius), check_size("length", length)
         return cls(
             coal.Cylinder(r, h), pose_matrix(pose), np.zeros(3), "cylinder", name, {"radius": r, "length": h}
         )
@@ -171,7 +173,7 @@ class RigidObject:
     @classmethod
     def sphere(cls, radius: float, pose: object = None, name: str = "sphere") -> RigidObject:
         """A solid sphere centred on its frame (``pose`` may be a 3-vector: the centre [m])."""
-        r = positive_number("radius", radius)
+        r = check_size("radius", radius)
         return cls(coal.Sphere(r), pose_matrix(pose), np.zeros(3), "sphere", name, {"radius": r})
 
     @classmethod

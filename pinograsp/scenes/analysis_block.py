@@ -17,6 +17,9 @@ import numpy as np
 from ..core.axes import WRENCH_AXES, plane_basis, wrench_direction
 from ..core.model import GraspModel
 from ..core.settings import METHODS, Method, Settings, make_settings
+from ..core.validate import directions as n_directions
+from ..core.validate import force
+from ..core.validate import steps as n_steps
 from ..errors import InvalidInputError, PinograspError, SolverNotAvailableError, UnknownNameError
 from .fields import SceneFile, show
 from .schema import ANALYSIS_KEYS, ANGLE_SETTINGS_KEYS, SETTINGS_KEYS, Plane, SceneAnalysis
@@ -93,9 +96,9 @@ def _block(f: SceneFile, model: GraspModel, a: Mapping) -> SceneAnalysis:
     method = a.get("method", Method.ITERATIVE)
     if method not in METHODS:
         raise f.error("analysis.method", f"must be one of {', '.join(METHODS)}, got {method!r}")
-    upper = f.number(a.get("upper", 1e3), "analysis.upper", positive=True)
-    steps = f.integer(a.get("steps", 20), "analysis.steps")
-    n = f.integer(a.get("n", 72), "analysis.n")
+    upper = f.domain(lambda k, v: force(k, v, "N or N·m"), a.get("upper", 1e3), "analysis.upper")
+    steps = f.domain(lambda k, v: n_steps(v, k), a.get("steps", 20), "analysis.steps")
+    n = f.domain(lambda k, v: n_directions(v, k), a.get("n", 72), "analysis.n")
     planes: dict[str, Plane] = {}
     if a.get("planes") is not None:
         pm = f.mapping(a["planes"], "analysis.planes", "a mapping name -> [axis, axis]")

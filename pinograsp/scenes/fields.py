@@ -9,13 +9,14 @@ from __future__ import annotations
 
 import math
 import re
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from ..core.poses import rotation_rpy
-from ..errors import SceneError
+from ..errors import InvalidInputError, SceneError
 
 #: An angle written in degrees: ``"60 deg"``.
 _DEG = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*deg\s*$")
@@ -94,6 +95,17 @@ class SceneFile:
         if nonneg and v < 0:
             raise self.error(key, f"must be >= 0, got {value!r}")
         return v
+
+    def domain(self, check: Callable[[str, object], Any], value: object, key: str) -> Any:  # noqa: ANN401
+        """``check(key, value)`` (a :mod:`pinograsp.core.validate` domain check); its
+        :class:`~pinograsp.errors.InvalidInputError` becomes this file's error for ``key``."""
+        try:
+            return check(key, value)
+        except InvalidInputError as exc:
+            detail = str(exc)
+            raise self.error(
+                key, detail[len(key) + 2 :] if detail.startswith(key + ": ") else detail
+            ) from None
 
     def integer(self, value: object, key: str, minimum: int = 1) -> int:
         """An integer ``>= minimum`` (``true`` and ``2.5`` are not)."""

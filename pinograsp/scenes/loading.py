@@ -32,6 +32,7 @@ from typing import Any
 
 from ..core.model import GraspModel
 from ..errors import PinograspError, UnknownNameError
+from ..robots.yamlfile import load_file
 from .analysis_block import analysis, command
 from .explicit_scene import build_explicit
 from .fields import SceneFile, mtime, show
@@ -52,10 +53,10 @@ def read_yaml(path: Path) -> dict[str, Any]:
     if not path.is_file():
         raise f.error("", "scene file not found")
     try:
-        data = yaml.safe_load(path.read_text())
+        data = load_file(path)  # no aliases, bounded size (docs/errors.md)
     except yaml.YAMLError as exc:
-        raise f.error("", f"malformed YAML: {' '.join(str(exc).split())}") from exc
-    except (OSError, UnicodeDecodeError) as exc:
+        raise f.error("", f"malformed YAML: {' '.join(str(exc).split())[:500]}") from exc
+    except (OSError, UnicodeDecodeError, ValueError) as exc:
         raise f.error("", f"cannot read the file: {exc}") from exc
     if not isinstance(data, Mapping):
         raise f.error("", f"expected a mapping of scene keys, got {show(data)}")
@@ -183,7 +184,7 @@ def builtin_scenes() -> dict[str, str]:
         hit = _BUILTIN_CACHE.get(str(p))
         if hit is None or hit[0] != mt:
             try:
-                data = yaml.safe_load(p.read_text()) or {}
+                data = load_file(p) or {}
                 desc = " ".join(str(data.get("description", "")).split())
             except yaml.YAMLError:  # pragma: no cover - shipped files are tested
                 desc = "(malformed scene file)"

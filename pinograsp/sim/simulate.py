@@ -16,6 +16,7 @@ import numpy as np
 
 from ..core.axes import wrench_direction
 from ..core.model import GraspModel
+from ..core.validate import force, load_within, number_in
 from ..errors import InvalidInputError
 from .integrator import FRICTIONS, PRELOADS, Engine, SimOptions, preload, ramp, refine
 from .result import SimulationResult, SimulationStatus
@@ -59,8 +60,8 @@ def _positive(name: str, value: object) -> float:
 def _options(grasp: GraspModel, direction: np.ndarray, upper: float, kw: dict[str, Any]) -> SimOptions:
     """Defaults filled in and validated (docs/simulation.md, "Defaults")."""
     ell = float(grasp.length_scale)
-    stiffness = _positive("stiffness", kw.pop("stiffness", 1e6))
-    timestep = _positive("timestep", kw.pop("timestep", 1e-4))
+    stiffness = number_in("stiffness", kw.pop("stiffness", 1e6), *SIM_STIFFNESS, "N/m")
+    timestep = number_in("timestep", kw.pop("timestep", 1e-4), *SIM_TIMESTEP, "s")
     ramp = _positive("ramp_time", kw.pop("ramp_time", 0.02))
     # elastic deflection of one contact spring at the upper load (torques as forces at ell)
     elastic = upper * (np.linalg.norm(direction[:3]) + np.linalg.norm(direction[3:]) / ell) / stiffness
@@ -84,7 +85,7 @@ def _options(grasp: GraspModel, direction: np.ndarray, upper: float, kw: dict[st
         hold_time=_positive("hold_time", kw.pop("hold_time", 5.0 * ramp)),
         slip=slip,
         rotation=slip / ell if rotation is None else _positive("rotation", rotation),
-        tolerance=_positive("tolerance", kw.pop("tolerance", 2e-3)),
+        tolerance=number_in("tolerance", kw.pop("tolerance", 2e-3), *SIM_TOLERANCE, "(relative)"),
         mass=mass,
         damping=_positive("damping", kw.pop("damping", 0.7)),
         preload=preload,
@@ -98,7 +99,40 @@ def _options(grasp: GraspModel, direction: np.ndarray, upper: float, kw: dict[st
         raise InvalidInputError("options", f"unknown simulation option(s) {sorted(kw)}")
     if not opts.start < 1.0:
         raise InvalidInputError("start", f"expected a fraction of upper below 1, got {opts.start!r}")
+    _step_budget(opts)
     return opts
+
+
+#: Simulation domains (docs/errors.md): the contact spring [N/m] (below 1 N/m a 1 N preload
+#: deflects 1 m; above 1e10 the explicit step needs a mass below rounding), the time step [s]
+#: (MuJoCo's stable range for the contact springs), the give-way resolution (relative), and the
+#: largest number of integration steps of one run (preload, ramp, hold and refinement).
+SIM_STIFFNESS = (1.0, 1e10)
+SIM_TIMESTEP = (1e-7, 1e-2)
+SIM_TOLERANCE = (1e-6, 0.5)
+MAX_SIM_STEPS = 10**7
+
+
+def _step_budget(o: SimOptions) -> None:
+    """Refuse, before any step, options whose run would take more than MAX_SIM_STEPS steps."""
+    ramp = o.ramp_time * math.log(1.0 / o.start) + o.hold_time + o.preload_time
+    halvings = math.ceil(math.log2(max(math.log(1.0 / o.start) / o.tolerance, 2.0)))
+    n = ramp / o.timestep * (1 + halvings)
+    if not n <= MAX_SIM_STEPS:
+        raise InvalidInputError(
+            "timestep",
+            f"the run would take ~{n:.3g} integration steps (ramp_time, hold_time, preload_time, "
+            f"start and tolerance at timestep {o.timestep:g} s), more than {MAX_SIM_STEPS:g}: "
+            "raise timestep or tolerance, or shorten the ramp",
+        )
+
+
+def _upper(grasp: GraspModel, cmd: np.ndarray, d: np.ndarray, upper: object) -> float:
+    """The largest load [N or N·m] along ``d``, in (0, MAX_FORCE] and within the grasp's force
+    scale under ``cmd`` (docs/errors.md, "Input domains")."""
+    up = force("upper", upper, "N or N·m")
+    load_within(grasp, cmd, "upper", up * d)
+    return up
 
 
 def simulate_max_wrench(
@@ -145,7 +179,7 @@ def simulate_max_wrench(
     """
     t0 = time.perf_counter()
     grasp, d, cmd, default_upper = _inputs(scene_or_model, direction, command)
-    up = default_upper if upper is None else _positive("upper", upper)
+    up = _upper(grasp, cmd, d, default_upper if upper is None else upper)
     opts = _options(grasp, d, up, dict(options))
     run = Engine(grasp, cmd, opts)
     preload(run)

@@ -47,9 +47,10 @@ COUNT_FREE = ("profile", "set", "score")
 #: ``failures`` (issue #27 item 9), empty when every direction answered.
 ADDED = {"profile": ("failures",)}
 #: Record fields added after the baseline, by record type (absent from the baseline, so left out
-#: of every comparison): the audit's ``equilibrium_tolerance`` (issue #27 item 4) and a max-wrench
-#: ``note`` (issue #27 item 13).
-ADDED_FIELDS = {"Audit": ("equilibrium_tolerance",), "MaxWrench": ("note",)}
+#: of every comparison): the audit's ``equilibrium_tolerance`` (issue #27 item 4), ``pull`` and
+#: ``finite`` (issue #26: untrusted numbers fail the audit; a change of ``audit.ok`` still shows
+#: in the answers that read it) and a max-wrench ``note`` (issue #27 item 13).
+ADDED_FIELDS = {"Audit": ("equilibrium_tolerance", "pull", "finite"), "MaxWrench": ("note",)}
 
 
 def canon(x: object, depth: int = 0) -> object:
@@ -342,10 +343,25 @@ def _drop_counts(line: str) -> str:
     return name + "\t" + json.dumps(value, sort_keys=True)
 
 
+def _drop_added(line: str) -> str:
+    """``line`` without the record fields of :data:`ADDED_FIELDS`."""
+    name, _, body = line.partition("\t")
+
+    def strip(x: object) -> object:
+        if isinstance(x, dict):
+            added = ADDED_FIELDS.get(str(x.get("__type__")), ())
+            return {k: strip(v) for k, v in x.items() if k not in added}
+        if isinstance(x, list):
+            return [strip(v) for v in x]
+        return x
+
+    return name + "\t" + json.dumps(strip(json.loads(body)), sort_keys=True)
+
+
 def compare(lines: list[str], baseline: list[str]) -> list[str]:
-    """Names of the queries whose lines differ (counts dropped where allowed)."""
-    a = {ln.split("\t", 1)[0]: ln for ln in lines}
-    b = {ln.split("\t", 1)[0]: ln for ln in baseline}
+    """Names of the queries whose lines differ (counts dropped where allowed, added fields left out)."""
+    a = {ln.split("\t", 1)[0]: _drop_added(ln) for ln in lines}
+    b = {ln.split("\t", 1)[0]: _drop_added(ln) for ln in baseline}
     bad = sorted(set(a) ^ set(b))
     for k in sorted(set(a) & set(b)):
         if a[k] != b[k] and _drop_counts(a[k]) != _drop_counts(b[k]):

@@ -13,12 +13,17 @@ from hypothesis import strategies as st
 
 import pinograsp as pg
 
+# The loaded profile (tests/conftest.py: ``ci`` derandomised with no database by default,
+# ``explore`` random with a database) decides everything but the count; FUZZ_EXAMPLES overrides it.
 FUZZ = settings(
-    max_examples=int(os.environ.get("FUZZ_EXAMPLES", 150)),
+    max_examples=int(os.environ.get("FUZZ_EXAMPLES", settings.default.max_examples)),
     deadline=None,
-    database=None,
     suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much, HealthCheck.data_too_large],
 )
+#: For the expensive tests (solver calls per example): a third of FUZZ.
+FAST = settings(FUZZ, max_examples=max(10, FUZZ.max_examples // 3))
+#: For the most expensive ones (a MIQP per example).
+SLOW = settings(FUZZ, max_examples=max(25, FUZZ.max_examples // 6))
 
 # ------------------------------------------------------------------------------ value strategies
 floats = st.one_of(
