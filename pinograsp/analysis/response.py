@@ -325,6 +325,7 @@ def passive_response(
     method: str = "iterative",
     *,
     settings: Settings | None = None,
+    session: PassiveSolver | None = None,
     **overrides: object,
 ) -> PassiveResponse:
     """Passive response of the grasp ``model`` preloaded with ``command`` to ``wrench``.
@@ -341,13 +342,15 @@ def passive_response(
             choice: it admits the wedging artefact).
         settings: Base :class:`Settings`; keyword ``overrides`` replace single fields
             (e.g. ``solver="gurobi"``, ``gamma=2.0``, ``variant="single-step"``).
+        session: A :class:`~pinograsp.Session` of ``model`` the caller owns (its settings rule;
+            its preload stages are shared with the caller's other queries).
 
     Returns:
         A :class:`~pinograsp.core.results.PassiveResponse`; ``resistible`` says whether the wrench is
         resisted, ``status`` why not (``"timeout"``/``"failed"`` are never reported as resisted).
     """
     get_method(method)
-    return solver_for(model, settings, **overrides).response(command, wrench, method)
+    return session_for(model, session, settings, overrides).response(command, wrench, method)
 
 
 __all__ = ["LoadFactor", "PassiveSolver", "Session", "passive_response", "session_for", "solver_for"]
