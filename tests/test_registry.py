@@ -133,6 +133,10 @@ def test_a_session_the_caller_owns_gives_the_same_answers(pinch):
     assert first.magnitude == again.magnitude == alone.magnitude
     assert first.evidence == again.evidence == alone.evidence
     assert again.n_solves < first.n_solves == alone.n_solves  # the preload stage is kept
+    r1 = pg.passive_response(pinch, 1.0, [0.0, 4.0, 0.0], session=s)
+    r2 = pg.passive_response(pinch, 1.0, [0.0, 4.0, 0.0])
+    np.testing.assert_array_equal(r1.contact_forces, r2.contact_forces)
+    assert r1.n_solves < r2.n_solves  # the session's preload stage is kept
     p1 = pg.resistance_profile(pinch, 1.0, n=6, upper=50.0, steps=8)
     p2 = pg.resistance_profile(pinch, 1.0, n=6, upper=50.0, steps=8, session=s)
     np.testing.assert_array_equal(p1.magnitudes, p2.magnitudes)

@@ -326,6 +326,7 @@ def passive_response(
     method: str = "iterative",
     *,
     settings: Settings | None = None,
+    session: PassiveSolver | None = None,
     **overrides: object,
 ) -> PassiveResponse:
     """Passive response of the grasp ``model`` preloaded with ``command`` to ``wrench``.
@@ -342,13 +343,15 @@ def passive_response(
             choice: it admits the wedging artefact).
         settings: Base :class:`Settings`; keyword ``overrides`` replace single fields
             (e.g. ``solver="gurobi"``, ``gamma=2.0``, ``variant="single-step"``).
+        session: A :class:`~pinograsp.Session` of ``model`` the caller owns (its settings rule;
+            its preload stages are shared with the caller's other queries).
 
     Returns:
         A :class:`~pinograsp.core.results.PassiveResponse`; ``resistible`` says whether the wrench is
         resisted, ``status`` why not (``"timeout"``/``"failed"`` are never reported as resisted).
     """
     get_method(method)
-    solver = solver_for(model, settings, **overrides)
+    solver = session_for(model, session, settings, overrides)
     # the load within the grasp's force scale, at the public boundary (docs/errors.md)
     load_within(model, model.command_vector(command), "wrench", model.wrench_vector(wrench))
     return solver.response(command, wrench, method)

@@ -27,6 +27,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, ClassVar
 
+from ..core.query import Query
 from ..core.settings import METHODS, Method
 from ..core.validate import choice, force, positive_number, whole_number
 from ..core.validate import steps as n_steps
@@ -99,19 +100,18 @@ class WorstAxisScore:
 
     def __call__(self, model: Any, command: Mapping[str, float]) -> dict[str, float]:
         from ..analysis.max_wrench import max_resistible_wrench
+        from ..analysis.response import PassiveSolver
 
         axes = ("fx", "fy") if model.planar else ("fx", "fy", "fz")
         mags: dict[str, float] = {}
         unbounded = 0
+        query = Query(self.method, self.upper, self.steps)
+        session = PassiveSolver(model)  # one per grasp: its preload stage is solved once
         for k, direction in enumerate(s + a for a in axes for s in ("+", "-")):
+            first = k == 0
+            d = direction.lstrip("+")
             mw = max_resistible_wrench(
-                model,
-                command,
-                direction.lstrip("+"),
-                self.method,
-                self.upper,
-                self.steps,
-                check_preload_first=k == 0,
+                model, command, d, session=session, query=query, check_preload_first=first
             )
             unbounded += bool(mw.unbounded)
             mags[f"max_{direction}"] = 0.0 if mw.status == "below_resolution" else float(mw.magnitude)
