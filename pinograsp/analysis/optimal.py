@@ -135,7 +135,7 @@ def _disturbances(model: GraspModel, disturbances: object) -> np.ndarray:
     if isinstance(disturbances, (str, bytes)) or not isinstance(disturbances, (Sequence, np.ndarray)):
         disturbances = [disturbances]
     out = []
-    for i, item in enumerate(disturbances):  # type: ignore[union-attr]
+    for i, item in enumerate(disturbances):
         name = f"disturbances[{i}]"
         if isinstance(item, str):
             w = wrench_direction(model, item, name)

@@ -21,7 +21,7 @@ preload can balance.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 
@@ -112,7 +112,7 @@ def force_scale(model: GraspModel, fmax: np.ndarray) -> float:
 
 def _constraints(
     model: GraspModel, fmax: np.ndarray, signed: bool = False
-) -> tuple[list, object, object, object]:
+) -> tuple[list[Any], Any, Any, Any]:
     """The equilibrium constraints of the module docstring: (constraints, f, c, c_n). With
     ``signed`` the commands may be negative (the diagnosis: which actuator would have to pull)."""
     import cvxpy as cp
@@ -148,7 +148,7 @@ def _constraints(
     return cons, f, c, cn
 
 
-def _solved(problem: object, what: str, required: bool = True) -> bool:
+def _solved(problem: Any, what: str, required: bool = True) -> bool:  # noqa: ANN401 - a cvxpy.Problem
     """Solve; ``True`` for an optimal answer, ``False`` for a proven infeasible one. Clarabel
     first, HiGHS (exact simplex) for a linear program Clarabel cannot settle: a failure or an
     inaccurate status is never a verdict. Without any verdict, a ``required`` solve is a
@@ -156,17 +156,17 @@ def _solved(problem: object, what: str, required: bool = True) -> bool:
     is ``False``."""
     import cvxpy as cp
 
-    linear = problem.objective.expr.is_affine()  # type: ignore[attr-defined]
+    linear = problem.objective.expr.is_affine()
     tried = []
     for solver in (cp.CLARABEL, cp.HIGHS) if linear else (cp.CLARABEL,):
         try:
-            problem.solve(solver=solver)  # type: ignore[attr-defined]
+            problem.solve(solver=solver)
         except (cp.error.SolverError, ArithmeticError, ValueError) as exc:
             tried.append(f"{solver}: {' '.join(str(exc).split())[:200]}")
             continue
-        status = problem.status  # type: ignore[attr-defined]
+        status = problem.status
         if status in ("optimal", "infeasible", "unbounded"):
-            return status == "optimal" and problem.value is not None  # type: ignore[attr-defined]
+            return status == "optimal" and problem.value is not None
         tried.append(f"{solver}: status {status}")
     if not required:
         return False
@@ -196,7 +196,7 @@ def _design(model: GraspModel, unit: np.ndarray, objective: str, grip: float, no
     if normal_only:
         cons.append(c[np.setdiff1d(np.arange(m.nc * m.d), m.normal_rows)] == 0)
     if objective == "balanced":
-        t = cp.Variable()
+        t: Any = cp.Variable()  # solved before its value is read
         if not _solved(cp.Problem(cp.Maximize(t), [*cons, cn >= t]), "design problem") or float(
             t.value
         ) <= LOADED * force_scale(m, unit):
@@ -229,7 +229,7 @@ def _diagnose(model: GraspModel, unit: np.ndarray) -> tuple[tuple[str, ...], tup
 
     m = model
     cons, f, _, cn = _constraints(m, unit, signed=True)
-    t = cp.Variable()
+    t: Any = cp.Variable()  # solved before its value is read
     if _solved(cp.Problem(cp.Maximize(t), [*cons, cn >= t]), "diagnosis", required=False) and float(
         t.value
     ) > LOADED * force_scale(m, unit):
@@ -281,8 +281,9 @@ def _verify(
         return None, f"could not be solved ({type(exc).__name__}: {exc})"
     if not resp.resistible:
         return resp, f"ends {resp.status!r} with it"
-    if not resp.audit.ok:
-        return resp, f"settles, but its solution fails the audit ({resp.audit.summary()})"
+    if resp.audit is None or not resp.audit.ok:
+        why = "no audit" if resp.audit is None else resp.audit.summary()
+        return resp, f"settles, but its solution fails the audit ({why})"
     return resp, None
 
 

@@ -184,7 +184,7 @@ def _command_rows(
     L = np.zeros((1, n))
     lvec = np.zeros(1)
     if task == "smallest" and objective == "max":
-        for a in np.flatnonzero(cost > 0):
+        for a in np.flatnonzero(cost > 0).tolist():
             row({fcol + a: float(cost[a]), acol: -1.0}, -INF, 0.0)
         L[0, acol] = 1.0
     elif task == "smallest":
@@ -193,7 +193,7 @@ def _command_rows(
         if objective == "sum":
             row({fcol + a: float(cost[a]) for a in range(na)}, -INF, float(budget))
         else:
-            for a in np.flatnonzero(cost > 0):
+            for a in np.flatnonzero(cost > 0).tolist():
                 row({fcol + a: float(cost[a])}, -INF, float(budget))
         wts = np.ones(naux) if weights is None or task == "min" else np.asarray(weights, float)
         for j in range(naux):
