@@ -67,17 +67,16 @@ class JointClosing:
     Attributes:
         joint: Hand joint name.
         sign: Declared closing sign ``s_j`` (``+1`` or ``-1``).
-        verdict: ``"closes"`` (distance decreases: sign right), ``"opens"`` (increases: sign
-            likely wrong) or ``"no effect"`` (the joint moves no link towards the object).
+        verdict: ``"closes"`` (the declared sense gets closer: sign right), ``"opens"`` (the
+            other sense does: sign likely wrong), ``"no effect"`` (neither approaches),
+            ``"locked"`` (held only by locked actuators) or ``"follows"`` (a URDF mimic follower).
         link: The link (among those the joint moves) closest to the object before the step, or
             ``None`` if the joint moves no collision geometry.
         distance_before: Closest signed distance [m] of the joint's links to the object at ``q``.
-        distance_after: The same after the step [m].
-        step: The closing step taken [rad or m] (in closing coordinates: ``+step`` means the
-            declared closing sense; negative when the joint was at its closing limit and the
-            step was taken the other way, the change being scaled accordingly).
-        change: Rate of change of the distance per closing step, ``(after - before)`` [m]
-            normalised to a step in the closing sense.
+        distance_after: The closest distance [m] reached sweeping the declared closing sense
+            (with the joints it carries); ``distance_before`` when a limit blocks that sense.
+        step: How far the joint was swept in its closing sense [rad or m] (0: blocked by a limit).
+        change: ``distance_after - distance_before`` [m] (negative: the closing sense approaches).
         displacement: How far the closest hand point moved [m] during the sweep.
         distance_other: Closest distance [m] reached sweeping the other way (``inf``: no room).
         note: Why the verdict is what it is when that is not obvious (locked, mimic follower,
@@ -367,12 +366,12 @@ def check_closing(
 ) -> ClosingCheck:
     """Move each hand joint a small step in its declared closing sense; does it approach the object?
 
-    For joint ``j`` alone (the others held, couplings ignored), the configuration changes by
-    ``s_j × step`` in URDF coordinates (``step`` [rad] for revolute joints, ``step / 10`` [m] for
-    prismatic ones, as in :meth:`~pinograsp.Hand.close_on`), clipped to the joint limits; a joint
-    at its closing limit is stepped the other way and the change negated. The distance watched is
-    the closest signed distance (Coal) of the collision geometries the joint moves (its link and
-    every link below it) to the object.
+    Joint ``j`` is swept in its declared closing sense ``s_j`` and in the other sense, ``steps``
+    samples ``step`` apart (``step`` [rad] for revolute joints, ``step / 10`` [m] for prismatic
+    ones, as in :meth:`~pinograsp.Hand.close_on`), clipped to the joint limits, with its URDF mimic
+    followers and the joints below it closing in their declared senses. The distance watched is
+    the closest signed distance (Coal) of the collision geometries it moves to the object; the
+    sense that gets closer wins. Locked joints and mimic followers are not judged.
 
     Args:
         hand: The hand (its description's closing signs are checked).
@@ -380,8 +379,10 @@ def check_closing(
             (e.g. between the fingers).
         q: Configuration to check at, URDF coordinates (default: the open configuration).
         step: Joint step [rad] (prismatic joints: ``step / 10`` [m]).
-        threshold: A change smaller than ``threshold`` × the closest point's displacement counts
-            as ``"no effect"`` (the point moves mostly sideways to the object), dimensionless.
+        threshold: An approach smaller than ``threshold`` × the closest point's displacement
+            counts as ``"no effect"`` (the point moves mostly sideways to the object), dimensionless.
+        steps: Samples of the sweep in each sense, ``step`` apart (the sweep spans
+            ``steps × step``, clipped to the joint limits).
 
     Returns:
         A :class:`ClosingCheck` (``print`` it, or use ``.ok``, ``.wrong``,
