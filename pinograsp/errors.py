@@ -284,7 +284,7 @@ class SceneError(InvalidInputError, ModelFileError):
         Exception.__init__(self, where + detail)
 
 
-class UnknownChoiceError(InvalidInputError, UnknownNameError):
+class UnknownChoiceError(InvalidInputError, UnknownNameError):  # type: ignore[misc]  # name: both bases
     """A name that must be one of a registry's entries (a method, a backend) is not.
 
     Catchable as :class:`InvalidInputError` (a bad argument) and as :class:`UnknownNameError`
@@ -294,7 +294,7 @@ class UnknownChoiceError(InvalidInputError, UnknownNameError):
     def __init__(self, kind: str, name: object, valid: Iterable[object]) -> None:
         self.kind = kind
         self.valid = list(valid)
-        self.name = name
+        self.name = name  # type: ignore[assignment]  # the unknown name (UnknownNameError's meaning)
         self.value = name
         Exception.__init__(self, f"{kind}: must be one of {tuple(self.valid)}, got {name!r}")
 

@@ -163,7 +163,7 @@ def equilibrium_tolerance(
     return tol
 
 
-def _balanced(status: str, audit: Audit) -> str:
+def _balanced(status: ResponseStatus, audit: Audit) -> ResponseStatus:
     """``"failed"`` for a resisted answer that does not balance the object within the method's
     ``equilibrium_tolerance`` (no verdict; its audit fails too), else ``status``."""
     return "failed" if status == "resisted" and not audit.balanced else status

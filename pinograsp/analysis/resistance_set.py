@@ -48,8 +48,8 @@ CLASSES = ("finite", "unbounded", "not_resistible", "failed")
 MAX_DIRECTIONS = 10_000
 #: Quantiles reported by :meth:`ResistanceSet.summary` and ``to_dict``.
 QUANTILES = (0.05, 0.25, 0.5)
-CSV_COLUMNS = ("index", "label", "fx", "fy", "fz", "mx", "my", "mz", "u1", "u2", "u3", "u4", "u5", "u6")
-CSV_COLUMNS += ("magnitude", "scaled", "status", "unbounded", "n_solves", "wall_time", "error")
+CSV_COLUMNS: tuple[str, ...] = ("index", "label", "fx", "fy", "fz", "mx", "my", "mz", "u1", "u2", "u3", "u4")
+CSV_COLUMNS += ("u5", "u6", "magnitude", "scaled", "status", "unbounded", "n_solves", "wall_time", "error")
 
 
 def sphere_points(n: int, dim: int, seed: int = 0, iterations: int = 40) -> np.ndarray:
@@ -311,7 +311,7 @@ class ResistanceSet:
             magnitudes=self.magnitudes[idx],
             unbounded=self.unbounded[idx],
             normalized_by=None,
-            results=tuple(self.results[i] for i in idx),  # type: ignore[misc]
+            results=tuple(self.results[i] for i in idx),
         )
 
 

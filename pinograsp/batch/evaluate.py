@@ -105,7 +105,7 @@ class WorstAxisScore:
         axes = ("fx", "fy") if model.planar else ("fx", "fy", "fz")
         mags: dict[str, float] = {}
         unbounded = 0
-        query = Query(self.method, self.upper, self.steps)
+        query = Query(Method(self.method), self.upper, self.steps)
         session = PassiveSolver(model)  # one per grasp: its preload stage is solved once
         for k, direction in enumerate(s + a for a in axes for s in ("+", "-")):
             first = k == 0

@@ -36,7 +36,7 @@ def query(args: argparse.Namespace, scene: Any, default_steps: int | None = None
     """The :class:`pinograsp.Query` of ``--method``, ``--upper`` and ``--steps`` (each defaulting
     to the scene's analysis block; ``default_steps`` before the scene's steps)."""
     upper, steps = upper_steps(args, scene, default_steps)
-    return pg.Query(method(args, scene), upper, steps)
+    return pg.Query(pg.Method(method(args, scene)), upper, steps)
 
 
 def upper_steps(args: argparse.Namespace, scene: Any, default_steps: int | None = None) -> tuple[float, int]:

@@ -8,9 +8,10 @@ cvxpy.
 from __future__ import annotations
 
 import builtins
+from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
@@ -257,7 +258,8 @@ class Scene:
             plane = self.analysis.planes[plane]
         kw["n"] = overrides.pop("n", self.analysis.n)
         kw["normalize"] = overrides.pop("normalize", self.analysis.normalize)
-        return resistance_profile(self.model, self._command(command), plane, **kw, **overrides)
+        axes = cast("Sequence[builtins.object]", plane)  # validated by resistance_profile
+        return resistance_profile(self.model, self._command(command), axes, **kw, **overrides)
 
     def summary(self) -> str:
         """A short human-readable description of the scene."""
