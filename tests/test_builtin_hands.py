@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import yaml
 from clirun import run
 
 import pinograsp as pg
@@ -118,6 +119,23 @@ def test_talos_motor_balances_both_jaws_through_its_mimics():
         assert fw[single, 1].sum() > 5.0  # the single jaw pushes +y, the double jaw -y [N]
         work = np.ones(m.nq) @ (m.J.T @ r.contact_forces.reshape(-1))
         assert r.actuator_forces[0] == pytest.approx(1.0, abs=1e-9) and work == pytest.approx(1.0, abs=1e-9)
+
+
+def test_talos_use_mimic_switches_the_six_couplings():
+    """``use_mimic`` (default true) turns the six URDF mimics into couplings leading from the
+    motor; false leaves seven independent joints (the motor then drives its bar alone)."""
+    from pinograsp.robots.description import BUILTIN_HANDS, DATA_DIR
+
+    hand = pg.Hand.builtin("talos_gripper")
+    assert len(hand.couplings) == 6
+    assert all(set(c.weights) == {c.name.split(":")[1], "gripper_left_joint"} for c in hand.couplings)
+    assert all(c.weights["gripper_left_joint"] == -1.0 for c in hand.couplings)
+    urdf = (
+        pg.example_robot_data_dir() / "example-robot-data" / BUILTIN_HANDS["talos_gripper"][0].split(":")[1]
+    )
+    desc = yaml.safe_load((DATA_DIR / "hands" / "talos_gripper.yaml").read_text())
+    free = pg.Hand.from_urdf(urdf, {**desc, "use_mimic": False})
+    assert len(free.couplings) == 0 and free.nq == 7
 
 
 def test_ezgripper_tendon_is_one_differential_actuator():
