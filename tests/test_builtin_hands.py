@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import yaml
 from support.clirun import run
 
 import pinograsp as pg
@@ -41,6 +42,11 @@ AGREE = {
     "dex3": ("into_palm", "iterative", "holds", None),
     "talos_gripper": ("pull_out", "iterative", "holds", None),
 }
+
+#: Named directions where no method matches the simulation's class (docs/hands.md, "When the
+#: methods disagree"): every method resists 50 N into the Talos palm; the simulation gives way
+#: gradually (onset 15 N) by turning the ball 0.04 rad, its rotation threshold, at 48 N.
+NO_METHOD_AGREES = {("talos_gripper", "into_palm")}
 
 
 def _scene(name: str) -> pg.Scene:
@@ -71,18 +77,24 @@ def test_loads_and_closes_on_its_scene(name):
 
 
 @pytest.mark.parametrize("name", HANDS)
-def test_has_a_preload_for_every_method(name):
+def test_has_a_preload(name):
     """The scene's preload alone is an equilibrium with every contact pressing (iterative), and
-    the PRP and energetic methods agree that it is one (or refuse with a typed error)."""
+    the PRP agrees that it is one."""
     scene = _scene(name)
     it = scene.passive_response(np.zeros(6), method="iterative")
     assert it.status == "resisted" and it.normal_forces.min() >= FACTS[name][4]
     assert scene.passive_response(np.zeros(6), method="prp").status == "resisted"
-    if name == "allegro_left":  # #27 item 4: energetic solver failure on this 7-contact grasp
-        r = scene.passive_response(np.zeros(6), method="energetic")
-        assert r.status in ("resisted", "failed")
-    else:
-        assert scene.passive_response(np.zeros(6), method="energetic").status == "resisted"
+
+
+@pytest.mark.parametrize(
+    "name", [pytest.param(n, marks=pytest.mark.slow) if n == "allegro_left" else n for n in HANDS]
+)
+def test_energetic_finds_the_preload_in_equilibrium(name):
+    """The energetic method agrees, or (the 7-contact Allegro, #27 item 4) says it failed: a
+    typed status, never a wrong verdict."""
+    scene = _scene(name)
+    r = scene.passive_response(np.zeros(6), method="energetic")
+    assert r.status == "resisted" or (name == "allegro_left" and r.status == "failed")
 
 
 @pytest.mark.parametrize("name", HANDS)
@@ -120,6 +132,23 @@ def test_talos_motor_balances_both_jaws_through_its_mimics():
         assert r.actuator_forces[0] == pytest.approx(1.0, abs=1e-9) and work == pytest.approx(1.0, abs=1e-9)
 
 
+def test_talos_use_mimic_switches_the_six_couplings():
+    """``use_mimic`` (default true) turns the six URDF mimics into couplings leading from the
+    motor; false leaves seven independent joints (the motor then drives its bar alone)."""
+    from pinograsp.robots.description import BUILTIN_HANDS, DATA_DIR
+
+    hand = pg.Hand.builtin("talos_gripper")
+    assert len(hand.couplings) == 6
+    assert all(set(c.weights) == {c.name.split(":")[1], "gripper_left_joint"} for c in hand.couplings)
+    assert all(c.weights["gripper_left_joint"] == -1.0 for c in hand.couplings)
+    urdf = (
+        pg.example_robot_data_dir() / "example-robot-data" / BUILTIN_HANDS["talos_gripper"][0].split(":")[1]
+    )
+    desc = yaml.safe_load((DATA_DIR / "hands" / "talos_gripper.yaml").read_text())
+    free = pg.Hand.from_urdf(urdf, {**desc, "use_mimic": False})
+    assert len(free.couplings) == 0 and free.nq == 7
+
+
 def test_ezgripper_tendon_is_one_differential_actuator():
     hand = pg.Hand.builtin("ezgripper")
     (tendon,) = hand.actuators
@@ -155,7 +184,7 @@ def test_named_directions_every_method_against_the_cached_validation(name):
                 continue
             assert mw.status == row[method]["status"], (key, method)
             agreeing += _class(mw.status) == _class(sim.status)
-        assert agreeing >= 1, key
+        assert agreeing >= (0 if (name, key) in NO_METHOD_AGREES else 1), key
 
 
 def test_a_hand_mesh_is_a_surface():

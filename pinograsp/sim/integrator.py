@@ -85,8 +85,6 @@ class Engine:
             grasp, opts.stiffness, opts.damping, opts.mass, pyramid=opts.friction == "pyramid"
         )
         reach = np.max(np.linalg.norm(self.law.jacobian, axis=1), axis=0)  # (nq,) [m/rad]
-        # a joint that moves no contact (a mimic leader, a linkage bar) still needs an inertia
-        reach = np.where(reach > 1e-9 * grasp.length_scale, reach, grasp.length_scale)
         inertia = opts.mass * grasp.length_scale**2
         self.red: ReducedModel = build(
             grasp, mass=opts.mass, inertia=inertia, armature=opts.mass * reach**2, timestep=opts.timestep

@@ -122,8 +122,9 @@ def report(results: dict[str, list[dict]], meta: dict[str, dict]) -> list[str]:
 
 
 def meta_machine(meta: dict[str, dict]) -> str:
-    machines = sorted({v["machine"] for v in meta.values()})
-    return "; ".join(machines)
+    """Machine and, where recorded, the code the cached results were computed with."""
+    keys = sorted({v["machine"] for v in meta.values()} | {v["code"] for v in meta.values() if "code" in v})
+    return "; ".join(keys)
 
 
 def write_doc(lines: list[str]) -> None:
