@@ -50,10 +50,7 @@ NO_METHOD_AGREES = {("talos_gripper", "into_palm")}
 
 
 def _scene(name: str) -> pg.Scene:
-    scene = pg.load_scene(name)
-    if name == "talos_gripper" and "gripper" not in scene.model.actuator_names:
-        pytest.xfail("the Talos motor is pruned: needs #27 item 1 (pruning keeps coupled motors)")
-    return scene
+    return pg.load_scene(name)
 
 
 def _class(status: str) -> str:

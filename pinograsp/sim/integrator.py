@@ -85,6 +85,9 @@ class Engine:
             grasp, opts.stiffness, opts.damping, opts.mass, pyramid=opts.friction == "pyramid"
         )
         reach = np.max(np.linalg.norm(self.law.jacobian, axis=1), axis=0)  # (nq,) [m/rad]
+        # a joint kept only through a coupling (a motor driving mimics, core/build.py) moves no
+        # contact: it gets the length scale, not a zero (massless, unstable) armature
+        reach = np.where(reach > 0, reach, grasp.length_scale)
         inertia = opts.mass * grasp.length_scale**2
         self.red: ReducedModel = build(
             grasp, mass=opts.mass, inertia=inertia, armature=opts.mass * reach**2, timestep=opts.timestep
