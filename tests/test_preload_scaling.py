@@ -18,16 +18,8 @@ BOUNDS = (0.1, 0.2, 0.5, 0.6, 1, 1.5, 2, 10, 100, 1e3)
 #: from 10 N·m on (residual 3.0e-3 N > eps + eps_rel F after 3 steps; the PRP stage resists at
 #: every bound): reported 'unverified' there, never 'infeasible'.
 VERIFIED_UP_TO = {"allegro_left": 2}
-#: Scenes with no driving actuator left after pruning: equilibrium_preload names it (ModelError).
-NO_ACTUATOR = {
-    "talos_gripper": "its one motor, a mimic leader whose own link touches nothing, is pruned "
-    "(docs/hands.md, 'Mimic linkages', says pruning keeps it)",
-}
-
-
 def _scenes() -> list:
-    xfail = {s: pytest.mark.xfail(reason=why, strict=True) for s, why in NO_ACTUATOR.items()}
-    return [pytest.param(s, marks=xfail[s]) if s in xfail else s for s in sorted(builtin_scenes())]
+    return sorted(builtin_scenes())
 
 
 @pytest.mark.parametrize("scene", _scenes())
