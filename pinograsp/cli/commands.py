@@ -310,7 +310,7 @@ def cmd_batch(args: argparse.Namespace) -> int:
             lines.append(f"  {r.status} {r.reason}: {r.rows}")
     ok = table[table["status"] == "ok"]
     if len(ok):
-        q = ok["score"].quantile([0.0, 0.5, 1.0]).tolist()
+        q = ok["score"].quantile([0.0, 0.5, 1.0], interpolation="lower").tolist()  # inf-safe: no inf - inf
         lines.append(f"score [N] of the ok rows (worst axis, {score.method}, upper {score.upper:g}, "
                      f"steps {score.steps}): min {q[0]:.4g}, median {q[1]:.4g}, max {q[2]:.4g}")  # fmt: skip
     if args.out:
