@@ -96,6 +96,7 @@ if TYPE_CHECKING:
     from .viz.comparison_plots import plot_preload_comparison as plot_preload_comparison
     from .viz.figures import save_figure as save_figure
     from .viz.profile_plots import plot_profile as plot_profile
+    from .viz.scene_inputs import SceneStyle as SceneStyle
     from .viz.set_plots import plot_resistance_set as plot_resistance_set
     from .viz.viewer import save_html as save_html
     from .viz.viewer import save_png as save_png
@@ -161,6 +162,7 @@ _LAZY = {
     "plot_resistance_set": "viz.set_plots",
     "save_figure": "viz.figures",
     "scene_figure": "viz.viewer",
+    "SceneStyle": "viz.scene_inputs",
     "save_html": "viz.viewer",
     "save_png": "viz.viewer",
 }

@@ -391,7 +391,7 @@ def test_scene_view_bad_input(barrett_grasp, pinch, monkeypatch, tmp_path):
     with pytest.raises(pg.InvalidInputError, match="joint values"):
         scene_elements(g.model, hand=g.hand, q=[0.0, 1.0])
     with pytest.raises(pg.InvalidInputError, match="force_scale"):
-        scene_elements(pinch, force_scale=-1.0)
+        pg.scene_figure(pinch, force_scale=-1.0)
     with pytest.raises(pg.InvalidInputError, match="plotly Figure"):
         viewer.save_html("fig", tmp_path / "x.html")
     with pytest.raises(pg.InvalidInputError, match="3D Axes"):

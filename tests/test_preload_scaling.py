@@ -18,6 +18,8 @@ BOUNDS = (0.1, 0.2, 0.5, 0.6, 1, 1.5, 2, 10, 100, 1e3)
 #: from 10 N·m on (residual 3.0e-3 N > eps + eps_rel F after 3 steps; the PRP stage resists at
 #: every bound): reported 'unverified' there, never 'infeasible'.
 VERIFIED_UP_TO = {"allegro_left": 2}
+
+
 def _scenes() -> list:
     return sorted(builtin_scenes())
 

@@ -206,3 +206,24 @@ def test_check_closing_no_effect_and_bad_input(uf, uf_box):
         pg.check_closing(uf, "box")
     with pytest.raises(pg.InvalidInputError, match="hand"):
         pg.check_closing("hand", uf_box)
+
+
+def test_a_style_record_draws_what_the_loose_keywords_draw(pinch):
+    """``style=pg.SceneStyle(...)`` is one value for the keywords scene_figure and scene_axes
+    forward (issue #24): the same segments, arrows and title; both at once is an error."""
+    r = pg.passive_response(pinch, 1.0, [0.0, 5.0, 0.0], method="prp")
+    style = pg.SceneStyle(cone_scale=0.02, force_scale=0.001, show_cones=False, title="pinch")
+    a = scene_elements(pinch, r, style=style)
+    loose = pg.scene_figure(pinch, r, cone_scale=0.02, force_scale=0.001, show_cones=False, title="pinch")
+    fig = pg.scene_figure(pinch, r, style=style)
+    assert [t.name for t in fig.data] == [t.name for t in loose.data]
+    assert fig.layout.title.text == loose.layout.title.text == "pinch"
+    normals = next(sg for sg in a.segments if sg.name == "contact normals")
+    np.testing.assert_allclose(np.linalg.norm(normals.segments[:, 1] - normals.segments[:, 0], axis=1), 0.02)
+    assert not any(m.name == "friction cones" for m in a.meshes)
+    ax = scene_axes(pinch, r, style=style)
+    assert ax.get_title() == "pinch"
+    with pytest.raises(pg.InvalidInputError, match="not both"):
+        pg.scene_figure(pinch, r, style=style, show_cones=True)
+    with pytest.raises(pg.InvalidInputError, match="cone_scale"):
+        pg.SceneStyle(cone_scale=-1.0)

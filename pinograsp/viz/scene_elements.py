@@ -36,7 +36,14 @@ import numpy as np
 from ..core.model import GraspModel
 from ..errors import PinograspWarning
 from .meshes import cone, geometry_mesh, merge, transform
-from .scene_inputs import CONTACT_STATES, positive_or_none, resolve_scene, response_forces, response_states
+from .scene_inputs import (
+    CONTACT_STATES,
+    SceneStyle,
+    positive_or_none,
+    resolve_scene,
+    response_forces,
+    response_states,
+)
 from .view3d import (
     ClosingArrow,
     View,
@@ -374,19 +381,16 @@ def scene_elements(
     q: object = None,
     obj: RigidObject | None = None,
     frame: object = None,
-    cone_scale: float | None = None,
-    force_scale: float | None = None,
-    show_cones: bool = True,
-    show_forces: bool = True,
-    show_closing: bool | None = None,
-    tolerance: float | None = None,
+    style: SceneStyle | None = None,
 ) -> SceneElements:
     """The meshes, segments and points a scene view draws (see
-    :func:`~pinograsp.viz.viewer.scene_figure` for the arguments)."""
+    :func:`~pinograsp.viz.viewer.scene_figure` for the arguments; ``style``: how, default
+    :class:`~pinograsp.viz.scene_inputs.SceneStyle`)."""
+    style = SceneStyle() if style is None else style
     model, hand, q, obj, to_model = resolve_scene(model, hand, q, obj, frame)
-    show_closing = model is None if show_closing is None else bool(show_closing)
-    cone_scale = positive_or_none("cone_scale", cone_scale)
-    force_scale = positive_or_none("force_scale", force_scale)
+    show_closing = model is None if style.show_closing is None else style.show_closing
+    cone_scale, force_scale = style.cone_scale, style.force_scale
+    show_cones, show_forces, tolerance = style.show_cones, style.show_forces, style.tolerance
     forces, wrench, status = response_forces(model, response)
     states, slip = response_states(model, response)
     skipped: list[str] = []

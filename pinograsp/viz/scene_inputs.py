@@ -8,6 +8,7 @@ arguments given explicitly win over its attributes.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -24,6 +25,58 @@ if TYPE_CHECKING:  # pragma: no cover
 def positive_or_none(name: str, value: object) -> float | None:
     """``None``, or a finite number ``> 0`` (:func:`~pinograsp.core.validate.positive_number`)."""
     return None if value is None else positive_number(name, value)
+
+
+@dataclass(frozen=True)
+class SceneStyle:
+    """How a 3D scene view draws (one value for :func:`~pinograsp.viz.viewer.scene_figure`,
+    :func:`~pinograsp.viz.scene_mpl.scene_axes` and :func:`~pinograsp.view`), validated once.
+
+    Attributes:
+        cone_scale: Friction-cone height [m] (None: 0.3 x the scene size).
+        force_scale: Arrow length per newton [m/N] (None: the largest force as long as a cone).
+        show_cones, show_forces: Draw friction cones / force arrows.
+        show_closing: Draw each joint's closing direction (None: only without a model).
+        show_distances: Nearest links annotated with their distance (None: 3 before contact,
+            0 with contacts).
+        tolerance: Contact tolerance [m] of the title's "touching" (None: 1 mm).
+        title: Figure title (None: contact count and response status).
+    """
+
+    cone_scale: float | None = None
+    force_scale: float | None = None
+    show_cones: bool = True
+    show_forces: bool = True
+    show_closing: bool | None = None
+    show_distances: int | None = None
+    tolerance: float | None = None
+    title: str | None = None
+
+    def __post_init__(self) -> None:
+        set_ = object.__setattr__
+        set_(self, "cone_scale", positive_or_none("cone_scale", self.cone_scale))
+        set_(self, "force_scale", positive_or_none("force_scale", self.force_scale))
+        set_(self, "tolerance", positive_or_none("tolerance", self.tolerance))
+        if self.show_distances is not None:
+            set_(self, "show_distances", whole_number("show_distances", self.show_distances, minimum=0))
+        for name in ("show_cones", "show_forces"):
+            set_(self, name, bool(getattr(self, name)))
+        if self.show_closing is not None:
+            set_(self, "show_closing", bool(self.show_closing))
+        if self.title is not None and not isinstance(self.title, str):
+            raise InvalidInputError("title", f"must be a string or None, got {type(self.title).__name__}")
+
+
+def make_style(style: SceneStyle | None, **loose: object) -> SceneStyle:
+    """``style``, or one built from the loose keywords (those not None); both is an error."""
+    given = {k: v for k, v in loose.items() if v is not None}
+    if style is None:
+        return SceneStyle(**given)  # type: ignore[arg-type]  # validated by SceneStyle
+    if not isinstance(style, SceneStyle):
+        raise InvalidInputError("style", f"must be a pinograsp.viz.SceneStyle, got {type(style).__name__}")
+    if given:
+        raise InvalidInputError("style", f"give either style= or the keywords {sorted(given)}, not both")
+    return style
 
 
 def distance_count(value: object, has_contacts: bool) -> int:

@@ -17,7 +17,7 @@ import numpy as np
 from ..errors import InvalidInputError
 from .figures import pyplot
 from .scene_elements import COLORS, SLIP_NAME, STATE_STYLES, Mesh, SceneElements, scene_elements
-from .scene_inputs import distance_count
+from .scene_inputs import SceneStyle, distance_count, make_style
 from .view3d import draw_closing_mpl, draw_distances_mpl
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -150,10 +150,11 @@ def scene_axes(
     q: object = None,
     obj: RigidObject | None = None,
     frame: object = None,
+    style: SceneStyle | None = None,
     cone_scale: float | None = None,
     force_scale: float | None = None,
-    show_cones: bool = True,
-    show_forces: bool = True,
+    show_cones: bool | None = None,
+    show_forces: bool | None = None,
     show_closing: bool | None = None,
     show_distances: int | None = None,
     tolerance: float | None = None,
@@ -178,6 +179,17 @@ def scene_axes(
     """
     from mpl_toolkits.mplot3d.art3d import Line3DCollection, Poly3DCollection
 
+    style = make_style(
+        style,
+        cone_scale=cone_scale,
+        force_scale=force_scale,
+        show_cones=show_cones,
+        show_forces=show_forces,
+        show_closing=show_closing,
+        show_distances=show_distances,
+        tolerance=tolerance,
+        title=title,
+    )
     el = scene_elements(
         model,
         response,
@@ -185,14 +197,9 @@ def scene_axes(
         q=q,
         obj=obj,
         frame=frame,
-        cone_scale=cone_scale,
-        force_scale=force_scale,
-        show_cones=show_cones,
-        show_forces=show_forces,
-        show_closing=show_closing,
-        tolerance=tolerance,
+        style=style,
     )
-    n_dist = distance_count(show_distances, len(el.points) > 0)
+    n_dist = distance_count(style.show_distances, len(el.points) > 0)
     ax = _axes3d(ax)
     from matplotlib.lines import Line2D
 
@@ -226,7 +233,8 @@ def scene_axes(
         ax.view_init(**el.view.kwargs())
     else:
         ax.view_init(elev=30.0 if elev is None else elev, azim=-60.0 if azim is None else azim)
-    ax.set_title(el.title if title is None else title, fontsize=9 if len(el.title) > 60 else 10, wrap=True)
+    shown = el.title if style.title is None else style.title
+    ax.set_title(shown, fontsize=9 if len(shown) > 60 else 10, wrap=True)
     ax.legend(handles=handles, loc="upper left", fontsize=7, framealpha=0.85)
     return ax
 

@@ -37,7 +37,7 @@ from ..core.validate import writing
 from ..errors import InvalidInputError
 from .figures import plotly_objects
 from .scene_elements import COLORS, STATE_STYLES, Mesh, SceneElements, Segments, scene_elements
-from .scene_inputs import distance_count
+from .scene_inputs import SceneStyle, distance_count, make_style
 from .scene_mpl import scene_axes
 from .view3d import View, closing_traces, distance_trace
 
@@ -146,10 +146,11 @@ def scene_figure(
     q: object = None,
     obj: RigidObject | None = None,
     frame: object = None,
+    style: SceneStyle | None = None,
     cone_scale: float | None = None,
     force_scale: float | None = None,
-    show_cones: bool = True,
-    show_forces: bool = True,
+    show_cones: bool | None = None,
+    show_forces: bool | None = None,
     show_closing: bool | None = None,
     show_distances: int | None = None,
     tolerance: float | None = None,
@@ -183,6 +184,8 @@ def scene_figure(
             paper's analysis axes; default identity). Contacts, forces and wrenches are in the
             model's frame; hand and object are re-expressed in it, so the view is drawn in the
             axes the analysis uses.
+        style: How to draw, one :class:`~pinograsp.viz.SceneStyle` (``pg.SceneStyle``); or the
+            loose keywords below (not both).
         cone_scale: Friction-cone height [m] (default 0.3 × the scene size: the extent of the
             object and the contacts).
         force_scale: Arrow length per newton [m/N] (default: the largest force, contact or
@@ -201,6 +204,17 @@ def scene_figure(
         InvalidInputError: A model/scene, response, hand, ``q`` or scale that does not fit.
     """
     go = plotly_objects()
+    style = make_style(
+        style,
+        cone_scale=cone_scale,
+        force_scale=force_scale,
+        show_cones=show_cones,
+        show_forces=show_forces,
+        show_closing=show_closing,
+        show_distances=show_distances,
+        tolerance=tolerance,
+        title=title,
+    )
     el = scene_elements(
         model,
         response,
@@ -208,14 +222,9 @@ def scene_figure(
         q=q,
         obj=obj,
         frame=frame,
-        cone_scale=cone_scale,
-        force_scale=force_scale,
-        show_cones=show_cones,
-        show_forces=show_forces,
-        show_closing=show_closing,
-        tolerance=tolerance,
+        style=style,
     )
-    n_dist = distance_count(show_distances, len(el.points) > 0)
+    n_dist = distance_count(style.show_distances, len(el.points) > 0)
     fig = go.Figure()
     for m in el.meshes:
         fig.add_trace(_mesh_trace(go, m, not any(t.name == m.name for t in fig.data)))
@@ -229,7 +238,7 @@ def scene_figure(
     if el.link_distances and n_dist:
         fig.add_trace(distance_trace(go, el.link_distances, el.distance_points, n_dist))
     fig.update_layout(
-        title={"text": el.title if title is None else title},
+        title={"text": el.title if style.title is None else style.title},
         height=height,
         margin={"l": 0, "r": 0, "t": 40, "b": 0},
         legend={"itemsizing": "constant"},
