@@ -2,7 +2,7 @@
 status and reason (``pg.batch.rows.reason_counts``), written into ``docs/batch.md``.
 
 Any grasp file works (a built-in hand's sampled grasps, your own); the defaults are the
-sampled case-1 (Barrett) and case-3 (tendon gripper) grasps of ``scripts/reproduce/data/grasps/``::
+sampled case-1 (Barrett), case-3 (tendon gripper), EZGripper and Allegro grasps of ``scripts/reproduce/data/grasps/``::
 
     python -m scripts.reproduce.batch_reasons                       # both, 2 workers
     python -m scripts.reproduce.batch_reasons my_grasps.yaml --no-write
@@ -32,6 +32,8 @@ DOC = ROOT / "docs" / "batch.md"
 DEFAULTS = [
     GRASPS / "case1_sampled.yaml",
     GRASPS / "case3_sampled.yaml",
+    GRASPS / "ezgripper_sampled.yaml",
+    GRASPS / "allegro_left_sampled.yaml",
 ]
 
 
