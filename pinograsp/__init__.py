@@ -61,6 +61,12 @@ _LAZY = {
     "linear_compliance": "analysis.baseline",
     "LinearComplianceResult": "analysis.baseline",
     "available_miqp_solvers": "solvers",
+    # the quasi-static loading path
+    "loading_path": "analysis.quasistatic",
+    "LoadingPath": "analysis.quasistatic",
+    "PathEvent": "analysis.quasistatic",
+    "quasistatic_max_wrench": "analysis.quasistatic",
+    "quasistatic_response": "analysis.quasistatic",
     # robots: the URDF side
     "Hand": "robots.hand",
     "HandDescription": "robots.description",
@@ -93,6 +99,7 @@ _LAZY = {
     "plot_preload_comparison": "viz.comparison_plots",
     "plot_force_comparison": "viz.comparison_plots",
     "plot_resistance_set": "viz.set_plots",
+    "plot_loading_path": "viz.path_plots",
     "save_figure": "viz.figures",
     "scene_figure": "viz.viewer",
     "save_html": "viz.viewer",

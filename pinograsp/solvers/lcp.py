@@ -1,0 +1,139 @@
+"""Linear complementarity problems by Lemke's complementary pivoting (pure NumPy).
+
+Solves ``w = M z + q, z >= 0, w >= 0, z^T w = 0`` for a small dense ``M`` (n, n) and ``q``
+(n,). Lemke's method adds an artificial variable ``z0`` with covering vector ``e = 1`` and
+pivots complementary pairs until ``z0`` leaves the basis (a solution) or the entering column
+has no positive entry (a *ray termination*: for copositive-plus ``M`` — positive semidefinite
+included — there is then no solution; for other matrices the method gives no verdict).
+
+Determinism and degeneracy: the leaving row is chosen by the lexicographic minimum-ratio rule
+on the rows of the basis inverse (the classical anti-cycling rule), with ratios that agree to a
+relative ``1e-12`` treated as ties. The pivots are a function of the data alone; the number of
+pivots is limited by a count (``max_pivots``), never by time.
+
+Used by the quasi-static loading path (:mod:`pinograsp.analysis.quasistatic`) for its local
+rate problems. Imports NumPy only.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from enum import Enum
+
+import numpy as np
+
+#: Relative tolerance under which two ratios of the minimum-ratio test are a tie.
+TIE_RTOL = 1e-12
+
+
+class LCPStatus(str, Enum):
+    """How a Lemke solve ended."""
+
+    #: A solution ``z`` was found.
+    SOLVED = "solved"
+    #: The entering column had no positive entry (no solution for copositive-plus ``M``).
+    RAY = "ray_termination"
+    #: The pivot limit was reached (a count).
+    PIVOT_LIMIT = "pivot_limit"
+
+
+@dataclass(frozen=True)
+class LCPResult:
+    """Answer of :func:`lemke`.
+
+    Attributes:
+        status: :class:`LCPStatus`.
+        z: The solution (n,) (zeros when not solved).
+        w: ``M z + q`` (n,).
+        pivots: Pivots made (the initial one included).
+    """
+
+    status: LCPStatus
+    z: np.ndarray
+    w: np.ndarray
+    pivots: int
+
+    @property
+    def solved(self) -> bool:
+        """Whether a solution was found."""
+        return self.status is LCPStatus.SOLVED
+
+
+def _leaving_row(T: np.ndarray, col: int, rhs: np.ndarray, n: int, tol: float) -> int:
+    """Row of the lexicographic minimum ratio for entering column ``col`` (-1: ray)."""
+    a = T[:, col]
+    pos = np.flatnonzero(a > tol)
+    if pos.size == 0:
+        return -1
+    ratios = rhs[pos] / a[pos]
+    best = ratios.min()
+    cand = pos[ratios <= best + TIE_RTOL * max(abs(best), 1.0)]
+    if cand.size == 1:
+        return int(cand[0])
+    # lexicographic rule: rows of the basis inverse (the columns of the initial basis w)
+    for j in range(n):
+        vals = T[cand, j] / a[cand]
+        low = vals.min()
+        cand = cand[vals <= low + TIE_RTOL * max(abs(low), 1.0)]
+        if cand.size == 1:
+            break
+    return int(cand[0])
+
+
+def lemke(M: np.ndarray, q: np.ndarray, max_pivots: int | None = None) -> LCPResult:
+    """Solve the LCP ``(M, q)`` by Lemke's method with the lexicographic pivoting rule.
+
+    Args:
+        M: (n, n) matrix (need not be symmetric).
+        q: (n,) vector.
+        max_pivots: Pivot limit (a count); default ``50 * (n + 1)``.
+
+    Returns:
+        An :class:`LCPResult`; when solved, ``z`` and ``w`` are the basic values of the final
+        tableau (nonbasic ones exactly 0, so ``z^T w = 0`` holds exactly).
+    """
+    M = np.asarray(M, dtype=float)
+    q = np.asarray(q, dtype=float).reshape(-1)
+    n = q.size
+    if n == 0 or q.min() >= 0.0:
+        return LCPResult(LCPStatus.SOLVED, np.zeros(n), q.copy(), 0)
+    limit = 50 * (n + 1) if max_pivots is None else int(max_pivots)
+    scale = max(float(np.abs(M).max(initial=0.0)), 1.0)
+    tol = 1e-13 * scale
+    # tableau columns: w (0..n-1), z (n..2n-1), z0 (2n); basic variables are stored per row
+    T = np.empty((n, 2 * n + 1))
+    T[:, :n] = np.eye(n)
+    T[:, n : 2 * n] = -M
+    T[:, 2 * n] = -1.0
+    rhs = q.copy()
+    basis = np.arange(n)
+    # initial pivot: z0 enters, the row of the most negative q leaves (ties: lexicographic)
+    low = rhs.min()
+    cand = np.flatnonzero(rhs <= low + TIE_RTOL * max(abs(low), 1.0))
+    row = int(cand[-1])  # the lexicographically smallest perturbed q_i + eps^(i+1)
+    col = 2 * n
+    pivots = 0
+    while True:
+        piv = T[row, col]
+        T[row] /= piv
+        rhs[row] /= piv
+        f = T[:, col].copy()
+        f[row] = 0.0
+        T -= np.outer(f, T[row])
+        rhs -= f * rhs[row]
+        leaving = int(basis[row])
+        basis[row] = col
+        pivots += 1
+        if leaving == 2 * n:
+            break
+        col = leaving + n if leaving < n else leaving - n  # the complement enters
+        if pivots >= limit:
+            return LCPResult(LCPStatus.PIVOT_LIMIT, np.zeros(n), q.copy(), pivots)
+        row = _leaving_row(T, col, rhs, n, tol)
+        if row < 0:
+            return LCPResult(LCPStatus.RAY, np.zeros(n), q.copy(), pivots)
+    x = np.zeros(2 * n + 1)
+    x[basis] = np.maximum(rhs, 0.0)  # basic values; -1e-16 rounding of a degenerate row is 0
+    return LCPResult(LCPStatus.SOLVED, x[n : 2 * n].copy(), x[:n].copy(), pivots)
+
+__all__ = ["LCPResult", "LCPStatus", "lemke"]
