@@ -62,12 +62,13 @@ class LCPResult:
 def _leaving_row(T: np.ndarray, col: int, rhs: np.ndarray, n: int, tol: float) -> int:
     """Row of the lexicographic minimum ratio for entering column ``col`` (-1: ray)."""
     a = T[:, col]
-    pos = np.flatnonzero(a > tol)
-    if pos.size == 0:
+    pos = a > tol
+    if not pos.any():
         return -1
-    ratios = rhs[pos] / a[pos]
+    ratios = np.full(a.shape, np.inf)
+    np.divide(rhs, a, out=ratios, where=pos)
     best = ratios.min()
-    cand = pos[ratios <= best + TIE_RTOL * max(abs(best), 1.0)]
+    cand = np.flatnonzero(ratios <= best + TIE_RTOL * max(abs(best), 1.0))
     if cand.size == 1:
         return int(cand[0])
     # lexicographic rule: rows of the basis inverse (the columns of the initial basis w)
@@ -78,6 +79,33 @@ def _leaving_row(T: np.ndarray, col: int, rhs: np.ndarray, n: int, tol: float) -
         if cand.size == 1:
             break
     return int(cand[0])
+
+
+def warm(M: np.ndarray, q: np.ndarray, active: np.ndarray, rtol: float = 1e-12) -> LCPResult | None:
+    """The solution whose positive ``z`` are exactly ``active`` (bool (n,)), if the guess is
+    right: ``M_BB z_B = -q_B`` with ``z_B >= 0`` and ``w_N >= 0`` (to ``rtol`` of the data's
+    scale); else None. A guess only saves pivots: a wrong one is detected, never returned."""
+    n = q.size
+    z = np.zeros(n)
+    scale = max(float(np.abs(q).max(initial=0.0)), 1e-300)
+    if active.any():
+        Mbb = M[np.ix_(active, active)]
+        try:
+            zb = np.linalg.solve(Mbb, -q[active])
+        except np.linalg.LinAlgError:
+            return None
+        if not np.all(np.isfinite(zb)):
+            return None
+        zscale = max(float(np.abs(zb).max()), 1e-300)
+        if zb.min() < -rtol * zscale:
+            return None
+        z[active] = np.maximum(zb, 0.0)
+        scale = max(scale, float(np.abs(M).max()) * zscale)
+    w = M @ z + q
+    w[active] = 0.0
+    if w.min(initial=0.0) < -rtol * scale:
+        return None
+    return LCPResult(LCPStatus.SOLVED, z, np.maximum(w, 0.0), 0)
 
 
 def lemke(M: np.ndarray, q: np.ndarray, max_pivots: int | None = None) -> LCPResult:
@@ -119,7 +147,7 @@ def lemke(M: np.ndarray, q: np.ndarray, max_pivots: int | None = None) -> LCPRes
         rhs[row] /= piv
         f = T[:, col].copy()
         f[row] = 0.0
-        T -= np.outer(f, T[row])
+        T -= f[:, None] * T[row]
         rhs -= f * rhs[row]
         leaving = int(basis[row])
         basis[row] = col
@@ -136,4 +164,4 @@ def lemke(M: np.ndarray, q: np.ndarray, max_pivots: int | None = None) -> LCPRes
     x[basis] = np.maximum(rhs, 0.0)  # basic values; -1e-16 rounding of a degenerate row is 0
     return LCPResult(LCPStatus.SOLVED, x[n : 2 * n].copy(), x[:n].copy(), pivots)
 
-__all__ = ["LCPResult", "LCPStatus", "lemke"]
+__all__ = ["LCPResult", "LCPStatus", "lemke", "warm"]

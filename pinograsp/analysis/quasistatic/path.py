@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .model import QSModel
-from .rates import FULL, PRESS, RATE_RTOL, SEPARATE, Classes, Segment, StageSpec, State, classify, rates, rescaled
+from .rates import FULL, PRESS, RATE_RTOL, SEPARATE, Classes, Segment, StageCache, StageSpec, State, classify, rates, rescaled
 
 #: A mechanism along the load: ``dλ`` per unit displacement below this fraction of the
 #: largest contact stiffness.
@@ -64,7 +64,17 @@ class StageRun:
     largest_lcp: int = 0
 
 
-def _planned(qm: QSModel, st: State, spec: StageSpec, cls: Classes, control: str, plan0: np.ndarray, run: StageRun) -> Segment:
+def _planned(
+    qm: QSModel,
+    st: State,
+    spec: StageSpec,
+    cls: Classes,
+    control: str,
+    plan0: np.ndarray,
+    run: StageRun,
+    sc: StageCache,
+    hints: tuple[frozenset, ...] = (),
+) -> Segment:
     """The rate problem with each zero-force contact guessed pressed or separated (flipped
     until the rates agree with the guesses; each plan tried once), else with both of its
     pairs in the LCP."""
@@ -73,7 +83,7 @@ def _planned(qm: QSModel, st: State, spec: StageSpec, cls: Classes, control: str
     seg = None
     while plan.tobytes() not in tried:
         tried.add(plan.tobytes())
-        seg = rates(qm, st, spec, cls, control, plan)
+        seg = rates(qm, st, spec, cls, control, plan, sc, hints)
         run.lcp_solves += 1
         run.pivots += seg.pivots
         run.largest_lcp = max(run.largest_lcp, seg.lcp_size)
@@ -82,7 +92,7 @@ def _planned(qm: QSModel, st: State, spec: StageSpec, cls: Classes, control: str
         plan[seg.flip] = np.where(plan[seg.flip] == PRESS, SEPARATE, PRESS)
     if seg is not None and seg.status in ("ok", "singular") or not cls.zero.any():
         return seg
-    full = rates(qm, st, spec, cls, control, np.full(qm.nc, FULL))
+    full = rates(qm, st, spec, cls, control, np.full(qm.nc, FULL), sc)
     run.lcp_solves += 1
     run.pivots += full.pivots
     run.largest_lcp = max(run.largest_lcp, full.lcp_size)
@@ -100,11 +110,24 @@ def _plan(qm: QSModel, cls: Classes, prev: Segment | None) -> np.ndarray:
 
 
 def _solve_segment(
-    qm: QSModel, st: State, spec: StageSpec, cls: Classes, run: StageRun, prev: Segment | None
+    qm: QSModel,
+    st: State,
+    spec: StageSpec,
+    cls: Classes,
+    run: StageRun,
+    prev: Segment | None,
+    sc: StageCache,
+    trig: tuple[Trigger, ...] = (),
 ) -> Segment:
     """Load control first; displacement control when that fails (limit or continuation)."""
     plan = _plan(qm, cls, prev)
-    seg = _planned(qm, st, spec, cls, "load", plan, run)
+    hints: tuple[frozenset, ...] = ()
+    if prev is not None:
+        new = frozenset(
+            ("f", tr.index) if tr.kind == "face" else ("a", tr.index) for tr in trig if tr.kind in ("face", "command")
+        )
+        hints = (prev.active | new, prev.active) if new else (prev.active,)
+    seg = _planned(qm, st, spec, cls, "load", plan, run, sc, hints)
     if not np.any(spec.dw):
         return seg
     r0 = qm.w_scaled(spec.dw)
@@ -114,7 +137,7 @@ def _solve_segment(
         if along * SOFT_RTOL * qm.k_ref < size:
             return seg
         # nearly a mechanism along the load: decide under displacement control
-    alt = _planned(qm, st, spec, cls, "displacement", plan, run)
+    alt = _planned(qm, st, spec, cls, "displacement", plan, run, sc)
     if alt.status != "ok":
         return seg
     load_rate = alt.lam_rate * size
@@ -200,9 +223,12 @@ def follow(qm: QSModel, start: State, spec: StageSpec, max_segments: int = MAX_S
     """Follow ``spec`` from ``start`` until its end, a limit, a ray or a failure."""
     st = start.copy()
     run = StageRun(states=[st])
+    sc = StageCache.of(qm, spec)
     while True:
         cls = classify(qm, st, spec)
-        seg = _solve_segment(qm, st, spec, cls, run, run.segments[-1] if run.segments else None)
+        seg = _solve_segment(
+            qm, st, spec, cls, run, run.segments[-1] if run.segments else None, sc, run.triggers[-1] if run.triggers else ()
+        )
         run.segments.append(seg)
         if seg.status != "ok":
             run.status = seg.status

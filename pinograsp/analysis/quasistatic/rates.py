@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ...solvers.lcp import LCPStatus, lemke
+from ...solvers.lcp import lemke, warm
 from .model import QSModel
 
 #: Relative tolerance (to the force scale of the state) under which a slack is zero.
@@ -38,6 +38,8 @@ RATE_RTOL = 1e-10
 RANGE_RTOL = 1e-8
 #: Diagonal regularisation of the faces of zero-force contacts in the LCP, relative to ``M``.
 APEX_REG = 1e-12
+#: Relative squared pivot of the Cholesky factor below which the stiffness is singular.
+CHOL_RTOL = 1e-12
 #: Relative singular-value cut-off of the rate system (its rank, relative to its scale).
 RANK_RTOL = 1e-11
 
@@ -122,6 +124,7 @@ class Segment:
     stiffness_rate: float = float("nan")
     lam_rate: float = 1.0
     flip: np.ndarray | None = None
+    active: frozenset = frozenset()
 
 
 @dataclass(frozen=True, eq=False)
@@ -163,8 +166,8 @@ def classify(qm: QSModel, st: State, spec: StageSpec) -> Classes:
     opened = low & (delta * qm.kn < -tol)
     zero = low & ~opened
     pressed = ~low
-    for i in np.flatnonzero(low):
-        st.c[i * d : (i + 1) * d] = 0.0
+    if low.any():
+        st.c.reshape(qm.nc, d)[low] = 0.0
     if spec.friction and qm.nf:
         slack = qm.Phi @ st.c
         fc = qm.face_contact
@@ -176,133 +179,229 @@ def classify(qm: QSModel, st: State, spec: StageSpec) -> Classes:
     return Classes(opened, zero, pressed, faces, act_lcp, tol, fscale)
 
 
-def _constraint_columns(qm: QSModel, spec: StageSpec) -> tuple[np.ndarray, np.ndarray]:
-    """Constraint columns ``Bc`` (nv, ncon) and the actuator index of each column (-1 for
-    couplings and the holder)."""
-    nv, nx = qm.nv, qm.nx
-    con = np.flatnonzero(qm.nbd | qm.locked)
-    cols, owner = [], []
-    for a in con:
-        col = np.zeros(nv)
-        col[nx:] = qm.Rn[:, a]
-        cols.append(col)
-        owner.append(a)
-    for k in range(qm.ncp):
-        col = np.zeros(nv)
-        col[nx:] = qm.Cn[k]
-        cols.append(col)
-        owner.append(-1)
-    if spec.held:
-        for j in range(nx):
-            col = np.zeros(nv)
-            col[j] = 1.0
-            cols.append(col)
-            owner.append(-2)
-    B = np.column_stack(cols) if cols else np.zeros((nv, 0))
-    return B, np.array(owner, int)
-
-
-def _solve(H: np.ndarray, rhs: np.ndarray) -> np.ndarray:
-    """Least-norm solution of ``H U = rhs`` (square ``H``; rank relative to its scale)."""
-    u, s, vt = np.linalg.svd(H)
-    keep = s > RANK_RTOL * s[0] if s.size and s[0] > 0 else np.zeros(s.size, bool)
-    return vt[keep].T @ ((u[:, keep].T @ rhs) / s[keep][:, None])
-
-
 #: Plans for a contact at zero force: both pairs in the LCP, pressed (touching, faces in the
 #: LCP, no opening item) or separated (out of the rate problem).
 FULL, PRESS, SEPARATE = 0, 1, 2
 
 
+@dataclass(frozen=True, eq=False)
+class StageCache:
+    """What is constant along a stage: the constraint columns ``B`` (nv, ncon) (actuators
+    that are not backdrivable, couplings, the holder), the owner of each column (actuator
+    index; -1 coupling; -2 holder), a basis ``Z`` of the motions they allow, ``pinv(B^T)``
+    and ``pinv(B)``, the load per unit parameter ``r0`` (nv,) and its direction ``crow``."""
+
+    B: np.ndarray
+    owner: np.ndarray
+    Z: np.ndarray
+    Bt_pinv: np.ndarray
+    B_pinv: np.ndarray
+    r0: np.ndarray
+    crow: np.ndarray | None
+    col_of: dict
+
+    @classmethod
+    def of(cls, qm: QSModel, spec: StageSpec) -> StageCache:
+        """The cache of ``spec``."""
+        nv, nx = qm.nv, qm.nx
+        cols, owner = [], []
+        for a in np.flatnonzero(qm.nbd | qm.locked):
+            col = np.zeros(nv)
+            col[nx:] = qm.Rn[:, a]
+            cols.append(col)
+            owner.append(int(a))
+        for k in range(qm.ncp):
+            col = np.zeros(nv)
+            col[nx:] = qm.Cn[k]
+            cols.append(col)
+            owner.append(-1)
+        if spec.held:
+            for j in range(nx):
+                col = np.zeros(nv)
+                col[j] = 1.0
+                cols.append(col)
+                owner.append(-2)
+        B = np.column_stack(cols) if cols else np.zeros((nv, 0))
+        if B.shape[1]:
+            u, sv, _ = np.linalg.svd(B, full_matrices=True)
+            rank = int(np.sum(sv > RANK_RTOL * sv[0]))
+            Z = u[:, rank:]
+            B_pinv = np.linalg.pinv(B, rcond=RANK_RTOL)
+        else:
+            Z, B_pinv = np.eye(nv), np.zeros((0, nv))
+        r0 = np.zeros(nv)
+        r0[:nx] = qm.w_scaled(spec.dw)
+        if qm.na and np.any(qm.bd):
+            r0[nx:] = qm.Rn[:, qm.bd] @ (qm.r_norm[qm.bd] * spec.dfc[qm.bd])
+        size = float(np.linalg.norm(r0[:nx]))
+        crow = r0[:nx] / size if size > 0 else None
+        col_of = {a: j for j, a in enumerate(owner) if a >= 0}
+        return cls(B, np.array(owner, int), Z, B_pinv.T.copy(), B_pinv, r0, crow, col_of)
+
+
+def _affine_reduced(qm, sc, K, rhs_top, Vp, control):
+    """Displacement rates ``V`` (nv, 1+nz) and load rates ``lam`` (1+nz,) as affine maps of
+    the flows, through the allowed motions ``Z`` and a Cholesky factor; None when the
+    stiffness on them is (nearly) singular."""
+    Z = sc.Z
+    Kr = Z.T @ K @ Z
+    if Kr.shape[0] == 0:
+        return None
+    try:
+        L = np.linalg.cholesky(Kr)
+    except np.linalg.LinAlgError:
+        return None
+    diag = np.diag(L)
+    if diag.min() ** 2 <= CHOL_RTOL * diag.max() ** 2:
+        return None
+    Y = np.linalg.solve(L.T, np.linalg.solve(L, Z.T @ (rhs_top - K @ Vp)))
+    V = Z @ Y + Vp
+    nz1 = V.shape[1]
+    lam = np.zeros(nz1)
+    if control == "load":
+        lam[0] = 1.0
+        return V, lam
+    along = float(sc.crow @ V[: qm.nx, 0])
+    if not abs(along) > 0:
+        return None
+    lam[0] = 1.0 / along
+    lam[1:] = -(sc.crow @ V[: qm.nx, 1:]) / along
+    Vd = np.outer(V[:, 0], lam)
+    Vd[:, 1:] += V[:, 1:]
+    return Vd, lam
+
+
+def _affine_full(qm, sc, K, rhs_top, con_rhs, control):
+    """As :func:`_affine_reduced` from the whole bordered system by a least-norm SVD solve
+    (mechanisms, redundant constraints); None when the load is outside its range."""
+    nv = qm.nv
+    k = qm.k_ref
+    B = sc.B
+    ncon = B.shape[1]
+    n = nv + ncon + 1
+    H = np.zeros((n, n))
+    H[:nv, :nv] = K
+    H[:nv, nv : nv + ncon] = -k * B
+    H[nv : nv + ncon, :nv] = -k * B.T
+    H[:nv, -1] = -sc.r0
+    if control == "load":
+        H[-1, -1] = 1.0
+    else:
+        H[-1, : qm.nx] = sc.crow
+    rhs = np.zeros((n, rhs_top.shape[1]))
+    rhs[:nv] = rhs_top
+    rhs[:nv, 0] = 0.0
+    rhs[nv : nv + ncon] = con_rhs
+    rhs[-1, 0] = 1.0
+    u, s, vt = np.linalg.svd(H)
+    keep = s > RANK_RTOL * s[0]
+    U = vt[keep].T @ ((u[:, keep].T @ rhs) / s[keep][:, None])
+    res = np.abs(H @ U[:, 0] - rhs[:, 0]).max()
+    if res > RANGE_RTOL * (np.abs(H).max() * np.abs(U[:, 0]).max() + 1.0):
+        return None
+    return U[:nv], U[-1]
+
+
 def rates(
-    qm: QSModel, st: State, spec: StageSpec, cls: Classes, control: str = "load", plan: np.ndarray | None = None
+    qm: QSModel,
+    st: State,
+    spec: StageSpec,
+    cls: Classes,
+    control: str = "load",
+    plan: np.ndarray | None = None,
+    sc: StageCache | None = None,
+    hints: tuple[frozenset, ...] = (),
 ) -> Segment:
     """The segment's rates at ``st`` under load (``dλ = 1``) or displacement control.
 
     ``plan`` (nc,) says how each zero-force contact enters (:data:`FULL`, :data:`PRESS`,
     :data:`SEPARATE`; default FULL); a PRESS or SEPARATE guess that its own rates contradict
-    comes back in :attr:`Segment.flip` (status ``"guess"``).
+    comes back in :attr:`Segment.flip` (status ``"guess"``). ``hints``: sets of LCP items
+    (:attr:`Segment.active` keys) guessed to flow, tried before Lemke's method (speed only:
+    a wrong guess is detected).
     """
-    d, nv, nx = qm.d, qm.nv, qm.nx
+    d, nv = qm.d, qm.nv
+    sc = StageCache.of(qm, spec) if sc is None else sc
     plan = np.zeros(qm.nc, int) if plan is None else plan
     sep = cls.zero & (plan == SEPARATE)
     touch = (cls.zero & ~sep) | cls.pressed
-    ks = np.zeros(qm.ncd)
-    ks[::d] = np.where(touch, qm.kn, 0.0)
+    ks = np.zeros((qm.nc, d))
+    ks[:, 0] = np.where(touch, qm.kn, 0.0)
     if spec.friction and d > 1:
-        for j in range(1, d):
-            ks[j::d] = np.where(touch, qm.kt, 0.0)
+        ks[:, 1:] = np.where(touch, qm.kt, 0.0)[:, None]
+    ks = ks.reshape(-1)
     A = qm.A
-    KT = (A * ks) @ A.T
-    B, owner = _constraint_columns(qm, spec)
-    ncon = B.shape[1]
+    K = (A * ks) @ A.T
     k = qm.k_ref
-    # load per unit of the path parameter (scaled rows): object load and backdrivable commands
-    r0 = np.zeros(nv)
-    r0[:nx] = qm.w_scaled(spec.dw)
-    if qm.na and np.any(qm.bd):
-        r0[nx:] = qm.Rn[:, qm.bd] @ (qm.r_norm[qm.bd] * spec.dfc[qm.bd])
-    n = nv + ncon + 1
-    H = np.zeros((n, n))
-    H[:nv, :nv] = KT
-    H[:nv, nv : nv + ncon] = -k * B
-    H[nv : nv + ncon, :nv] = -k * B.T
-    H[:nv, -1] = -r0
-    if control == "load":
-        H[-1, -1] = 1.0
-    else:
-        crow = r0[:nx]
-        H[-1, :nx] = crow / np.linalg.norm(crow)
     # flows: zero-force openings, boundary faces, actuators at their command
     zero = np.flatnonzero(cls.zero & (plan == FULL))
     faces = cls.faces[~sep[qm.face_contact[cls.faces]]] if len(cls.faces) else cls.faces
     acts = np.flatnonzero(cls.act_lcp)
-    nz = len(zero) + len(faces) + len(acts)
-    F = np.zeros((qm.ncd, nz))  # contact force rate per unit flow
-    F[zero * d, np.arange(len(zero))] = 1.0
+    n0, n1 = len(zero), len(zero) + len(faces)
+    nz = n1 + len(acts)
+    F = np.zeros((qm.ncd, 1 + nz))  # contact force rate per unit flow (column 0: the load)
+    F[zero * d, 1 + np.arange(n0)] = 1.0
     if len(faces):
-        F[:, len(zero) : len(zero) + len(faces)] = qm.Phi[faces].T  # dc_t = -nu per unit flow
-        F[qm.face_contact[faces] * d, len(zero) + np.arange(len(faces))] = 0.0
-    rhs = np.zeros((n, 1 + nz))
-    rhs[-1, 0] = 1.0
-    rhs[:nv, 1:] = A @ F
-    act_row = {int(a): nv + int(np.flatnonzero(owner == a)[0]) for a in acts}
-    for m, a in enumerate(acts):
-        rhs[act_row[int(a)], 1 + len(zero) + len(faces) + m] = -1.0
-    U = _solve(H, rhs)
-    # contact force rates (ncd, 1 + nz) and the complementarity rows
-    dC = -ks[:, None] * (A.T @ U[:nv])
-    dC[:, 1:] += F
+        F[:, 1 + n0 : 1 + n1] = qm.Phi[faces].T  # dc_t = -nu per unit flow
+        F[qm.face_contact[faces] * d, 1 + n0 + np.arange(len(faces))] = 0.0
+    rhs_top = A @ F
+    rhs_top[:, 0] = sc.r0
+    cols = np.array([sc.col_of[int(a)] for a in acts], int)
+    Vp = np.zeros((nv, 1 + nz))
+    con_rhs = np.zeros((sc.B.shape[1], 1 + nz))
+    if len(acts):
+        Vp[:, 1 + n1 :] = sc.Bt_pinv[:, cols] / k
+        con_rhs[cols, 1 + n1 + np.arange(len(acts))] = -1.0
+    aff = _affine_reduced(qm, sc, K, rhs_top, Vp, control)
+    if aff is None:
+        if control != "load" and sc.crow is None:
+            return Segment(status="singular", control=control)
+        aff = _affine_full(qm, sc, K, rhs_top, con_rhs, control)
+        if aff is None:
+            return Segment(status="singular", lcp_size=nz, control=control)
+    V, lam = aff
+    # contact force rates and multipliers per column
+    dC = -ks[:, None] * (A.T @ V) + F
+    top = K @ V - np.outer(sc.r0, lam) - A @ F
+    Rho = sc.B_pinv @ top / k
     Wrows = np.zeros((nz, 1 + nz))
-    Wrows[: len(zero)] = dC[zero * d]
+    Wrows[:n0] = dC[zero * d]
     if len(faces):
-        Wrows[len(zero) : len(zero) + len(faces)] = qm.Phi[faces] @ dC
-    for m, a in enumerate(acts):
-        r = len(zero) + len(faces) + m
-        Wrows[r] = k * U[act_row[int(a)]] - qm.r_norm[a] * spec.dfc[a] * U[-1]
+        Wrows[n0:n1] = qm.Phi[faces] @ dC
+    if len(acts):
+        Wrows[n1:] = k * Rho[cols] - np.outer(qm.r_norm[acts] * spec.dfc[acts], lam)
     Mlcp = Wrows[:, 1:].copy()
     # faces of a contact at zero force: opposite faces' flows cancel (a null direction of M);
     # a relative 1e-12 on their diagonal picks the least flow
     apex = np.zeros(nz, bool)
-    apex[len(zero) : len(zero) + len(faces)] = cls.zero[qm.face_contact[faces]]
+    apex[n0:n1] = cls.zero[qm.face_contact[faces]]
     if apex.any():
         Mlcp[apex, apex] += APEX_REG * max(float(np.abs(Mlcp).max()), 1.0)
-    res = lemke(Mlcp, Wrows[:, 0]) if nz else None
+    keys = [("o", int(i)) for i in zero] + [("f", int(f)) for f in faces] + [("a", int(a)) for a in acts]
+    res = None
+    if nz:
+        for hint in hints:
+            guess = np.array([key in hint for key in keys], bool)
+            res = warm(Mlcp, Wrows[:, 0], guess)
+            if res is not None:
+                break
+        if res is None:
+            res = lemke(Mlcp, Wrows[:, 0])
     if res is not None and not res.solved:
         return Segment(status=res.status.value, lcp_size=nz, pivots=res.pivots, control=control)
-    zeta = res.z if res is not None else np.zeros(0)
-    u = U[:, 0] + U[:, 1:] @ zeta
-    resid = H @ u - (rhs[:, 0] + rhs[:, 1:] @ zeta)
-    scale = np.abs(H).max() * np.abs(u).max(initial=0.0) + np.abs(rhs).max() * max(1.0, np.abs(zeta).max(initial=0.0))
-    if np.abs(resid).max() > RANGE_RTOL * scale:
-        return Segment(status="singular", lcp_size=nz, pivots=res.pivots if res else 0, control=control)
-    dc = dC[:, 0] + dC[:, 1:] @ zeta
-    seg = _segment(qm, spec, cls, u, dc, zeta, (zero, faces, acts), owner, nz, res, control, sep)
+    zeta1 = np.concatenate([[1.0], res.z if res is not None else np.zeros(0)])
+    v = V @ zeta1
+    dc = dC @ zeta1
+    rho = Rho @ zeta1
+    lam_rate = float(lam @ zeta1)
+    seg = _segment(qm, spec, cls, sc, v, dc, rho, lam_rate, zeta1[1:], (zero, faces, acts), nz, res, control, sep)
+    if nz:
+        ftol = RATE_RTOL * max(float(np.abs(res.z).max()), 1e-300)
+        seg.active = frozenset(key for key, z in zip(keys, res.z) if z > ftol)
     # check the guesses: a pressed zero-force contact must not pull, a separated one not close
-    rtol = RATE_RTOL * max(float(np.abs(dc).max(initial=0.0)), float(np.abs(r0).max()), 1e-300)
-    pressed_guess = cls.zero & (plan == PRESS)
-    bad = pressed_guess & (dc[::d] < -rtol)
-    closing = -(A[:, ::d].T @ u[:nv]) * qm.kn
+    rtol = RATE_RTOL * max(float(np.abs(dc).max(initial=0.0)), float(np.abs(sc.r0).max()), 1e-300)
+    bad = cls.zero & (plan == PRESS) & (dc[::d] < -rtol)
+    closing = -(A[:, ::d].T @ v) * qm.kn
     bad |= sep & (closing > rtol)
     if bad.any():
         seg.status = "guess"
@@ -310,72 +409,59 @@ def rates(
     return seg
 
 
-def _segment(qm, spec, cls, u, dc, zeta, items, owner, nz, res, control, sep) -> Segment:
+def _segment(qm, spec, cls, sc, v, dc, rho, lam_rate, zeta, items, nz, res, control, sep) -> Segment:
     """Assemble the :class:`Segment` of a solved rate problem."""
     zero, faces, acts = items
-    d, nv, nx, nc = qm.d, qm.nv, qm.nx, qm.nc
+    d, nx, nc = qm.d, qm.nx, qm.nc
     k = qm.k_ref
-    lam_rate = float(u[-1])
-    ncon = len(owner)
-    rho = u[nv : nv + ncon]
+    owner = sc.owner
     df = np.zeros(qm.na)
     if qm.na:
         df[qm.bd] = spec.dfc[qm.bd] * lam_rate
-    for j, a in enumerate(owner):
-        if a >= 0:
-            df[a] = k * rho[j] / qm.r_norm[a]
-    dlam = np.array([k * rho[j] / qm.c_norm[m] for m, j in enumerate(np.flatnonzero(owner == -1))])
-    dhold = np.zeros(nx)
-    if spec.held:
-        dhold = qm.S[:nx] * k * rho[owner == -2]
-    dslip = np.zeros(qm.ncd)
+        act_cols = owner >= 0
+        df[owner[act_cols]] = k * rho[act_cols] / qm.r_norm[owner[act_cols]]
+    dlam = k * rho[owner == -1] / qm.c_norm if qm.ncp else np.zeros(0)
+    dhold = qm.S[:nx] * k * rho[owner == -2] if spec.held else np.zeros(nx)
     nzero = len(zero)
     flows_f = zeta[nzero : nzero + len(faces)]
-    for m, fidx in enumerate(faces):
-        i = qm.face_contact[fidx]
-        if qm.kt[i] > 0:
-            dslip[i * d + 1 : (i + 1) * d] += qm.Phi[fidx, i * d + 1 : (i + 1) * d] * flows_f[m] / qm.kt[i]
-    rscale = max(float(np.abs(dc).max(initial=0.0)), float(np.abs(qm.w_scaled(spec.dw)).max(initial=0.0)) * abs(lam_rate), 1e-300)
+    dslip = np.zeros(qm.ncd)
+    if len(faces):
+        owners = qm.face_contact[faces]
+        kt = qm.kt[owners]
+        contrib = qm.Phi[faces] * np.where(kt > 0, flows_f / np.where(kt > 0, kt, 1.0), 0.0)[:, None]
+        contrib[:, owners * d] = 0.0
+        dslip = contrib.sum(axis=0)
+        dslip[::d] = 0.0
+    rscale = max(float(np.abs(dc).max(initial=0.0)), float(np.abs(sc.r0).max(initial=0.0)) * abs(lam_rate), 1e-300)
     ftol = RATE_RTOL * rscale
     opening = sep.copy()
     opening[zero] = (zeta[:nzero] > ftol) | (dc[zero * d] <= ftol)
     sliding: list[list[int]] = [[] for _ in range(nc)]
-    for m, fidx in enumerate(faces):
-        if flows_f[m] > ftol:
-            sliding[qm.face_contact[fidx]].append(int(qm.face_index[fidx]))
-    contact, detail = [], []
-    for i in range(nc):
-        if cls.open[i] or opening[i]:
-            contact.append("separated")
-            detail.append(())
-        else:
-            contact.append("sliding" if sliding[i] else "sticking")
-            detail.append(tuple(sliding[i]))
-    actuator = []
-    flows_a = zeta[nzero + len(faces) :]
+    for m in np.flatnonzero(flows_f > ftol):
+        fidx = faces[m]
+        sliding[qm.face_contact[fidx]].append(int(qm.face_index[fidx]))
+    sep_all = cls.open | opening
+    contact = tuple("separated" if sep_all[i] else ("sliding" if sliding[i] else "sticking") for i in range(nc))
+    detail = tuple(() if sep_all[i] else tuple(sliding[i]) for i in range(nc))
     moving = np.zeros(qm.na, bool)
-    moving[acts] = flows_a > ftol
-    for a in range(qm.na):
-        if qm.bd[a]:
-            actuator.append("backdrivable")
-        elif qm.locked[a]:
-            actuator.append("locked")
-        else:
-            actuator.append("moving" if moving[a] else "holding")
-    dc = dc.copy()
-    for i in np.flatnonzero(cls.open | opening):
-        dc[i * d : (i + 1) * d] = 0.0
+    moving[acts] = zeta[nzero + len(faces) :] > ftol
+    actuator = tuple(
+        "backdrivable" if qm.bd[a] else "locked" if qm.locked[a] else ("moving" if moving[a] else "holding")
+        for a in range(qm.na)
+    )
+    dc = dc.reshape(nc, d).copy()
+    dc[sep_all] = 0.0
     return Segment(
         status="ok",
-        dvs=u[:nv].copy(),
-        dc=dc,
+        dvs=v,
+        dc=dc.reshape(-1),
         df=df,
         dlam_c=dlam,
         dhold=dhold,
         dslip=dslip,
-        contact=tuple(contact),
-        detail=tuple(detail),
-        actuator=tuple(actuator),
+        contact=contact,
+        detail=detail,
+        actuator=actuator,
         lcp_size=nz,
         pivots=res.pivots if res is not None else 0,
         control=control,
@@ -392,4 +478,4 @@ def rescaled(seg: Segment, factor: float) -> Segment:
     return out
 
 
-__all__ = ["Classes", "Segment", "StageSpec", "State", "classify", "rates", "rescaled", "LCPStatus"]
+__all__ = ["Classes", "Segment", "StageCache", "StageSpec", "State", "classify", "rates", "rescaled"]
