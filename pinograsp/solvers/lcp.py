@@ -22,6 +22,8 @@ from enum import Enum
 
 import numpy as np
 
+#: Pivots below this fraction of ``max |M|`` are rounding (nearly equal rows of ``M``), never used.
+PIVOT_RTOL = 1e-9
 #: Relative tolerance under which two ratios of the minimum-ratio test are a tie.
 TIE_RTOL = 1e-12
 
@@ -35,6 +37,9 @@ class LCPStatus(str, Enum):
     RAY = "ray_termination"
     #: The pivot limit was reached (a count).
     PIVOT_LIMIT = "pivot_limit"
+    #: The final tableau's point fails the check ``w = M z + q >= 0``, ``z^T w = 0`` (a
+    #: nearly singular basis): no trustworthy answer.
+    INACCURATE = "inaccurate"
 
 
 @dataclass(frozen=True)
@@ -126,8 +131,8 @@ def lemke(M: np.ndarray, q: np.ndarray, max_pivots: int | None = None) -> LCPRes
     if n == 0 or q.min() >= 0.0:
         return LCPResult(LCPStatus.SOLVED, np.zeros(n), q.copy(), 0)
     limit = 50 * (n + 1) if max_pivots is None else int(max_pivots)
-    scale = max(float(np.abs(M).max(initial=0.0)), 1.0)
-    tol = 1e-13 * scale
+    scale = max(float(np.abs(M).max(initial=0.0)), 1e-300)
+    tol = PIVOT_RTOL * scale
     # tableau columns: w (0..n-1), z (n..2n-1), z0 (2n); basic variables are stored per row
     T = np.empty((n, 2 * n + 1))
     T[:, :n] = np.eye(n)
@@ -162,6 +167,42 @@ def lemke(M: np.ndarray, q: np.ndarray, max_pivots: int | None = None) -> LCPRes
             return LCPResult(LCPStatus.RAY, np.zeros(n), q.copy(), pivots)
     x = np.zeros(2 * n + 1)
     x[basis] = np.maximum(rhs, 0.0)  # basic values; -1e-16 rounding of a degenerate row is 0
-    return LCPResult(LCPStatus.SOLVED, x[n : 2 * n].copy(), x[:n].copy(), pivots)
+    z, w = x[n : 2 * n].copy(), x[:n].copy()
+    if not _verified(M, q, z):
+        return LCPResult(LCPStatus.INACCURATE, np.zeros(n), q.copy(), pivots)
+    return LCPResult(LCPStatus.SOLVED, z, w, pivots)
 
-__all__ = ["LCPResult", "LCPStatus", "lemke", "warm"]
+
+def _verified(M: np.ndarray, q: np.ndarray, z: np.ndarray, rtol: float = 1e-8) -> bool:
+    """``w = M z + q >= 0`` and ``z^T w = 0`` to ``rtol`` of the data's scale."""
+    w = M @ z + q
+    scale = max(float(np.abs(q).max(initial=0.0)), float(np.abs(M).max(initial=0.0)) * float(z.max(initial=0.0)), 1e-300)
+    return bool(w.min(initial=0.0) >= -rtol * scale and np.abs(z * w).max(initial=0.0) <= rtol * scale * max(float(z.max(initial=0.0)), 1e-300))
+
+
+def canonical(M: np.ndarray, q: np.ndarray, res: LCPResult, rtol: float = 1e-9) -> LCPResult:
+    """The least-norm solution over the tight items of a solution ``res``.
+
+    When several solutions share the tight set ``T`` (``z > 0`` or ``w = 0``, e.g. nearly equal
+    rows of ``M``), the least-norm ``z_T`` with ``M_TT z_T = -q_T`` is unique and does not depend
+    on the order of the items; it is returned when it is nonnegative (else ``res``)."""
+    if not res.solved or res.z.size == 0:
+        return res
+    zmax = max(float(res.z.max()), 1e-300)
+    wscale = max(float(np.abs(q).max()), float(np.abs(M).max()) * zmax, 1e-300)
+    tight = (res.z > 0) | (res.w <= rtol * wscale)
+    if not tight.any():
+        return res
+    Mt = M[np.ix_(tight, tight)]
+    zt = np.linalg.lstsq(Mt, -q[tight], rcond=rtol)[0]
+    if zt.min() < -rtol * zmax:
+        return res
+    z = np.zeros_like(res.z)
+    z[tight] = np.maximum(zt, 0.0)
+    if not _verified(M, q, z, 1e-8):
+        return res
+    w = M @ z + q
+    w[tight] = 0.0
+    return LCPResult(LCPStatus.SOLVED, z, np.maximum(w, 0.0), res.pivots)
+
+__all__ = ["LCPResult", "LCPStatus", "canonical", "lemke", "warm"]

@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ...solvers.lcp import lemke, warm
+from ...solvers.lcp import canonical, lemke, warm
 from .model import QSModel
 
 #: Relative tolerance (to the force scale of the state) under which a slack is zero.
@@ -377,6 +377,9 @@ def rates(
     apex[n0:n1] = cls.zero[qm.face_contact[faces]]
     if apex.any():
         Mlcp[apex, apex] += APEX_REG * max(float(np.abs(Mlcp).max()), 1.0)
+    # rounding of a zero load rate (symmetric grasps) is zero
+    qscale = max(float(np.abs(Wrows[:, 0]).max(initial=0.0)), float(np.abs(dC[:, 0]).max(initial=0.0)), 1e-300)
+    Wrows[np.abs(Wrows[:, 0]) <= RATE_RTOL * 1e-3 * qscale, 0] = 0.0
     keys = [("o", int(i)) for i in zero] + [("f", int(f)) for f in faces] + [("a", int(a)) for a in acts]
     res = None
     if nz:
@@ -387,6 +390,7 @@ def rates(
                 break
         if res is None:
             res = lemke(Mlcp, Wrows[:, 0])
+        res = canonical(Mlcp, Wrows[:, 0], res)
     if res is not None and not res.solved:
         return Segment(status=res.status.value, lcp_size=nz, pivots=res.pivots, control=control)
     zeta1 = np.concatenate([[1.0], res.z if res is not None else np.zeros(0)])
