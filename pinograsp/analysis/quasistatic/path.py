@@ -75,28 +75,55 @@ def _planned(
     sc: StageCache,
     hints: tuple[frozenset, ...] = (),
 ) -> Segment:
-    """The rate problem with each zero-force contact guessed pressed or separated (flipped
-    until the rates agree with the guesses; each plan tried once), else with both of its
-    pairs in the LCP."""
-    plan = plan0.copy()
+    """The rate problem with each zero-force contact guessed pressed or separated.
+
+    Plans tried in order: ``plan0`` (the history's guess), every zero-force contact separated,
+    every one pressed; within a plan a contradicted guess is flipped, and the faces of a
+    pressed zero-force contact enter the LCP only once its rates would cross them (an
+    active set of faces: at zero force every face is tight, and all of them at once make an
+    LCP that Lemke's method may not solve). Last resort: every zero-force contact with both
+    its opening and all its faces in the LCP. Each (plan, faces) combination is tried once.
+    """
+    candidates = [plan0]
+    if cls.zero.any():
+        for fill in (SEPARATE, PRESS):
+            alt = plan0.copy()
+            alt[cls.zero] = fill
+            candidates.append(alt)
     tried: set[bytes] = set()
-    seg = None
-    while plan.tobytes() not in tried:
-        tried.add(plan.tobytes())
-        seg = rates(qm, st, spec, cls, control, plan, sc, hints)
-        run.lcp_solves += 1
-        run.pivots += seg.pivots
-        run.largest_lcp = max(run.largest_lcp, seg.lcp_size)
-        if seg.status != "guess":
-            break
-        plan[seg.flip] = np.where(plan[seg.flip] == PRESS, SEPARATE, PRESS)
-    if seg is not None and seg.status in ("ok", "singular") or not cls.zero.any():
-        return seg
+    first = None
+    for start in candidates:
+        plan = start.copy()
+        apex = np.zeros(qm.nf, bool)
+        while True:
+            key = plan.tobytes() + apex.tobytes()
+            if key in tried:
+                break
+            tried.add(key)
+            seg = rates(qm, st, spec, cls, control, plan, sc, hints, apex)
+            run.lcp_solves += 1
+            run.pivots += seg.pivots
+            run.largest_lcp = max(run.largest_lcp, seg.lcp_size)
+            first = first or seg
+            if seg.status == "guess":
+                plan[seg.flip] = np.where(plan[seg.flip] == PRESS, SEPARATE, PRESS)
+            elif seg.status == "apex":
+                apex[seg.add] = True
+            else:
+                break
+            if len(tried) > 8 * (qm.nc + 1):
+                break
+        if seg.status in ("ok", "singular"):
+            return seg
+        if not cls.zero.any():
+            return seg
     full = rates(qm, st, spec, cls, control, np.full(qm.nc, FULL), sc)
     run.lcp_solves += 1
     run.pivots += full.pivots
     run.largest_lcp = max(run.largest_lcp, full.lcp_size)
-    return full if full.status == "ok" or seg is None or seg.status == "guess" else seg
+    if full.status == "ok" or first is None:
+        return full
+    return first if first.status not in ("guess", "apex") else full
 
 
 def _plan(qm: QSModel, cls: Classes, prev: Segment | None) -> np.ndarray:

@@ -125,6 +125,7 @@ class Segment:
     lam_rate: float = 1.0
     flip: np.ndarray | None = None
     active: frozenset = frozenset()
+    add: np.ndarray | None = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -311,6 +312,7 @@ def rates(
     plan: np.ndarray | None = None,
     sc: StageCache | None = None,
     hints: tuple[frozenset, ...] = (),
+    apex: np.ndarray | None = None,
 ) -> Segment:
     """The segment's rates at ``st`` under load (``dλ = 1``) or displacement control.
 
@@ -318,7 +320,9 @@ def rates(
     :data:`SEPARATE`; default FULL); a PRESS or SEPARATE guess that its own rates contradict
     comes back in :attr:`Segment.flip` (status ``"guess"``). ``hints``: sets of LCP items
     (:attr:`Segment.active` keys) guessed to flow, tried before Lemke's method (speed only:
-    a wrong guess is detected).
+    a wrong guess is detected). ``apex`` (nf,) bool: the faces of zero-force contacts taken
+    into the LCP (default all); a face left out whose slack rate the rates make negative
+    comes back in :attr:`Segment.add` (status ``"apex"``).
     """
     d, nv = qm.d, qm.nv
     sc = StageCache.of(qm, spec) if sc is None else sc
@@ -335,7 +339,13 @@ def rates(
     k = qm.k_ref
     # flows: zero-force openings, boundary faces, actuators at their command
     zero = np.flatnonzero(cls.zero & (plan == FULL))
-    faces = cls.faces[~sep[qm.face_contact[cls.faces]]] if len(cls.faces) else cls.faces
+    faces = cls.faces
+    if len(faces):
+        owner_f = qm.face_contact[faces]
+        keep = ~sep[owner_f]
+        if apex is not None:
+            keep &= ~cls.zero[owner_f] | apex[faces]
+        faces = faces[keep]
     acts = np.flatnonzero(cls.act_lcp)
     n0, n1 = len(zero), len(zero) + len(faces)
     nz = n1 + len(acts)
@@ -373,10 +383,10 @@ def rates(
     Mlcp = Wrows[:, 1:].copy()
     # faces of a contact at zero force: opposite faces' flows cancel (a null direction of M);
     # a relative 1e-12 on their diagonal picks the least flow
-    apex = np.zeros(nz, bool)
-    apex[n0:n1] = cls.zero[qm.face_contact[faces]]
-    if apex.any():
-        Mlcp[apex, apex] += APEX_REG * max(float(np.abs(Mlcp).max()), 1.0)
+    at_apex = np.zeros(nz, bool)
+    at_apex[n0:n1] = cls.zero[qm.face_contact[faces]]
+    if at_apex.any():
+        Mlcp[at_apex, at_apex] += APEX_REG * max(float(np.abs(Mlcp).max()), 1.0)
     # rounding of a zero load rate (symmetric grasps) is zero
     qscale = max(float(np.abs(Wrows[:, 0]).max(initial=0.0)), float(np.abs(dC[:, 0]).max(initial=0.0)), 1e-300)
     Wrows[np.abs(Wrows[:, 0]) <= RATE_RTOL * 1e-3 * qscale, 0] = 0.0
@@ -410,7 +420,23 @@ def rates(
     if bad.any():
         seg.status = "guess"
         seg.flip = bad
+        return seg
+    if apex is not None and spec.friction and qm.nf:
+        # faces of zero-force contacts left out of the LCP must not be crossed
+        on = cls.zero & ~sep & ~opening_of(seg)
+        rows = np.flatnonzero(on[qm.face_contact] & ~apex)
+        if len(rows):
+            rate = qm.Phi[rows] @ dc
+            out = rows[rate < -rtol]
+            if len(out):
+                seg.status = "apex"
+                seg.add = out
     return seg
+
+
+def opening_of(seg: Segment) -> np.ndarray:
+    """Contacts separated on ``seg`` (nc,) bool."""
+    return np.array([c == "separated" for c in seg.contact], bool)
 
 
 def _segment(qm, spec, cls, sc, v, dc, rho, lam_rate, zeta, items, nz, res, control, sep) -> Segment:
