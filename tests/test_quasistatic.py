@@ -279,6 +279,29 @@ def test_segment_limit_is_reported(case1):
     assert lp.status == "segment_limit" and lp.segments == 1 and lp.limit == lp.loads[-1] > 0
 
 
+def test_cli_path(capsys, tmp_path):
+    from clirun import run, run_json
+
+    data = run_json(capsys, "path", "pinch", "-d", "fy")
+    assert data["status"] == "finite" and data["limit"] == pytest.approx(10.0, rel=1e-9)
+    assert data["events"][-1]["kind"] == "limit"
+    png, csv = tmp_path / "p.png", tmp_path / "p.csv"
+    rc, out, _ = run(capsys, "path", "pinch", "-d", "fx", "--png", str(png), "--csv", str(csv))
+    assert rc == 0 and "unbounded" in out and png.stat().st_size > 0
+    assert csv.read_text().splitlines()[0].startswith("breakpoint,load,displacement_along")
+    rc, _, err = run(capsys, "path", "pinch", "-d", "fy", "--tangential-ratio", "0")
+    assert rc != 0 and "--tangential-ratio" in err
+
+
+def test_plot_loading_path():
+    lp = pg.loading_path(examples.pinch(), TAU, _dir(45))
+    ax = pg.plot_loading_path(lp)
+    x, y = ax.lines[0].get_data() if ax.lines[0].get_gid() != "pinograsp-unbounded" else ax.lines[1].get_data()
+    assert max(y) == pytest.approx(lp.limit, rel=1e-12)
+    with pytest.raises(pg.InvalidInputError):
+        pg.plot_loading_path("not a path")
+
+
 SCRIPT = """
 import numpy as np, pinograsp as pg
 m = pg.examples.random_grasp(0, 2, contacts_per_finger=2)

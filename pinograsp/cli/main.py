@@ -13,6 +13,7 @@ Sub-commands::
     pinograsp optimal-preload SCENE -w W [-w W ...] [--budget B]
     pinograsp batch GRASPS.yaml [--executor local|ray|dask] [--workers N] [--out results.parquet]
     pinograsp simulate SCENE -d DIRECTION [--compare] [--upper N] [--preload NAME]
+    pinograsp path SCENE -d DIRECTION [--png FILE] [--csv FILE] [--json]
 
 ``SCENE`` is a built-in scene name (``pinograsp scenes``) or the path of a scene YAML file.
 Common options: ``--method prp|iterative|energetic``, ``--upper``, ``--steps``,
@@ -35,7 +36,7 @@ import warnings
 from collections.abc import Callable, Iterator, Sequence
 
 from ..errors import PinograspError
-from . import commands, sim_commands, sweep_commands
+from . import commands, path_command, sim_commands, sweep_commands
 from .parse import UsageError, build_parser, join_dash_values
 
 #: Sub-command -> its function (parsed arguments -> exit code).
@@ -51,6 +52,7 @@ COMMANDS: dict[str, Callable[..., int]] = {
     "optimal-preload": commands.cmd_optimal_preload,
     "batch": commands.cmd_batch,
     "simulate": sim_commands.cmd_simulate,
+    "path": path_command.cmd_path,
 }
 
 
