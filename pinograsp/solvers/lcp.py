@@ -190,9 +190,12 @@ def canonical(M: np.ndarray, q: np.ndarray, res: LCPResult, rtol: float = 1e-9) 
         return res
     zmax = max(float(res.z.max()), 1e-300)
     wscale = max(float(np.abs(q).max()), float(np.abs(M).max()) * zmax, 1e-300)
-    tight = (res.z > 0) | (res.w <= rtol * wscale)
+    active = res.z > 0
+    tight = active | (res.w <= rtol * wscale)
     if not tight.any():
         return res
+    if not (tight & ~active).any():
+        return res  # no degenerate item: Lemke's basis makes M_BB nonsingular, z is unique there
     Mt = M[np.ix_(tight, tight)]
     zt = np.linalg.lstsq(Mt, -q[tight], rcond=rtol)[0]
     if zt.min() < -rtol * zmax:

@@ -95,6 +95,10 @@ class QSModel:
     locked: np.ndarray
     k_ref: float
     lever: np.ndarray
+    row_contact: np.ndarray
+    kn_rows: np.ndarray
+    kt_rows: np.ndarray
+    PhiT_t: np.ndarray
 
     @property
     def nv(self) -> int:
@@ -161,6 +165,13 @@ def build_qs_model(model: GraspModel, tangential_ratio: float = 1.0) -> QSModel:
     c_norm = np.linalg.norm(Cs, axis=1) if ncp else np.zeros(0)
     Cn = Cs / np.where(c_norm > 0, c_norm, 1.0)[:, None] if ncp else Cs
     kinds = tuple(model.kinds)
+    row_contact = np.repeat(np.arange(nc), d)
+    kn_rows = np.zeros(nc * d)
+    kn_rows[::d] = kn
+    kt_rows = np.repeat(kt, d)
+    kt_rows[::d] = 0.0
+    PhiT_t = Phi.T.copy()
+    PhiT_t[::d] = 0.0  # tangential part only: the force rate of a unit slip flow on a face
     return QSModel(
         model=model,
         nx=nx,
@@ -185,4 +196,8 @@ def build_qs_model(model: GraspModel, tangential_ratio: float = 1.0) -> QSModel:
         locked=np.array([k == LOCKED for k in kinds], bool),
         k_ref=float(kn.max()),
         lever=lever,
+        row_contact=row_contact,
+        kn_rows=kn_rows,
+        kt_rows=kt_rows,
+        PhiT_t=PhiT_t,
     )

@@ -26,6 +26,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from scipy.linalg import cho_solve
+
 from ...solvers.lcp import canonical, lemke, warm
 from .model import QSModel
 
@@ -200,6 +202,12 @@ class StageCache:
     r0: np.ndarray
     crow: np.ndarray | None
     col_of: dict
+    AZ: np.ndarray
+    AtBt: np.ndarray
+    BpA: np.ndarray
+    Bpr0: np.ndarray
+    Ztr0: np.ndarray
+    cz: np.ndarray | None
 
     @classmethod
     def of(cls, qm: QSModel, spec: StageSpec) -> StageCache:
@@ -237,17 +245,36 @@ class StageCache:
         size = float(np.linalg.norm(r0[:nx]))
         crow = r0[:nx] / size if size > 0 else None
         col_of = {a: j for j, a in enumerate(owner) if a >= 0}
-        return cls(B, np.array(owner, int), Z, B_pinv.T.copy(), B_pinv, r0, crow, col_of)
+        Bt_pinv = B_pinv.T.copy()
+        A = qm.A
+        return cls(
+            B,
+            np.array(owner, int),
+            Z,
+            Bt_pinv,
+            B_pinv,
+            r0,
+            crow,
+            col_of,
+            AZ=A.T @ Z,
+            AtBt=A.T @ Bt_pinv,
+            BpA=B_pinv @ A,
+            Bpr0=B_pinv @ r0,
+            Ztr0=Z.T @ r0,
+            cz=None if crow is None else Z[:nx].T @ crow,
+        )
 
 
-def _affine_reduced(qm, sc, K, rhs_top, Vp, control):
+def _affine_reduced(qm, sc, ks, Fm, Vp, control):
     """Displacement rates ``V`` (nv, 1+nz) and load rates ``lam`` (1+nz,) as affine maps of
     the flows, through the allowed motions ``Z`` and a Cholesky factor; None when the
-    stiffness on them is (nearly) singular."""
-    Z = sc.Z
-    Kr = Z.T @ K @ Z
-    if Kr.shape[0] == 0:
+    stiffness on them is (nearly) singular. ``Fm``: contact force rates per column before the
+    motions (flows minus the springs' share of the actuator flows' particular motion)."""
+    AZ = sc.AZ
+    if AZ.shape[1] == 0:
         return None
+    AZs = AZ * ks[:, None]
+    Kr = AZ.T @ AZs
     try:
         L = np.linalg.cholesky(Kr)
     except np.linalg.LinAlgError:
@@ -255,21 +282,23 @@ def _affine_reduced(qm, sc, K, rhs_top, Vp, control):
     diag = np.diag(L)
     if diag.min() ** 2 <= CHOL_RTOL * diag.max() ** 2:
         return None
-    Y = np.linalg.solve(L.T, np.linalg.solve(L, Z.T @ (rhs_top - K @ Vp)))
-    V = Z @ Y + Vp
-    nz1 = V.shape[1]
+    rhs = AZ.T @ Fm
+    rhs[:, 0] += sc.Ztr0
+    Y = cho_solve((L, True), rhs, check_finite=False)
+    nz1 = Y.shape[1]
     lam = np.zeros(nz1)
     if control == "load":
         lam[0] = 1.0
-        return V, lam
-    along = float(sc.crow @ V[: qm.nx, 0])
-    if not abs(along) > 0:
-        return None
-    lam[0] = 1.0 / along
-    lam[1:] = -(sc.crow @ V[: qm.nx, 1:]) / along
-    Vd = np.outer(V[:, 0], lam)
-    Vd[:, 1:] += V[:, 1:]
-    return Vd, lam
+    else:
+        along = float(sc.cz @ Y[:, 0])  # the load column has no actuator flow
+        if not abs(along) > 0:
+            return None
+        rest = sc.cz @ Y[:, 1:] + (Vp[: qm.nx, 1:].T @ sc.crow)
+        lam[0] = 1.0 / along
+        lam[1:] = -rest / along
+        Y = np.outer(Y[:, 0], lam) + np.concatenate([np.zeros((Y.shape[0], 1)), Y[:, 1:]], axis=1)
+        Vp = np.outer(Vp[:, 0], lam) + np.concatenate([np.zeros((Vp.shape[0], 1)), Vp[:, 1:]], axis=1)
+    return sc.Z @ Y + Vp, lam, AZ @ Y
 
 
 def _affine_full(qm, sc, K, rhs_top, con_rhs, control):
@@ -329,13 +358,9 @@ def rates(
     plan = np.zeros(qm.nc, int) if plan is None else plan
     sep = cls.zero & (plan == SEPARATE)
     touch = (cls.zero & ~sep) | cls.pressed
-    ks = np.zeros((qm.nc, d))
-    ks[:, 0] = np.where(touch, qm.kn, 0.0)
-    if spec.friction and d > 1:
-        ks[:, 1:] = np.where(touch, qm.kt, 0.0)[:, None]
-    ks = ks.reshape(-1)
+    rc = qm.row_contact
+    ks = touch[rc] * (qm.kn_rows + qm.kt_rows) if spec.friction else touch[rc] * qm.kn_rows
     A = qm.A
-    K = (A * ks) @ A.T
     k = qm.k_ref
     # flows: zero-force openings, boundary faces, actuators at their command
     zero = np.flatnonzero(cls.zero & (plan == FULL))
@@ -352,28 +377,34 @@ def rates(
     F = np.zeros((qm.ncd, 1 + nz))  # contact force rate per unit flow (column 0: the load)
     F[zero * d, 1 + np.arange(n0)] = 1.0
     if len(faces):
-        F[:, 1 + n0 : 1 + n1] = qm.Phi[faces].T  # dc_t = -nu per unit flow
-        F[qm.face_contact[faces] * d, 1 + n0 + np.arange(len(faces))] = 0.0
-    rhs_top = A @ F
-    rhs_top[:, 0] = sc.r0
+        F[:, 1 + n0 : 1 + n1] = qm.PhiT_t[:, faces]  # dc_t = -nu per unit flow
     cols = np.array([sc.col_of[int(a)] for a in acts], int)
     Vp = np.zeros((nv, 1 + nz))
-    con_rhs = np.zeros((sc.B.shape[1], 1 + nz))
+    Fm = F
     if len(acts):
         Vp[:, 1 + n1 :] = sc.Bt_pinv[:, cols] / k
-        con_rhs[cols, 1 + n1 + np.arange(len(acts))] = -1.0
-    aff = _affine_reduced(qm, sc, K, rhs_top, Vp, control)
-    if aff is None:
+        Fm = F.copy()
+        Fm[:, 1 + n1 :] -= ks[:, None] * sc.AtBt[:, cols] / k
+    aff = _affine_reduced(qm, sc, ks, Fm, Vp, control)
+    if aff is not None:
+        V, lam, G = aff
+        dC = Fm - ks[:, None] * G
+    else:
         if control != "load" and sc.crow is None:
             return Segment(status="singular", control=control)
-        aff = _affine_full(qm, sc, K, rhs_top, con_rhs, control)
-        if aff is None:
+        K = (A * ks) @ A.T
+        rhs_top = A @ F
+        rhs_top[:, 0] = sc.r0
+        con_rhs = np.zeros((sc.B.shape[1], 1 + nz))
+        if len(acts):
+            con_rhs[cols, 1 + n1 + np.arange(len(acts))] = -1.0
+        full = _affine_full(qm, sc, K, rhs_top, con_rhs, control)
+        if full is None:
             return Segment(status="singular", lcp_size=nz, control=control)
-    V, lam = aff
-    # contact force rates and multipliers per column
-    dC = -ks[:, None] * (A.T @ V) + F
-    top = K @ V - np.outer(sc.r0, lam) - A @ F
-    Rho = sc.B_pinv @ top / k
+        V, lam = full
+        dC = -ks[:, None] * (A.T @ V) + F
+    # multipliers per column: k B rho = K V - r0 lam - A F = -A dC - r0 lam
+    Rho = -(sc.BpA @ dC + np.outer(sc.Bpr0, lam)) / k
     Wrows = np.zeros((nz, 1 + nz))
     Wrows[:n0] = dC[zero * d]
     if len(faces):
@@ -394,6 +425,8 @@ def rates(
     res = None
     if nz:
         for hint in hints:
+            if not hint:
+                continue
             guess = np.array([key in hint for key in keys], bool)
             res = warm(Mlcp, Wrows[:, 0], guess)
             if res is not None:
