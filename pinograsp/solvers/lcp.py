@@ -12,7 +12,7 @@ relative ``1e-12`` treated as ties. The pivots are a function of the data alone;
 pivots is limited by a count (``max_pivots``), never by time.
 
 Used by the quasi-static loading path (:mod:`pinograsp.analysis.quasistatic`) for its local
-rate problems. Imports NumPy only.
+rate problems. NumPy and SciPy's LAPACK wrappers only.
 """
 
 from __future__ import annotations
@@ -21,6 +21,7 @@ from dataclasses import dataclass
 from enum import Enum
 
 import numpy as np
+from scipy.linalg.lapack import dgesv
 
 #: Pivots below this fraction of ``max |M|`` are rounding (nearly equal rows of ``M``), never used.
 PIVOT_RTOL = 1e-9
@@ -95,11 +96,8 @@ def warm(M: np.ndarray, q: np.ndarray, active: np.ndarray, rtol: float = 1e-12) 
     scale = max(float(np.abs(q).max(initial=0.0)), 1e-300)
     if active.any():
         Mbb = M[np.ix_(active, active)]
-        try:
-            zb = np.linalg.solve(Mbb, -q[active])
-        except np.linalg.LinAlgError:
-            return None
-        if not np.all(np.isfinite(zb)):
+        _, _, zb, info = dgesv(Mbb, -q[active])
+        if info != 0 or not np.all(np.isfinite(zb)):
             return None
         zscale = max(float(np.abs(zb).max()), 1e-300)
         if zb.min() < -rtol * zscale:

@@ -113,37 +113,36 @@ def _audit(p: Prepared, states: list[State], arrays: dict[str, np.ndarray], d_re
     ell = m.length_scale
     wscale = np.ones(qm.nx)
     wscale[(2 if m.planar else 3) :] = 1.0 / ell
-    eq, hand, fr, energy = [], [], [], []
-    for s in states:
-        eq.append(float(np.linalg.norm((m.G @ s.c + s.t * d_red) * wscale)))
-        if qm.nq:
-            tau = m.J.T @ s.c - m.R @ s.f - m.C.T @ s.lam_c
-            hand.append(float(np.abs(tau / qm.lever).max()))
-        else:
-            hand.append(0.0)
-        fr.append(float(max(0.0, -(qm.Phi @ s.c).min(initial=0.0))))
-    kn, kt, d = qm.kn, qm.kt, qm.d
-
-    def elastic(s: State) -> float:
-        c = s.c.reshape(qm.nc, d)
-        e = float(np.sum(c[:, 0] ** 2 / (2 * kn)))
-        if d > 1:
-            e += float(np.sum(np.where(kt > 0, np.sum(c[:, 1:] ** 2, axis=1) / (2 * np.where(kt > 0, kt, 1.0)), 0.0)))
-        return e
-
-    for a, b in zip(states[:-1], states[1:]):
-        dx = (b.vs - a.vs)[: qm.nx] / qm.S[: qm.nx]
-        w_load = 0.5 * (a.t + b.t) * float(d_red @ dx)
-        du = np.asarray(m.R).T @ ((b.vs - a.vs)[qm.nx :] / qm.S[qm.nx :]) if qm.na else np.zeros(0)
-        w_act = float(0.5 * (a.f + b.f) @ du) if qm.na else 0.0
-        diss = -float(0.5 * (a.c + b.c) @ (b.slip - a.slip))
-        energy.append(w_load + w_act - (elastic(b) - elastic(a)) - diss)
-    return {
-        "equilibrium": np.array(eq),
-        "hand": np.array(hand),
-        "friction": np.array(fr),
-        "energy": np.array(energy),
-    }
+    C = np.array([s.c for s in states])  # (k, ncd)
+    t = np.array([s.t for s in states])
+    Fa = np.array([s.f for s in states]).reshape(len(states), qm.na)
+    Lc = np.array([s.lam_c for s in states]).reshape(len(states), qm.ncp)
+    VS = np.array([s.vs for s in states])
+    SL = np.array([s.slip for s in states])
+    eq = np.linalg.norm((C @ np.asarray(m.G).T + t[:, None] * d_red) * wscale, axis=1)
+    if qm.nq:
+        tau = C @ np.asarray(m.J) - Fa @ np.asarray(m.R).T - Lc @ np.asarray(m.C)
+        hand = np.abs(tau / qm.lever).max(axis=1)
+    else:
+        hand = np.zeros(len(states))
+    fr = np.maximum(0.0, -(C @ qm.Phi.T).min(axis=1, initial=0.0)) if qm.nf else np.zeros(len(states))
+    d = qm.d
+    Cc = C.reshape(len(states), qm.nc, d)
+    elastic = np.sum(Cc[:, :, 0] ** 2 / (2 * qm.kn), axis=1)
+    if d > 1:
+        inv_kt = np.where(qm.kt > 0, 1.0 / np.where(qm.kt > 0, qm.kt, 1.0), 0.0)
+        elastic = elastic + np.sum(np.sum(Cc[:, :, 1:] ** 2, axis=2) * inv_kt / 2, axis=1)
+    dV = np.diff(VS, axis=0)
+    dx = dV[:, : qm.nx] / qm.S[: qm.nx]
+    w_load = 0.5 * (t[1:] + t[:-1]) * (dx @ d_red)
+    if qm.na:
+        du = (dV[:, qm.nx :] / qm.S[qm.nx :]) @ np.asarray(m.R)
+        w_act = np.sum(0.5 * (Fa[1:] + Fa[:-1]) * du, axis=1)
+    else:
+        w_act = 0.0
+    diss = -np.sum(0.5 * (C[1:] + C[:-1]) * np.diff(SL, axis=0), axis=1)
+    energy = w_load + w_act - np.diff(elastic) - diss
+    return {"equilibrium": eq, "hand": hand, "friction": fr, "energy": np.asarray(energy, float)}
 
 
 def _status(run: StageRun, p: Prepared, spec: StageSpec) -> tuple[str, float, str]:

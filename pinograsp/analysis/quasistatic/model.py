@@ -99,6 +99,7 @@ class QSModel:
     kn_rows: np.ndarray
     kt_rows: np.ndarray
     PhiT_t: np.ndarray
+    slip_rows: np.ndarray
 
     @property
     def nv(self) -> int:
@@ -172,6 +173,9 @@ def build_qs_model(model: GraspModel, tangential_ratio: float = 1.0) -> QSModel:
     kt_rows[::d] = 0.0
     PhiT_t = Phi.T.copy()
     PhiT_t[::d] = 0.0  # tangential part only: the force rate of a unit slip flow on a face
+    owner_kt = kt[np.array(owner, int)] if owner else np.zeros(0)
+    # slip rate da = -nu / kt per unit flow (flows are in force units: kt * slip rate)
+    slip_rows = PhiT_t.T / np.where(owner_kt > 0, owner_kt, 1.0)[:, None] * (owner_kt > 0)[:, None]
     return QSModel(
         model=model,
         nx=nx,
@@ -200,4 +204,5 @@ def build_qs_model(model: GraspModel, tangential_ratio: float = 1.0) -> QSModel:
         kn_rows=kn_rows,
         kt_rows=kt_rows,
         PhiT_t=PhiT_t,
+        slip_rows=slip_rows,
     )

@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from scipy.linalg import cho_solve
+from scipy.linalg.lapack import dpotrf, dpotrs
 
 from ...solvers.lcp import canonical, lemke, warm
 from .model import QSModel
@@ -202,6 +202,9 @@ class StageCache:
     r0: np.ndarray
     crow: np.ndarray | None
     col_of: dict
+    act_cols: np.ndarray
+    coupling_cols: np.ndarray
+    holder_cols: np.ndarray
     AZ: np.ndarray
     AtBt: np.ndarray
     BpA: np.ndarray
@@ -256,6 +259,9 @@ class StageCache:
             r0,
             crow,
             col_of,
+            act_cols=np.array(owner, int) >= 0,
+            coupling_cols=np.array(owner, int) == -1,
+            holder_cols=np.array(owner, int) == -2,
             AZ=A.T @ Z,
             AtBt=A.T @ Bt_pinv,
             BpA=B_pinv @ A,
@@ -275,16 +281,17 @@ def _affine_reduced(qm, sc, ks, Fm, Vp, control):
         return None
     AZs = AZ * ks[:, None]
     Kr = AZ.T @ AZs
-    try:
-        L = np.linalg.cholesky(Kr)
-    except np.linalg.LinAlgError:
+    L, info = dpotrf(Kr, lower=1, clean=0)
+    if info != 0:
         return None
-    diag = np.diag(L)
+    diag = L.diagonal()
     if diag.min() ** 2 <= CHOL_RTOL * diag.max() ** 2:
         return None
     rhs = AZ.T @ Fm
     rhs[:, 0] += sc.Ztr0
-    Y = cho_solve((L, True), rhs, check_finite=False)
+    Y, info = dpotrs(L, rhs, lower=1)
+    if info != 0:
+        return None
     nz1 = Y.shape[1]
     lam = np.zeros(nz1)
     if control == "load":
@@ -481,20 +488,13 @@ def _segment(qm, spec, cls, sc, v, dc, rho, lam_rate, zeta, items, nz, res, cont
     df = np.zeros(qm.na)
     if qm.na:
         df[qm.bd] = spec.dfc[qm.bd] * lam_rate
-        act_cols = owner >= 0
-        df[owner[act_cols]] = k * rho[act_cols] / qm.r_norm[owner[act_cols]]
-    dlam = k * rho[owner == -1] / qm.c_norm if qm.ncp else np.zeros(0)
-    dhold = qm.S[:nx] * k * rho[owner == -2] if spec.held else np.zeros(nx)
+        ac = sc.act_cols
+        df[owner[ac]] = k * rho[ac] / qm.r_norm[owner[ac]]
+    dlam = k * rho[sc.coupling_cols] / qm.c_norm if qm.ncp else np.zeros(0)
+    dhold = qm.S[:nx] * k * rho[sc.holder_cols] if spec.held else np.zeros(nx)
     nzero = len(zero)
     flows_f = zeta[nzero : nzero + len(faces)]
-    dslip = np.zeros(qm.ncd)
-    if len(faces):
-        owners = qm.face_contact[faces]
-        kt = qm.kt[owners]
-        contrib = qm.Phi[faces] * np.where(kt > 0, flows_f / np.where(kt > 0, kt, 1.0), 0.0)[:, None]
-        contrib[:, owners * d] = 0.0
-        dslip = contrib.sum(axis=0)
-        dslip[::d] = 0.0
+    dslip = flows_f @ qm.slip_rows[faces] if len(faces) else np.zeros(qm.ncd)
     rscale = max(float(np.abs(dc).max(initial=0.0)), float(np.abs(sc.r0).max(initial=0.0)) * abs(lam_rate), 1e-300)
     ftol = RATE_RTOL * rscale
     opening = sep.copy()
@@ -508,10 +508,7 @@ def _segment(qm, spec, cls, sc, v, dc, rho, lam_rate, zeta, items, nz, res, cont
     detail = tuple(() if sep_all[i] else tuple(sliding[i]) for i in range(nc))
     moving = np.zeros(qm.na, bool)
     moving[acts] = zeta[nzero + len(faces) :] > ftol
-    actuator = tuple(
-        "backdrivable" if qm.bd[a] else "locked" if qm.locked[a] else ("moving" if moving[a] else "holding")
-        for a in range(qm.na)
-    )
+    actuator = tuple(("moving" if moving[a] else "holding") if qm.nbd[a] else qm.model.kinds[a] for a in range(qm.na))
     dc = dc.reshape(nc, d).copy()
     dc[sep_all] = 0.0
     return Segment(
