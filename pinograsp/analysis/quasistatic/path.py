@@ -73,7 +73,7 @@ def _planned(
     plan0: np.ndarray,
     run: StageRun,
     sc: StageCache,
-    hints: tuple[frozenset, ...] = (),
+    hints: tuple[np.ndarray, ...] = (),
 ) -> Segment:
     """The rate problem with each zero-force contact guessed pressed or separated.
 
@@ -148,12 +148,10 @@ def _solve_segment(
 ) -> Segment:
     """Load control first; displacement control when that fails (limit or continuation)."""
     plan = _plan(qm, cls, prev)
-    hints: tuple[frozenset, ...] = ()
+    hints: tuple[np.ndarray, ...] = ()
     if prev is not None:
-        new = frozenset(
-            ("f", tr.index) if tr.kind == "face" else ("a", tr.index) for tr in trig if tr.kind in ("face", "command")
-        )
-        hints = (prev.active | new, prev.active) if new else (prev.active,)
+        new = [qm.nc + tr.index if tr.kind == "face" else qm.nc + qm.nf + tr.index for tr in trig if tr.kind in ("face", "command")]
+        hints = (np.union1d(prev.active, new), prev.active) if new else (prev.active,)
     seg = _planned(qm, st, spec, cls, "load", plan, run, sc, hints)
     if not np.any(spec.dw):
         return seg

@@ -126,7 +126,7 @@ class Segment:
     stiffness_rate: float = float("nan")
     lam_rate: float = 1.0
     flip: np.ndarray | None = None
-    active: frozenset = frozenset()
+    active: np.ndarray = field(default_factory=lambda: np.zeros(0, int))
     add: np.ndarray | None = None
 
 
@@ -347,7 +347,7 @@ def rates(
     control: str = "load",
     plan: np.ndarray | None = None,
     sc: StageCache | None = None,
-    hints: tuple[frozenset, ...] = (),
+    hints: tuple[np.ndarray, ...] = (),
     apex: np.ndarray | None = None,
 ) -> Segment:
     """The segment's rates at ``st`` under load (``dλ = 1``) or displacement control.
@@ -355,7 +355,7 @@ def rates(
     ``plan`` (nc,) says how each zero-force contact enters (:data:`FULL`, :data:`PRESS`,
     :data:`SEPARATE`; default FULL); a PRESS or SEPARATE guess that its own rates contradict
     comes back in :attr:`Segment.flip` (status ``"guess"``). ``hints``: sets of LCP items
-    (:attr:`Segment.active` keys) guessed to flow, tried before Lemke's method (speed only:
+    (sorted item codes as :attr:`Segment.active`) guessed to flow, tried before Lemke's method (speed only:
     a wrong guess is detected). ``apex`` (nf,) bool: the faces of zero-force contacts taken
     into the LCP (default all); a face left out whose slack rate the rates make negative
     comes back in :attr:`Segment.add` (status ``"apex"``).
@@ -428,13 +428,14 @@ def rates(
     # rounding of a zero load rate (symmetric grasps) is zero
     qscale = max(float(np.abs(Wrows[:, 0]).max(initial=0.0)), float(np.abs(dC[:, 0]).max(initial=0.0)), 1e-300)
     Wrows[np.abs(Wrows[:, 0]) <= RATE_RTOL * 1e-3 * qscale, 0] = 0.0
-    keys = [("o", int(i)) for i in zero] + [("f", int(f)) for f in faces] + [("a", int(a)) for a in acts]
+    # item codes: opening of contact i -> i, face f -> nc + f, actuator a -> nc + nf + a
+    keys = np.concatenate([zero, qm.nc + faces, qm.nc + qm.nf + acts])
     res = None
     if nz:
         for hint in hints:
-            if not hint:
+            if not len(hint):
                 continue
-            guess = np.array([key in hint for key in keys], bool)
+            guess = np.isin(keys, hint, assume_unique=True)
             res = warm(Mlcp, Wrows[:, 0], guess)
             if res is not None:
                 break
@@ -451,7 +452,7 @@ def rates(
     seg = _segment(qm, spec, cls, sc, v, dc, rho, lam_rate, zeta1[1:], (zero, faces, acts), nz, res, control, sep)
     if nz:
         ftol = RATE_RTOL * max(float(np.abs(res.z).max()), 1e-300)
-        seg.active = frozenset(key for key, z in zip(keys, res.z) if z > ftol)
+        seg.active = np.sort(keys[res.z > ftol])
     # check the guesses: a pressed zero-force contact must not pull, a separated one not close
     rtol = RATE_RTOL * max(float(np.abs(dc).max(initial=0.0)), float(np.abs(sc.r0).max()), 1e-300)
     bad = cls.zero & (plan == PRESS) & (dc[::d] < -rtol)
