@@ -242,6 +242,20 @@ def test_load_at_displacement_scales_with_stiffness():
     assert s1 < lp.limit and s2 == pytest.approx(2 * s1, rel=1e-12)
 
 
+def test_snap_past_a_softening_limit():
+    """Case 2 pushed along +Z: a softening limit at 14.7 N; past it the path (displacement
+    control) lands again and stiffens, so the load at 1 mm of motion (the simulation's
+    give-way threshold; the simulation gives way gradually at 26.3 N) is far above λ*."""
+    s = pg.load_scene("case2")
+    lp = pg.loading_path(s.model, s.preload(None), "fz")
+    assert lp.status == "finite" and lp.limit == pytest.approx(14.7155, rel=1e-4)
+    c = lp.continuation
+    assert c is not None and c.snaps and c.loads[c.snaps[0][1]] == pytest.approx(lp.limit, rel=1e-12)
+    assert min(c.loads[: c.snaps[0][1]]) < lp.limit  # the load falls past the limit
+    assert lp.load_at_displacement(1e-3) == pytest.approx(26.56, rel=1e-3)
+    assert pg.quasistatic_max_wrench(s.model, s.preload(None), "fz").magnitude == lp.limit
+
+
 def test_to_dict_and_rows():
     import json
 

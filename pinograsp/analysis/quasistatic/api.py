@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import time
 import weakref
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -16,6 +16,7 @@ from ...core.settings import Settings, make_settings
 from ...errors import InvalidInputError
 from .events import path_events
 from .model import QSModel, build_qs_model
+from .continuation import continue_past_limit
 from .path import MAX_SEGMENTS, StageRun, follow
 from .preload import PRELOAD_VARIANTS, preload_path
 from .rates import EVENT_RTOL, StageSpec, State, force_scale
@@ -266,7 +267,31 @@ def loading_path(
     t_end = float("inf") if up_to is None else float(up_to)
     spec = StageSpec(np.zeros(p.qm.nx), d_red, p.fc, np.zeros(p.qm.na), t_end, held=False, friction=True)
     run = follow(p.qm, p.start, spec, int(max_segments)) if t_end > 0 else StageRun(states=[p.start.copy()], status="end")
-    return build_path(p, d6, run, spec, time.perf_counter() - t0)
+    cont = None
+    if run.status == "limit" and up_to is None:
+        more = continue_past_limit(p.qm, run, spec, int(max_segments))
+        if more is not None:
+            cont = _continuation(p, d6, more, spec)
+    lp = build_path(p, d6, run, spec, time.perf_counter() - t0)
+    return replace(lp, continuation=cont) if cont is not None else lp
+
+
+def _continuation(p: Prepared, d6: np.ndarray, more: StageRun, spec: StageSpec) -> LoadingPath:
+    """The :class:`LoadingPath` record of the path past a softening limit."""
+    cont = build_path(p, d6, StageRun(states=more.states, segments=more.segments, triggers=more.triggers, status="end"), spec, 0.0)
+    snaps = tuple(getattr(more, "snaps", ()))
+    tail = more.status.split(":")[-1]
+    if not snaps:
+        status = "finite" if more.status in ("unloaded", "mechanism") else "no_solution"
+        limit = float(more.states[0].t)
+    elif tail == "unbounded":
+        status, limit = "unbounded", float("inf")
+    elif tail == "limit":
+        status, limit = "finite", float(more.states[-1].t)
+    else:
+        status, limit = "no_solution", float(more.states[-1].t)
+    ray = _seg_rates(p, more.segments[-1], None) if status == "unbounded" else None
+    return replace(cont, status=status, limit=limit, stop_reason=more.status, snaps=snaps, ray=ray)
 
 
 __all__ = ["Prepared", "loading_path", "prepare"]

@@ -237,7 +237,7 @@ def advance(st: State, seg: Segment, t: float, t_end: float | None = None) -> St
         st.lam_c + t * seg.dlam_c,
         st.hold + t * seg.dhold,
         st.slip + t * seg.dslip,
-        st.t + t,
+        st.t + t * seg.lam_rate,
     )
     if t_end is not None:
         out.t = t_end

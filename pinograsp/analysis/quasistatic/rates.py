@@ -535,7 +535,7 @@ def rescaled(seg: Segment, factor: float) -> Segment:
     out = Segment(**{**seg.__dict__})
     for name in ("dvs", "dc", "df", "dlam_c", "dhold", "dslip"):
         setattr(out, name, getattr(seg, name) * factor)
-    out.lam_rate = seg.lam_rate * factor
+    out.lam_rate = 1.0  # per unit load by construction
     return out
 
 

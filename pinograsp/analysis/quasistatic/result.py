@@ -73,6 +73,14 @@ class LoadingPath:
         contact_names, joint_names, actuator_names: Labels.
         length_scale: The model's length scale [m]; model_stiffness: its largest ``k`` [N/m].
         wall_time: [s].
+        continuation: At a softening limit (``dλ < 0`` past it), the equilibrium path beyond
+            it under displacement control (its loads first fall) until the load is back at
+            λ* — the *landing* point of the snap a load-controlled grasp makes — and on from
+            there under load control to the next limit, snap after snap; its ``status`` is
+            that of the last part (``"finite"`` with ``limit`` = λ* when the load falls to
+            zero or no stiffness is left: nothing to land on). None at a mechanism limit or
+            when the path is not finite. λ* stays the first limit.
+        snaps: (continuation only) ``(limit breakpoint, landing breakpoint)`` of each snap.
     """
 
     direction: np.ndarray
@@ -108,6 +116,8 @@ class LoadingPath:
     length_scale: float = 1.0
     model_stiffness: float = 1.0
     wall_time: float = 0.0
+    continuation: LoadingPath | None = field(default=None)
+    snaps: tuple[tuple[int, int], ...] = ()
 
     # ----------------------------------------------------------------- views
     @property
@@ -189,18 +199,24 @@ class LoadingPath:
             raise InvalidInputError("stiffness", f"expected a positive stiffness [N/m], got {stiffness!r}")
         rot = d / self.length_scale if rotation is None else float(rotation)
         scale = self.model_stiffness / k  # physical displacement per model displacement
-        x = (self.object_displacements - self.object_displacements[0]) * scale
-        pts = list(x)
-        loads = list(self.loads)
-        if self.ray is not None:
-            big = max(loads[-1], 1.0) * 1e12
-            pts.append(x[-1] + (big - loads[-1]) * self.ray["object_displacements"] * scale)
-            loads.append(big)
-        for j in range(len(pts) - 1):
-            hit = _first_crossing(pts[j], pts[j + 1], d, rot)
+        x0 = self.object_displacements[0]
+        hit = _crossing(self, x0, scale, d, rot, 0)
+        if hit is not None:
+            return hit
+        cont = self.continuation
+        if self.status != "finite" or cont is None or not cont.snaps:
+            return float(self.limit)
+        for n, (top, land) in enumerate(cont.snaps):
+            # the grasp snaps from the limit to the landing point: gave way if that jump is too far
+            landed = (cont.object_displacements[land] - x0) * scale
+            if np.linalg.norm(landed[:3]) >= d or np.linalg.norm(landed[3:]) >= rot:
+                return float(cont.loads[top])
+            end = cont.snaps[n + 1][0] if n + 1 < len(cont.snaps) else None
+            part = cont if end is None else _upto(cont, end)
+            hit = _crossing(part, x0, scale, d, rot, land)
             if hit is not None:
-                return float(loads[j] + hit * (loads[j + 1] - loads[j]))
-        return float(self.limit)
+                return float(hit)
+        return float(cont.limit)
 
     # ------------------------------------------------------------- exports
     def to_dict(self) -> dict[str, Any]:
@@ -243,6 +259,8 @@ class LoadingPath:
             "length_scale": self.length_scale,
             "model_stiffness": self.model_stiffness,
             "wall_time": self.wall_time,
+            "continuation": None if self.continuation is None else self.continuation.to_dict(),
+            "snaps": self.snaps,
         }
         return jsonable(out)
 
@@ -303,6 +321,38 @@ class LoadingPath:
             f"LoadingPath({direction_text(self.direction)}: {lim}, status={self.status!r}, "
             f"{len(self.loads)} breakpoints, {len(self.events)} events)"
         )
+
+
+def _upto(lp: LoadingPath, end: int) -> LoadingPath:
+    """``lp`` cut after breakpoint ``end`` (no ray)."""
+    from dataclasses import replace
+
+    return replace(
+        lp,
+        loads=lp.loads[: end + 1],
+        object_displacements=lp.object_displacements[: end + 1],
+        ray=None,
+    )
+
+
+def _crossing(lp: LoadingPath, x0: np.ndarray, scale: float, delta: float, rot: float, start: int) -> float | None:
+    """The first load from breakpoint ``start`` on (and along the ray of an unbounded path)
+    where the object's displacement from ``x0`` (times ``scale``) reaches ``delta`` or turns
+    ``rot``; None if it does not before the path ends."""
+    x = (lp.object_displacements - x0) * scale
+    pts = list(x[start:])
+    loads = list(lp.loads[start:])
+    if lp.ray is not None:
+        big = max(loads[-1], 1.0) * 1e12
+        pts.append(x[-1] + (big - loads[-1]) * lp.ray["object_displacements"] * scale)
+        loads.append(big)
+    if start == 0 and len(pts) and (np.linalg.norm(pts[0][:3]) >= delta or np.linalg.norm(pts[0][3:]) >= rot):
+        return float(loads[0])
+    for j in range(len(pts) - 1):
+        hit = _first_crossing(pts[j], pts[j + 1], delta, rot)
+        if hit is not None:
+            return float(loads[j] + hit * (loads[j + 1] - loads[j]))
+    return None
 
 
 def _first_crossing(p0: np.ndarray, p1: np.ndarray, delta: float, rot: float) -> float | None:
