@@ -20,7 +20,9 @@ import pinograsp as pg
 
 
 def _plane(n: int = 24) -> list[np.ndarray]:
-    return [np.array([np.cos(a), np.sin(a), 0, 0, 0, 0]) for a in np.linspace(0, 2 * np.pi, n, endpoint=False)]
+    return [
+        np.array([np.cos(a), np.sin(a), 0, 0, 0, 0]) for a in np.linspace(0, 2 * np.pi, n, endpoint=False)
+    ]
 
 
 def grasps(quick: bool) -> list[tuple[str, object, object, list[np.ndarray]]]:
@@ -34,7 +36,14 @@ def grasps(quick: bool) -> list[tuple[str, object, object, list[np.ndarray]]]:
         for seed in range(3):
             m = pg.examples.random_grasp(seed, n_pairs, contacts_per_finger=2)
             rng = np.random.default_rng(1000 + seed)
-            out.append((f"random {4 * n_pairs} (seed {seed})", m, 1.0, [rng.normal(size=6) for _ in range(3 if quick else 6)]))
+            out.append(
+                (
+                    f"random {4 * n_pairs} (seed {seed})",
+                    m,
+                    1.0,
+                    [rng.normal(size=6) for _ in range(3 if quick else 6)],
+                )
+            )
     return out
 
 
@@ -67,15 +76,18 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--quick", action="store_true", help="fewer random grasps and directions")
     args = ap.parse_args()
-    print("| grasp | contacts | directions | median ms/dir | max ms | first (with preload) ms | segments med/max "
-          "| events med/max | largest LCP | statuses |")
+    print(
+        "| grasp | contacts | directions | median ms/dir | max ms | first (with preload) ms "
+        "| segments med/max | events med/max | largest LCP | statuses |"
+    )
     print("|---|---:|---:|---:|---:|---:|---|---|---:|---|")
     for label, m, fc, dirs in grasps(args.quick):
         r = measure(m, fc, dirs)
         print(
             f"| {label} | {m.nc} | {len(dirs)} | {r['median'] * 1e3:.2f} | {r['max'] * 1e3:.1f} | "
-            f"{r['first'] * 1e3:.1f} | {r['segments'][0]}/{r['segments'][1]} | {r['events'][0]}/{r['events'][1]} | "
-            f"{r['lcp']} | {', '.join(f'{k} {v}' for k, v in sorted(r['statuses'].items()))} |"
+            f"{r['first'] * 1e3:.1f} | {r['segments'][0]}/{r['segments'][1]} | "
+            f"{r['events'][0]}/{r['events'][1]} | {r['lcp']} | "
+            f"{', '.join(f'{k} {v}' for k, v in sorted(r['statuses'].items()))} |"
         )
 
 

@@ -75,9 +75,11 @@ def test_case1_named_directions(case1):
 
 
 # ------------------------------------------------------------------ invariants
-def _transformed(m, rot=np.eye(3), shift=np.zeros(3), unit=1.0, cperm=None, jperm=None):
+def _transformed(m, rot=None, shift=None, unit=1.0, cperm=None, jperm=None):
     """``m`` under a world rotation/reflection ``rot``, a translation, a change of length unit
     (lengths x ``unit``) and a reordering of contacts and joints (3D models)."""
+    rot = np.eye(3) if rot is None else rot
+    shift = np.zeros(3) if shift is None else shift
     det = float(np.linalg.det(rot))
     nc, d = m.nc, m.d
     Q = np.ones(d)
@@ -174,7 +176,9 @@ def test_stiffness_scaling(case1):
 def test_events_recorded():
     m = examples.pinch()
     lp = pg.loading_path(m, TAU, _dir(45))
-    assert lp.status == "finite" and lp.limit == pytest.approx(2 * MU * TAU / (L * np.sin(np.pi / 4)), rel=1e-12)
+    assert lp.status == "finite" and lp.limit == pytest.approx(
+        2 * MU * TAU / (L * np.sin(np.pi / 4)), rel=1e-12
+    )
     kinds = [(e.kind, e.name, e.before, e.after) for e in lp.events]
     assert ("contact", "left", "sticking", "sliding (face 1)") in kinds
     assert lp.events[-1].kind == "limit" and lp.events[-1].load == lp.limit
@@ -310,7 +314,9 @@ def test_cli_path(capsys, tmp_path):
 def test_plot_loading_path():
     lp = pg.loading_path(examples.pinch(), TAU, _dir(45))
     ax = pg.plot_loading_path(lp)
-    x, y = ax.lines[0].get_data() if ax.lines[0].get_gid() != "pinograsp-unbounded" else ax.lines[1].get_data()
+    x, y = (
+        ax.lines[0].get_data() if ax.lines[0].get_gid() != "pinograsp-unbounded" else ax.lines[1].get_data()
+    )
     assert max(y) == pytest.approx(lp.limit, rel=1e-12)
     with pytest.raises(pg.InvalidInputError):
         pg.plot_loading_path("not a path")

@@ -33,7 +33,9 @@ def add_path(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--preload", help="one of the scene's named preloads (default: the scene's preload)")
     p.add_argument("--variant", choices=("held", "settled"), help="preload: object held (default) or settled")
     p.add_argument(
-        "--tangential-ratio", type=float, help="tangential / normal contact stiffness (default 1, the simulation's)"
+        "--tangential-ratio",
+        type=float,
+        help="tangential / normal contact stiffness (default 1, the simulation's)",
     )
     p.add_argument("--max-segments", type=int, default=5000, help="segment-count limit (default 5000)")
     p.add_argument("--png", metavar="FILE", help="write the load-displacement plot to FILE")
@@ -53,13 +55,26 @@ def cmd_path(args: argparse.Namespace) -> int:
     over = {}
     if args.tangential_ratio is not None:
         if not (math.isfinite(args.tangential_ratio) and args.tangential_ratio > 0):
-            raise InvalidInputError("--tangential-ratio", f"must be finite and > 0, got {args.tangential_ratio!r}")
+            raise InvalidInputError(
+                "--tangential-ratio", f"must be finite and > 0, got {args.tangential_ratio!r}"
+            )
         over["tangential_ratio"] = args.tangential_ratio
     settings = pg.Settings(normal_uncertainty=scene.settings.normal_uncertainty, **over).validated()
     lp = pg.loading_path(
-        scene.model, command, direction, variant=args.variant, settings=settings, max_segments=args.max_segments
+        scene.model,
+        command,
+        direction,
+        variant=args.variant,
+        settings=settings,
+        max_segments=args.max_segments,
     )
-    unit = "N" if sum(abs(v) for v in lp.direction[3:]) == 0 else "N·m" if sum(abs(v) for v in lp.direction[:3]) == 0 else "N, N·m"
+    unit = (
+        "N"
+        if sum(abs(v) for v in lp.direction[3:]) == 0
+        else "N·m"
+        if sum(abs(v) for v in lp.direction[:3]) == 0
+        else "N, N·m"
+    )
     limit = "unbounded (no event ahead)" if lp.unbounded else f"{lp.limit:.6g} {unit}"
     lines = [
         scene_line(scene),

@@ -174,8 +174,15 @@ def lemke(M: np.ndarray, q: np.ndarray, max_pivots: int | None = None) -> LCPRes
 def _verified(M: np.ndarray, q: np.ndarray, z: np.ndarray, rtol: float = 1e-8) -> bool:
     """``w = M z + q >= 0`` and ``z^T w = 0`` to ``rtol`` of the data's scale."""
     w = M @ z + q
-    scale = max(float(np.abs(q).max(initial=0.0)), float(np.abs(M).max(initial=0.0)) * float(z.max(initial=0.0)), 1e-300)
-    return bool(w.min(initial=0.0) >= -rtol * scale and np.abs(z * w).max(initial=0.0) <= rtol * scale * max(float(z.max(initial=0.0)), 1e-300))
+    scale = max(
+        float(np.abs(q).max(initial=0.0)),
+        float(np.abs(M).max(initial=0.0)) * float(z.max(initial=0.0)),
+        1e-300,
+    )
+    return bool(
+        w.min(initial=0.0) >= -rtol * scale
+        and np.abs(z * w).max(initial=0.0) <= rtol * scale * max(float(z.max(initial=0.0)), 1e-300)
+    )
 
 
 def canonical(M: np.ndarray, q: np.ndarray, res: LCPResult, rtol: float = 1e-9) -> LCPResult:
@@ -205,5 +212,6 @@ def canonical(M: np.ndarray, q: np.ndarray, res: LCPResult, rtol: float = 1e-9) 
     w = M @ z + q
     w[tight] = 0.0
     return LCPResult(LCPStatus.SOLVED, z, np.maximum(w, 0.0), res.pivots)
+
 
 __all__ = ["LCPResult", "LCPStatus", "canonical", "lemke", "warm"]

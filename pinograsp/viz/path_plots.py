@@ -57,13 +57,17 @@ def plot_loading_path(lp: Any, ax: Axes | None = None, *, bands: bool = True) ->
             )
         else:
             fig, ax = plt.subplots(figsize=(6.5, 4.5))
-    xs, ys = list(s), list(loads)
+    xs = list(s)
     if lp.ray is not None:
         along = float(lp.ray["object_displacements"] @ lp.direction)
         span = max(float(s.max() - s.min()), abs(along) * max(loads[-1], 1.0), 1e-300)
         extra = 0.3 * span / max(abs(along), 1e-300) if along != 0 else 0.3 * max(loads[-1], 1.0)
         ax.plot(
-            [s[-1], s[-1] + along * extra], [loads[-1], loads[-1] + extra], "--", color="C0", gid=GID_UNBOUNDED
+            [s[-1], s[-1] + along * extra],
+            [loads[-1], loads[-1] + extra],
+            "--",
+            color="C0",
+            gid=GID_UNBOUNDED,
         )
         ax.annotate("unbounded", (s[-1] + along * extra, loads[-1] + extra), fontsize=8, ha="right")
         xs.append(s[-1] + along * extra)
@@ -74,7 +78,13 @@ def plot_loading_path(lp: Any, ax: Axes | None = None, *, bands: bool = True) ->
     if lp.status in ("finite", "below_resolution"):
         ax.axhline(lp.limit, color="C3", lw=0.8, ls=":")
         ax.annotate(f"limit {lp.limit:.4g}", (s[-1], lp.limit), fontsize=8, va="bottom", ha="right")
-    unit = "N" if np.linalg.norm(lp.direction[3:]) < 1e-12 else "N·m" if np.linalg.norm(lp.direction[:3]) < 1e-12 else "N, N·m"
+    unit = (
+        "N"
+        if np.linalg.norm(lp.direction[3:]) < 1e-12
+        else "N·m"
+        if np.linalg.norm(lp.direction[:3]) < 1e-12
+        else "N, N·m"
+    )
     ax.set_ylabel(f"load λ [{unit}]")
     ax.set_title(f"quasi-static loading path ({lp.status})", fontsize=10)
     ax.grid(True, alpha=0.3)
@@ -98,7 +108,9 @@ def _bands(ax: Axes, lp: Any, s: np.ndarray, xs: list[float]) -> None:
     ax.set_yticklabels(lp.contact_names, fontsize=7)
     ax.invert_yaxis()
     handles = [pyplot().Rectangle((0, 0), 1, 1, color=c) for c in STATE_COLORS.values()]
-    ax.legend(handles, list(STATE_COLORS), fontsize=7, ncol=3, loc="upper center", bbox_to_anchor=(0.5, -0.45))
+    ax.legend(
+        handles, list(STATE_COLORS), fontsize=7, ncol=3, loc="upper center", bbox_to_anchor=(0.5, -0.45)
+    )
 
 
 __all__ = ["GID_EVENTS", "STATE_COLORS", "plot_loading_path"]

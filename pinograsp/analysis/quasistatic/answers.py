@@ -6,6 +6,7 @@ the path at the load, or not resisted)."""
 from __future__ import annotations
 
 import time
+
 import numpy as np
 
 from ...core.audit import energy_check, friction_use
@@ -13,7 +14,7 @@ from ...core.axes import wrench_direction
 from ...core.model import GraspModel
 from ...core.results import Audit, MaxWrench, PassiveResponse
 from ...core.settings import Settings, make_settings
-from .api import Prepared, loading_path, prepare, _variant
+from .api import Prepared, _variant, loading_path, prepare
 from .result import LoadingPath
 
 #: Name of the method in the records.
@@ -49,8 +50,18 @@ def response_at(
     energy = None
     if status == "resisted":
         energy = energy_check(
-            c[:, 0], m.k, w6, x6 - x0, p.fc, st["actuator_displacements"] * p.signs, x6, q, ell, lever,
-            m.contact_names, tol,
+            c[:, 0],
+            m.k,
+            w6,
+            x6 - x0,
+            p.fc,
+            st["actuator_displacements"] * p.signs,
+            x6,
+            q,
+            ell,
+            lever,
+            m.contact_names,
+            tol,
         )
     audit = Audit(
         equilibrium=float(np.linalg.norm(net * wscale)),
@@ -172,4 +183,3 @@ def quasistatic_max_wrench(
 
 
 __all__ = ["METHOD", "quasistatic_max_wrench", "quasistatic_response", "response_at"]
-

@@ -14,9 +14,9 @@ from ...core.axes import wrench_direction
 from ...core.model import GraspModel
 from ...core.settings import Settings, make_settings
 from ...errors import InvalidInputError
+from .continuation import continue_past_limit
 from .events import path_events
 from .model import QSModel, build_qs_model
-from .continuation import continue_past_limit
 from .path import MAX_SEGMENTS, StageRun, follow
 from .preload import PRELOAD_VARIANTS, preload_path
 from .rates import EVENT_RTOL, StageSpec, State, force_scale
@@ -48,7 +48,9 @@ def _variant(variant: object, settings: Settings) -> str:
     if variant is None:
         return "settled" if settings.variant == "settled-preload" else "held"
     if variant not in PRELOAD_VARIANTS:
-        raise InvalidInputError("variant", f"expected one of {list(PRELOAD_VARIANTS)} or None, got {variant!r}")
+        raise InvalidInputError(
+            "variant", f"expected one of {list(PRELOAD_VARIANTS)} or None, got {variant!r}"
+        )
     return str(variant)
 
 
@@ -69,7 +71,13 @@ def prepare(
     fc = analysed.command_vector(command)
     signs = np.where(fc < 0, -1.0, 1.0)
     ratio = _ratio(settings)
-    key = (float(settings.normal_uncertainty), ratio, tuple(signs.tolist()), variant, tuple(np.abs(fc).tolist()))
+    key = (
+        float(settings.normal_uncertainty),
+        ratio,
+        tuple(signs.tolist()),
+        variant,
+        tuple(np.abs(fc).tolist()),
+    )
     per_model = _CACHE.setdefault(model, {})
     if key not in per_model:
         m = analysed.with_actuator_signs(signs) if np.any(signs < 0) else analysed
@@ -266,7 +274,11 @@ def loading_path(
     d_red = p.model.reduce_wrench(d6)
     t_end = float("inf") if up_to is None else float(up_to)
     spec = StageSpec(np.zeros(p.qm.nx), d_red, p.fc, np.zeros(p.qm.na), t_end, held=False, friction=True)
-    run = follow(p.qm, p.start, spec, int(max_segments)) if t_end > 0 else StageRun(states=[p.start.copy()], status="end")
+    run = (
+        follow(p.qm, p.start, spec, int(max_segments))
+        if t_end > 0
+        else StageRun(states=[p.start.copy()], status="end")
+    )
     cont = None
     if run.status == "limit" and up_to is None:
         more = continue_past_limit(p.qm, run, spec, int(max_segments))
@@ -278,7 +290,13 @@ def loading_path(
 
 def _continuation(p: Prepared, d6: np.ndarray, more: StageRun, spec: StageSpec) -> LoadingPath:
     """The :class:`LoadingPath` record of the path past a softening limit."""
-    cont = build_path(p, d6, StageRun(states=more.states, segments=more.segments, triggers=more.triggers, status="end"), spec, 0.0)
+    cont = build_path(
+        p,
+        d6,
+        StageRun(states=more.states, segments=more.segments, triggers=more.triggers, status="end"),
+        spec,
+        0.0,
+    )
     snaps = tuple(getattr(more, "snaps", ()))
     tail = more.status.split(":")[-1]
     if not snaps:

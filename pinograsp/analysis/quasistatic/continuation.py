@@ -15,8 +15,8 @@ from __future__ import annotations
 import numpy as np
 
 from .model import QSModel
-from .path import StageRun, Trigger, _planned, _plan, advance, follow, next_event
-from .rates import Segment, StageCache, StageSpec, State, classify
+from .path import StageRun, Trigger, _plan, _planned, advance, follow, next_event
+from .rates import Segment, StageCache, StageSpec, classify
 
 #: Largest number of segments of one descent past a limit (a count).
 MAX_DESCENT = 200
@@ -86,7 +86,11 @@ def continue_past_limit(qm: QSModel, run: StageRun, spec: StageSpec, max_segment
         out.lcp_solves += rest.lcp_solves
         out.status = "landed:" + rest.status
         last = rest.segments[-1] if rest.segments else None
-        if rest.status != "limit" or last is None or not (last.lam_rate < 0 and last.control == "displacement"):
+        if (
+            rest.status != "limit"
+            or last is None
+            or not (last.lam_rate < 0 and last.control == "displacement")
+        ):
             return out
         out.segments.pop()  # the limit's segment is the next descent's first
         seg = last

@@ -17,7 +17,20 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .model import QSModel
-from .rates import FULL, PRESS, RATE_RTOL, SEPARATE, Classes, Segment, StageCache, StageSpec, State, classify, rates, rescaled
+from .rates import (
+    FULL,
+    PRESS,
+    RATE_RTOL,
+    SEPARATE,
+    Classes,
+    Segment,
+    StageCache,
+    StageSpec,
+    State,
+    classify,
+    rates,
+    rescaled,
+)
 
 #: A mechanism along the load: ``dλ`` per unit displacement below this fraction of the
 #: largest contact stiffness.
@@ -150,7 +163,11 @@ def _solve_segment(
     plan = _plan(qm, cls, prev)
     hints: tuple[np.ndarray, ...] = ()
     if prev is not None:
-        new = [qm.nc + tr.index if tr.kind == "face" else qm.nc + qm.nf + tr.index for tr in trig if tr.kind in ("face", "command")]
+        new = [
+            qm.nc + tr.index if tr.kind == "face" else qm.nc + qm.nf + tr.index
+            for tr in trig
+            if tr.kind in ("face", "command")
+        ]
         hints = (np.union1d(prev.active, new), prev.active) if new else (prev.active,)
     seg = _planned(qm, st, spec, cls, "load", plan, run, sc, hints)
     if not np.any(spec.dw):
@@ -173,7 +190,9 @@ def _solve_segment(
     return rescaled(alt, 1.0 / alt.lam_rate)
 
 
-def next_event(qm: QSModel, st: State, spec: StageSpec, cls: Classes, seg: Segment) -> tuple[float, tuple[Trigger, ...]]:
+def next_event(
+    qm: QSModel, st: State, spec: StageSpec, cls: Classes, seg: Segment
+) -> tuple[float, tuple[Trigger, ...]]:
     """The step to the next event along ``seg`` (``inf``: none) and the inequalities reached."""
     d = qm.d
     tol = cls.tol
@@ -252,7 +271,14 @@ def follow(qm: QSModel, start: State, spec: StageSpec, max_segments: int = MAX_S
     while True:
         cls = classify(qm, st, spec)
         seg = _solve_segment(
-            qm, st, spec, cls, run, run.segments[-1] if run.segments else None, sc, run.triggers[-1] if run.triggers else ()
+            qm,
+            st,
+            spec,
+            cls,
+            run,
+            run.segments[-1] if run.segments else None,
+            sc,
+            run.triggers[-1] if run.triggers else (),
         )
         run.segments.append(seg)
         if seg.status != "ok":

@@ -28,7 +28,12 @@ PRELOAD_VARIANTS = ("held", "settled")
 def zero_state(qm: QSModel) -> State:
     """The touching configuration without force."""
     return State(
-        np.zeros(qm.nv), np.zeros(qm.ncd), np.zeros(qm.na), np.zeros(qm.ncp), np.zeros(qm.nx), np.zeros(qm.ncd)
+        np.zeros(qm.nv),
+        np.zeros(qm.ncd),
+        np.zeros(qm.na),
+        np.zeros(qm.ncp),
+        np.zeros(qm.nx),
+        np.zeros(qm.ncd),
     )
 
 

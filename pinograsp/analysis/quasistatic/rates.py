@@ -26,70 +26,17 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from scipy.linalg.lapack import dpotrf, dpotrs
-
 from ...solvers.lcp import canonical, lemke, warm
 from .model import QSModel
+from .state import StageSpec, State
+from .system import StageCache, affine_full, affine_reduced
 
 #: Relative tolerance (to the force scale of the state) under which a slack is zero.
 EVENT_RTOL = 1e-9
 #: Relative tolerance (to the rate scale of the segment) under which a rate is zero.
 RATE_RTOL = 1e-10
-#: Relative residual above which a linear solve is taken as having no solution (singular
-#: system whose right-hand side is outside its range).
-RANGE_RTOL = 1e-8
 #: Diagonal regularisation of the faces of zero-force contacts in the LCP, relative to ``M``.
 APEX_REG = 1e-12
-#: Relative squared pivot of the Cholesky factor below which the stiffness is singular.
-CHOL_RTOL = 1e-12
-#: Relative singular-value cut-off of the rate system (its rank, relative to its scale).
-RANK_RTOL = 1e-11
-
-
-@dataclass(frozen=True)
-class StageSpec:
-    """One stage of the path: object load ``w0 + t dw`` (reduced, [N, N·m]), commands
-    ``fc0 + t dfc`` (na,), for ``t`` from its start to ``t_end``; ``held``: the object is
-    held still (its holder takes any wrench); ``friction``: tangential springs and friction on."""
-
-    w0: np.ndarray
-    dw: np.ndarray
-    fc0: np.ndarray
-    dfc: np.ndarray
-    t_end: float
-    held: bool
-    friction: bool
-
-    def command(self, t: float) -> np.ndarray:
-        """Commands at ``t`` (na,)."""
-        return self.fc0 + t * self.dfc
-
-
-@dataclass
-class State:
-    """A point of the path (scaled displacements, physical forces).
-
-    Attributes:
-        vs: Scaled displacements ``(x, q)`` (nv,) [m].
-        c: Contact forces, contact frames (nc*d,) [N].
-        f: Actuator forces (na,); lam_c: coupling reactions (ncp,); hold: holder wrench (nx,).
-        slip: Accumulated tangential slip ``a`` (nc*d,; normal rows 0) [m].
-        t: Path parameter of the stage (the load factor in the load stage).
-    """
-
-    vs: np.ndarray
-    c: np.ndarray
-    f: np.ndarray
-    lam_c: np.ndarray
-    hold: np.ndarray
-    slip: np.ndarray
-    t: float = 0.0
-
-    def copy(self) -> State:
-        """An independent copy."""
-        return State(
-            self.vs.copy(), self.c.copy(), self.f.copy(), self.lam_c.copy(), self.hold.copy(), self.slip.copy(), self.t
-        )
 
 
 @dataclass
@@ -187,158 +134,6 @@ def classify(qm: QSModel, st: State, spec: StageSpec) -> Classes:
 FULL, PRESS, SEPARATE = 0, 1, 2
 
 
-@dataclass(frozen=True, eq=False)
-class StageCache:
-    """What is constant along a stage: the constraint columns ``B`` (nv, ncon) (actuators
-    that are not backdrivable, couplings, the holder), the owner of each column (actuator
-    index; -1 coupling; -2 holder), a basis ``Z`` of the motions they allow, ``pinv(B^T)``
-    and ``pinv(B)``, the load per unit parameter ``r0`` (nv,) and its direction ``crow``."""
-
-    B: np.ndarray
-    owner: np.ndarray
-    Z: np.ndarray
-    Bt_pinv: np.ndarray
-    B_pinv: np.ndarray
-    r0: np.ndarray
-    crow: np.ndarray | None
-    col_of: dict
-    act_cols: np.ndarray
-    coupling_cols: np.ndarray
-    holder_cols: np.ndarray
-    AZ: np.ndarray
-    AtBt: np.ndarray
-    BpA: np.ndarray
-    Bpr0: np.ndarray
-    Ztr0: np.ndarray
-    cz: np.ndarray | None
-
-    @classmethod
-    def of(cls, qm: QSModel, spec: StageSpec) -> StageCache:
-        """The cache of ``spec``."""
-        nv, nx = qm.nv, qm.nx
-        cols, owner = [], []
-        for a in np.flatnonzero(qm.nbd | qm.locked):
-            col = np.zeros(nv)
-            col[nx:] = qm.Rn[:, a]
-            cols.append(col)
-            owner.append(int(a))
-        for k in range(qm.ncp):
-            col = np.zeros(nv)
-            col[nx:] = qm.Cn[k]
-            cols.append(col)
-            owner.append(-1)
-        if spec.held:
-            for j in range(nx):
-                col = np.zeros(nv)
-                col[j] = 1.0
-                cols.append(col)
-                owner.append(-2)
-        B = np.column_stack(cols) if cols else np.zeros((nv, 0))
-        if B.shape[1]:
-            u, sv, _ = np.linalg.svd(B, full_matrices=True)
-            rank = int(np.sum(sv > RANK_RTOL * sv[0]))
-            Z = u[:, rank:]
-            B_pinv = np.linalg.pinv(B, rcond=RANK_RTOL)
-        else:
-            Z, B_pinv = np.eye(nv), np.zeros((0, nv))
-        r0 = np.zeros(nv)
-        r0[:nx] = qm.w_scaled(spec.dw)
-        if qm.na and np.any(qm.bd):
-            r0[nx:] = qm.Rn[:, qm.bd] @ (qm.r_norm[qm.bd] * spec.dfc[qm.bd])
-        size = float(np.linalg.norm(r0[:nx]))
-        crow = r0[:nx] / size if size > 0 else None
-        col_of = {a: j for j, a in enumerate(owner) if a >= 0}
-        Bt_pinv = B_pinv.T.copy()
-        A = qm.A
-        return cls(
-            B,
-            np.array(owner, int),
-            Z,
-            Bt_pinv,
-            B_pinv,
-            r0,
-            crow,
-            col_of,
-            act_cols=np.array(owner, int) >= 0,
-            coupling_cols=np.array(owner, int) == -1,
-            holder_cols=np.array(owner, int) == -2,
-            AZ=A.T @ Z,
-            AtBt=A.T @ Bt_pinv,
-            BpA=B_pinv @ A,
-            Bpr0=B_pinv @ r0,
-            Ztr0=Z.T @ r0,
-            cz=None if crow is None else Z[:nx].T @ crow,
-        )
-
-
-def _affine_reduced(qm, sc, ks, Fm, Vp, control):
-    """Displacement rates ``V`` (nv, 1+nz) and load rates ``lam`` (1+nz,) as affine maps of
-    the flows, through the allowed motions ``Z`` and a Cholesky factor; None when the
-    stiffness on them is (nearly) singular. ``Fm``: contact force rates per column before the
-    motions (flows minus the springs' share of the actuator flows' particular motion)."""
-    AZ = sc.AZ
-    if AZ.shape[1] == 0:
-        return None
-    AZs = AZ * ks[:, None]
-    Kr = AZ.T @ AZs
-    L, info = dpotrf(Kr, lower=1, clean=0)
-    if info != 0:
-        return None
-    diag = L.diagonal()
-    if diag.min() ** 2 <= CHOL_RTOL * diag.max() ** 2:
-        return None
-    rhs = AZ.T @ Fm
-    rhs[:, 0] += sc.Ztr0
-    Y, info = dpotrs(L, rhs, lower=1)
-    if info != 0:
-        return None
-    nz1 = Y.shape[1]
-    lam = np.zeros(nz1)
-    if control == "load":
-        lam[0] = 1.0
-    else:
-        along = float(sc.cz @ Y[:, 0])  # the load column has no actuator flow
-        if not abs(along) > 0:
-            return None
-        rest = sc.cz @ Y[:, 1:] + (Vp[: qm.nx, 1:].T @ sc.crow)
-        lam[0] = 1.0 / along
-        lam[1:] = -rest / along
-        Y = np.outer(Y[:, 0], lam) + np.concatenate([np.zeros((Y.shape[0], 1)), Y[:, 1:]], axis=1)
-        Vp = np.outer(Vp[:, 0], lam) + np.concatenate([np.zeros((Vp.shape[0], 1)), Vp[:, 1:]], axis=1)
-    return sc.Z @ Y + Vp, lam, AZ @ Y
-
-
-def _affine_full(qm, sc, K, rhs_top, con_rhs, control):
-    """As :func:`_affine_reduced` from the whole bordered system by a least-norm SVD solve
-    (mechanisms, redundant constraints); None when the load is outside its range."""
-    nv = qm.nv
-    k = qm.k_ref
-    B = sc.B
-    ncon = B.shape[1]
-    n = nv + ncon + 1
-    H = np.zeros((n, n))
-    H[:nv, :nv] = K
-    H[:nv, nv : nv + ncon] = -k * B
-    H[nv : nv + ncon, :nv] = -k * B.T
-    H[:nv, -1] = -sc.r0
-    if control == "load":
-        H[-1, -1] = 1.0
-    else:
-        H[-1, : qm.nx] = sc.crow
-    rhs = np.zeros((n, rhs_top.shape[1]))
-    rhs[:nv] = rhs_top
-    rhs[:nv, 0] = 0.0
-    rhs[nv : nv + ncon] = con_rhs
-    rhs[-1, 0] = 1.0
-    u, s, vt = np.linalg.svd(H)
-    keep = s > RANK_RTOL * s[0]
-    U = vt[keep].T @ ((u[:, keep].T @ rhs) / s[keep][:, None])
-    res = np.abs(H @ U[:, 0] - rhs[:, 0]).max()
-    if res > RANGE_RTOL * (np.abs(H).max() * np.abs(U[:, 0]).max() + 1.0):
-        return None
-    return U[:nv], U[-1]
-
-
 def rates(
     qm: QSModel,
     st: State,
@@ -360,16 +155,46 @@ def rates(
     into the LCP (default all); a face left out whose slack rate the rates make negative
     comes back in :attr:`Segment.add` (status ``"apex"``).
     """
-    d, nv = qm.d, qm.nv
     sc = StageCache.of(qm, spec) if sc is None else sc
     plan = np.zeros(qm.nc, int) if plan is None else plan
     sep = cls.zero & (plan == SEPARATE)
     touch = (cls.zero & ~sep) | cls.pressed
     rc = qm.row_contact
     ks = touch[rc] * (qm.kn_rows + qm.kt_rows) if spec.friction else touch[rc] * qm.kn_rows
-    A = qm.A
-    k = qm.k_ref
-    # flows: zero-force openings, boundary faces, actuators at their command
+    items = _items(qm, cls, plan, sep, apex)
+    lin = _linear(qm, sc, spec, ks, items, control)
+    if isinstance(lin, Segment):
+        return lin
+    dC, V, lam, Wrows, Mlcp, Rho = lin
+    zero, faces, acts = items
+    nz = Mlcp.shape[0]
+    # faces of a contact at zero force: opposite faces' flows cancel (a null direction of M);
+    # a relative 1e-12 on their diagonal picks the least flow
+    at_apex = np.concatenate(
+        [np.zeros(len(zero), bool), cls.zero[qm.face_contact[faces]], np.zeros(len(acts), bool)]
+    )
+    if at_apex.any():
+        Mlcp[at_apex, at_apex] += APEX_REG * max(float(np.abs(Mlcp).max()), 1.0)
+    # item codes: opening of contact i -> i, face f -> nc + f, actuator a -> nc + nf + a
+    keys = np.concatenate([zero, qm.nc + faces, qm.nc + qm.nf + acts])
+    res = _solve_lcp(Mlcp, Wrows[:, 0], keys, hints) if nz else None
+    if res is not None and not res.solved:
+        return Segment(status=res.status.value, lcp_size=nz, pivots=res.pivots, control=control)
+    zeta1 = np.concatenate([[1.0], res.z if res is not None else np.zeros(0)])
+    v = V @ zeta1
+    dc = dC @ zeta1
+    rho = Rho @ zeta1
+    lam_rate = float(lam @ zeta1)
+    seg = _segment(qm, spec, cls, sc, v, dc, rho, lam_rate, zeta1[1:], items, nz, res, control, sep)
+    if nz:
+        ftol = RATE_RTOL * max(float(np.abs(res.z).max()), 1e-300)
+        seg.active = np.sort(keys[res.z > ftol])
+    return _check_guesses(qm, spec, cls, plan, sep, apex, seg, v, dc, sc)
+
+
+def _items(qm: QSModel, cls: Classes, plan: np.ndarray, sep: np.ndarray, apex: np.ndarray | None):
+    """The LCP items: zero-force contacts with an opening pair, boundary faces, actuators at
+    their command (index arrays)."""
     zero = np.flatnonzero(cls.zero & (plan == FULL))
     faces = cls.faces
     if len(faces):
@@ -378,7 +203,16 @@ def rates(
         if apex is not None:
             keep &= ~cls.zero[owner_f] | apex[faces]
         faces = faces[keep]
-    acts = np.flatnonzero(cls.act_lcp)
+    return zero, faces, np.flatnonzero(cls.act_lcp)
+
+
+def _linear(qm: QSModel, sc: StageCache, spec: StageSpec, ks: np.ndarray, items, control: str):
+    """Contact force rates ``dC`` (ncd, 1+nz), displacement rates ``V`` (nv, 1+nz), load rates
+    ``lam`` (1+nz,), the complementarity rows ``W`` (nz, 1+nz) and ``M`` (nz, nz), and the
+    multipliers ``Rho`` (ncon, 1+nz) per column (load, then one per flow); or a failed
+    :class:`Segment`."""
+    zero, faces, acts = items
+    d, nv, k, A = qm.d, qm.nv, qm.k_ref, qm.A
     n0, n1 = len(zero), len(zero) + len(faces)
     nz = n1 + len(acts)
     F = np.zeros((qm.ncd, 1 + nz))  # contact force rate per unit flow (column 0: the load)
@@ -392,83 +226,69 @@ def rates(
         Vp[:, 1 + n1 :] = sc.Bt_pinv[:, cols] / k
         Fm = F.copy()
         Fm[:, 1 + n1 :] -= ks[:, None] * sc.AtBt[:, cols] / k
-    aff = _affine_reduced(qm, sc, ks, Fm, Vp, control)
+    aff = affine_reduced(qm, sc, ks, Fm, Vp, control)
     if aff is not None:
         V, lam, G = aff
         dC = Fm - ks[:, None] * G
     else:
         if control != "load" and sc.crow is None:
             return Segment(status="singular", control=control)
-        K = (A * ks) @ A.T
         rhs_top = A @ F
         rhs_top[:, 0] = sc.r0
         con_rhs = np.zeros((sc.B.shape[1], 1 + nz))
         if len(acts):
             con_rhs[cols, 1 + n1 + np.arange(len(acts))] = -1.0
-        full = _affine_full(qm, sc, K, rhs_top, con_rhs, control)
+        full = affine_full(qm, sc, (A * ks) @ A.T, rhs_top, con_rhs, control)
         if full is None:
             return Segment(status="singular", lcp_size=nz, control=control)
         V, lam = full
         dC = -ks[:, None] * (A.T @ V) + F
     # multipliers per column: k B rho = K V - r0 lam - A F = -A dC - r0 lam
     Rho = -(sc.BpA @ dC + np.outer(sc.Bpr0, lam)) / k
-    Wrows = np.zeros((nz, 1 + nz))
-    Wrows[:n0] = dC[zero * d]
+    W = np.zeros((nz, 1 + nz))
+    W[:n0] = dC[zero * d]
     if len(faces):
-        Wrows[n0:n1] = qm.Phi[faces] @ dC
+        W[n0:n1] = qm.Phi[faces] @ dC
     if len(acts):
-        Wrows[n1:] = k * Rho[cols] - np.outer(qm.r_norm[acts] * spec.dfc[acts], lam)
-    Mlcp = Wrows[:, 1:].copy()
-    # faces of a contact at zero force: opposite faces' flows cancel (a null direction of M);
-    # a relative 1e-12 on their diagonal picks the least flow
-    at_apex = np.zeros(nz, bool)
-    at_apex[n0:n1] = cls.zero[qm.face_contact[faces]]
-    if at_apex.any():
-        Mlcp[at_apex, at_apex] += APEX_REG * max(float(np.abs(Mlcp).max()), 1.0)
+        W[n1:] = k * Rho[cols] - np.outer(qm.r_norm[acts] * spec.dfc[acts], lam)
     # rounding of a zero load rate (symmetric grasps) is zero
-    qscale = max(float(np.abs(Wrows[:, 0]).max(initial=0.0)), float(np.abs(dC[:, 0]).max(initial=0.0)), 1e-300)
-    Wrows[np.abs(Wrows[:, 0]) <= RATE_RTOL * 1e-3 * qscale, 0] = 0.0
-    # item codes: opening of contact i -> i, face f -> nc + f, actuator a -> nc + nf + a
-    keys = np.concatenate([zero, qm.nc + faces, qm.nc + qm.nf + acts])
+    qscale = max(float(np.abs(W[:, 0]).max(initial=0.0)), float(np.abs(dC[:, 0]).max(initial=0.0)), 1e-300)
+    W[np.abs(W[:, 0]) <= RATE_RTOL * 1e-3 * qscale, 0] = 0.0
+    return dC, V, lam, W, W[:, 1:].copy(), Rho
+
+
+def _solve_lcp(M: np.ndarray, q: np.ndarray, keys: np.ndarray, hints: tuple[np.ndarray, ...]):
+    """Warm starts from the hints (verified), else Lemke; the canonical (least-norm over the
+    tight items) solution."""
     res = None
-    if nz:
-        for hint in hints:
-            if not len(hint):
-                continue
-            guess = np.isin(keys, hint, assume_unique=True)
-            res = warm(Mlcp, Wrows[:, 0], guess)
-            if res is not None:
-                break
-        if res is None:
-            res = lemke(Mlcp, Wrows[:, 0])
-        res = canonical(Mlcp, Wrows[:, 0], res)
-    if res is not None and not res.solved:
-        return Segment(status=res.status.value, lcp_size=nz, pivots=res.pivots, control=control)
-    zeta1 = np.concatenate([[1.0], res.z if res is not None else np.zeros(0)])
-    v = V @ zeta1
-    dc = dC @ zeta1
-    rho = Rho @ zeta1
-    lam_rate = float(lam @ zeta1)
-    seg = _segment(qm, spec, cls, sc, v, dc, rho, lam_rate, zeta1[1:], (zero, faces, acts), nz, res, control, sep)
-    if nz:
-        ftol = RATE_RTOL * max(float(np.abs(res.z).max()), 1e-300)
-        seg.active = np.sort(keys[res.z > ftol])
-    # check the guesses: a pressed zero-force contact must not pull, a separated one not close
+    for hint in hints:
+        if not len(hint):
+            continue
+        res = warm(M, q, np.isin(keys, hint, assume_unique=True))
+        if res is not None:
+            break
+    if res is None:
+        res = lemke(M, q)
+    return canonical(M, q, res)
+
+
+def _check_guesses(qm, spec, cls, plan, sep, apex, seg, v, dc, sc) -> Segment:
+    """Flag a contradicted zero-force guess (status ``"guess"``: a pressed one pulls, a
+    separated one closes) or a left-out apex face that the rates cross (``"apex"``)."""
+    d = qm.d
     rtol = RATE_RTOL * max(float(np.abs(dc).max(initial=0.0)), float(np.abs(sc.r0).max()), 1e-300)
     bad = cls.zero & (plan == PRESS) & (dc[::d] < -rtol)
-    closing = -(A[:, ::d].T @ v) * qm.kn
+    closing = -(qm.A[:, ::d].T @ v) * qm.kn
     bad |= sep & (closing > rtol)
     if bad.any():
         seg.status = "guess"
         seg.flip = bad
         return seg
     if apex is not None and spec.friction and qm.nf:
-        # faces of zero-force contacts left out of the LCP must not be crossed
         on = cls.zero & ~sep & ~opening_of(seg)
         rows = np.flatnonzero(on[qm.face_contact] & ~apex)
         if len(rows):
-            rate = qm.Phi[rows] @ dc
-            out = rows[rate < -rtol]
+            out = rows[(qm.Phi[rows] @ dc) < -rtol]
             if len(out):
                 seg.status = "apex"
                 seg.add = out
@@ -496,7 +316,9 @@ def _segment(qm, spec, cls, sc, v, dc, rho, lam_rate, zeta, items, nz, res, cont
     nzero = len(zero)
     flows_f = zeta[nzero : nzero + len(faces)]
     dslip = flows_f @ qm.slip_rows[faces] if len(faces) else np.zeros(qm.ncd)
-    rscale = max(float(np.abs(dc).max(initial=0.0)), float(np.abs(sc.r0).max(initial=0.0)) * abs(lam_rate), 1e-300)
+    rscale = max(
+        float(np.abs(dc).max(initial=0.0)), float(np.abs(sc.r0).max(initial=0.0)) * abs(lam_rate), 1e-300
+    )
     ftol = RATE_RTOL * rscale
     opening = sep.copy()
     opening[zero] = (zeta[:nzero] > ftol) | (dc[zero * d] <= ftol)
@@ -505,11 +327,15 @@ def _segment(qm, spec, cls, sc, v, dc, rho, lam_rate, zeta, items, nz, res, cont
         fidx = faces[m]
         sliding[qm.face_contact[fidx]].append(int(qm.face_index[fidx]))
     sep_all = cls.open | opening
-    contact = tuple("separated" if sep_all[i] else ("sliding" if sliding[i] else "sticking") for i in range(nc))
+    contact = tuple(
+        "separated" if sep_all[i] else ("sliding" if sliding[i] else "sticking") for i in range(nc)
+    )
     detail = tuple(() if sep_all[i] else tuple(sliding[i]) for i in range(nc))
     moving = np.zeros(qm.na, bool)
     moving[acts] = zeta[nzero + len(faces) :] > ftol
-    actuator = tuple(("moving" if moving[a] else "holding") if qm.nbd[a] else qm.model.kinds[a] for a in range(qm.na))
+    actuator = tuple(
+        ("moving" if moving[a] else "holding") if qm.nbd[a] else qm.model.kinds[a] for a in range(qm.na)
+    )
     dc = dc.reshape(nc, d).copy()
     dc[sep_all] = 0.0
     return Segment(

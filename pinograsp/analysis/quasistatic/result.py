@@ -305,7 +305,13 @@ class LoadingPath:
 
     def summary(self) -> str:
         """Status, limit, segments and events as text."""
-        unit = "N" if np.linalg.norm(self.direction[3:]) < 1e-12 else "N·m" if np.linalg.norm(self.direction[:3]) < 1e-12 else "N, N·m"
+        unit = (
+            "N"
+            if np.linalg.norm(self.direction[3:]) < 1e-12
+            else "N·m"
+            if np.linalg.norm(self.direction[:3]) < 1e-12
+            else "N, N·m"
+        )
         lim = "unbounded" if self.unbounded else f"{self.limit:.6g} {unit}"
         lines = [
             f"quasi-static loading path along {direction_text(self.direction)}: {lim} ({self.status}, "
@@ -335,7 +341,9 @@ def _upto(lp: LoadingPath, end: int) -> LoadingPath:
     )
 
 
-def _crossing(lp: LoadingPath, x0: np.ndarray, scale: float, delta: float, rot: float, start: int) -> float | None:
+def _crossing(
+    lp: LoadingPath, x0: np.ndarray, scale: float, delta: float, rot: float, start: int
+) -> float | None:
     """The first load from breakpoint ``start`` on (and along the ray of an unbounded path)
     where the object's displacement from ``x0`` (times ``scale``) reaches ``delta`` or turns
     ``rot``; None if it does not before the path ends."""
