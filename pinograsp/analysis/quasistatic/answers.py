@@ -66,7 +66,7 @@ def response_at(
     audit = Audit(
         equilibrium=float(np.linalg.norm(net * wscale)),
         hand=float(np.abs(hand).max(initial=0.0)),
-        complementarity=0.0,
+        complementarity=_complementarity(p, m.reduce_wrench(x6), q, c, f),
         friction=float(max(0.0, -(p.qm.Phi @ cc).min(initial=0.0))),
         tolerance=tol,
         energy=energy,
@@ -105,6 +105,18 @@ def response_at(
         contact_slip=st["contact_slip"],
         edge_counts=m.edge_counts,
     )
+
+
+def _complementarity(p: Prepared, x: np.ndarray, q: np.ndarray, c: np.ndarray, f: np.ndarray) -> float:
+    """Largest violation [N] of the normal spring law ``c_n = k max(delta, 0)`` and of the
+    ratchets' ``f >= f_c`` (forces as contact forces: torques over their lever)."""
+    m, qm = p.model, p.qm
+    g = np.asarray(m.G).T @ x - (np.asarray(m.J) @ q if m.nq else 0.0)
+    delta = -g[:: m.d]
+    law = np.abs(c[:, 0] - m.k * np.maximum(delta, 0.0)).max(initial=0.0)
+    over = (np.abs(f) - p.fc) * qm.r_norm
+    ratchet = float(np.maximum(-over[qm.nbd], 0.0).max(initial=0.0)) if qm.na else 0.0
+    return float(max(law, ratchet))
 
 
 def quasistatic_response(
