@@ -111,6 +111,44 @@ def warm(M: np.ndarray, q: np.ndarray, active: np.ndarray, rtol: float = 1e-12) 
     return LCPResult(LCPStatus.SOLVED, z, np.maximum(w, 0.0), 0)
 
 
+def principal_pivoting(
+    M: np.ndarray, q: np.ndarray, active: np.ndarray, max_iter: int | None = None, rtol: float = 1e-12
+) -> LCPResult | None:
+    """Block principal pivoting from the guessed set ``active`` (bool (n,)) of positive ``z``.
+
+    Each step solves ``M_BB z_B = -q_B`` and flips the items that violate ``z_B >= 0`` or
+    ``w_N >= 0`` (all at once for three steps, then only the first one: Murty's rule, finite
+    for P-matrices). Returns the solution when the signs hold (to ``rtol`` of the data's scale),
+    None after ``max_iter`` steps (default ``2 n + 4``) or on a singular block: the caller then
+    uses :func:`lemke`. A guess only saves pivots; the answer is checked, never trusted.
+    """
+    n = q.size
+    act = np.asarray(active, bool).copy()
+    limit = 2 * n + 4 if max_iter is None else int(max_iter)
+    mscale = max(float(np.abs(M).max(initial=0.0)), 1e-300)
+    qscale = max(float(np.abs(q).max(initial=0.0)), 1e-300)
+    for it in range(limit):
+        z = np.zeros(n)
+        if act.any():
+            _, _, zb, info = dgesv(M[act][:, act], -q[act])
+            if info != 0 or not np.all(np.isfinite(zb)):
+                return None
+            z[act] = zb
+        w = M @ z + q
+        w[act] = 0.0
+        tol = rtol * max(qscale, mscale * float(np.abs(z).max(initial=0.0)))
+        bad = (act & (z < -tol)) | (~act & (w < -tol))
+        if not bad.any():
+            z[act] = np.maximum(z[act], 0.0)
+            return LCPResult(LCPStatus.SOLVED, z, np.maximum(w, 0.0), 0)
+        if it < 3:
+            act ^= bad
+        else:
+            j = int(np.flatnonzero(bad)[0])
+            act[j] = not act[j]
+    return None
+
+
 def lemke(M: np.ndarray, q: np.ndarray, max_pivots: int | None = None) -> LCPResult:
     """Solve the LCP ``(M, q)`` by Lemke's method with the lexicographic pivoting rule.
 
@@ -214,4 +252,4 @@ def canonical(M: np.ndarray, q: np.ndarray, res: LCPResult, rtol: float = 1e-9) 
     return LCPResult(LCPStatus.SOLVED, z, np.maximum(w, 0.0), res.pivots)
 
 
-__all__ = ["LCPResult", "LCPStatus", "canonical", "lemke", "warm"]
+__all__ = ["LCPResult", "LCPStatus", "canonical", "lemke", "principal_pivoting", "warm"]

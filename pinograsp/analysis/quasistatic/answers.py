@@ -169,7 +169,11 @@ def quasistatic_max_wrench(
     v = _variant(variant, s)
     p = prepare(model, command, s, v)
     d6 = wrench_direction(model, direction)
-    lp = path if path is not None else loading_path(model, command, d6, variant=v, settings=s)
+    lp = (
+        path
+        if path is not None
+        else loading_path(model, command, d6, variant=v, settings=s, continuation=False)
+    )
     status = lp.status
     unbounded = status == "unbounded"
     magnitude = float("inf") if unbounded else float(lp.limit)

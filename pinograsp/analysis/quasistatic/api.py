@@ -242,6 +242,7 @@ def loading_path(
     settings: Settings | None = None,
     max_segments: int = MAX_SEGMENTS,
     up_to: float | None = None,
+    continuation: bool = True,
 ) -> LoadingPath:
     """Follow the equilibrium of the preloaded grasp as the load ``λ direction`` grows from 0
     (the quasi-static loading path, docs/methods.md).
@@ -256,6 +257,8 @@ def loading_path(
             contact stiffness, default 1) and ``normal_uncertainty`` apply.
         max_segments: Segment-count limit of each stage (a count; status ``"segment_limit"``).
         up_to: Stop at this load [N or N·m] (status ``"reached"`` when the path gets there).
+        continuation: At a softening limit, also follow the path past it to the snap's
+            landing and on (:attr:`LoadingPath.continuation`).
 
     Returns:
         The :class:`LoadingPath`.
@@ -280,7 +283,7 @@ def loading_path(
         else StageRun(states=[p.start.copy()], status="end")
     )
     cont = None
-    if run.status == "limit" and up_to is None:
+    if run.status == "limit" and up_to is None and continuation:
         more = continue_past_limit(p.qm, run, spec, int(max_segments))
         if more is not None:
             cont = _continuation(p, d6, more, spec)

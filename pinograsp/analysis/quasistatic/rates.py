@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ...solvers.lcp import canonical, lemke, warm
+from ...solvers.lcp import canonical, lemke, principal_pivoting
 from .model import QSModel
 from .state import StageSpec, State
 from .system import StageCache, affine_full, affine_reduced
@@ -177,7 +177,7 @@ def rates(
         Mlcp[at_apex, at_apex] += APEX_REG * max(float(np.abs(Mlcp).max()), 1.0)
     # item codes: opening of contact i -> i, face f -> nc + f, actuator a -> nc + nf + a
     keys = np.concatenate([zero, qm.nc + faces, qm.nc + qm.nf + acts])
-    res = _solve_lcp(Mlcp, Wrows[:, 0], keys, hints) if nz else None
+    res = _solve_lcp(Mlcp, Wrows[:, 0], keys, hints, qm.nc + qm.nf + qm.na) if nz else None
     if res is not None and not res.solved:
         return Segment(status=res.status.value, lcp_size=nz, pivots=res.pivots, control=control)
     zeta1 = np.concatenate([[1.0], res.z if res is not None else np.zeros(0)])
@@ -257,16 +257,15 @@ def _linear(qm: QSModel, sc: StageCache, spec: StageSpec, ks: np.ndarray, items,
     return dC, V, lam, W, W[:, 1:].copy(), Rho
 
 
-def _solve_lcp(M: np.ndarray, q: np.ndarray, keys: np.ndarray, hints: tuple[np.ndarray, ...]):
-    """Warm starts from the hints (verified), else Lemke; the canonical (least-norm over the
-    tight items) solution."""
+def _solve_lcp(M: np.ndarray, q: np.ndarray, keys: np.ndarray, hints: tuple[np.ndarray, ...], ntot: int):
+    """Principal pivoting from the first hint (the previous segment's flowing items and the
+    inequalities just reached), else Lemke's method; the canonical (least-norm over the tight
+    items) solution."""
     res = None
-    for hint in hints:
-        if not len(hint):
-            continue
-        res = warm(M, q, np.isin(keys, hint, assume_unique=True))
-        if res is not None:
-            break
+    for hint in hints[:1]:
+        mask = np.zeros(ntot, bool)
+        mask[hint] = True
+        res = principal_pivoting(M, q, mask[keys])
     if res is None:
         res = lemke(M, q)
     return canonical(M, q, res)
