@@ -114,3 +114,20 @@ def test_warm_start_accepts_only_a_right_guess():
     np.testing.assert_allclose(good.z, lemke(M, q).z, rtol=1e-14)
     assert warm(M, q, np.array([True, False])) is None  # w2 = z1 - 6 < 0
     assert warm(M, q, np.array([False, False])) is None
+
+
+@pytest.mark.parametrize("seed", range(10))
+def test_principal_pivoting_from_any_guess_matches_lemke(seed):
+    from pinograsp.solvers.lcp import principal_pivoting
+
+    rng = np.random.default_rng(100 + seed)
+    n = 6
+    A = rng.normal(size=(n, n))
+    M = A @ A.T + 0.5 * np.eye(n) + 0.2 * (A - A.T)
+    q = rng.normal(size=n)
+    ref = lemke(M, q).z
+    for _ in range(5):
+        r = principal_pivoting(M, q, rng.random(n) < 0.5)
+        assert r is not None
+        check(M, q, r)
+        np.testing.assert_allclose(r.z, ref, atol=1e-12)
