@@ -268,6 +268,12 @@ def _solve_lcp(M: np.ndarray, q: np.ndarray, keys: np.ndarray, hints: tuple[np.n
         res = principal_pivoting(M, q, mask[keys])
     if res is None:
         res = lemke(M, q)
+    if not res.solved:  # Lemke's method gave no (trustworthy) answer: pivot from both ends
+        for start in (np.zeros(q.size, bool), np.ones(q.size, bool)):
+            alt = principal_pivoting(M, q, start)
+            if alt is not None:
+                res = alt
+                break
     return canonical(M, q, res)
 
 
