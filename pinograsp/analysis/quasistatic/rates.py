@@ -219,7 +219,7 @@ def _linear(qm: QSModel, sc: StageCache, spec: StageSpec, ks: np.ndarray, items,
     F[zero * d, 1 + np.arange(n0)] = 1.0
     if len(faces):
         F[:, 1 + n0 : 1 + n1] = qm.PhiT_t[:, faces]  # dc_t = -nu per unit flow
-    cols = np.array([sc.col_of[int(a)] for a in acts], int)
+    cols = sc.col_arr[acts]
     Vp = np.zeros((nv, 1 + nz))
     Fm = F
     if len(acts):

@@ -37,6 +37,7 @@ class StageCache:
     r0: np.ndarray
     crow: np.ndarray | None
     col_of: dict
+    col_arr: np.ndarray
     act_cols: np.ndarray
     coupling_cols: np.ndarray
     holder_cols: np.ndarray
@@ -94,6 +95,7 @@ class StageCache:
             r0,
             crow,
             col_of,
+            col_arr=np.array([col_of.get(a, -1) for a in range(qm.na)], int),
             act_cols=np.array(owner, int) >= 0,
             coupling_cols=np.array(owner, int) == -1,
             holder_cols=np.array(owner, int) == -2,
