@@ -13,8 +13,8 @@ from ...core.audit import energy_check, friction_use
 from ...core.axes import wrench_direction
 from ...core.model import GraspModel
 from ...core.results import Audit, MaxWrench, PassiveResponse
-from ...core.settings import Settings, make_settings
-from .api import Prepared, _variant, loading_path, prepare
+from ...core.settings import Settings
+from .api import Prepared, _variant, checked_settings, loading_path, prepare
 from .result import LoadingPath
 
 #: Name of the method in the records.
@@ -133,7 +133,7 @@ def quasistatic_response(
     verdict). Arguments as :func:`pinograsp.passive_response`.
     """
     t0 = time.perf_counter()
-    s = make_settings(settings)
+    s = checked_settings(settings)
     v = _variant(variant, s)
     p = prepare(model, command, s, v)
     w6 = model.wrench_vector(wrench)
@@ -165,7 +165,7 @@ def quasistatic_max_wrench(
     apply (``upper = inf``, ``resolution = 0``).
     """
     t0 = time.perf_counter()
-    s = make_settings(settings)
+    s = checked_settings(settings)
     v = _variant(variant, s)
     p = prepare(model, command, s, v)
     d6 = wrench_direction(model, direction)

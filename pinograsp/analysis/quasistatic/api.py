@@ -40,6 +40,24 @@ class Prepared:
     ratio: float
 
 
+_VALID: dict[Settings, Settings] = {}
+
+
+def checked_settings(settings: Settings | None) -> Settings:
+    """``settings`` validated (:func:`make_settings`), kept per value (a frozen record)."""
+    if settings is None or isinstance(settings, Settings):
+        try:
+            hit = _VALID.get(settings or Settings())
+        except TypeError:  # an unhashable field value: validate (and reject) it
+            hit = None
+        if hit is not None:
+            return hit
+    s = make_settings(settings)
+    if len(_VALID) < 256:
+        _VALID[s] = s
+    return s
+
+
 def _ratio(settings: Settings) -> float:
     return float(getattr(settings, "tangential_ratio", 1.0))
 
@@ -268,7 +286,7 @@ def loading_path(
         InvalidInputError: Bad model, command, direction, variant or settings.
     """
     t0 = time.perf_counter()
-    s = make_settings(settings)
+    s = checked_settings(settings)
     v = _variant(variant, s)
     if isinstance(max_segments, bool) or not isinstance(max_segments, (int, np.integer)) or max_segments < 1:
         raise InvalidInputError("max_segments", f"expected a whole number >= 1, got {max_segments!r}")
