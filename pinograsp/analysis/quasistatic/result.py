@@ -169,12 +169,11 @@ class LoadingPath:
                 out[name] = (1.0 - s) * arr[j] + s * arr[j + 1]
             else:
                 out[name] = arr[j].copy()
-        on = j if lam < last or lam == 0.0 or self.ray is not None else max(j - 1, 0)
-        if lam == last and self.ray is None and j > 0:
-            on = j - 1  # the state that reached the last breakpoint
-        out["contact_states"] = self.contact_states[on]
-        out["sliding_faces"] = self.sliding_faces[on]
-        out["actuator_modes"] = self.actuator_modes[on]
+        # the states of the segment leaving breakpoint j (at the last one: the state found at
+        # the limit, on the ray, or the one that reached it)
+        out["contact_states"] = self.contact_states[j]
+        out["sliding_faces"] = self.sliding_faces[j]
+        out["actuator_modes"] = self.actuator_modes[j]
         return out
 
     def load_at_displacement(
