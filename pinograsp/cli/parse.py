@@ -10,6 +10,7 @@ import argparse
 from collections.abc import Sequence
 
 from ..core.settings import Method, Variant
+from .path_command import add_path
 
 #: Defaults of ``pinograsp demo``: small enough to finish in well under a minute on 2 cores.
 DEMO_SCENE = "case1"
@@ -380,6 +381,7 @@ _SUBCOMMANDS = (
     _add_optimal_preload,
     _add_batch,
     _add_simulate,
+    add_path,
 )
 
 

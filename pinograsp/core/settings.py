@@ -155,6 +155,9 @@ class Settings:
             pyramid (edges added on the Coulomb cone) until the sector holding its force or
             slip direction is at most this wide [rad]; ``None`` (default) keeps the model's
             pyramid. At most 100 edges per contact; planar pyramids are exact already.
+        tangential_ratio: ``"quasistatic"``: tangential contact stiffness as a multiple of the
+            normal stiffness ``k`` (default 1, the simulation's; > 0; large values approach the
+            paper's rigid friction).
     """
 
     backend: str = "bnb"
@@ -175,6 +178,7 @@ class Settings:
     verify_infeasible: bool = True
     normal_uncertainty: float = 0.0
     cone_tolerance: float | None = None
+    tangential_ratio: float = 1.0
 
     def validated(self) -> Settings:
         """Check every field; raise :class:`InvalidInputError` naming the bad one."""
@@ -210,6 +214,7 @@ class Settings:
         if self.variant is not None:
             choice("variant", self.variant, VARIANTS)
         check_angle("normal_uncertainty", self.normal_uncertainty)
+        positive_number("tangential_ratio", self.tangential_ratio)
         if self.cone_tolerance is not None:
             check_angle("cone_tolerance", self.cone_tolerance, np.pi / 4)
             if self.cone_tolerance <= 0:
