@@ -298,7 +298,7 @@ def test_segment_limit_is_reported(case1):
 
 
 def test_cli_path(capsys, tmp_path):
-    from clirun import run, run_json
+    from support.clirun import run, run_json
 
     data = run_json(capsys, "path", "pinch", "-d", "fy")
     assert data["status"] == "finite" and data["limit"] == pytest.approx(10.0, rel=1e-9)
