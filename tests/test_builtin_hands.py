@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from clirun import run
+from support.clirun import run
 
 import pinograsp as pg
 

@@ -14,10 +14,11 @@ from ..errors import InvalidInputError, UnknownChoiceError
 from .method_energetic import ENERGETIC
 from .method_iterative import ITERATIVE
 from .method_prp import PRP
+from .method_quasistatic import QUASISTATIC
 from .protocols import AnalysisMethod
 
 #: The registered methods, in the order they are listed to users.
-METHODS: dict[str, AnalysisMethod] = {m.name.value: m for m in (PRP, ITERATIVE, ENERGETIC)}
+METHODS: dict[str, AnalysisMethod] = {m.name.value: m for m in (PRP, ITERATIVE, ENERGETIC, QUASISTATIC)}
 
 
 def available_methods() -> tuple[str, ...]:

@@ -115,13 +115,15 @@ class MaxWrench:
         resolution: Bisection resolution ``upper / 2**steps`` (the true limit lies in
             ``[magnitude, magnitude + resolution]`` if resistibility is monotone along the ray).
         evidence: Every magnitude tried and its verdict, in order.
-        method: ``"prp"``, ``"iterative"`` or ``"energetic"``.
+        method: ``"prp"``, ``"iterative"``, ``"energetic"`` or ``"quasistatic"``.
         solve_time: Total solver wall time [s] (including the preload check).
         wall_time: Total wall time of the query [s].
         n_solves: Complementarity problems solved.
         response: The passive response at ``magnitude`` (or at ``upper`` when unbounded).
-        search: ``"bisection"``, ``"secant"`` (iterative) or ``"direct"`` (one load-factor
-            complementarity problem, PRP only).
+        search: ``"bisection"``, ``"secant"`` (iterative), ``"direct"`` (one load-factor
+            complementarity problem, PRP and energetic) or ``"path"`` (quasi-static: the limit
+            load of the loading path, exact; ``upper`` is then ``inf`` and ``resolution`` and
+            ``floor`` 0: neither the query's ``upper`` nor its ``steps`` apply).
         audit_failures: Resisted magnitudes whose solution fails the audit (energy balance or
             displacement size; ``inf`` for the zero-preload limit test), ascending. Non-empty
             means the PRP's wedging artefact carries the verdict above ``min(audit_failures)``;

@@ -28,7 +28,7 @@ class Vocabulary(str, Enum):
 
 
 class Method(Vocabulary):
-    """Which passive-response algorithm (docs/design.md)."""
+    """Which passive-response algorithm (docs/design.md; the default: :data:`DEFAULT_METHOD`)."""
 
     #: Seed Alg. 1: one mixed-integer problem; admits the wedging artefact.
     PRP = "prp"
@@ -37,6 +37,10 @@ class Method(Vocabulary):
     #: Maximum dissipation (docs/methods.md): the PRP plus slip variables, friction opposing
     #: slip and sliding contacts on the pyramid's boundary; one mixed-integer problem.
     ENERGETIC = "energetic"
+    #: The quasi-static loading path (docs/methods.md): the equilibrium of the preloaded grasp
+    #: followed exactly, event by event, as the load grows (tangential contact springs with
+    #: Coulomb slip); the limit load without bisection.
+    QUASISTATIC = "quasistatic"
 
 
 class Variant(Vocabulary):
@@ -80,9 +84,15 @@ class Search(Vocabulary):
     SECANT = "secant"
     #: One load-factor complementarity problem (PRP and energetic).
     DIRECT = "direct"
+    #: Follow the loading path to its end (quasi-static only): no bisection, the limit is
+    #: exact; ``steps`` does not apply and ``upper`` does not decide unboundedness.
+    PATH = "path"
 
 
 METHODS = tuple(m.value for m in Method)
+#: The method every analysis, scene, batch file and CLI command uses when none is named (the
+#: one place to change it: /work/notes/qs_default.md lists what follows such a change).
+DEFAULT_METHOD = Method.ITERATIVE
 VARIANTS = tuple(v.value for v in Variant)
 BACKENDS = tuple(b.value for b in Backend)
 COMPLEMENTARITIES = tuple(c.value for c in Complementarity)
