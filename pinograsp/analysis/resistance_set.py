@@ -33,6 +33,7 @@ from ..core.results import MaxWrench, ResistanceProfile
 from ..core.serialize import format_magnitude, jsonable, vector_text
 from ..core.validate import finite_array, positive_number, whole_number
 from ..errors import InvalidInputError
+from .registry import search_text
 
 if TYPE_CHECKING:
     from .response import PassiveSolver
@@ -222,8 +223,8 @@ class ResistanceSet:
         dim = 3 if np.allclose(self.directions[:, [2, 3, 4]], 0.0) else 6
         lines = [
             f"resistance set: {n} directions on the unit {dim}-D wrench sphere, torques scaled by "
-            f"{self.length:.4g} m ({self.length_source}); method {self.method}, upper {self.upper:g}, "
-            f"{self.steps} steps",
+            f"{self.length:.4g} m ({self.length_source}); method {self.method}, "
+            f"{search_text(self.method, self.upper, self.steps)}",
             "classes: " + ", ".join(f"{k.replace('_', ' ')} {v} ({v / max(n, 1):.1%})" for k, v in c.items()),
         ]
         w = self.worst()

@@ -17,6 +17,7 @@ import numpy as np
 
 import pinograsp as pg
 
+from ..analysis.registry import search_text
 from ..core.results import format_max_wrench
 from ..core.serialize import direction_text, format_magnitude, runs_text, wrench_unit
 from ..core.tables import profile_to_csv
@@ -120,7 +121,7 @@ def _profile_lines(sweep: _Sweep, p: Any, norm: float | None, wall: float, runs:
         scene_line(sweep.scene),
         preload_line(sweep.command, sweep.preload_name),
         f"profile in the plane ({b1}, {b2}): {len(p.angles)} directions, method {sweep.method}{sweep.note}, "
-        f"upper {upper:g} {unit}, {steps} steps (resolution {upper / 2**steps:.2g} {unit}); {wall:.1f} s",
+        f"{search_text(sweep.method, upper, steps, unit)}; {wall:.1f} s",
         "",
         header,
     ]
@@ -316,7 +317,7 @@ def cmd_compare_preloads(args: argparse.Namespace) -> int:
         ],
         "total_time": wall,
     }
-    head = f"method {method}, upper {upper:g}, {steps} steps; {wall:.1f} s"
+    head = f"method {method}, {search_text(method, upper, steps)}; {wall:.1f} s"
     out.print(*_compare_lines(scene, names, rows, head))
     out.write_json("compare_preloads.json", data)
     out.figure("compare_preloads.png", lambda path: _plot_comparison(scene, rows, method, path))
