@@ -18,7 +18,7 @@ from ..core.axes import WRENCH_AXES, wrench_direction
 from ..core.model import GraspModel
 from ..core.query import Query, make_query
 from ..core.results import MaxWrench, PassiveResponse
-from ..core.settings import Settings
+from ..core.settings import DEFAULT_METHOD, Settings
 from ..errors import PreloadNotInEquilibriumError
 from ..solvers.threads import single_threaded
 from .protocols import LimitQuery, SessionLike, Tally, verdict
@@ -64,7 +64,7 @@ def max_resistible_wrench(
     model: GraspModel,
     command: object,
     direction: object,
-    method: str = "iterative",
+    method: str = DEFAULT_METHOD,
     upper: float = 1e3,
     steps: int = 20,
     *,

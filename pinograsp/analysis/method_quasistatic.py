@@ -96,12 +96,19 @@ class QuasistaticMethod:
                 ``"segment_limit"``; the load reached is in the message).
         """
         v, path = path_variant(session.settings)
-        mw = quasistatic_max_wrench(session.model, query.command, query.direction, session.settings, variant=path)
+        mw = quasistatic_max_wrench(
+            session.model, query.command, query.direction, session.settings, variant=path
+        )
         if mw.status in NO_VERDICT:
             raise SolverError(
                 f"the quasi-static loading path stopped at load {mw.magnitude:.6g} without a verdict "
-                f"({mw.status}: " + ("the segment-count limit" if mw.status == "segment_limit" else
-                "the local rate problem has no unique continuation") + "); that load is a lower "
+                f"({mw.status}: "
+                + (
+                    "the segment-count limit"
+                    if mw.status == "segment_limit"
+                    else "the local rate problem has no unique continuation"
+                )
+                + "); that load is a lower "
                 "bound of the limit. pg.loading_path(model, command, direction) shows the path",
                 solver="lemke",
                 status=str(mw.status),

@@ -27,7 +27,7 @@ from typing import Literal
 import numpy as np
 
 from ..core.model import GraspModel
-from ..core.settings import METHODS, Settings, Variant
+from ..core.settings import DEFAULT_METHOD, METHODS, Settings, Variant
 from ..core.validate import choice, finite_array, positive_number, whole_number
 from ..errors import AuditWarning, InvalidInputError
 from ..solvers.problem import ProblemKind
@@ -192,7 +192,7 @@ def _direction_weights(direction_weights: Sequence[float] | None, k: int) -> np.
 def optimal_preload(
     model: GraspModel,
     disturbances: object,
-    method: str = "iterative",
+    method: str = DEFAULT_METHOD,
     *,
     objective: str = "max",
     budget: float | None = None,

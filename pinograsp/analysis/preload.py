@@ -27,7 +27,7 @@ import numpy as np
 
 from ..core.model import GraspModel
 from ..core.results import PassiveResponse
-from ..core.settings import METHODS, Settings
+from ..core.settings import DEFAULT_METHOD, METHODS, Settings
 from ..core.validate import choice, positive_number
 from ..errors import InvalidInputError, UnknownNameError
 from .registry import get_method
@@ -219,7 +219,7 @@ def _held_still(method: str) -> bool:
 
 def equilibrium_preload(
     model: GraspModel,
-    method: str = "iterative",
+    method: str = DEFAULT_METHOD,
     *,
     objective: str = "balanced",
     max_command: float | dict[str, float] = 1.0,

@@ -31,6 +31,7 @@ from ..core.model import GraspModel
 from ..core.query import Query, make_query
 from ..core.results import MaxWrench, ResistanceProfile
 from ..core.serialize import format_magnitude, jsonable, vector_text
+from ..core.settings import DEFAULT_METHOD
 from ..core.validate import finite_array, positive_number, whole_number
 from ..errors import InvalidInputError
 from .registry import search_text
@@ -132,7 +133,7 @@ class ResistanceSet:
     unbounded: np.ndarray
     failures: tuple[tuple[int, str, str], ...]
     results: tuple[MaxWrench | None, ...] = field(repr=False)
-    method: str = "iterative"
+    method: str = DEFAULT_METHOD
     upper: float = 1e3
     steps: int = 20
     seed: int | None = 0
@@ -361,7 +362,7 @@ def resistance_set(
     model: GraspModel,
     command: object,
     n: int | None = None,
-    method: str = "iterative",
+    method: str = DEFAULT_METHOD,
     length: float | None = None,
     seed: int = 0,
     workers: int | None = None,

@@ -46,7 +46,7 @@ import numpy as np
 
 from ..core.model import GraspModel
 from ..core.results import PassiveResponse
-from ..core.settings import Backend, Method, Settings, make_settings
+from ..core.settings import DEFAULT_METHOD, Backend, Method, Settings, make_settings
 from ..errors import ConditioningWarning, InvalidInputError
 from ..solvers.base import Mode, RawSolution, SolveStatus
 from ..solvers.formulation import Formulation, ScaledData
@@ -256,7 +256,7 @@ class PassiveSolver:
 
     # ------------------------------------------------------------- response
     @single_threaded
-    def response(self, command: object, wrench: object, method: str = "iterative") -> PassiveResponse:
+    def response(self, command: object, wrench: object, method: str = DEFAULT_METHOD) -> PassiveResponse:
         """Passive response to ``wrench`` under ``command`` (see :func:`passive_response`)."""
         rules = get_method(method)
         if self._refines(rules):
@@ -320,7 +320,7 @@ def passive_response(
     model: GraspModel,
     command: object,
     wrench: object,
-    method: str = "iterative",
+    method: str = DEFAULT_METHOD,
     *,
     settings: Settings | None = None,
     **overrides: object,

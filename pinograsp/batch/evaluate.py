@@ -27,7 +27,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, ClassVar
 
-from ..core.settings import METHODS, Method
+from ..core.settings import DEFAULT_METHOD, METHODS, Method
 from ..core.validate import choice, positive_number, whole_number
 from ..errors import InvalidInputError, MissingDependencyError
 from .executors import check_executor, run_chunks
@@ -82,7 +82,7 @@ class WorstAxisScore:
 
     upper: float = 50.0
     steps: int = 6
-    method: Method | str = Method.ITERATIVE
+    method: Method | str = Method(DEFAULT_METHOD)
 
     #: The columns of every table scored with it (planar models leave ``max_±fz`` NaN).
     columns: ClassVar[tuple[str, ...]] = (

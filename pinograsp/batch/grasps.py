@@ -19,7 +19,7 @@ from typing import Any, Literal, cast
 import numpy as np
 
 from ..core.poses import rotation_rpy, rpy_of
-from ..core.settings import METHODS, Method
+from ..core.settings import DEFAULT_METHOD, METHODS, Method
 from ..core.validate import choice, finite_number, positive_number, whole_number
 from ..errors import InvalidInputError
 
@@ -191,7 +191,7 @@ class GraspSpec:
     stiffness: float = 1.0
     command: Literal["auto"] | float | tuple[tuple[str, float], ...] = "auto"
     max_command: float = 1.0
-    preload_method: Method | str = Method.ITERATIVE
+    preload_method: Method | str = Method(DEFAULT_METHOD)
     id: str | None = None
 
     def __post_init__(self) -> None:

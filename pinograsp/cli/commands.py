@@ -15,9 +15,9 @@ import numpy as np
 
 import pinograsp as pg
 
+from ..analysis.registry import search_text
 from ..core.results import format_max_wrench
 from ..core.serialize import jsonable, vector_text, wrench_unit
-from ..analysis.registry import search_text
 from ..errors import InvalidInputError
 from . import options as opt
 from .report import (

@@ -323,7 +323,9 @@ def _add_batch(sub: argparse._SubParsersAction) -> None:
     b.add_argument("--upper", type=float, help="score search limit [N] (default: the file's score block)")
     b.add_argument("--steps", type=int, help="score search steps (default: the file's score block)")
     b.add_argument(
-        "--method", choices=_METHODS, help="score method: prp, iterative, energetic or quasistatic (default: the file's)"
+        "--method",
+        choices=_METHODS,
+        help="score method: prp, iterative, energetic or quasistatic (default: the file's)",
     )
     b.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None, help=_PROGRESS_HELP)
     _debug_option(b)

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from ..errors import InvalidInputError
-from .settings import METHODS, Method, Search
+from .settings import DEFAULT_METHOD, METHODS, Method, Search
 from .validate import choice, positive_number, whole_number
 
 SEARCHES = tuple(s.value for s in Search)
@@ -35,7 +35,7 @@ class Query:
         InvalidInputError: A field out of its domain (named).
     """
 
-    method: Method = Method.ITERATIVE
+    method: Method = Method(DEFAULT_METHOD)
     upper: float = 1e3
     steps: int = 20
     search: Search = Search.AUTO
@@ -63,7 +63,7 @@ class Query:
 
 def make_query(
     query: Query | None,
-    method: object = "iterative",
+    method: object = DEFAULT_METHOD,
     upper: object = 1e3,
     steps: object = 20,
     search: object = "auto",
@@ -78,7 +78,7 @@ def make_query(
         return Query(method, upper, steps, search)  # type: ignore[arg-type]
     if not isinstance(query, Query):
         raise InvalidInputError("query", f"expected pinograsp.Query or None, got {type(query).__name__}")
-    loose = zip((method, upper, steps, search), ("iterative", 1e3, 20, "auto"))
+    loose = zip((method, upper, steps, search), (DEFAULT_METHOD, 1e3, 20, "auto"))
     if not all(isinstance(a, (str, int, float)) and not isinstance(a, bool) and a == b for a, b in loose):
         raise InvalidInputError("query", "pass either query= or method/upper/steps/search, not both")
     return query

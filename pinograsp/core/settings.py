@@ -92,7 +92,7 @@ class Search(Vocabulary):
 METHODS = tuple(m.value for m in Method)
 #: The method every analysis, scene, batch file and CLI command uses when none is named (the
 #: one place to change it: /work/notes/qs_default.md lists what follows such a change).
-DEFAULT_METHOD = Method.ITERATIVE
+DEFAULT_METHOD: str = Method.ITERATIVE.value
 VARIANTS = tuple(v.value for v in Variant)
 BACKENDS = tuple(b.value for b in Backend)
 COMPLEMENTARITIES = tuple(c.value for c in Complementarity)

@@ -16,7 +16,7 @@ import numpy as np
 
 from ..core.axes import WRENCH_AXES, plane_basis, wrench_direction
 from ..core.model import GraspModel
-from ..core.settings import METHODS, Method, Settings, make_settings
+from ..core.settings import DEFAULT_METHOD, METHODS, Method, Settings, make_settings
 from ..errors import InvalidInputError, PinograspError, SolverNotAvailableError, UnknownNameError
 from .fields import SceneFile, show
 from .schema import ANALYSIS_KEYS, ANGLE_SETTINGS_KEYS, SETTINGS_KEYS, Plane, SceneAnalysis
@@ -90,7 +90,7 @@ def _named(f: SceneFile, value: object, key: str, what: str) -> Mapping:
 
 def _block(f: SceneFile, model: GraspModel, a: Mapping) -> SceneAnalysis:
     """The analysis keys of an ``analysis`` block (its settings aside)."""
-    method = a.get("method", Method.ITERATIVE)
+    method = a.get("method", DEFAULT_METHOD)
     if method not in METHODS:
         raise f.error("analysis.method", f"must be one of {', '.join(METHODS)}, got {method!r}")
     upper = f.number(a.get("upper", 1e3), "analysis.upper", positive=True)
