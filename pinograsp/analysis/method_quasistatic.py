@@ -22,7 +22,7 @@ import numpy as np
 
 from ..core.results import MaxWrench, PassiveResponse
 from ..core.settings import Method, Search, Settings, Variant
-from ..errors import InvalidInputError, SolverError
+from ..errors import InvalidInputError, PreloadNotInEquilibriumError, SolverError
 from ..solvers.base import Mode
 from ..solvers.problem import ProblemKind
 from .context import SolveContext
@@ -55,6 +55,45 @@ def path_variant(settings: Settings) -> tuple[Variant, str]:
     return v, PATH_VARIANTS[v]
 
 
+def no_preload_response(
+    session: SessionLike, fc: np.ndarray, w6: np.ndarray, variant: Variant
+) -> PassiveResponse:
+    """``"not_resisted"``: the preload path itself ends before the commands are reached (as the
+    staged methods answer a preload without equilibrium). The path has no state at the load, so
+    every force and displacement is NaN; :func:`pinograsp.loading_path` raises
+    :class:`~pinograsp.PreloadNotInEquilibriumError` with where the preload path stopped."""
+    m = session.model
+    nan = np.full
+    return PassiveResponse(
+        resistible=False,
+        status="not_resisted",
+        method=Method.QUASISTATIC.value,  # type: ignore[arg-type]
+        variant=variant.value,
+        wrench=np.asarray(w6, float),
+        command=np.asarray(fc, float),
+        contact_forces=nan((m.nc, 3), np.nan),
+        contact_forces_world=nan((m.nc, 3), np.nan),
+        joint_torques=nan(m.nq, np.nan),
+        actuator_forces=nan(m.na, np.nan),
+        coupling_forces=nan(m.ncp, np.nan),
+        object_displacement=nan(6, np.nan),
+        joint_displacements=nan(m.nq, np.nan),
+        actuator_displacements=nan(m.na, np.nan),
+        contact_modes=("separated",) * m.nc,
+        actuator_modes=("holding",) * m.na,
+        net_wrench=nan(6, np.nan),
+        audit=None,
+        iterations=0,
+        solver="lemke",
+        contact_names=m.contact_names,
+        joint_names=m.joint_names,
+        actuator_names=m.actuator_names,
+        contact_mu=np.array(m.mu, dtype=float),
+        actuator_kinds=tuple(m.kinds),
+        edge_counts=m.edge_counts,
+    )
+
+
 class QuasistaticMethod:
     """Rules of ``method="quasistatic"`` (:class:`~pinograsp.analysis.protocols.AnalysisMethod`)."""
 
@@ -85,7 +124,10 @@ class QuasistaticMethod:
         """The state reached on the path at ``w6`` (``"resisted"``), or at the limit load when
         the path ends before it (``"not_resisted"``; ``"failed"`` without a verdict)."""
         v, path = path_variant(session.settings)
-        r = quasistatic_response(session.model, fc, w6, session.settings, variant=path)
+        try:
+            r = quasistatic_response(session.model, fc, w6, session.settings, variant=path)
+        except PreloadNotInEquilibriumError:
+            return no_preload_response(session, fc, w6, v)
         return replace(r, variant=v.value)
 
     def max_load(self, session: SessionLike, query: LimitQuery) -> MaxWrench:
