@@ -28,7 +28,7 @@ DIRECTION_ATOL = 1e-9
 #: ``pinograsp.solvers.base.SolveStatus`` that are not optimal or infeasible).
 ResponseStatus = Literal["resisted", "not_resisted", "not_converged", "timeout", "node_limit", "failed"]
 #: Name of an analysis method (the values of :class:`~pinograsp.core.settings.Method`).
-MethodName = Literal["prp", "iterative", "energetic"]
+MethodName = Literal["prp", "iterative", "energetic", "quasistatic"]
 #: State of a contact in a solution: ``"separated"`` (no force), ``"sticking"`` (touching, no
 #: slip) or ``"sliding"`` (touching and slipping; for ``method="energetic"`` its force then sits
 #: on the pyramid's boundary, pointing most against the slip).
@@ -195,7 +195,9 @@ class PassiveResponse:
 
 
 #: How a max-wrench search ended (see :class:`MaxWrench`).
-MaxWrenchStatus = Literal["finite", "unbounded", "above_limit", "below_resolution"]
+MaxWrenchStatus = Literal[
+    "finite", "unbounded", "above_limit", "below_resolution", "no_solution", "segment_limit"
+]
 
 
 @dataclass(frozen=True, repr=False)
@@ -206,7 +208,8 @@ class MaxWrench:
         direction: Unit direction in wrench space, (6,) (torques in [N·m] per unit).
         magnitude: Largest magnitude verified resistible [N or N·m along ``direction``];
             ``inf`` when ``unbounded``; ``upper`` (a lower bound) when ``"above_limit"``; ``0``
-            when ``"below_resolution"`` (the limit is below ``resolution``).
+            when ``"below_resolution"`` (the limit is below ``resolution``); the load reached (a
+            lower bound) for the quasi-static path's ``"no_solution"`` / ``"segment_limit"``.
         unbounded: Passively resisted without bound under this model: resisted at ``upper``
             *and* in the limit of an infinite load (the load under a zero preload, by the
             model's homogeneity; docs/accuracy.md). ``magnitude`` is then ``inf``.
