@@ -91,7 +91,9 @@ def _num(x: float) -> str:
 
 
 #: How a max-wrench search ended (see :class:`MaxWrench`).
-MaxWrenchStatus = Literal["finite", "unbounded", "above_limit", "below_resolution", "failed"]
+MaxWrenchStatus = Literal[
+    "finite", "unbounded", "above_limit", "below_resolution", "failed", "no_solution", "segment_limit"
+]
 
 
 @dataclass(frozen=True, repr=False)
@@ -102,13 +104,19 @@ class MaxWrench:
         direction: Unit direction in wrench space, (6,) (torques in [N·m] per unit).
         magnitude: Largest magnitude verified resistible [N or N·m along ``direction``];
             ``inf`` when ``unbounded``; ``upper`` (a lower bound) when ``"above_limit"``; ``0``
-            when ``"below_resolution"`` (the limit is below ``resolution``).
+            when ``"below_resolution"`` (the limit is below ``resolution``); the load reached (a
+            lower bound) for the quasi-static path's ``"no_solution"`` / ``"segment_limit"``.
         unbounded: Passively resisted without bound under this model: resisted at ``upper``
             *and* in the limit of an infinite load (the load under a zero preload, by the
             model's homogeneity; docs/accuracy.md). ``magnitude`` is then ``inf``.
         status: ``"finite"``, ``"unbounded"``, ``"above_limit"`` (resisted at ``upper`` but
             not without bound: the limit is ``>= upper``) or ``"below_resolution"`` (the
-            magnitude is below ``floor``: indistinguishable from zero).
+            magnitude is below ``floor``: indistinguishable from zero); from
+            :func:`~pinograsp.quasistatic_max_wrench` also ``"no_solution"`` and
+            ``"segment_limit"`` (the path stopped without a verdict; ``magnitude`` is the load
+            reached, a lower bound). Through ``method="quasistatic"`` those two raise a
+            :class:`~pinograsp.SolverError` instead (a failed direction of profiles, sets and
+            batches, as for the other methods).
         floor: Smallest magnitude distinguishable from zero [N or N·m]: the resolution, and for
             the iterative method at least its equilibrium tolerance ``eps`` along the direction.
         upper: Upper limit of the search.

@@ -292,17 +292,25 @@ def loading_path(
         raise InvalidInputError("max_segments", f"expected a whole number >= 1, got {max_segments!r}")
     p = prepare(model, command, s, v, int(max_segments))
     d6 = wrench_direction(model, direction)
+    return run_path(p, d6, int(max_segments), up_to, continuation, t0)
+
+
+def run_path(
+    p: Prepared, d6: np.ndarray, max_segments: int, up_to: float | None, continuation: bool, t0: float
+) -> LoadingPath:
+    """The load stage of a prepared grasp along the unit direction ``d6`` (6,) as a
+    :class:`LoadingPath` (see :func:`loading_path`)."""
     d_red = p.model.reduce_wrench(d6)
     t_end = float("inf") if up_to is None else float(up_to)
     spec = StageSpec(np.zeros(p.qm.nx), d_red, p.fc, np.zeros(p.qm.na), t_end, held=False, friction=True)
     run = (
-        follow(p.qm, p.start, spec, int(max_segments))
+        follow(p.qm, p.start, spec, max_segments)
         if t_end > 0
         else StageRun(states=[p.start.copy()], status="end")
     )
     cont = None
     if run.status == "limit" and up_to is None and continuation:
-        more = continue_past_limit(p.qm, run, spec, int(max_segments))
+        more = continue_past_limit(p.qm, run, spec, max_segments)
         if more is not None:
             cont = _continuation(p, d6, more, spec)
     lp = build_path(p, d6, run, spec, time.perf_counter() - t0)
@@ -333,4 +341,4 @@ def _continuation(p: Prepared, d6: np.ndarray, more: StageRun, spec: StageSpec) 
     return replace(cont, status=status, limit=limit, stop_reason=more.status, snaps=snaps, ray=ray)
 
 
-__all__ = ["Prepared", "loading_path", "prepare"]
+__all__ = ["Prepared", "loading_path", "prepare", "run_path"]

@@ -5,6 +5,7 @@ mechanisms and redundant constraints, a least-norm SVD solve of the whole border
 
 from __future__ import annotations
 
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
@@ -50,62 +51,77 @@ class StageCache:
 
     @classmethod
     def of(cls, qm: QSModel, spec: StageSpec) -> StageCache:
-        """The cache of ``spec``."""
+        """The cache of ``spec`` (the constraint part kept per model and holder)."""
         nv, nx = qm.nv, qm.nx
-        cols, owner = [], []
-        for a in np.flatnonzero(qm.nbd | qm.locked):
-            col = np.zeros(nv)
-            col[nx:] = qm.Rn[:, a]
-            cols.append(col)
-            owner.append(int(a))
-        for k in range(qm.ncp):
-            col = np.zeros(nv)
-            col[nx:] = qm.Cn[k]
-            cols.append(col)
-            owner.append(-1)
-        if spec.held:
-            for j in range(nx):
-                col = np.zeros(nv)
-                col[j] = 1.0
-                cols.append(col)
-                owner.append(-2)
-        B = np.column_stack(cols) if cols else np.zeros((nv, 0))
-        if B.shape[1]:
-            u, sv, _ = np.linalg.svd(B, full_matrices=True)
-            rank = int(np.sum(sv > RANK_RTOL * sv[0]))
-            Z = u[:, rank:]
-            B_pinv = np.linalg.pinv(B, rcond=RANK_RTOL)
-        else:
-            Z, B_pinv = np.eye(nv), np.zeros((0, nv))
+        per_model = _CONSTRAINTS.setdefault(qm, {})
+        if spec.held not in per_model:
+            per_model[spec.held] = _constraints(qm, spec.held)
+        B, owner, Z, B_pinv, Bt_pinv, col_of, col_arr, AZ, AtBt, BpA = per_model[spec.held]
         r0 = np.zeros(nv)
         r0[:nx] = qm.w_scaled(spec.dw)
         if qm.na and np.any(qm.bd):
             r0[nx:] = qm.Rn[:, qm.bd] @ (qm.r_norm[qm.bd] * spec.dfc[qm.bd])
         size = float(np.linalg.norm(r0[:nx]))
         crow = r0[:nx] / size if size > 0 else None
-        col_of = {a: j for j, a in enumerate(owner) if a >= 0}
-        Bt_pinv = B_pinv.T.copy()
-        A = qm.A
         return cls(
             B,
-            np.array(owner, int),
+            owner,
             Z,
             Bt_pinv,
             B_pinv,
             r0,
             crow,
             col_of,
-            col_arr=np.array([col_of.get(a, -1) for a in range(qm.na)], int),
-            act_cols=np.array(owner, int) >= 0,
-            coupling_cols=np.array(owner, int) == -1,
-            holder_cols=np.array(owner, int) == -2,
-            AZ=A.T @ Z,
-            AtBt=A.T @ Bt_pinv,
-            BpA=B_pinv @ A,
+            col_arr=col_arr,
+            act_cols=owner >= 0,
+            coupling_cols=owner == -1,
+            holder_cols=owner == -2,
+            AZ=AZ,
+            AtBt=AtBt,
+            BpA=BpA,
             Bpr0=B_pinv @ r0,
             Ztr0=Z.T @ r0,
             cz=None if crow is None else Z[:nx].T @ crow,
         )
+
+
+#: Constraint part of the stage caches, per model and holder (a pure function of them).
+_CONSTRAINTS: weakref.WeakKeyDictionary[QSModel, dict] = weakref.WeakKeyDictionary()
+
+
+def _constraints(qm: QSModel, held: bool) -> tuple:
+    """Constraint columns, their owners, the allowed motions and the pseudo-inverses."""
+    nv, nx = qm.nv, qm.nx
+    cols, owner = [], []
+    for a in np.flatnonzero(qm.nbd | qm.locked):
+        col = np.zeros(nv)
+        col[nx:] = qm.Rn[:, a]
+        cols.append(col)
+        owner.append(int(a))
+    for k in range(qm.ncp):
+        col = np.zeros(nv)
+        col[nx:] = qm.Cn[k]
+        cols.append(col)
+        owner.append(-1)
+    if held:
+        for j in range(nx):
+            col = np.zeros(nv)
+            col[j] = 1.0
+            cols.append(col)
+            owner.append(-2)
+    B = np.column_stack(cols) if cols else np.zeros((nv, 0))
+    if B.shape[1]:
+        u, sv, _ = np.linalg.svd(B, full_matrices=True)
+        rank = int(np.sum(sv > RANK_RTOL * sv[0]))
+        Z = u[:, rank:]
+        B_pinv = np.linalg.pinv(B, rcond=RANK_RTOL)
+    else:
+        Z, B_pinv = np.eye(nv), np.zeros((0, nv))
+    col_of = {a: j for j, a in enumerate(owner) if a >= 0}
+    Bt_pinv = B_pinv.T.copy()
+    A = qm.A
+    col_arr = np.array([col_of.get(a, -1) for a in range(qm.na)], int)
+    return B, np.array(owner, int), Z, B_pinv, Bt_pinv, col_of, col_arr, A.T @ Z, A.T @ Bt_pinv, B_pinv @ A
 
 
 def affine_reduced(qm, sc, ks, Fm, Vp, control):
