@@ -52,12 +52,15 @@ class LCPResult:
         z: The solution (n,) (zeros when not solved).
         w: ``M z + q`` (n,).
         pivots: Pivots made (the initial one included).
+        tie: The solution was not unique on its tight set and the least-norm one was taken
+            (:func:`canonical`).
     """
 
     status: LCPStatus
     z: np.ndarray
     w: np.ndarray
     pivots: int
+    tie: bool = False
 
     @property
     def solved(self) -> bool:
@@ -249,7 +252,7 @@ def canonical(M: np.ndarray, q: np.ndarray, res: LCPResult, rtol: float = 1e-9) 
         return res
     w = M @ z + q
     w[tight] = 0.0
-    return LCPResult(LCPStatus.SOLVED, z, np.maximum(w, 0.0), res.pivots)
+    return LCPResult(LCPStatus.SOLVED, z, np.maximum(w, 0.0), res.pivots, tie=True)
 
 
 __all__ = ["LCPResult", "LCPStatus", "canonical", "lemke", "principal_pivoting", "warm"]

@@ -241,6 +241,7 @@ def build_path(p: Prepared, d6: np.ndarray, run: StageRun, spec: StageSpec, wall
         pivots=run.pivots,
         largest_lcp=run.largest_lcp,
         preload_segments=sum(len(r.states) - 1 for r in p.preload_runs),
+        ties=sum(bool(sg.tie) for sg in run.segments),
         contact_names=m.contact_names,
         joint_names=m.joint_names,
         actuator_names=m.actuator_names,

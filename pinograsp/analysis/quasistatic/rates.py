@@ -73,6 +73,7 @@ class Segment:
     stiffness_rate: float = float("nan")
     lam_rate: float = 1.0
     flip: np.ndarray | None = None
+    tie: bool = False
     active: np.ndarray = field(default_factory=lambda: np.zeros(0, int))
     add: np.ndarray | None = None
 
@@ -189,6 +190,7 @@ def rates(
     if nz:
         ftol = RATE_RTOL * max(float(np.abs(res.z).max()), 1e-300)
         seg.active = np.sort(keys[res.z > ftol])
+        seg.tie = res.tie
     return _check_guesses(qm, spec, cls, plan, sep, apex, seg, v, dc, sc)
 
 

@@ -81,6 +81,9 @@ class LoadingPath:
             zero or no stiffness is left: nothing to land on). None at a mechanism limit or
             when the path is not finite. λ* stays the first limit.
         snaps: (continuation only) ``(limit breakpoint, landing breakpoint)`` of each snap.
+        ties: Segments whose local LCP had several solutions on the same tight set (e.g. the
+            two faces of a vertex with equal rows): the least-norm one was taken (the tie rule,
+            docs/methods.md).
     """
 
     direction: np.ndarray
@@ -118,6 +121,7 @@ class LoadingPath:
     wall_time: float = 0.0
     continuation: LoadingPath | None = field(default=None)
     snaps: tuple[tuple[int, int], ...] = ()
+    ties: int = 0
 
     # ----------------------------------------------------------------- views
     @property
@@ -260,6 +264,7 @@ class LoadingPath:
             "wall_time": self.wall_time,
             "continuation": None if self.continuation is None else self.continuation.to_dict(),
             "snaps": self.snaps,
+            "ties": self.ties,
         }
         return jsonable(out)
 
