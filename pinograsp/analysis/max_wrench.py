@@ -89,14 +89,18 @@ def max_resistible_wrench(
         direction: Wrench direction: axis name (``"fx"``, ``"-fy"``, ``"mz"``) or vector
             (normalised here).
         method: ``"iterative"`` (default; no wedging artefact), ``"energetic"`` (maximum
-            dissipation, one solve per direction; docs/methods.md) or ``"prp"``.
+            dissipation, one solve per direction; docs/methods.md), ``"prp"`` or
+            ``"quasistatic"`` (the loading path followed exactly to its limit load, no
+            bisection: ``upper`` and ``steps`` do not apply; docs/design.md, "The quasi-static
+            row").
         upper: Upper limit of the search [N or N·m along the unit direction].
         steps: Bisection steps; resolution ``upper / 2**steps``.
         search: ``"auto"`` (default: ``"secant"`` for the iterative method, ``"direct"`` for
             the energetic one, ``"bisection"`` for the PRP), ``"bisection"`` (the paper's),
             ``"secant"`` (iterative only: the same grid cell as the bisection when
             resistibility is monotone along the ray, in fewer stages;
-            :mod:`pinograsp.analysis.search`) or ``"direct"`` (PRP, energetic): one complementarity
+            :mod:`pinograsp.analysis.search`), ``"path"`` (quasi-static only, its default) or
+            ``"direct"`` (PRP, energetic): one complementarity
             problem maximising the load factor, exact instead of ``upper / 2**steps``; the
             response at the limit is then solved at ``magnitude * (1 - 1e-6)``.
         settings, overrides: Solver settings (see :class:`pinograsp.core.settings.Settings`).

@@ -230,8 +230,8 @@ def equilibrium_preload(
 
     Args:
         model: The grasp.
-        method: Whose preload stage verifies the commands: ``"iterative"`` (default) or
-            ``"prp"``.
+        method: Whose preload stage verifies the commands: ``"iterative"`` (default),
+            ``"prp"``, ``"energetic"`` or ``"quasistatic"`` (its preload path, the object held).
         objective: ``"balanced"`` (default: the largest smallest normal force within the
             bounds) or ``"least_norm"`` (the smallest commands pressing every contact with at
             least ``grip``).

@@ -335,8 +335,9 @@ def passive_response(
             object reference point (planar models also take ``(fx, fy, mz)``).
         method: ``"iterative"`` (default: Alg. 2 + 3, the physically validated scheme, as in
             every analysis, the CLI and the scenes), ``"energetic"`` (maximum dissipation in
-            one mixed-integer problem, docs/methods.md) or ``"prp"`` (Alg. 1, by explicit
-            choice: it admits the wedging artefact).
+            one mixed-integer problem, docs/methods.md), ``"prp"`` (Alg. 1, by explicit
+            choice: it admits the wedging artefact) or ``"quasistatic"`` (the state reached on
+            the loading path at ``wrench``; docs/methods.md).
         settings: Base :class:`Settings`; keyword ``overrides`` replace single fields
             (e.g. ``solver="gurobi"``, ``gamma=2.0``, ``variant="single-step"``).
 

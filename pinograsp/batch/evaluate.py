@@ -75,8 +75,9 @@ class WorstAxisScore:
     Attributes:
         upper: Search limit [N].
         steps: Search steps (resolution ``upper / 2**steps``; small for speed).
-        method: ``"iterative"``, ``"prp"`` or ``"energetic"`` (maximum dissipation: one
-            load-factor solve per axis, ``search="direct"``), kept as a
+        method: ``"iterative"``, ``"prp"``, ``"energetic"`` (maximum dissipation: one
+            load-factor solve per axis, ``search="direct"``) or ``"quasistatic"`` (the loading
+            path's limit per axis; ``upper`` is then only the cap of the score), kept as a
             :class:`~pinograsp.core.settings.Method`.
     """
 

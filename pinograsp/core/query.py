@@ -24,12 +24,14 @@ class Query:
     it) searches the largest resisted magnitude along a direction.
 
     Attributes:
-        method: ``"iterative"`` (default), ``"energetic"`` or ``"prp"``
-            (:class:`~pinograsp.core.settings.Method`).
+        method: ``"iterative"`` (default), ``"energetic"``, ``"prp"`` or ``"quasistatic"``
+            (:class:`~pinograsp.core.settings.Method`; the default is
+            :data:`~pinograsp.core.settings.DEFAULT_METHOD`).
         upper: Upper limit of the search [N or N·m along the unit direction].
         steps: Search steps; resolution ``upper / 2**steps``.
-        search: ``"auto"`` (the method's default), ``"bisection"``, ``"secant"`` or
-            ``"direct"`` (:class:`~pinograsp.core.settings.Search`).
+        search: ``"auto"`` (the method's default), ``"bisection"``, ``"secant"``, ``"direct"``
+            or ``"path"`` (:class:`~pinograsp.core.settings.Search`; ``"path"``: quasi-static,
+            where ``upper`` and ``steps`` do not apply).
 
     Raises:
         InvalidInputError: A field out of its domain (named).
