@@ -169,9 +169,10 @@ class GraspSpec:
             ``{actuator: value}`` [N·m or N].
         max_command: Bound of every command of the ``"auto"`` preload [N·m or N].
         preload_method: Whose preload stage ``"auto"`` verifies (:func:`pinograsp.equilibrium_preload`
-            at ``w = 0``): ``"iterative"`` (default) or ``"prp"`` (the object settles), or
-            ``"energetic"`` or ``"quasistatic"`` (its preload path). The energetic method's preload stage is the iterative one (the
-            object held still while the hand closes), so it verifies the same commands, plus one
+            at ``w = 0``): ``"iterative"`` (default) or ``"prp"`` (the object settles),
+            ``"quasistatic"`` (its preload path), or ``"energetic"``. The energetic method's
+            preload stage is the iterative one (the object held still while the hand closes),
+            so it verifies the same commands, plus one
             energetic solve at ``w = 0``; it is accepted so that a batch scored with
             ``method="energetic"`` can name the same method throughout.
         id: Label of the grasp's row (default: its position in the batch).
