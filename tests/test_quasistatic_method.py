@@ -205,3 +205,25 @@ def test_bit_identical_in_fresh_processes():
         for _ in range(2)
     ]
     assert runs[0] == runs[1] and runs[0].count("\n") == 2
+
+
+# ------------------------------------------------------------------------------ tangential stiffness
+def test_tangential_ratio_reaches_every_entry_point(capsys, tmp_path):
+    """``Settings.tangential_ratio`` through the API, a scene's analysis block and the CLI: the
+    same numbers as :func:`pinograsp.quasistatic_max_wrench` with that setting."""
+    scene = pg.load_scene("case1")
+    m, fc = scene.model, scene.command
+    direct = {
+        r: pg.quasistatic_max_wrench(m, fc, "fy", pg.Settings(tangential_ratio=r)).magnitude for r in (1, 10)
+    }
+    assert direct[1] != direct[10]
+    for r in (1, 10):
+        assert pg.max_resistible_wrench(m, fc, "fy", QS, tangential_ratio=r).magnitude == direct[r]
+    data = run_json(capsys, "max-wrench", "case1", "-d", "fy", "--method", QS, "--tangential-ratio", "10")
+    assert data["magnitude"] == direct[10]
+    rc, _, err = run(capsys, "max-wrench", "case1", "-d", "fy", "--method", QS, "--tangential-ratio", "0")
+    assert rc == 2 and "--tangential-ratio" in err and "> 0" in err
+    text = (Path(pg.__file__).parent / "data" / "scenes" / "pinch.yaml").read_text()
+    path = tmp_path / "pinch_kt.yaml"
+    path.write_text(text.replace("analysis:\n", "analysis:\n  tangential_ratio: 10\n"))
+    assert pg.load_scene(path).settings.tangential_ratio == 10.0

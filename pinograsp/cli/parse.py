@@ -94,6 +94,12 @@ def _common(p: argparse.ArgumentParser, *, out_default: str | None = None) -> No
         help="prp/energetic: refine each loaded contact's friction pyramid until the sector holding "
         "its force or slip is at most this wide [deg] (default: the scene's, normally none)",
     )
+    g.add_argument(
+        "--tangential-ratio",
+        type=float,
+        metavar="R",
+        help="quasistatic: tangential / normal contact stiffness (default: the scene's, normally 1)",
+    )
     g.add_argument("--json", action="store_true", help="print the result as JSON on stdout (nothing else)")
     g.add_argument(
         "--out",

@@ -44,6 +44,7 @@ SETTINGS_KEYS = (
     "eps_rel",
     "complementarity",
     "verify_infeasible",
+    "tangential_ratio",
 )
 #: ``analysis`` keys written in [deg] -> the :class:`~pinograsp.core.settings.Settings` field
 #: they set in [rad] (``cone_tolerance_deg: null``: the model's pyramids).
