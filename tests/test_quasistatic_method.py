@@ -214,7 +214,7 @@ def test_tangential_ratio_reaches_every_entry_point(capsys, tmp_path):
     scene = pg.load_scene("case1")
     m, fc = scene.model, scene.command
     direct = {
-        r: pg.quasistatic_max_wrench(m, fc, "fy", pg.Settings(tangential_ratio=r)).magnitude for r in (1, 10)
+        r: pg.quasistatic_max_wrench(m, fc, "fy", pg.Settings(tangential_ratio=r)).magnitude for r in (0.1, 1)
     }
     assert abs(direct[0.1] / direct[1] - 1) > 1e-3  # 4.392 vs 4.335 N
     for r in (0.1, 1):
