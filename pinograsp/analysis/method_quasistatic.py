@@ -56,12 +56,14 @@ def path_variant(settings: Settings) -> tuple[Variant, str]:
 
 
 def no_preload_response(
-    session: SessionLike, fc: np.ndarray, w6: np.ndarray, variant: Variant
+    session: SessionLike, fc: np.ndarray, w6: np.ndarray, variant: Variant, residual: object = None
 ) -> PassiveResponse:
     """``"not_resisted"``: the preload path itself ends before the commands are reached (as the
     staged methods answer a preload without equilibrium). The path has no state at the load, so
-    every force and displacement is NaN; :func:`pinograsp.loading_path` raises
-    :class:`~pinograsp.PreloadNotInEquilibriumError` with where the preload path stopped."""
+    every force and displacement is NaN; ``net_wrench`` is the preload path's residual (6,)
+    [N, N·m] when its error carries one (else NaN), so that
+    :func:`~pinograsp.analysis.max_wrench.check_preload` names it. :func:`pinograsp.loading_path`
+    raises :class:`~pinograsp.PreloadNotInEquilibriumError` with where the preload path stopped."""
     m = session.model
     nan = np.full
     return PassiveResponse(
@@ -81,7 +83,7 @@ def no_preload_response(
         actuator_displacements=nan(m.na, np.nan),
         contact_modes=("separated",) * m.nc,
         actuator_modes=("holding",) * m.na,
-        net_wrench=nan(6, np.nan),
+        net_wrench=nan(6, np.nan) if residual is None else np.asarray(residual, float).reshape(6),
         audit=None,
         iterations=0,
         solver="lemke",
@@ -126,8 +128,8 @@ class QuasistaticMethod:
         v, path = path_variant(session.settings)
         try:
             r = quasistatic_response(session.model, fc, w6, session.settings, variant=path)
-        except PreloadNotInEquilibriumError:
-            return no_preload_response(session, fc, w6, v)
+        except PreloadNotInEquilibriumError as exc:
+            return no_preload_response(session, fc, w6, v, exc.residual)
         return replace(r, variant=v.value)
 
     def max_load(self, session: SessionLike, query: LimitQuery) -> MaxWrench:
