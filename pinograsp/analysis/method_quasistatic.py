@@ -163,7 +163,7 @@ class QuasistaticMethod:
             mw,
             response=resp,
             solve_time=mw.solve_time + tally.solve_time,
-            n_solves=mw.n_solves + tally.n_solves,
+            n_solves=mw.n_solves,  # the path's LCPs, its preload path's included (once)
             wall_time=time.perf_counter() - query.t0,
         )
 
