@@ -5,6 +5,7 @@ preloads, scenes' analysis blocks, batch rows and the CLI, with the pinch's clos
 
 import subprocess
 import sys
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -227,3 +228,24 @@ def test_tangential_ratio_reaches_every_entry_point(capsys, tmp_path):
     path = tmp_path / "pinch_kt.yaml"
     path.write_text(text.replace("analysis:\n", "analysis:\n  tangential_ratio: 10\n"))
     assert pg.load_scene(path).settings.tangential_ratio == 10.0
+
+
+def test_a_path_without_verdict_is_a_failed_direction(pinch, monkeypatch):
+    """A path that stops without a verdict (here: forced ``segment_limit`` along +y) is never a
+    number: a SolverError for one query, a failed direction (typed status) in a profile."""
+    from pinograsp.analysis import method_quasistatic
+
+    real = method_quasistatic.quasistatic_max_wrench
+
+    def stopped_along_y(model, command, direction, settings, **kw):
+        mw = real(model, command, direction, settings, **kw)
+        return replace(mw, status="segment_limit") if abs(mw.direction[1]) > 0.99 else mw
+
+    monkeypatch.setattr(method_quasistatic, "quasistatic_max_wrench", stopped_along_y)
+    with pytest.raises(pg.SolverError, match="without a verdict") as err:
+        pg.max_resistible_wrench(pinch, TAU, "fy", QS)
+    assert err.value.status == "segment_limit"
+    p = pg.resistance_profile(pinch, TAU, n=4, method=QS)
+    assert list(p.statuses) == ["unbounded", "failed", "unbounded", "failed"]
+    assert [(i, st) for i, _, st in p.failures] == [(1, "segment_limit"), (3, "segment_limit")]
+    assert np.isnan(p.magnitudes[[1, 3]]).all()
