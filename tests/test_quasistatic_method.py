@@ -249,3 +249,22 @@ def test_a_path_without_verdict_is_a_failed_direction(pinch, monkeypatch):
     assert list(p.statuses) == ["unbounded", "failed", "unbounded", "failed"]
     assert [(i, st) for i, _, st in p.failures] == [(1, "segment_limit"), (3, "segment_limit")]
     assert np.isnan(p.magnitudes[[1, 3]]).all()
+
+
+def test_batch_row_of_a_urdf_hand():
+    """A Barrett grasp closed on a box, its preload chosen ("auto") and verified by the
+    quasi-static preload path, scored along the six force axes by the path; the same bits in a
+    local pool of two workers."""
+    import math
+
+    box = pg.ObjectSpec("box", size=(0.1462, 0.05, 0.10), xyz=(0.0, 0.0, 0.0678))
+    g = pg.GraspSpec("barrett_bh8_282", box, q_open={"bh_j11": math.pi / 2}, preload_method=QS)
+    score = pg.WorstAxisScore(method=QS)
+    df = pg.evaluate_grasps([g, g], score=score, workers=1)
+    row = df.iloc[0]
+    assert row["status"] == "ok" and row["n_contacts"] == 4, row["error_message"]
+    axes = [row[f"max_{s}{a}"] for a in ("fx", "fy", "fz") for s in "+-"]
+    assert row["score"] == min(axes) > 0 and row["unbounded_fraction"] == np.mean(np.isinf(axes)) > 0
+    pooled = pg.evaluate_grasps([g, g], score=score, workers=2)
+    for col in ("score", *score.columns[2:]):
+        assert list(df[col]) == list(pooled[col])
