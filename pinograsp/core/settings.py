@@ -76,7 +76,8 @@ class Search(Vocabulary):
     """How :func:`~pinograsp.max_resistible_wrench` searches the magnitude."""
 
     #: The method's default (its registry row): secant for the iterative method, one
-    #: load-factor problem for the energetic one, bisection for the PRP.
+    #: load-factor problem for the energetic one, bisection for the PRP, the path for the
+    #: quasi-static one.
     AUTO = "auto"
     #: The seed paper's bisection.
     BISECTION = "bisection"
