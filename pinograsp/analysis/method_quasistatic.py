@@ -113,7 +113,7 @@ class QuasistaticMethod:
     def stage(
         self, session: SolveContext, w: np.ndarray, fc: np.ndarray, p: np.ndarray, start: Mode | None
     ) -> Stage:
-        """None: the path has no complementarity stages (a typed refusal)."""
+        """Refused (:class:`InvalidInputError`): the path has no complementarity stages."""
         raise InvalidInputError(
             "method", "'quasistatic' follows a loading path: it has no complementarity stages"
         )
