@@ -268,3 +268,31 @@ def test_batch_row_of_a_urdf_hand():
     pooled = pg.evaluate_grasps([g, g], score=score, workers=2)
     for col in ("score", *score.columns[2:]):
         assert list(df[col]) == list(pooled[col])
+
+
+def _pinch_right_axis(flipped: bool) -> pg.GraspModel:
+    """The pinch; with ``flipped`` the right finger closes for a negative torque of its
+    bidirectional actuator."""
+    ez = np.array([0.0, 0.0, 1.0])
+    left = pg.Contact.revolute(
+        [-0.05, 0, 0], [1, 0, 0], {0: ([-0.05, -0.1, 0], -ez)}, nq=2, mu=MU, name="left"
+    )
+    right = pg.Contact.revolute(
+        [0.05, 0, 0], [-1, 0, 0], {1: ([0.05, -0.1, 0], -ez if flipped else ez)}, nq=2, mu=MU, name="right"
+    )
+    acts = [pg.Actuator({0: 1.0}, name="left"), pg.Actuator({1: 1.0}, name="right", bidirectional=flipped)]
+    return pg.GraspModel.from_contacts(
+        [left, right], actuators=acts, planar=True, joint_names=("left", "right")
+    )
+
+
+def test_negative_commands_of_a_bidirectional_actuator():
+    ref, neg = _pinch_right_axis(False), _pinch_right_axis(True)
+    a = pg.max_resistible_wrench(ref, TAU, "fy", QS)
+    b = pg.max_resistible_wrench(neg, {"left": TAU, "right": -TAU}, "fy", QS)
+    assert a.magnitude == b.magnitude == pytest.approx(10.0, rel=1e-12)
+    r = pg.passive_response(ref, TAU, [2.0, 3.0, 0.0], QS)
+    n = pg.passive_response(neg, [TAU, -TAU], [2.0, 3.0, 0.0], QS)
+    assert n.status == r.status == "resisted" and n.command.tolist() == [1.0, -1.0]
+    np.testing.assert_allclose(n.contact_forces, r.contact_forces, atol=1e-12)
+    np.testing.assert_allclose(n.actuator_forces, r.actuator_forces * [1, -1], atol=1e-12)
