@@ -296,3 +296,30 @@ def test_negative_commands_of_a_bidirectional_actuator():
     assert n.status == r.status == "resisted" and n.command.tolist() == [1.0, -1.0]
     np.testing.assert_allclose(n.contact_forces, r.contact_forces, atol=1e-12)
     np.testing.assert_allclose(n.actuator_forces, r.actuator_forces * [1, -1], atol=1e-12)
+
+
+# ------------------------------------------------------------------------------ one default
+def test_every_default_reads_the_one_default_method():
+    """Making another method the default is one line (core/settings.py DEFAULT_METHOD,
+    /work/notes/qs_default.md): every default below reads it, and the built-in scenes name no
+    method of their own."""
+    import inspect
+
+    from pinograsp.core.settings import DEFAULT_METHOD
+
+    for f in (
+        pg.passive_response,
+        pg.max_resistible_wrench,
+        pg.resistance_profile,
+        pg.resistance_set,
+        pg.grasp_score,
+        pg.equilibrium_preload,
+        pg.optimal_preload,
+        pg.Session.response,
+    ):
+        assert inspect.signature(f).parameters["method"].default == DEFAULT_METHOD, f.__name__
+    assert pg.Query().method == DEFAULT_METHOD and pg.WorstAxisScore().method == DEFAULT_METHOD
+    spec = pg.GraspSpec("barrett_bh8_282", pg.ObjectSpec("sphere", radius=0.04))
+    assert spec.preload_method == DEFAULT_METHOD
+    for name in pg.builtin_scenes():
+        assert pg.load_scene(name).analysis.method == DEFAULT_METHOD, name
