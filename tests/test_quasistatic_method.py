@@ -323,3 +323,28 @@ def test_every_default_reads_the_one_default_method():
     assert spec.preload_method == DEFAULT_METHOD
     for name in pg.builtin_scenes():
         assert pg.load_scene(name).analysis.method == DEFAULT_METHOD, name
+
+
+def test_the_preload_path_is_followed_once_per_model(monkeypatch):
+    """A profile (one session) follows the preload path once for all its directions; a new
+    model (e.g. a pool worker's copy) follows it again; the answers do not depend on it."""
+    from pinograsp.analysis.quasistatic import api
+
+    calls = []
+    real = api.preload_path
+
+    def counted(*args, **kwargs):
+        calls.append(1)
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(api, "preload_path", counted)
+    scene = pg.load_scene("case1")
+    model = examples.pinch()  # a fresh model: nothing kept yet
+    first = pg.resistance_profile(model, TAU, n=12, method=QS)
+    assert len(calls) == 1
+    again = pg.resistance_profile(model, TAU, n=12, method=QS, session=pg.Session(model))
+    assert len(calls) == 1 and np.array_equal(first.magnitudes, again.magnitudes, equal_nan=True)
+    other = pg.resistance_profile(examples.pinch(), TAU, n=12, method=QS)
+    assert len(calls) == 2 and np.array_equal(first.magnitudes, other.magnitudes, equal_nan=True)
+    pg.resistance_set(scene.model, scene.command, 6, QS)
+    assert len(calls) == 3
