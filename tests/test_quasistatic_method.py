@@ -228,6 +228,11 @@ def test_tangential_ratio_reaches_every_entry_point(capsys, tmp_path):
     path = tmp_path / "pinch_kt.yaml"
     path.write_text(text.replace("analysis:\n", "analysis:\n  tangential_ratio: 10\n"))
     assert pg.load_scene(path).settings.tangential_ratio == 10.0
+    case1 = (Path(pg.__file__).parent / "data" / "scenes" / "case1.yaml").read_text()
+    soft = tmp_path / "case1_soft.yaml"
+    soft.write_text(case1.replace("analysis:\n", "analysis:\n  tangential_ratio: 0.1\n"))
+    assert run_json(capsys, "path", str(soft), "-d", "fy")["limit"] == direct[0.1]
+    assert run_json(capsys, "max-wrench", str(soft), "-d", "fy", "--method", QS)["magnitude"] == direct[0.1]
 
 
 def test_a_path_without_verdict_is_a_failed_direction(pinch, monkeypatch):

@@ -59,7 +59,8 @@ def cmd_path(args: argparse.Namespace) -> int:
                 "--tangential-ratio", f"must be finite and > 0, got {args.tangential_ratio!r}"
             )
         over["tangential_ratio"] = args.tangential_ratio
-    settings = pg.Settings(normal_uncertainty=scene.settings.normal_uncertainty, **over).validated()
+    base = {k: getattr(scene.settings, k) for k in ("normal_uncertainty", "tangential_ratio")}
+    settings = pg.Settings(**{**base, **over}).validated()  # the scene's, --tangential-ratio first
     lp = pg.loading_path(
         scene.model,
         command,
