@@ -31,9 +31,11 @@ from ..core.model import GraspModel
 from ..core.query import Query, make_query
 from ..core.results import MaxWrench, ResistanceProfile
 from ..core.serialize import format_magnitude, jsonable, vector_text
+from ..core.settings import DEFAULT_METHOD
 from ..core.validate import directions as n_directions
 from ..core.validate import finite_array, relative_length, whole_number
 from ..errors import InvalidInputError
+from .registry import search_text
 
 if TYPE_CHECKING:
     from .response import PassiveSolver
@@ -132,7 +134,7 @@ class ResistanceSet:
     unbounded: np.ndarray
     failures: tuple[tuple[int, str, str], ...]
     results: tuple[MaxWrench | None, ...] = field(repr=False)
-    method: str = "iterative"
+    method: str = DEFAULT_METHOD
     upper: float = 1e3
     steps: int = 20
     seed: int | None = 0
@@ -223,8 +225,8 @@ class ResistanceSet:
         dim = 3 if np.allclose(self.directions[:, [2, 3, 4]], 0.0) else 6
         lines = [
             f"resistance set: {n} directions on the unit {dim}-D wrench sphere, torques scaled by "
-            f"{self.length:.4g} m ({self.length_source}); method {self.method}, upper {self.upper:g}, "
-            f"{self.steps} steps",
+            f"{self.length:.4g} m ({self.length_source}); method {self.method}, "
+            f"{search_text(self.method, self.upper, self.steps)}",
             "classes: " + ", ".join(f"{k.replace('_', ' ')} {v} ({v / max(n, 1):.1%})" for k, v in c.items()),
         ]
         w = self.worst()
@@ -369,7 +371,7 @@ def resistance_set(
     model: GraspModel,
     command: object,
     n: int | None = None,
-    method: str = "iterative",
+    method: str = DEFAULT_METHOD,
     length: float | None = None,
     seed: int = 0,
     workers: int | None = None,
@@ -390,7 +392,7 @@ def resistance_set(
         model: The grasp.
         command: Actuator commands (see :func:`pinograsp.passive_response`).
         n: Number of directions (default 500; ignored when ``directions`` is given).
-        method: ``"iterative"`` (default) or ``"prp"``.
+        method: ``"iterative"`` (default), ``"prp"``, ``"energetic"`` or ``"quasistatic"``.
         length: Characteristic length [m] scaling torques (default ``model.length_scale``).
         seed: Seed of :func:`sphere_points` (same seed, same directions, same bits).
         workers: Process-pool size (``0``: one per CPU; ``None``/``1``: in this process).

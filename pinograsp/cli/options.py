@@ -60,7 +60,8 @@ ANGLE_OPTIONS = {"normal_uncertainty": "--normal-uncertainty", "cone_tolerance":
 
 
 def settings(args: argparse.Namespace, scene: Any) -> Settings:
-    """The scene's settings with ``--solver``, ``--time-limit``, ``--variant`` and the angles
+    """The scene's settings with ``--solver``, ``--time-limit``, ``--variant``,
+    ``--tangential-ratio`` and the angles
     ``--normal-uncertainty`` / ``--cone-tolerance`` (given in [deg], stored in [rad]) applied.
 
     A bad angle raises :class:`InvalidInputError` naming the option, with the value in degrees.
@@ -72,11 +73,15 @@ def settings(args: argparse.Namespace, scene: Any) -> Settings:
         over["time_limit"] = args.time_limit
     if getattr(args, "variant", None):
         over["variant"] = args.variant
+    if getattr(args, "tangential_ratio", None) is not None:
+        over["tangential_ratio"] = args.tangential_ratio
     degrees = {k: getattr(args, k, None) for k in ANGLE_OPTIONS}
     over.update({k: math.radians(v) for k, v in degrees.items() if v is not None})
     try:
         return make_settings(scene.settings, **over)
     except InvalidInputError as exc:
+        if exc.name == "tangential_ratio" and getattr(args, "tangential_ratio", None) is not None:
+            raise InvalidInputError("--tangential-ratio", str(exc).removeprefix(f"{exc.name}: ")) from None
         deg = degrees.get(exc.name) if exc.name in ANGLE_OPTIONS else None
         if deg is None:
             raise

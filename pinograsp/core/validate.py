@@ -192,8 +192,12 @@ def count(name: str, value: object, maximum: int, minimum: int = 1, what: str = 
     return v
 
 
-def steps(value: object, name: str = "steps") -> int:
-    """Bisection halvings in ``[1, MAX_STEPS]``."""
+def steps(value: object, name: str = "steps", *, bounded: bool = True) -> int:
+    """Bisection halvings in ``[1, MAX_STEPS]``; with ``bounded=False`` (a method that does not
+    bisect, :data:`~pinograsp.core.settings.PATH_METHODS`: the value is ignored) any whole
+    number >= 1."""
+    if not bounded:
+        return whole_number(name, value)
     return count(name, value, MAX_STEPS, what="upper / 2**52 is already below double resolution")
 
 
