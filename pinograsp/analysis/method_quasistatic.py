@@ -69,7 +69,7 @@ def no_preload_response(
     return PassiveResponse(
         resistible=False,
         status="not_resisted",
-        method=Method.QUASISTATIC.value,  # type: ignore[arg-type]
+        method=Method.QUASISTATIC.value,
         variant=variant.value,
         wrench=np.asarray(w6, float),
         command=np.asarray(fc, float),
@@ -103,7 +103,7 @@ class QuasistaticMethod:
     load_kind: ProblemKind | None = None  # LCPs of its own (solvers/lcp.py), no MIQP stage
     load_factor_kind: ProblemKind | None = None
     default_variant = Variant.PRELOAD_FIRST
-    searches = (Search.PATH,)
+    searches: tuple[Search, ...] = (Search.PATH,)
     refines = False  # follows the model's own polygon (refine the model's pyramids instead)
     exact = True
     limit_point = False

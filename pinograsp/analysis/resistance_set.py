@@ -22,7 +22,7 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Literal
+from typing import TYPE_CHECKING, Any, Literal, get_args
 
 import numpy as np
 
@@ -43,6 +43,7 @@ if TYPE_CHECKING:
 #: Outcome per direction: a :data:`~pinograsp.core.results.MaxWrenchStatus`, or ``"failed"`` (the
 #: query raised a :class:`~pinograsp.SolverError`; recorded in ``ResistanceSet.failures``).
 DirectionStatus = Literal["finite", "unbounded", "above_limit", "below_resolution", "failed"]
+_SET_STATUSES: dict[str, DirectionStatus] = {s: s for s in get_args(DirectionStatus)}
 #: Direction classes of the summary: resisted up to a finite limit (``finite``, ``above_limit``),
 #: without bound, not resistible at all (``below_resolution``), or failed.
 CLASSES = ("finite", "unbounded", "not_resistible", "failed")
@@ -340,6 +341,13 @@ def wrench_rows(model: GraspModel, value: object, name: str) -> np.ndarray:
     return np.array([model.wrench_vector(w, f"{name}[{i}]") for i, w in enumerate(arr)])
 
 
+def _direction_status(r: MaxWrench | None) -> DirectionStatus:
+    """A direction's status in a set: ``"failed"`` without a result, and for a path stopped
+    without a verdict (``"no_solution"``/``"segment_limit"``; the quasi-static method raises
+    for those, so a set never keeps one)."""
+    return "failed" if r is None else _SET_STATUSES.get(r.status, "failed")
+
+
 def _sphere_directions(model: GraspModel, n: int, seed: int, length: float) -> tuple[np.ndarray, np.ndarray]:
     """Raw wrenches ``(u_f, length * u_t)``, (n, 6), of :func:`sphere_points` in the model's space."""
     u = sphere_points(n, model.nw, seed)
@@ -435,7 +443,7 @@ def resistance_set(
         length_source=source,
         magnitudes=mags,
         scaled=mags * k,
-        statuses=tuple("failed" if r is None else r.status for r in results),
+        statuses=tuple(_direction_status(r) for r in results),
         unbounded=np.array([r is not None and r.unbounded for r in results], dtype=bool),
         failures=tuple(failures),
         results=tuple(results),

@@ -91,8 +91,7 @@ def cmd_path(args: argparse.Namespace) -> int:
         *("  " + e.text() for e in lp.events),
     ]
     if args.png:
-        ax = pg.plot_loading_path(lp)
-        ax.figure.savefig(Path(args.png), dpi=120, bbox_inches="tight")
+        pg.save_figure(pg.plot_loading_path(lp), Path(args.png), close=True)
         out.written.append(Path(args.png))
     if args.csv:
         lp.to_csv(args.csv)

@@ -47,9 +47,8 @@ def plot_loading_path(lp: Any, ax: Axes | None = None, *, bands: bool = True) ->
     plt = pyplot()
     s = lp.displacement_along
     loads = np.asarray(lp.loads, float)
-    new = ax is None
     band_ax = None
-    if new:
+    if ax is None:
         nc = len(lp.contact_names)
         if bands and nc:
             fig, (ax, band_ax) = plt.subplots(

@@ -20,7 +20,7 @@ from .model import QSModel, build_qs_model
 from .path import MAX_SEGMENTS, StageRun, follow
 from .preload import PRELOAD_VARIANTS, preload_path
 from .rates import EVENT_RTOL, StageSpec, State, force_scale
-from .result import LoadingPath
+from .result import LoadingPath, PathStatus
 
 _CACHE: weakref.WeakKeyDictionary[GraspModel, dict] = weakref.WeakKeyDictionary()
 
@@ -189,7 +189,7 @@ def _status(run: StageRun, p: Prepared, spec: StageSpec) -> tuple[str, float, st
     return "no_solution", float(last), run.status
 
 
-def _seg_rates(p: Prepared, seg, x0: np.ndarray) -> dict[str, np.ndarray]:
+def _seg_rates(p: Prepared, seg, x0: np.ndarray | None) -> dict[str, np.ndarray]:
     """A segment's rates per unit load in the arrays' units (for the ray)."""
     tmp = State(seg.dvs, seg.dc, seg.df, seg.dlam_c, seg.dhold, seg.dslip, 0.0)
     arr = _arrays(p, [tmp])
@@ -248,7 +248,13 @@ def build_path(p: Prepared, d6: np.ndarray, run: StageRun, spec: StageSpec, wall
         length_scale=float(m.length_scale),
         model_stiffness=float(np.max(m.k)),
         wall_time=wall,
-        **arrays,
+        object_displacements=arrays["object_displacements"],
+        joint_displacements=arrays["joint_displacements"],
+        actuator_displacements=arrays["actuator_displacements"],
+        actuator_forces=arrays["actuator_forces"],
+        coupling_forces=arrays["coupling_forces"],
+        contact_forces=arrays["contact_forces"],
+        contact_slip=arrays["contact_slip"],
     )
 
 
@@ -329,6 +335,7 @@ def _continuation(p: Prepared, d6: np.ndarray, more: StageRun, spec: StageSpec) 
     )
     snaps = tuple(getattr(more, "snaps", ()))
     tail = more.status.split(":")[-1]
+    status: PathStatus
     if not snaps:
         status = "finite" if more.status in ("unloaded", "mechanism") else "no_solution"
         limit = float(more.states[0].t)
