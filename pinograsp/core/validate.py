@@ -145,6 +145,8 @@ LOAD_RATIO = 1e6
 MAX_STEPS = 60
 #: Largest number of directions of a profile, resistance set or grasp score (one search each).
 MAX_DIRECTIONS = 100_000
+#: Largest segment-count limit of a quasi-static loading path (each segment one LCP).
+MAX_PATH_SEGMENTS = 1_000_000
 #: Largest number of sampled grasps (``sample_grasps``, batch files).
 MAX_SAMPLES = 1_000_000
 #: Largest number of joints of a contact Jacobian (``Contact.revolute(nq=...)``, a hand has ~30).

@@ -13,6 +13,7 @@ import numpy as np
 from ...core.axes import wrench_direction
 from ...core.model import GraspModel
 from ...core.settings import Settings, make_settings
+from ...core.validate import MAX_FORCE, MAX_PATH_SEGMENTS, count, load_within, number_in
 from ...errors import InvalidInputError
 from .continuation import continue_past_limit
 from .events import path_events
@@ -280,8 +281,10 @@ def loading_path(
             while the commands ramp, then released) or ``"settled"`` (object free, friction on).
         settings: :class:`~pinograsp.Settings`: ``tangential_ratio`` (tangential / normal
             contact stiffness, default 1) and ``normal_uncertainty`` apply.
-        max_segments: Segment-count limit of each stage (a count; status ``"segment_limit"``).
-        up_to: Stop at this load [N or N·m] (status ``"reached"`` when the path gets there).
+        max_segments: Segment-count limit of each stage (a count in [1, 1e6]; status
+            ``"segment_limit"``).
+        up_to: Stop at this load [N or N·m] (status ``"reached"`` when the path gets there),
+            in [0, 1e12] and within 1e6 times the grasp's force scale (docs/errors.md).
         continuation: At a softening limit, also follow the path past it to the snap's
             landing and on (:attr:`LoadingPath.continuation`).
 
@@ -295,10 +298,12 @@ def loading_path(
     t0 = time.perf_counter()
     s = checked_settings(settings)
     v = _variant(variant, s)
-    if isinstance(max_segments, bool) or not isinstance(max_segments, (int, np.integer)) or max_segments < 1:
-        raise InvalidInputError("max_segments", f"expected a whole number >= 1, got {max_segments!r}")
+    max_segments = count("max_segments", max_segments, MAX_PATH_SEGMENTS, what="each segment one LCP")
     p = prepare(model, command, s, v, int(max_segments))
     d6 = wrench_direction(model, direction)
+    if up_to is not None:  # a load: the domains of every load (docs/errors.md, "Input domains")
+        up_to = number_in("up_to", up_to, 0.0, MAX_FORCE, "N or N·m")
+        load_within(model, model.command_vector(command), "up_to", up_to * d6)
     return run_path(p, d6, int(max_segments), up_to, continuation, t0)
 
 
