@@ -64,7 +64,9 @@ def _cell(rs: list[dict], m: str) -> tuple[str, str]:
     n = sum(c["rel"] is not None for c in cmps)
     err = "—" if med is None else f"{100 * med:.1f} / {100 * mx:.1f} ({n})"
     run = f" of {len(cmps) - notrun}" if notrun else ""
-    return f"{same} / {wrong} / {nv}{run}", err
+    via = sum(c["via"] == "threshold" for c in cmps)
+    via_text = f" ({via} at the threshold)" if via else ""
+    return f"{same} / {wrong} / {nv}{run}{via_text}", err
 
 
 def summary_table(rows: list[dict], methods: list[str], friction: str) -> list[str]:
@@ -101,9 +103,7 @@ def gradual_table(rows: list[dict], friction: str) -> list[str]:
         if not gr:
             continue
         rel = [
-            r["cmp"]["quasistatic"]["rel_gradual"]
-            for r in gr
-            if r["cmp"]["quasistatic"]["rel_gradual"] is not None
+            r["cmp"]["quasistatic"]["rel_lad"] for r in gr if r["cmp"]["quasistatic"]["rel_lad"] is not None
         ]
         med, mx = _stats(rel)
         fin = sum(
@@ -134,9 +134,12 @@ def speed_table(rows: list[dict], methods: list[str]) -> list[str]:
 
 def _qs_facts(p: dict[str, Any]) -> str:
     bits = []
-    for k in ("segments", "events", "path_status", "path_stop_reason", "path_reason"):
+    for k in ("segments", "events", "stop_reason", "largest_lcp"):
         if p.get(k) is not None:
-            bits.append(f"{k.replace('path_', '')} {p[k]}")
+            bits.append(f"{k.replace('_', ' ')} {p[k]}")
+    bad = {k: v for k, v in (p.get("audit") or {}).items() if v > 1e-6}
+    if bad:
+        bits.append("audit " + ", ".join(f"{k} {v:.2g}" for k, v in bad.items()))
     if p.get("final_states"):
         bits.append("final contacts [" + ", ".join(p["final_states"]) + "]")
     if p.get("final_actuators"):
@@ -155,10 +158,13 @@ def disagreements(rows: list[dict], methods: list[str], big: float = 0.05) -> li
         for r in rows:
             c, p = r["cmp"][m], r["preds"][m]
             flag = c["verdict"] == "wrong class" or (m == "quasistatic" and c["verdict"] == "no verdict")
+            flag = flag or (m == "quasistatic" and c["via"] == "threshold")
             large = c["rel"] is not None and abs(c["rel"]) > big
             if not (flag or (m == "quasistatic" and large)):
                 continue
-            what = c.get("why", "") if flag else f"magnitude {100 * c['rel']:+.1f} %"
+            what = c.get("why", "") if c["verdict"] != SAME else "gives way at the threshold"
+            if c["rel"] is not None:
+                what = f"magnitude {100 * c['rel']:+.1f} %"
             text = (
                 f"- `{r['case'].key}` ({r['friction']}; {r['case'].grasp}, d = "
                 f"[{', '.join(f'{x:.3g}' for x in r['case'].direction)}]): simulated {sim_text(r['sim'])},"
@@ -195,7 +201,7 @@ def detail_tables(rows: list[dict], methods: list[str], friction: str) -> list[s
             for m in methods:
                 c = r["cmp"][m]
                 flag = "" if c["verdict"] == SAME else f" **({c['verdict']})**"
-                rel = c["rel"] if c["rel"] is not None else c["rel_gradual"]
+                rel = c["rel"] if c["rel"] is not None else c["rel_lad"]
                 cells.append(
                     f"{pred_text(r['preds'][m])}{flag} | {'' if rel is None else f'{100 * rel:+.2f} %'}"
                 )

@@ -58,48 +58,54 @@ HOLDS = ("unbounded", "above_limit")
 GIVES = ("finite", "below_resolution")
 
 
-def _qs_max_wrench(model: Any, command: np.ndarray, d: np.ndarray, upper: float) -> Any:
-    if hasattr(pg, "quasistatic_max_wrench"):
-        return pg.quasistatic_max_wrench(model, command, d)
-    return pg.max_resistible_wrench(model, command, d, method="quasistatic", upper=upper)
-
-
 def _path_facts(lp: Any) -> dict[str, Any]:
-    """Segments, events and the states where the path ended (whatever the LoadingPath offers)."""
-    out: dict[str, Any] = {}
-    loads = getattr(lp, "loads", None)
-    if loads is not None:
-        out["segments"] = max(len(loads) - 1, 0)
-    events = getattr(lp, "events", None)
-    if events is not None:
-        out["events"] = len(events)
-        out["last_events"] = [
-            str(getattr(e, "summary", lambda e=e: e)()) if callable(getattr(e, "summary", None)) else str(e)
-            for e in list(events)[-4:]
-        ]
-    for name in ("contact_states", "states"):
-        states = getattr(lp, name, None)
-        if states is not None and len(states):
-            out["final_states"] = [str(s) for s in np.asarray(states[-1], dtype=object).ravel()]
-            break
-    for name in ("actuator_modes",):
-        modes = getattr(lp, name, None)
-        if modes is not None and len(modes):
-            out["final_actuators"] = [str(s) for s in np.asarray(modes[-1], dtype=object).ravel()]
-    for name in ("status", "stop_reason", "reason"):
-        if getattr(lp, name, None) is not None:
-            out[f"path_{name}"] = str(getattr(lp, name))
+    """Work, stop reason, last events and the states where the path ended (LoadingPath fields)."""
+    out: dict[str, Any] = {
+        "segments": int(getattr(lp, "segments", max(len(lp.loads) - 1, 0))),
+        "events": len(lp.events),
+        "path_status": str(lp.status),
+        "stop_reason": str(getattr(lp, "stop_reason", "")),
+        "largest_lcp": int(getattr(lp, "largest_lcp", 0)),
+        "limit": float(lp.limit),
+    }
+    text = [e.text() if hasattr(e, "text") else str(e) for e in lp.events]
+    out["last_events"] = text[-4:]
+    if len(lp.contact_states):
+        out["final_states"] = [str(s) for s in lp.contact_states[-1]]
+    if len(getattr(lp, "actuator_modes", ())):
+        out["final_actuators"] = [str(s) for s in lp.actuator_modes[-1]]
+    names = getattr(lp, "contact_names", ())
+    if names and "final_states" in out:
+        out["final_states"] = [f"{n} {s}" for n, s in zip(names, out["final_states"])]
+    audit = getattr(lp, "audit", None) or {}
+    out["audit"] = {k: float(np.max(np.abs(v))) for k, v in audit.items() if np.size(v)}
     return out
 
 
-def run_quasistatic(case: Case, sims: dict[str, dict[str, Any]], with_path: bool = True) -> dict[str, Any]:
-    """One live quasi-static prediction (+ the loading path's facts and load at the sim threshold)."""
+def _lad(lp: Any, sim: dict[str, Any]) -> float | str | None:
+    """The path's load at the simulation's give-way thresholds (translation and rotation)."""
+    try:
+        lad = lp.load_at_displacement(
+            sim["slip_threshold"], stiffness=sim["stiffness"], rotation=sim.get("rotation_threshold")
+        )
+    except Exception as exc:  # noqa: BLE001 - recorded, the harness goes on
+        return f"{type(exc).__name__}: {str(exc)[:200]}"
+    return float(lad) if lad is not None else None
+
+
+def run_quasistatic(case: Case, sims: dict[str, dict[str, Any]]) -> dict[str, Any]:
+    """One live quasi-static prediction: the loading path, its limit as a MaxWrench, its facts
+    and its load at the simulation's give-way threshold (per friction model simulated)."""
     scene, model, command = case.build()
     d = np.asarray(case.direction)
     rec: dict[str, Any] = {"key": case.key, "method": "quasistatic"}
     t0 = time.perf_counter()
     try:
-        mw = _qs_max_wrench(model, command, d, case.upper)
+        if hasattr(pg, "loading_path"):
+            lp = pg.loading_path(model, command, d)
+            mw = pg.quasistatic_max_wrench(model, command, d, path=lp)
+        else:  # through the method registry only
+            lp, mw = None, pg.max_resistible_wrench(model, command, d, method="quasistatic", upper=case.upper)
     except pg.PinograspError as exc:
         rec.update(
             status="error",
@@ -109,23 +115,53 @@ def run_quasistatic(case: Case, sims: dict[str, dict[str, Any]], with_path: bool
         )
         return rec
     rec.update(status=str(mw.status), magnitude=float(mw.magnitude), time=time.perf_counter() - t0)
-    if not (with_path and hasattr(pg, "loading_path")):
-        return rec
-    try:
-        lp = pg.loading_path(model, command, d)
-    except pg.PinograspError as exc:
-        rec["path_error"] = f"{type(exc).__name__}: {str(exc)[:300]}"
-        return rec
-    rec.update(_path_facts(lp))
-    rec["lad"] = {}
-    for fr, sim in sims.items():  # the load at the simulation's give-way threshold, per friction model
-        if sim.get("status") in ("gradual", "gave_way") and sim.get("slip_threshold"):
-            try:
-                lad = lp.load_at_displacement(sim["slip_threshold"], stiffness=sim["stiffness"])
-                rec["lad"][fr] = None if lad is None or not np.isfinite(lad) else float(lad)
-            except Exception as exc:  # noqa: BLE001 - recorded, the harness goes on
-                rec["lad"][fr] = f"{type(exc).__name__}: {str(exc)[:200]}"
+    if lp is not None:
+        rec.update(_path_facts(lp))
+        rec["lad"] = {fr: _lad(lp, sim) for fr, sim in sims.items() if sim.get("slip_threshold")}
     return rec
+
+
+def ratio_study(sel: list[Case], ratios: list[float], energetic: dict[str, dict]) -> list[str]:
+    """λ* against ``tangential_ratio`` on the scenes' directions, and against the energetic method
+    (the paper's rigid friction with maximum dissipation) where that one finishes."""
+    lines = [
+        "| scene | tangential_ratio | finite / unbounded / ≈ 0 / no verdict"
+        " | median / max \\|λ* / λ*(ratio 1) − 1\\| | vs energetic: same class"
+        " | median / max \\|λ* / energetic − 1\\| (n) | median ms |",
+        "|---|---:|---|---:|---:|---:|---:|",
+    ]
+    base: dict[str, float] = {}
+    for r in sorted(ratios, key=lambda x: x != 1.0):
+        settings = pg.Settings(tangential_ratio=r)
+        for scene in dict.fromkeys(c.group for c in sel):
+            cs = [c for c in sel if c.group == scene]
+            counts = {"finite": 0, "unbounded": 0, "below_resolution": 0, "other": 0}
+            rel1, rele, same, ts = [], [], 0, []
+            for c in cs:
+                _, model, command = c.build()
+                t0 = time.perf_counter()
+                try:
+                    mw = pg.quasistatic_max_wrench(model, command, np.asarray(c.direction), settings=settings)
+                    st, mag = str(mw.status), float(mw.magnitude)
+                except pg.PinograspError:
+                    st, mag = "error", float("nan")
+                ts.append(time.perf_counter() - t0)
+                counts[st if st in counts else "other"] += 1
+                if r == 1.0:
+                    base[c.key] = mag
+                elif st == "finite" and np.isfinite(base.get(c.key, np.nan)) and base[c.key] > 0:
+                    rel1.append(mag / base[c.key] - 1.0)
+                e = energetic.get(c.key)
+                if e and e.get("status") in ("finite", "unbounded", "below_resolution"):
+                    same += (e["status"] == "unbounded") == (st == "unbounded")
+                    if st == "finite" and e["status"] == "finite" and e["magnitude"]:
+                        rele.append(mag / e["magnitude"] - 1.0)
+            a1, ae = np.abs(rel1), np.abs(rele)
+            f1 = f"{100 * np.median(a1):.2f} / {100 * np.max(a1):.2f} %" if a1.size else "—"
+            fe = f"{100 * np.median(ae):.2f} / {100 * np.max(ae):.2f} % ({ae.size})" if ae.size else "—"
+            cnt = " / ".join(str(v) for v in counts.values())
+            lines.append(f"| {scene} | {r:g} | {cnt} | {f1} | {same} | {fe} | {1e3 * np.median(ts):.2f} |")
+    return lines
 
 
 def run_live(method: str, case: Case, sims: dict[str, dict[str, Any]]) -> dict[str, Any]:
@@ -137,8 +173,16 @@ def run_live(method: str, case: Case, sims: dict[str, dict[str, Any]]) -> dict[s
 
 
 def classify(pred: dict[str, Any] | None, sim: dict[str, Any], friction: str) -> dict[str, Any]:
-    """Verdict of one prediction against one simulation record."""
-    out: dict[str, Any] = {"verdict": "no verdict", "rel": None, "rel_gradual": None, "zero": False}
+    """Verdict of one prediction against one simulation record.
+
+    The class is the prediction's limit load against ``upper``; for a prediction with a loading
+    path, a give-way of the simulation also counts as the same class when the path reaches the
+    simulation's give-way threshold below ``upper`` (``via = "threshold"``: the object has moved
+    as far as the simulation calls giving way, e.g. a gradual give-way on an unbounded path).
+    ``rel``: sharp give-ways, simulated / predicted λ* - 1; ``rel_lad``: simulated / the path's
+    load at the threshold - 1 (every give-way of the simulation).
+    """
+    out: dict[str, Any] = {"verdict": "no verdict", "rel": None, "rel_lad": None, "zero": False, "via": None}
     if pred is None:
         out["verdict"] = out["why"] = "not run"
         return out
@@ -153,20 +197,22 @@ def classify(pred: dict[str, Any] | None, sim: dict[str, Any], friction: str) ->
         return out
     s_holds = sim["status"] == "held"
     lad = (pred.get("lad") or {}).get(friction)
-    if sim["status"] == "gradual" and isinstance(lad, float):
-        out["rel_gradual"] = sim["load"] / lad - 1.0 if lad > 0 else None
-        if lad < upper:
-            p_holds = False  # the path reaches the simulation's threshold below upper
+    if not s_holds and isinstance(lad, float) and np.isfinite(lad):
+        out["rel_lad"] = sim["load"] / lad - 1.0 if lad > 0 and sim["load"] else None
+        if p_holds and lad < upper:
+            p_holds, out["via"] = False, "threshold"
     if p_holds != s_holds:
         out["verdict"] = "wrong class"
         out["why"] = "predicted holds" if p_holds else "simulation holds"
         return out
     out["verdict"] = "same class"
-    if not s_holds and mag is not None and np.isfinite(mag):
-        if mag <= ZERO * upper and sim["load"] <= ZERO * upper:
-            out["zero"] = True
-        elif mag > 0 and sim["status"] == "gave_way":
-            out["rel"] = sim["load"] / mag - 1.0
+    if s_holds:
+        return out
+    small = (mag if out["via"] is None else lad) <= ZERO * upper
+    if small and sim["load"] <= ZERO * upper:
+        out["zero"] = True
+    elif sim["status"] == "gave_way" and out["via"] is None and mag > 0:
+        out["rel"] = sim["load"] / mag - 1.0
     return out
 
 
@@ -215,6 +261,7 @@ def main() -> None:
     ap.add_argument("--fresh", action="store_true", help="recompute cached methods too")
     ap.add_argument("--save-live", help="append the live predictions to this JSON-lines file")
     ap.add_argument("--limit", type=int, default=0, help="only the first N cases of each set (smoke test)")
+    ap.add_argument("--ratios", default="", help="also tabulate λ* for these tangential ratios on case 1-3")
     args = ap.parse_args()
     methods = [m.strip() for m in args.methods.split(",") if m.strip()]
     frictions = [f.strip() for f in args.friction.split(",") if f.strip()]
@@ -248,6 +295,14 @@ def main() -> None:
         f" {platform.machine()}, pinograsp {pg.__version__} from {Path(pg.__file__).parent})._"
     )
     text = render(rows, methods, frictions, head, details=args.details)
+    if args.ratios:
+        cached = {r["key"]: r for r in read_jsonl(METHODS_FILE) if r["method"] == "energetic"}
+        scenes = [c for c in cases(["scenes"]) if c.group in ("case1", "case2", "case3")]
+        ratios = [float(x) for x in args.ratios.split(",")]
+        text += "\n### λ* and the tangential stiffness (case 1-3)\n\n" + "\n".join(
+            ratio_study(scenes, ratios, cached)
+        )
+        text += "\n"
     if args.out:
         Path(args.out).write_text(text)
         print(f"wrote {args.out}")
