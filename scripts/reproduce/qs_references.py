@@ -119,6 +119,7 @@ def simulate(case: Case, friction: str) -> dict[str, Any]:
         steps=r.steps,
         wall_time=round(r.wall_time, 3),
         trace=_trace(r),
+        evidence=[[_r(x, 6), bool(ok)] for x, ok in r.evidence],
     )
     return rec
 

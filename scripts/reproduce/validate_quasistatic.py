@@ -257,15 +257,20 @@ def main() -> None:
     ap.add_argument("--sets", default=",".join(SETS))
     ap.add_argument("--friction", default="pyramid,cone")
     ap.add_argument("--out", help="write the markdown section here (default: print it)")
+    ap.add_argument("--doc", help="put the section into this file between the quasi-static markers")
     ap.add_argument("--details", action="store_true", help="add a per-direction table per group")
     ap.add_argument("--fresh", action="store_true", help="recompute cached methods too")
     ap.add_argument("--save-live", help="append the live predictions to this JSON-lines file")
     ap.add_argument("--limit", type=int, default=0, help="only the first N cases of each set (smoke test)")
+    ap.add_argument("--explain", help="print the simulation records and the loading path of one case key")
     ap.add_argument("--ratios", default="", help="also tabulate λ* for these tangential ratios on case 1-3")
     args = ap.parse_args()
     methods = [m.strip() for m in args.methods.split(",") if m.strip()]
     frictions = [f.strip() for f in args.friction.split(",") if f.strip()]
     refs = load_refs(frictions)
+    if args.explain:
+        explain(args.explain, refs)
+        return
     sel = []
     for s in parse_sets(args.sets):
         cs = [c for c in cases([s]) if c.key in refs]
@@ -306,8 +311,41 @@ def main() -> None:
     if args.out:
         Path(args.out).write_text(text)
         print(f"wrote {args.out}")
-    else:
+    if args.doc:
+        put_section(Path(args.doc), text)
+        print(f"updated {args.doc}")
+    if not (args.out or args.doc):
         print(text)
+
+
+def explain(key: str, refs: dict[str, dict[str, dict[str, Any]]]) -> None:
+    """The simulation records (no trace) and the loading path's summary of one case."""
+    case = next((c for c in cases() if c.key == key), None)
+    if case is None:
+        raise SystemExit(f"unknown case {key!r}")
+    print(case)
+    for f, sim in refs.get(key, {}).items():
+        print(f, {k: v for k, v in sim.items() if k != "trace"})
+    _, model, command = case.build()
+    lp = pg.loading_path(model, command, np.asarray(case.direction))
+    print(lp.summary())
+    for f, sim in refs.get(key, {}).items():
+        print(f"load at the {f} simulation's threshold: {_lad(lp, sim)}")
+
+
+START, END = "<!-- quasistatic-validation:start -->", "<!-- quasistatic-validation:end -->"
+
+
+def put_section(path: Path, text: str) -> None:
+    """Replace the text between :data:`START` and :data:`END` in ``path`` (appended when absent;
+    ``benchmarks/validate_mujoco.py`` rewrites the whole of docs/validation.md: run it first)."""
+    old = path.read_text() if path.exists() else ""
+    block = f"{START}\n{text}{END}\n"
+    if START in old and END in old:
+        new = old[: old.index(START)] + block + old[old.index(END) + len(END) :].lstrip("\n")
+    else:
+        new = old.rstrip("\n") + "\n\n" + block
+    path.write_text(new)
 
 
 if __name__ == "__main__":
