@@ -217,11 +217,23 @@ def classify(pred: dict[str, Any] | None, sim: dict[str, Any], friction: str) ->
 
 
 def load_refs(frictions: list[str]) -> dict[str, dict[str, dict[str, Any]]]:
-    """key -> friction -> simulation record (errors dropped: no reference)."""
+    """key -> friction -> simulation record (errors dropped: no reference; planar scenes: the cone
+    record serves as the pyramid's)."""
     refs: dict[str, dict[str, dict[str, Any]]] = {}
-    for r in read_jsonl(SIM_FILE):
+    for r in read_jsonl(SIM_FILE):  # a refinement pass (qs_references.refine_upper) replaces the first
         if r["friction"] in frictions and r["status"] != "error":
-            refs.setdefault(r["key"], {})[r["friction"]] = r
+            slot = refs.setdefault(r["key"], {})
+            if r.get("refined") or not slot.get(r["friction"], {}).get("refined"):
+                if r.get("refined") and r["friction"] in slot:
+                    r = {
+                        **r,
+                        "first_pass": {k: slot[r["friction"]].get(k) for k in ("status", "load", "upper")},
+                    }
+                slot[r["friction"]] = r
+    planar = {c.key for c in cases(["scenes"]) if c.planar}
+    for key in planar & set(refs):  # one simulation serves both friction models (qs_references)
+        if "pyramid" in frictions and "cone" in refs[key] and "pyramid" not in refs[key]:
+            refs[key]["pyramid"] = refs[key]["cone"]
     return refs
 
 
