@@ -94,24 +94,31 @@ def summary_table(rows: list[dict], methods: list[str], friction: str) -> list[s
 def gradual_table(rows: list[dict], friction: str) -> list[str]:
     """Quasi-static vs the simulation's gradual give-ways through load_at_displacement."""
     lines = [
-        "| set | group | gradual in the simulation | compared | \\|diff\\| median / max"
-        " | λ* finite below upper |",
-        "|---|---|---:|---:|---:|---:|",
+        "| set | group | gradual in the simulation | same class (at a tenth of the thresholds)"
+        " | onset: \\|diff\\| median / max | load: \\|diff\\| median / max"
+        " | curve at 1 % of the thresholds: \\|diff\\| median / max (n) | λ* below upper |",
+        "|---|---|---:|---:|---:|---:|---:|---:|",
     ]
     for (s, g), rs in _groups(rows, friction).items():
         gr = [r for r in rs if r["sim"]["status"] == "gradual"]
         if not gr:
             continue
-        rel = [
-            r["cmp"]["quasistatic"]["rel_lad"] for r in gr if r["cmp"]["quasistatic"]["rel_lad"] is not None
-        ]
-        med, mx = _stats(rel)
+        cmps = [r["cmp"]["quasistatic"] for r in gr]
+        on = _stats([c["rel_onset"] for c in cmps if c["rel_onset"] is not None])
+        ld = _stats([c["rel_lad"] for c in cmps if c["rel_lad"] is not None])
+        cv = [c["rel_curve"] for c in cmps if c.get("rel_curve") is not None]
+        cu = _stats(cv)
+        same = sum(c["verdict"] == SAME for c in cmps)
+        via = sum(c["via"] == "threshold" for c in cmps)
         fin = sum(
             (r["preds"]["quasistatic"] or {}).get("status") in ("finite", "below_resolution")
             and ((r["preds"]["quasistatic"] or {}).get("magnitude") or np.inf) < r["sim"]["upper"]
             for r in gr
         )
-        lines.append(f"| {s} | {g} | {len(gr)} | {len(rel)} | {_pct(med)} / {_pct(mx)} | {fin} |")
+        lines.append(
+            f"| {s} | {g} | {len(gr)} | {same} ({via}) | {_pct(on[0])} / {_pct(on[1])}"
+            f" | {_pct(ld[0])} / {_pct(ld[1])} | {_pct(cu[0])} / {_pct(cu[1])} ({len(cv)}) | {fin} |"
+        )
     return lines
 
 
@@ -171,9 +178,15 @@ def disagreements(rows: list[dict], methods: list[str], big: float = 0.05) -> li
                 f" {m} {pred_text(p)} — {what}"
             )
             if m == "quasistatic" and p:
-                lad = (p.get("lad") or {}).get(r["friction"])
-                if lad is not None:
-                    text += f"; load at the sim threshold {lad if isinstance(lad, str) else f'{lad:.4g}'}"
+                lads = (p.get("lad") or {}).get(r["friction"]) or {}
+                if lads:
+                    text += "; path load at the sim thresholds / a tenth of them " + " / ".join(
+                        str(v) if not isinstance(v, float) else f"{v:.4g}" for v in lads.values()
+                    )
+                if r["sim"].get("first_pass"):
+                    fp = r["sim"]["first_pass"]
+                    text += f" (simulated at upper {r['sim']['upper']:g};"
+                    text += f" at {fp['upper']:g}: {fp['status']} {fp['load']})"
                 facts = _qs_facts(p)
                 text += f"; {facts}" if facts else ""
             items.append(text)
@@ -201,7 +214,7 @@ def detail_tables(rows: list[dict], methods: list[str], friction: str) -> list[s
             for m in methods:
                 c = r["cmp"][m]
                 flag = "" if c["verdict"] == SAME else f" **({c['verdict']})**"
-                rel = c["rel"] if c["rel"] is not None else c["rel_lad"]
+                rel = c["rel"] if c["rel"] is not None else c["rel_onset"]
                 cells.append(
                     f"{pred_text(r['preds'][m])}{flag} | {'' if rel is None else f'{100 * rel:+.2f} %'}"
                 )

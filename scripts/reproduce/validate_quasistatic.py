@@ -82,15 +82,46 @@ def _path_facts(lp: Any) -> dict[str, Any]:
     return out
 
 
-def _lad(lp: Any, sim: dict[str, Any]) -> float | str | None:
-    """The path's load at the simulation's give-way thresholds (translation and rotation)."""
+def _lad(lp: Any, sim: dict[str, Any], fraction: float = 1.0) -> float | str | None:
+    """The path's load at ``fraction`` of the simulation's give-way thresholds (translation of
+    the reference point and rotation, the contact springs scaled to its stiffness)."""
+    rot = sim.get("rotation_threshold")
     try:
         lad = lp.load_at_displacement(
-            sim["slip_threshold"], stiffness=sim["stiffness"], rotation=sim.get("rotation_threshold")
+            fraction * sim["slip_threshold"],
+            stiffness=sim["stiffness"],
+            rotation=None if rot is None else fraction * rot,
         )
     except Exception as exc:  # noqa: BLE001 - recorded, the harness goes on
         return f"{type(exc).__name__}: {str(exc)[:200]}"
     return float(lad) if lad is not None else None
+
+
+#: Fraction of the simulation's thresholds where the load-displacement curves are compared.
+CURVE = 0.01
+
+
+def trace_load(sim: dict[str, Any], fraction: float = CURVE) -> float | None:
+    """Applied load of the simulated ramp where the object first moved ``fraction`` of a
+    threshold (translation or rotation), interpolated in log-load between trace samples."""
+    tr = sim.get("trace") or {}
+    a, t, r = (np.array([np.nan if v is None else v for v in tr.get(k, [])], dtype=float)
+               for k in ("applied", "translation", "rotation"))  # fmt: skip
+    if a.size < 2:
+        return None
+    u = np.fmax(t / sim["slip_threshold"], r / sim["rotation_threshold"]) / fraction
+    hit = np.flatnonzero(u >= 1.0)
+    if not hit.size or hit[0] == 0 or not (a[hit[0] - 1] > 0):
+        return None
+    j = hit[0]
+    s = (1.0 - u[j - 1]) / (u[j] - u[j - 1])
+    return float(np.exp(np.log(a[j - 1]) + s * (np.log(a[j]) - np.log(a[j - 1]))))
+
+
+def _lads(lp: Any, sim: dict[str, Any]) -> dict[str, Any]:
+    """At the thresholds (the simulation's give-way), at a tenth of them (its onset) and at
+    :data:`CURVE` of them (the load-displacement curves, small motions)."""
+    return {"thr": _lad(lp, sim), "onset": _lad(lp, sim, 0.1), "curve": _lad(lp, sim, CURVE)}
 
 
 def run_quasistatic(case: Case, sims: dict[str, dict[str, Any]]) -> dict[str, Any]:
@@ -117,7 +148,7 @@ def run_quasistatic(case: Case, sims: dict[str, dict[str, Any]]) -> dict[str, An
     rec.update(status=str(mw.status), magnitude=float(mw.magnitude), time=time.perf_counter() - t0)
     if lp is not None:
         rec.update(_path_facts(lp))
-        rec["lad"] = {fr: _lad(lp, sim) for fr, sim in sims.items() if sim.get("slip_threshold")}
+        rec["lad"] = {fr: _lads(lp, sim) for fr, sim in sims.items() if sim.get("slip_threshold")}
     return rec
 
 
@@ -175,14 +206,18 @@ def run_live(method: str, case: Case, sims: dict[str, dict[str, Any]]) -> dict[s
 def classify(pred: dict[str, Any] | None, sim: dict[str, Any], friction: str) -> dict[str, Any]:
     """Verdict of one prediction against one simulation record.
 
-    The class is the prediction's limit load against ``upper``; for a prediction with a loading
-    path, a give-way of the simulation also counts as the same class when the path reaches the
-    simulation's give-way threshold below ``upper`` (``via = "threshold"``: the object has moved
-    as far as the simulation calls giving way, e.g. a gradual give-way on an unbounded path).
-    ``rel``: sharp give-ways, simulated / predicted λ* - 1; ``rel_lad``: simulated / the path's
-    load at the threshold - 1 (every give-way of the simulation).
+    The class is the prediction's limit load against ``upper``. For a prediction with a loading
+    path, a give-way of the simulation also counts as the same class when the path moves as far
+    as the simulation's own criterion below ``upper`` (``via = "threshold"``): its thresholds
+    for a sharp give-way, a tenth of them for a gradual one (the simulation calls a give-way
+    gradual when the object has moved more than a tenth of a threshold at the largest load it
+    holds). Magnitudes: ``rel`` (sharp give-ways) simulated / predicted λ* - 1; ``rel_lad``
+    simulated load / the path's load at the thresholds - 1; ``rel_onset`` the simulation's onset
+    load / the path's load at a tenth of the thresholds - 1; ``rel_curve`` the ramp's load where
+    the object had moved :data:`CURVE` of a threshold / the path's load there - 1.
     """
-    out: dict[str, Any] = {"verdict": "no verdict", "rel": None, "rel_lad": None, "zero": False, "via": None}
+    out: dict[str, Any] = {"verdict": "no verdict", "rel": None, "rel_lad": None, "rel_onset": None,
+                           "rel_curve": None, "zero": False, "via": None}  # fmt: skip
     if pred is None:
         out["verdict"] = out["why"] = "not run"
         return out
@@ -196,11 +231,18 @@ def classify(pred: dict[str, Any] | None, sim: dict[str, Any], friction: str) ->
         out["why"] = str(status)
         return out
     s_holds = sim["status"] == "held"
-    lad = (pred.get("lad") or {}).get(friction)
-    if not s_holds and isinstance(lad, float) and np.isfinite(lad):
-        out["rel_lad"] = sim["load"] / lad - 1.0 if lad > 0 and sim["load"] else None
-        if p_holds and lad < upper:
-            p_holds, out["via"] = False, "threshold"
+    lads = (pred.get("lad") or {}).get(friction) or {}
+    thr, onset = lads.get("thr"), lads.get("onset")
+    if not s_holds and isinstance(thr, float) and thr > 0 and sim["load"]:
+        out["rel_lad"] = sim["load"] / thr - 1.0
+    if sim["status"] == "gradual" and isinstance(onset, float) and onset > 0 and sim.get("onset"):
+        out["rel_onset"] = sim["onset"] / onset - 1.0
+    curve, at = lads.get("curve"), trace_load(sim)
+    if isinstance(curve, float) and curve > 0 and at is not None and np.isfinite(curve):
+        out["rel_curve"] = at / curve - 1.0
+    crit = onset if sim["status"] == "gradual" else thr
+    if not s_holds and p_holds and isinstance(crit, float) and crit < upper:
+        p_holds, out["via"] = False, "threshold"
     if p_holds != s_holds:
         out["verdict"] = "wrong class"
         out["why"] = "predicted holds" if p_holds else "simulation holds"
@@ -208,7 +250,7 @@ def classify(pred: dict[str, Any] | None, sim: dict[str, Any], friction: str) ->
     out["verdict"] = "same class"
     if s_holds:
         return out
-    small = (mag if out["via"] is None else lad) <= ZERO * upper
+    small = (mag if out["via"] is None else crit) <= ZERO * upper
     if small and sim["load"] <= ZERO * upper:
         out["zero"] = True
     elif sim["status"] == "gave_way" and out["via"] is None and mag > 0:
@@ -342,7 +384,7 @@ def explain(key: str, refs: dict[str, dict[str, dict[str, Any]]]) -> None:
     lp = pg.loading_path(model, command, np.asarray(case.direction))
     print(lp.summary())
     for f, sim in refs.get(key, {}).items():
-        print(f"load at the {f} simulation's threshold: {_lad(lp, sim)}")
+        print(f"load at the {f} simulation's thresholds / a tenth of them: {_lads(lp, sim)}")
 
 
 START, END = "<!-- quasistatic-validation:start -->", "<!-- quasistatic-validation:end -->"
