@@ -1,4 +1,4 @@
-"""Speed of the quasi-static method (issue 25): ms per direction, segments and events, ratios.
+"""Speed of the quasi-static method against the paper's methods (issue 25), in one run.
 
 One run measures, on the same directions and in the same process:
 
@@ -17,9 +17,11 @@ One run measures, on the same directions and in the same process:
 - optionally (``--profile``) where the time goes: the top functions of one 16-contact direction.
 
 Timing: each direction once after one warm-up call per case (the first call imports and
-builds); ``time.perf_counter``; nothing here is asserted. Usage::
+builds); CPU time of this process (``time.process_time``: the shared machine's load does not
+inflate it; the baselines and the quasi-static method alike), nothing asserted. The per-method
+speed table without baselines is ``benchmarks/quasistatic_speed.py`` (h-qs). Usage::
 
-    PYTHONPATH=. nice -n 10 python benchmarks/quasistatic_speed.py [--baseline 4] [--cap 500]
+    PYTHONPATH=. nice -n 10 python benchmarks/quasistatic_ratios.py [--baseline 4] [--cap 500]
         [--pairs 1,2,3,4,6,10] [--batch 1000] [--profile] [--out FILE.md]
 """
 
@@ -76,12 +78,12 @@ def time_qs(model: Any, command: np.ndarray, dirs: list[np.ndarray], upper: floa
     _qs(model, command, dirs[0], upper)  # warm-up
     ts, statuses, segs, events = [], [], [], []
     for d in dirs:
-        t0 = time.perf_counter()
+        t0 = time.process_time()
         try:
             statuses.append(str(_qs(model, command, d, upper).status))
         except pg.PinograspError as exc:
             statuses.append(type(exc).__name__)
-        ts.append(time.perf_counter() - t0)
+        ts.append(time.process_time() - t0)
         if hasattr(pg, "loading_path"):
             try:
                 lp = pg.loading_path(model, command, d)
@@ -97,7 +99,7 @@ def time_method(
 ) -> dict[str, Any]:
     ts, limited = [], 0
     for d in dirs:
-        t0 = time.perf_counter()
+        t0 = time.process_time()
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             try:
@@ -106,7 +108,7 @@ def time_method(
                 )
             except pg.SolverError:
                 limited += 1
-        ts.append(time.perf_counter() - t0)
+        ts.append(time.process_time() - t0)
     return {"t": ts, "limited": limited}
 
 
@@ -164,10 +166,10 @@ def main() -> None:
             g[f"{key}_lim"] += b["limited"]
         print(f"{name:12s} qs {_ms(r['t'])} ms", flush=True)
     lines = [
-        f"_`benchmarks/quasistatic_speed.py` on {platform.machine()}, pinograsp {pg.__version__}"
+        f"_`benchmarks/quasistatic_ratios.py` (CPU time) on {platform.machine()}, pinograsp {pg.__version__}"
         f" ({Path(pg.__file__).parent}); baselines capped at max_nodes={args.cap} per search._",
         "",
-        "| case | contacts | directions | quasi-static median / max [ms] | statuses | segments | events |"
+        "| case | contacts | directions | quasi-static median / max [ms CPU] | statuses | segments | events |"
         " iterative median [ms] (node limits) | energetic median [ms] (node limits) |"
         " iterative / qs | energetic / qs |",
         "|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|",
@@ -206,7 +208,7 @@ def resistance_set_line(n: int) -> str:
     in the registry, the same sphere directions one by one through the quasi-static entry)."""
     sc = pg.load_scene("case2")
     cmd = sc.model.command_vector(sc.preload(None))
-    t0 = time.perf_counter()
+    t0 = time.process_time()
     try:
         rs = pg.resistance_set(sc.model, cmd, n=n, method="quasistatic", upper=UPPER, workers=1)
         how, fin = "pg.resistance_set", int(np.sum(np.isfinite(np.asarray(rs.magnitudes))))
@@ -217,7 +219,7 @@ def resistance_set_line(n: int) -> str:
             "a loop of quasi-static queries over pg.sphere_points (not yet in resistance_set)",
             int(np.sum(np.isfinite(mags))),
         )
-    wall = time.perf_counter() - t0
+    wall = time.process_time() - t0
     text = f"Case 2, {n} directions on the 6D sphere, quasi-static, one process ({how}):"
     return text + f" {wall:.2f} s, {fin} finite."
 
@@ -236,9 +238,9 @@ def batch_line(n: int) -> str:
         q_open={"bh_j11": math.pi / 2},
     )
     score = pg.WorstAxisScore(method="quasistatic")
-    t0 = time.perf_counter()
+    t0 = time.process_time()
     df = pg.evaluate_grasps(grasps, score=score, workers=2)
-    wall = time.perf_counter() - t0
+    wall = time.process_time() - t0
     return (
         f"evaluate_grasps: {n} Barrett grasps, quasi-static WorstAxisScore, 2 local workers: {wall:.1f} s"
         f" ({int((df['status'] == 'ok').sum())} ok)."
