@@ -238,9 +238,9 @@ def batch_line(n: int) -> str:
         q_open={"bh_j11": math.pi / 2},
     )
     score = pg.WorstAxisScore(method="quasistatic")
-    t0 = time.process_time()
+    t0 = time.perf_counter()  # wall time: the work is in the worker processes
     df = pg.evaluate_grasps(grasps, score=score, workers=2)
-    wall = time.process_time() - t0
+    wall = time.perf_counter() - t0
     return (
         f"evaluate_grasps: {n} Barrett grasps, quasi-static WorstAxisScore, 2 local workers: {wall:.1f} s"
         f" ({int((df['status'] == 'ok').sum())} ok)."
