@@ -206,15 +206,17 @@ def run_live(method: str, case: Case, sims: dict[str, dict[str, Any]]) -> dict[s
 def classify(pred: dict[str, Any] | None, sim: dict[str, Any], friction: str) -> dict[str, Any]:
     """Verdict of one prediction against one simulation record.
 
-    The class is the prediction's limit load against ``upper``. For a prediction with a loading
-    path, a give-way of the simulation also counts as the same class when the path moves as far
-    as the simulation's own criterion below ``upper`` (``via = "threshold"``): its thresholds
-    for a sharp give-way, a tenth of them for a gradual one (the simulation calls a give-way
-    gradual when the object has moved more than a tenth of a threshold at the largest load it
-    holds). Magnitudes: ``rel`` (sharp give-ways) simulated / predicted λ* - 1; ``rel_lad``
-    simulated load / the path's load at the thresholds - 1; ``rel_onset`` the simulation's onset
-    load / the path's load at a tenth of the thresholds - 1; ``rel_curve`` the ramp's load where
-    the object had moved :data:`CURVE` of a threshold / the path's load there - 1.
+    The class is the prediction's limit load against ``upper``, with "≈ 0" (below
+    :data:`ZERO` of ``upper``: not resisted at all) a class of its own among the give-ways.
+    For a prediction with a loading path, a give-way of the simulation also counts as the
+    same class when the path moves as far as the simulation's own criterion below ``upper``
+    (``via = "threshold"``): its thresholds for a sharp give-way, a tenth of them for a
+    gradual one (the simulation calls a give-way gradual when the object has moved more than
+    a tenth of a threshold at the largest load it holds). Magnitudes: ``rel`` (sharp
+    give-ways) simulated / predicted λ* - 1; ``rel_lad`` simulated load / the path's load at
+    the thresholds - 1; ``rel_onset`` the simulation's onset load / the path's load at a
+    tenth of the thresholds - 1; ``rel_curve`` the ramp's load where the object had moved
+    :data:`CURVE` of a threshold / the path's load there - 1.
     """
     out: dict[str, Any] = {"verdict": "no verdict", "rel": None, "rel_lad": None, "rel_onset": None,
                            "rel_curve": None, "zero": False, "via": None}  # fmt: skip
@@ -251,8 +253,12 @@ def classify(pred: dict[str, Any] | None, sim: dict[str, Any], friction: str) ->
     if s_holds:
         return out
     small = (mag if out["via"] is None else crit) <= ZERO * upper
-    if small and sim["load"] <= ZERO * upper:
+    sim_small = sim["load"] <= ZERO * upper
+    if small and sim_small:
         out["zero"] = True
+    elif small != sim_small:  # "not resisted at all" vs a real load: its own class
+        out["verdict"] = "wrong class"
+        out["why"] = "predicted ≈ 0" if small else "simulated ≈ 0"
     elif sim["status"] == "gave_way" and out["via"] is None and mag > 0:
         out["rel"] = sim["load"] / mag - 1.0
     return out
