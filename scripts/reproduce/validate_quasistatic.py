@@ -286,9 +286,10 @@ def load_refs(frictions: list[str]) -> dict[str, dict[str, dict[str, Any]]]:
 
 
 def collect(
-    methods: list[str], sel: list[Case], refs: dict, fresh: bool, save: Path | None
+    methods: list[str], sel: list[Case], refs: dict, fresh: bool, save: Path | None, live: bool = False
 ) -> dict[str, dict]:
-    """method -> key -> prediction record (cached where available, else live)."""
+    """method -> key -> prediction record: the quasi-static method live, the paper's methods from
+    the cache (``qs_references.py methods``; live for the missing ones only when ``live``)."""
     cached: dict[str, dict[str, dict]] = {}
     for r in read_jsonl(METHODS_FILE):
         cached.setdefault(r["method"], {})[r["key"]] = r
@@ -296,7 +297,7 @@ def collect(
     for m in methods:
         preds[m] = {}
         have = {} if fresh or m == "quasistatic" else cached.get(m, {})
-        todo = [c for c in sel if c.key not in have]
+        todo = [c for c in sel if c.key not in have and (m == "quasistatic" or live)]
         t0 = time.perf_counter()
         for i, c in enumerate(todo):
             rec = run_live(m, c, refs.get(c.key, {}))
@@ -339,6 +340,7 @@ def main() -> None:
     ap.add_argument("--doc", help="put the section into this file between the quasi-static markers")
     ap.add_argument("--details", action="store_true", help="add a per-direction table per group")
     ap.add_argument("--fresh", action="store_true", help="recompute cached methods too")
+    ap.add_argument("--live", action="store_true", help="run the paper's methods where not cached (slow)")
     ap.add_argument("--save-live", help="append the live predictions to this JSON-lines file")
     ap.add_argument("--limit", type=int, default=0, help="only the first N cases of each set (smoke test)")
     ap.add_argument("--explain", help="print the simulation records and the loading path of one case key")
@@ -357,7 +359,9 @@ def main() -> None:
     if not sel:
         raise SystemExit(f"no simulation references in {SIM_FILE}; run qs_references.py sim first")
     t0 = time.perf_counter()
-    preds = collect(methods, sel, refs, args.fresh, Path(args.save_live) if args.save_live else None)
+    preds = collect(
+        methods, sel, refs, args.fresh, Path(args.save_live) if args.save_live else None, args.live
+    )
     rows = []
     for c in sel:
         for f in frictions:
