@@ -21,7 +21,7 @@ builds); CPU time of this process (``time.process_time``: the shared machine's l
 inflate it; the baselines and the quasi-static method alike), nothing asserted. The per-method
 speed table without baselines is ``benchmarks/quasistatic_speed.py`` (h-qs). Usage::
 
-    PYTHONPATH=. nice -n 10 python benchmarks/quasistatic_ratios.py [--baseline 4] [--cap 500]
+    nice -n 10 python -m benchmarks.quasistatic_ratios [--baseline 4] [--cap 500]
         [--pairs 1,2,3,4,6,10] [--batch 1000] [--profile] [--out FILE.md]
 """
 
@@ -32,7 +32,6 @@ import cProfile
 import io
 import platform
 import pstats
-import sys
 import time
 import warnings
 from pathlib import Path
@@ -41,9 +40,7 @@ from typing import Any
 import numpy as np
 
 import pinograsp as pg
-
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "scripts" / "reproduce"))
-from qs_cases import random_directions  # noqa: E402
+from scripts.reproduce.qs_cases import random_directions
 
 UPPER = 50.0
 

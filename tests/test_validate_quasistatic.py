@@ -3,16 +3,11 @@ synthetic records: classes, the threshold rule for gradual give-ways, ≈ 0, the
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "scripts" / "reproduce"))
-qs_references = pytest.importorskip("qs_references")
-vq = pytest.importorskip("validate_quasistatic")
-qs_cases = pytest.importorskip("qs_cases")
+from scripts.reproduce import qs_cases, qs_references
+from scripts.reproduce import validate_quasistatic as vq
 
 
 def _sim(status: str, load: float | None, onset: float | None = None, upper: float = 50.0) -> dict:

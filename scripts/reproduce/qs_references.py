@@ -10,17 +10,16 @@ already there, so an interrupted run resumes where it stopped.
 
 Usage::
 
-    nice -n 10 python scripts/reproduce/qs_references.py sim [--sets scenes,random] [--friction pyramid,cone]
-    nice -n 10 python scripts/reproduce/qs_references.py refine   # give-ways far below upper again
-    nice -n 10 python scripts/reproduce/qs_references.py methods [--methods prp,iterative,energetic]
-    python scripts/reproduce/qs_references.py status
+    nice -n 10 python -m scripts.reproduce.qs_references sim [--sets scenes,random] [--friction pyramid,cone]
+    nice -n 10 python -m scripts.reproduce.qs_references refine   # give-ways far below upper again
+    nice -n 10 python -m scripts.reproduce.qs_references methods [--methods prp,iterative,energetic]
+    python -m scripts.reproduce.qs_references status
 """
 
 from __future__ import annotations
 
 import argparse
 import json
-import sys
 import time
 import warnings
 from pathlib import Path
@@ -30,8 +29,7 @@ import numpy as np
 
 import pinograsp as pg
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from qs_cases import RANDOM_STEPS, SETS, Case, cases, fingerprint, parse_sets  # noqa: E402
+from .qs_cases import RANDOM_STEPS, SETS, Case, cases, fingerprint, parse_sets
 
 DATA = Path(__file__).resolve().parent / "data"
 SIM_FILE = DATA / "qs_sim.jsonl"
