@@ -92,7 +92,7 @@ def cmd_path(args: argparse.Namespace) -> int:
     ]
     if args.png:
         ax = pg.plot_loading_path(lp)
-        ax.figure.savefig(Path(args.png), dpi=120, bbox_inches="tight")
+        pg.save_figure(ax, Path(args.png), close=True)
         out.written.append(Path(args.png))
     if args.csv:
         lp.to_csv(args.csv)

@@ -101,7 +101,7 @@ def response_at(
         friction_use=friction_use(c, m.mu, touching, tol),
         contact_mu=np.array(m.mu, dtype=float),
         actuator_kinds=tuple(m.kinds),
-        contact_states=tuple(st["contact_states"]),  # type: ignore[arg-type]
+        contact_states=tuple(st["contact_states"]),
         contact_slip=st["contact_slip"],
         edge_counts=m.edge_counts,
     )

@@ -189,7 +189,7 @@ def _status(run: StageRun, p: Prepared, spec: StageSpec) -> tuple[str, float, st
     return "no_solution", float(last), run.status
 
 
-def _seg_rates(p: Prepared, seg, x0: np.ndarray) -> dict[str, np.ndarray]:
+def _seg_rates(p: Prepared, seg, x0: np.ndarray | None) -> dict[str, np.ndarray]:
     """A segment's rates per unit load in the arrays' units (for the ray)."""
     tmp = State(seg.dvs, seg.dc, seg.df, seg.dlam_c, seg.dhold, seg.dslip, 0.0)
     arr = _arrays(p, [tmp])
@@ -248,7 +248,7 @@ def build_path(p: Prepared, d6: np.ndarray, run: StageRun, spec: StageSpec, wall
         length_scale=float(m.length_scale),
         model_stiffness=float(np.max(m.k)),
         wall_time=wall,
-        **arrays,
+        **arrays,  # type: ignore[arg-type]  # the array fields by name
     )
 
 
@@ -339,7 +339,14 @@ def _continuation(p: Prepared, d6: np.ndarray, more: StageRun, spec: StageSpec) 
     else:
         status, limit = "no_solution", float(more.states[-1].t)
     ray = _seg_rates(p, more.segments[-1], None) if status == "unbounded" else None
-    return replace(cont, status=status, limit=limit, stop_reason=more.status, snaps=snaps, ray=ray)
+    return replace(
+        cont,
+        status=status,  # type: ignore[arg-type]
+        limit=limit,
+        stop_reason=more.status,
+        snaps=snaps,
+        ray=ray,
+    )
 
 
 __all__ = ["Prepared", "loading_path", "prepare", "run_path"]

@@ -167,6 +167,7 @@ class LoadingPath:
         out: dict[str, Any] = {"load": lam}
         for name, arr in self._arrays().items():
             if lam > last:
+                assert self.ray is not None  # beyond the last breakpoint only along a ray
                 out[name] = arr[-1] + (lam - last) * self.ray[name]
             elif j + 1 < len(self.loads) and self.loads[j + 1] > self.loads[j]:
                 s = (lam - self.loads[j]) / (self.loads[j + 1] - self.loads[j])
@@ -280,9 +281,9 @@ class LoadingPath:
             for i, name in enumerate(self.contact_names):
                 row[f"cn_{name}"] = float(self.contact_forces[j, i, 0])
                 row[f"state_{name}"] = self.contact_states[j][i]
-            for a, name in enumerate(self.actuator_names):
-                row[f"f_{name}"] = float(self.actuator_forces[j, a])
-                row[f"mode_{name}"] = self.actuator_modes[j][a]
+            for k, name in enumerate(self.actuator_names):
+                row[f"f_{name}"] = float(self.actuator_forces[j, k])
+                row[f"mode_{name}"] = self.actuator_modes[j][k]
             out.append(row)
         return out
 
