@@ -179,6 +179,7 @@ def test_cli_every_analysis_command(capsys, qs_scene):
     assert rc == 0 and "UNBOUNDED: the loading path's last segment" in out and "upper limit" not in out
     prof = run_json(capsys, "profile", "pinch", "-n", "8", "--method", QS)
     assert prof["magnitudes"][2] == pytest.approx(10.0, rel=1e-12) and prof["magnitudes"][0] is None
+    assert prof["resolution"] == 0.0  # exact: no search grid
     rs = run_json(capsys, "resistance-set", "pinch", "-n", "20", "--method", QS)
     assert rs["method"] == QS
     an = run_json(capsys, "analyze", "pinch", "-w", "0,5,0", "--method", QS)

@@ -69,7 +69,7 @@ def no_preload_response(
     return PassiveResponse(
         resistible=False,
         status="not_resisted",
-        method=Method.QUASISTATIC.value,
+        method="quasistatic",
         variant=variant.value,
         wrench=np.asarray(w6, float),
         command=np.asarray(fc, float),

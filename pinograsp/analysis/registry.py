@@ -68,6 +68,12 @@ def limits_apply(method: object) -> bool:
     return get_method(method).searches != (Search.PATH,)
 
 
+def search_resolution(method: object, upper: float, steps: int) -> float:
+    """The resolution of ``method``'s largest loads [N or N·m]: ``upper / 2**steps``, or 0 for
+    a path method (its limit is exact)."""
+    return float(upper) / 2**steps if limits_apply(method) else 0.0
+
+
 def search_text(method: object, upper: float, steps: int, unit: str = "") -> str:
     """How ``method`` finds a largest load, in words: ``"upper 1000 N, 20 steps (resolution
     0.00095 N)"``, or for a path method ``"the loading path's limit (exact; upper and steps do
@@ -90,5 +96,6 @@ __all__ = [
     "limits_apply",
     "refining_methods",
     "resolve_search",
+    "search_resolution",
     "search_text",
 ]

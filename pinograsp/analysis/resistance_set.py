@@ -35,7 +35,7 @@ from ..core.settings import DEFAULT_METHOD
 from ..core.validate import directions as n_directions
 from ..core.validate import finite_array, relative_length, whole_number
 from ..errors import InvalidInputError
-from .registry import search_text
+from .registry import search_resolution, search_text
 
 if TYPE_CHECKING:
     from .response import PassiveSolver
@@ -184,7 +184,8 @@ class ResistanceSet:
 
     def resolution(self) -> float:
         """Scaled resolution of the searches [N] (largest ``resolution * |(d_f, d_t/length)|``)."""
-        return float(np.max(self.upper / 2**self.steps * _scale_of(self.directions, self.length)))
+        res = search_resolution(self.method, self.upper, self.steps)  # 0 for a path: exact
+        return float(np.max(res * _scale_of(self.directions, self.length)))
 
     def to_dict(self, *, results: bool = False) -> dict[str, Any]:
         """Plain JSON-ready data (``pinograsp resistance-set --json``): arrays as lists,

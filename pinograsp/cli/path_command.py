@@ -91,7 +91,8 @@ def cmd_path(args: argparse.Namespace) -> int:
         *("  " + e.text() for e in lp.events),
     ]
     if args.png:
-        pg.save_figure(pg.plot_loading_path(lp), Path(args.png), close=True)
+        ax = pg.plot_loading_path(lp)
+        pg.save_figure(ax, Path(args.png), close=True)
         out.written.append(Path(args.png))
     if args.csv:
         lp.to_csv(args.csv)

@@ -60,6 +60,13 @@ def cmd_profile(args: argparse.Namespace) -> int:
     return _profile_report(args, sweep, plane, n, "profile")
 
 
+def _resolution(method: object, upper: float, steps: int) -> float:
+    """:func:`pinograsp.analysis.registry.search_resolution`, imported on use."""
+    from ..analysis.registry import search_resolution
+
+    return search_resolution(method, upper, steps)
+
+
 def _search_text(method: object, upper: float, steps: int, unit: str = "") -> str:
     """:func:`pinograsp.analysis.registry.search_text`, imported on use (the registry loads the
     solvers; ``pinograsp scenes`` and ``--help`` stay light)."""
@@ -149,7 +156,8 @@ def _profile_lines(sweep: _Sweep, p: Any, norm: float | None, wall: float, runs:
     else:
         lines.append("no unbounded direction")
     if norm is not None:
-        lines.append(f"normalised by the {b2} value {format_magnitude(norm, upper / 2**steps, unit)}")
+        res = _resolution(sweep.method, upper, steps)
+        lines.append(f"normalised by the {b2} value {format_magnitude(norm, res, unit)}")
     bad = [f"{deg[i]:g}°" for i, r in enumerate(p.results) if not r.monotone]
     if bad:
         lines.append("non-monotone bisection evidence at: " + ", ".join(bad))
@@ -194,7 +202,7 @@ def _profile_report(args: argparse.Namespace, sweep: _Sweep, plane: Any, n: int,
         **model_data,
         "upper": upper,
         "steps": steps,
-        "resolution": upper / 2**steps,
+        "resolution": _resolution(sweep.method, upper, steps),
         "unit": wrench_unit(p.basis[0] + p.basis[1]),
         **p.to_dict(norm),
         "statuses": list(p.statuses),

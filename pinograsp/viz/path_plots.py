@@ -56,6 +56,7 @@ def plot_loading_path(lp: Any, ax: Axes | None = None, *, bands: bool = True) ->
             )
         else:
             fig, ax = plt.subplots(figsize=(6.5, 4.5))
+    assert ax is not None
     xs = list(s)
     if lp.ray is not None:
         along = float(lp.ray["object_displacements"] @ lp.direction)

@@ -249,13 +249,7 @@ def build_path(p: Prepared, d6: np.ndarray, run: StageRun, spec: StageSpec, wall
         length_scale=float(m.length_scale),
         model_stiffness=float(np.max(m.k)),
         wall_time=wall,
-        object_displacements=arrays["object_displacements"],
-        joint_displacements=arrays["joint_displacements"],
-        actuator_displacements=arrays["actuator_displacements"],
-        actuator_forces=arrays["actuator_forces"],
-        coupling_forces=arrays["coupling_forces"],
-        contact_forces=arrays["contact_forces"],
-        contact_slip=arrays["contact_slip"],
+        **arrays,  # type: ignore[arg-type]  # the array fields by name
     )
 
 
@@ -351,7 +345,14 @@ def _continuation(p: Prepared, d6: np.ndarray, more: StageRun, spec: StageSpec) 
     else:
         status, limit = "no_solution", float(more.states[-1].t)
     ray = _seg_rates(p, more.segments[-1], None) if status == "unbounded" else None
-    return replace(cont, status=status, limit=limit, stop_reason=more.status, snaps=snaps, ray=ray)
+    return replace(
+        cont,
+        status=status,
+        limit=limit,
+        stop_reason=more.status,
+        snaps=snaps,
+        ray=ray,
+    )
 
 
 __all__ = ["Prepared", "loading_path", "prepare", "run_path"]

@@ -240,10 +240,10 @@ def next_event(
     arr = np.maximum(np.array(steps), 0.0)
     t = float(arr.min())
     near = arr <= t * (1.0 + 1e-9)
-    near_trig = [Trigger(kinds[m], int(idx[m])) for m in np.flatnonzero(near)]
+    found = [Trigger(kinds[m], int(idx[m])) for m in np.flatnonzero(near)]
     # a contact that unloads reaches every face at once: keep only its unloading
-    gone = {tr.index for tr in near_trig if tr.kind == "separates"}
-    trig = tuple(tr for tr in near_trig if not (tr.kind == "face" and int(qm.face_contact[tr.index]) in gone))
+    gone = {tr.index for tr in found if tr.kind == "separates"}
+    trig = tuple(tr for tr in found if not (tr.kind == "face" and int(qm.face_contact[tr.index]) in gone))
     return t, trig
 
 

@@ -187,7 +187,8 @@ def rates(
     rho = Rho @ zeta1
     lam_rate = float(lam @ zeta1)
     seg = _segment(qm, spec, cls, sc, v, dc, rho, lam_rate, zeta1[1:], items, nz, res, control, sep)
-    if res is not None:  # nz > 0: the LCP was solved
+    if nz:
+        assert res is not None  # solved whenever there are items
         ftol = RATE_RTOL * max(float(np.abs(res.z).max()), 1e-300)
         seg.active = np.sort(keys[res.z > ftol])
         seg.tie = res.tie

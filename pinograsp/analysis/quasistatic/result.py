@@ -161,14 +161,14 @@ class LoadingPath:
         if not np.isfinite(lam) or lam < 0:
             raise InvalidInputError("load", f"expected a finite load >= 0, got {load!r}")
         last = self.loads[-1]
-        ray = self.ray
-        if lam > last and ray is None:
+        if lam > last and (self.ray is None):
             return None
         j = self.segment_at(lam)
         out: dict[str, Any] = {"load": lam}
         for name, arr in self._arrays().items():
-            if lam > last and ray is not None:
-                out[name] = arr[-1] + (lam - last) * ray[name]
+            if lam > last:
+                assert self.ray is not None  # beyond the last breakpoint only along a ray
+                out[name] = arr[-1] + (lam - last) * self.ray[name]
             elif j + 1 < len(self.loads) and self.loads[j + 1] > self.loads[j]:
                 s = (lam - self.loads[j]) / (self.loads[j + 1] - self.loads[j])
                 out[name] = (1.0 - s) * arr[j] + s * arr[j + 1]
@@ -278,12 +278,12 @@ class LoadingPath:
             row: dict[str, Any] = {"breakpoint": j, "load": float(lam), "displacement_along": float(s[j])}
             for a, v in zip(WRENCH_AXES, self.object_displacements[j]):
                 row[f"x_{a}"] = float(v)
-            for i, cname in enumerate(self.contact_names):
-                row[f"cn_{cname}"] = float(self.contact_forces[j, i, 0])
-                row[f"state_{cname}"] = self.contact_states[j][i]
-            for k, aname in enumerate(self.actuator_names):
-                row[f"f_{aname}"] = float(self.actuator_forces[j, k])
-                row[f"mode_{aname}"] = self.actuator_modes[j][k]
+            for i, name in enumerate(self.contact_names):
+                row[f"cn_{name}"] = float(self.contact_forces[j, i, 0])
+                row[f"state_{name}"] = self.contact_states[j][i]
+            for k, name in enumerate(self.actuator_names):
+                row[f"f_{name}"] = float(self.actuator_forces[j, k])
+                row[f"mode_{name}"] = self.actuator_modes[j][k]
             out.append(row)
         return out
 
