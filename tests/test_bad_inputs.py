@@ -67,3 +67,7 @@ def test_the_quasistatic_path_keeps_only_the_domains_that_apply_to_it():
     with pytest.raises(pg.InvalidInputError, match=r"max_segments: must be an integer in \[1, 1000000\]"):
         pg.loading_path(pinch, 1.0, "fy", max_segments=10**7)
     assert pg.loading_path(pinch, 1.0, "fy", up_to=1.0).status == "reached"
+    from pinograsp.cli import main  # the CLI's --steps: the same rule
+
+    assert main(["max-wrench", "pinch", "--direction", "fy", "--method", "quasistatic", "--steps", "500"]) == 0
+    assert main(["max-wrench", "pinch", "--direction", "fy", "--steps", "500"]) == 2
