@@ -58,6 +58,11 @@ if TYPE_CHECKING:
     from .analysis.preload import PreloadChoice as PreloadChoice
     from .analysis.preload import equilibrium_preload as equilibrium_preload
     from .analysis.profile import resistance_profile as resistance_profile
+    from .analysis.quasistatic import LoadingPath as LoadingPath
+    from .analysis.quasistatic import PathEvent as PathEvent
+    from .analysis.quasistatic import loading_path as loading_path
+    from .analysis.quasistatic import quasistatic_max_wrench as quasistatic_max_wrench
+    from .analysis.quasistatic import quasistatic_response as quasistatic_response
     from .analysis.resistance_set import ResistanceSet as ResistanceSet
     from .analysis.resistance_set import resistance_set as resistance_set
     from .analysis.resistance_set import sphere_points as sphere_points
@@ -95,6 +100,7 @@ if TYPE_CHECKING:
     from .viz.comparison_plots import plot_force_comparison as plot_force_comparison
     from .viz.comparison_plots import plot_preload_comparison as plot_preload_comparison
     from .viz.figures import save_figure as save_figure
+    from .viz.path_plots import plot_loading_path as plot_loading_path
     from .viz.profile_plots import plot_profile as plot_profile
     from .viz.scene_inputs import SceneStyle as SceneStyle
     from .viz.set_plots import plot_resistance_set as plot_resistance_set
@@ -126,6 +132,12 @@ _LAZY = {
     "linear_compliance": "analysis.baseline",
     "LinearComplianceResult": "analysis.baseline",
     "available_miqp_solvers": "solvers",
+    # the quasi-static loading path
+    "loading_path": "analysis.quasistatic",
+    "LoadingPath": "analysis.quasistatic",
+    "PathEvent": "analysis.quasistatic",
+    "quasistatic_max_wrench": "analysis.quasistatic",
+    "quasistatic_response": "analysis.quasistatic",
     # robots: the URDF side
     "Hand": "robots.hand",
     "HandDescription": "robots.description",
@@ -160,6 +172,7 @@ _LAZY = {
     "plot_preload_comparison": "viz.comparison_plots",
     "plot_force_comparison": "viz.comparison_plots",
     "plot_resistance_set": "viz.set_plots",
+    "plot_loading_path": "viz.path_plots",
     "save_figure": "viz.figures",
     "scene_figure": "viz.viewer",
     "SceneStyle": "viz.scene_inputs",

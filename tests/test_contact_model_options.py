@@ -151,7 +151,8 @@ def test_bad_values_exit_2_naming_the_option(argv, fragment, capsys):
 def test_help_lists_energetic_and_the_angles(capsys):
     assert main(["max-wrench", "--help"]) == 0
     text = " ".join(capsys.readouterr().out.split())
-    assert "{prp,iterative,energetic}" in text and "energetic (maximum dissipation" in text
+    assert "{prp,iterative,energetic,quasistatic}" in text and "energetic (maximum dissipation" in text
+    assert "quasistatic (the loading path followed exactly" in text
     assert "--normal-uncertainty DEG" in text and "--cone-tolerance DEG" in text
 
 
@@ -160,7 +161,8 @@ def test_worst_axis_score_accepts_energetic():
     score = WorstAxisScore(upper=20, steps=4, method="energetic")
     assert score.method is pg.Method.ENERGETIC
     with pytest.raises(
-        pg.InvalidInputError, match=r"method: must be one of \('prp', 'iterative', 'energetic'\)"
+        pg.InvalidInputError,
+        match=r"method: must be one of \('prp', 'iterative', 'energetic', 'quasistatic'\)",
     ):
         WorstAxisScore(method="simplex")
     spec = pg.GraspSpec("barrett_bh8_282", pg.ObjectSpec("sphere", radius=0.04), preload_method="energetic")

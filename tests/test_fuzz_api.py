@@ -26,15 +26,15 @@ directions = st.one_of(
     vec(6),
     junk,
 )
-methods = st.one_of(st.sampled_from(["iterative", "prp", "PRP", "magic"]), junk)
+methods = st.one_of(st.sampled_from(["iterative", "prp", "PRP", "magic", "quasistatic"]), junk)
 uppers = st.one_of(st.floats(0.5, 100.0), scalars)
 steps = st.one_of(st.integers(1, 5), st.integers(-3, 0), st.integers(60, 10**6), scalars)
 small_n = st.one_of(st.integers(1, 4), st.integers(-2, 0), scalars)
-searches = st.one_of(st.sampled_from(["auto", "bisection", "secant", "direct", "golden"]), junk)
+searches = st.one_of(st.sampled_from(["auto", "bisection", "secant", "direct", "golden", "path"]), junk)
 setting_names = st.sampled_from(
     ["backend", "max_nodes", "solver", "time_limit", "bigm", "bigm_retries", "gamma", "eps", "eps_rel",
      "improvement", "max_iterations", "variant", "tolerance", "accelerate", "complementarity",
-     "verify_infeasible", "nonsense"]
+     "verify_infeasible", "tangential_ratio", "nonsense"]
 )  # fmt: skip
 setting_values = st.one_of(
     scalars, st.sampled_from(["bnb", "miqp", "scip", "single-step", "preload-first", "bigm", "indicator"])

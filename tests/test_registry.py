@@ -35,7 +35,8 @@ def pinch():
 
 # ------------------------------------------------------------------------------ methods
 def test_registry_lists_every_method_with_its_rules():
-    assert available_methods() == tuple(m.value for m in pg.Method) == ("prp", "iterative", "energetic")
+    assert available_methods() == tuple(m.value for m in pg.Method)
+    assert available_methods() == ("prp", "iterative", "energetic", "quasistatic")
     for name in available_methods():
         rules = get_method(name)
         assert rules is get_method(pg.Method(name)) and rules.name.value == name
@@ -45,6 +46,8 @@ def test_registry_lists_every_method_with_its_rules():
     assert resolve_search("auto", get_method("prp")) is pg.Search.BISECTION
     assert get_method("iterative").load_factor_kind is None  # a trajectory: no one-solve limit
     assert get_method("energetic").preload_method is pg.Method.ITERATIVE
+    qs = get_method("quasistatic")  # a path, not stages: no problem kinds, one search
+    assert qs.load_kind is None and qs.load_factor_kind is None and qs.searches == (pg.Search.PATH,)
 
 
 def test_unknown_method_and_unsupported_search_name_the_valid_ones(pinch):
@@ -54,9 +57,11 @@ def test_unknown_method_and_unsupported_search_name_the_valid_ones(pinch):
         "prp",
         "iterative",
         "energetic",
+        "quasistatic",
     ]
     with pytest.raises(
-        pg.InvalidInputError, match=r"method: must be one of \('prp', 'iterative', 'energetic'\)"
+        pg.InvalidInputError,
+        match=r"method: must be one of \('prp', 'iterative', 'energetic', 'quasistatic'\)",
     ):
         pg.passive_response(pinch, 1.0, [0, 1, 0], method="magic")
     with pytest.raises(pg.InvalidInputError, match="'secant' exists for method='iterative' only"):
@@ -65,6 +70,10 @@ def test_unknown_method_and_unsupported_search_name_the_valid_ones(pinch):
         pg.max_resistible_wrench(pinch, 1.0, "fy", "iterative", 50.0, 6, search="direct")
     with pytest.raises(pg.InvalidInputError, match="cone refinement applies to method='prp' or 'energetic'"):
         pg.passive_response(pinch, 1.0, [0, 1, 0], "iterative", cone_tolerance=0.1)
+    with pytest.raises(pg.InvalidInputError, match="'path' exists for method='quasistatic' only"):
+        pg.max_resistible_wrench(pinch, 1.0, "fy", "iterative", search="path")
+    with pytest.raises(pg.InvalidInputError, match=r"its searches: \['path'\]"):
+        pg.max_resistible_wrench(pinch, 1.0, "fy", "quasistatic", search="bisection")
 
 
 def test_no_method_tests_outside_the_registry():

@@ -18,7 +18,7 @@ from ..core.axes import WRENCH_AXES, wrench_direction
 from ..core.model import GraspModel
 from ..core.query import Query, make_query
 from ..core.results import MaxWrench, PassiveResponse
-from ..core.settings import Settings
+from ..core.settings import DEFAULT_METHOD, PATH_METHODS, Settings
 from ..core.validate import search_bounds
 from ..errors import PreloadNotInEquilibriumError
 from ..solvers.threads import single_threaded
@@ -49,12 +49,16 @@ def query_within(session: PassiveSolver, command: object, query: Query, *, eps: 
     preload: within :data:`~pinograsp.core.validate.LOAD_RATIO` of its force scale; with ``eps``,
     for a method converged to a tolerance (not
     :attr:`~pinograsp.analysis.protocols.AnalysisMethod.exact`), ``Settings.eps`` within
-    :data:`~pinograsp.core.validate.EPS_RATIO` of it (docs/errors.md, "Input domains").
+    :data:`~pinograsp.core.validate.EPS_RATIO` of it (docs/errors.md, "Input domains"). A
+    loading-path method (:data:`~pinograsp.core.settings.PATH_METHODS`) ignores ``upper`` and
+    ``steps``: only the commands are checked (``upper`` was checked by the :class:`Query`).
 
     Raises:
         InvalidInputError: A bad command, or ``upper`` or ``eps`` out of its domain for this grasp.
     """
     fc = session.model.command_vector(command)
+    if query.method in PATH_METHODS:  # upper does not decide unboundedness, steps do not apply
+        return fc
     tolerance = None if not eps or get_method(query.method).exact else session.settings.eps
     search_bounds(session.source, fc, query.upper, query.steps, tolerance)
     return fc
@@ -81,7 +85,7 @@ def max_resistible_wrench(
     model: GraspModel,
     command: object,
     direction: object,
-    method: str = "iterative",
+    method: str = DEFAULT_METHOD,
     upper: float = 1e3,
     steps: int = 20,
     *,
@@ -106,14 +110,18 @@ def max_resistible_wrench(
         direction: Wrench direction: axis name (``"fx"``, ``"-fy"``, ``"mz"``) or vector
             (normalised here).
         method: ``"iterative"`` (default; no wedging artefact), ``"energetic"`` (maximum
-            dissipation, one solve per direction; docs/methods.md) or ``"prp"``.
+            dissipation, one solve per direction; docs/methods.md), ``"prp"`` or
+            ``"quasistatic"`` (the loading path followed exactly to its limit load, no
+            bisection: ``upper`` and ``steps`` do not apply; docs/design.md, "The quasi-static
+            row").
         upper: Upper limit of the search [N or N·m along the unit direction].
         steps: Bisection steps; resolution ``upper / 2**steps``.
         search: ``"auto"`` (default: ``"secant"`` for the iterative method, ``"direct"`` for
             the energetic one, ``"bisection"`` for the PRP), ``"bisection"`` (the paper's),
             ``"secant"`` (iterative only: the same grid cell as the bisection when
             resistibility is monotone along the ray, in fewer stages;
-            :mod:`pinograsp.analysis.search`) or ``"direct"`` (PRP, energetic): one complementarity
+            :mod:`pinograsp.analysis.search`), ``"path"`` (quasi-static only, its default) or
+            ``"direct"`` (PRP, energetic): one complementarity
             problem maximising the load factor, exact instead of ``upper / 2**steps``; the
             response at the limit is then solved at ``magnitude * (1 - 1e-6)``.
         settings, overrides: Solver settings (see :class:`pinograsp.core.settings.Settings`).

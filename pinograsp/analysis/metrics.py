@@ -19,6 +19,7 @@ import numpy as np
 
 from ..core.model import GraspModel
 from ..core.serialize import format_magnitude, jsonable
+from ..core.settings import DEFAULT_METHOD
 from ..core.validate import finite_array, relative_length
 from ..errors import InvalidInputError
 from .resistance_set import ResistanceSet, resistance_set, wrench_rows
@@ -174,7 +175,7 @@ def grasp_score(
     n: int = 200,
     quantile: float = 0.05,
     disturbances: object = None,
-    method: str = "iterative",
+    method: str = DEFAULT_METHOD,
     length: float | None = None,
     seed: int = 0,
     workers: int | None = None,

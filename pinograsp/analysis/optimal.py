@@ -27,7 +27,7 @@ from typing import Literal
 import numpy as np
 
 from ..core.model import GraspModel
-from ..core.settings import METHODS, Settings, Variant
+from ..core.settings import DEFAULT_METHOD, METHODS, PATH_METHODS, Settings, Variant
 from ..core.validate import choice, count, finite_array, force, positive_number
 from ..core.validate import steps as n_steps
 from ..errors import AuditWarning, InvalidInputError
@@ -216,7 +216,7 @@ def _direction_weights(direction_weights: Sequence[float] | None, k: int) -> np.
 def optimal_preload(
     model: GraspModel,
     disturbances: object,
-    method: str = "iterative",
+    method: str = DEFAULT_METHOD,
     *,
     objective: str = "max",
     budget: float | None = None,
@@ -238,7 +238,8 @@ def optimal_preload(
         disturbances: Wrenches (K, 6) or (K, 3) planar [N, N·m]; items may also be axis names
             (``"fy"``: a unit force) or ``(direction, magnitude)`` pairs.
         method: ``"iterative"`` (default: the search) or ``"prp"`` (exact program for the
-            ``"single-step"`` variant, else the search).
+            ``"single-step"`` variant, else the search); ``"energetic"`` and ``"quasistatic"``
+            (the limit loads of the loading path) run the search.
         objective: ``phi(f) = max_a weights_a f_a`` (``"max"``, default) or
             ``sum_a weights_a f_a`` (``"sum"``) [N·m or N].
         budget: None: minimise ``phi`` (task "smallest"). A number: ``phi(f) <= budget`` and
@@ -278,7 +279,7 @@ def optimal_preload(
     grid = _grid(grid, nfree)
     refine = count("refine", refine, MAX_REFINE, minimum=0, what="each halves the pattern step")
     upper = force("upper", upper, "(a load factor)")
-    steps = n_steps(steps)
+    steps = n_steps(steps, bounded=method not in PATH_METHODS)  # a path does not bisect
     solver = solver_for(model, settings)
     spec = dict(objective=objective, budget=budget, resistance=resistance, cost=cost, bound=bound, dw=dw)
     with warnings.catch_warnings():

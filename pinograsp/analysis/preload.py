@@ -27,7 +27,7 @@ import numpy as np
 
 from ..core.model import GraspModel
 from ..core.results import PassiveResponse
-from ..core.settings import METHODS, Settings
+from ..core.settings import DEFAULT_METHOD, METHODS, Settings
 from ..core.validate import choice, force
 from ..errors import InvalidInputError, ModelError, PinograspError, SolverError, UnknownNameError
 from .registry import get_method
@@ -289,7 +289,7 @@ def _verify(
 
 def equilibrium_preload(
     model: GraspModel,
-    method: str = "iterative",
+    method: str = DEFAULT_METHOD,
     *,
     objective: str = "balanced",
     max_command: float | dict[str, float] = 1.0,
@@ -300,8 +300,8 @@ def equilibrium_preload(
 
     Args:
         model: The grasp.
-        method: Whose preload stage verifies the commands: ``"iterative"`` (default) or
-            ``"prp"``.
+        method: Whose preload stage verifies the commands: ``"iterative"`` (default),
+            ``"prp"``, ``"energetic"`` or ``"quasistatic"`` (its preload path, the object held).
         objective: ``"balanced"`` (default: the largest smallest normal force within the
             bounds) or ``"least_norm"`` (the smallest commands pressing every contact with at
             least ``grip``).

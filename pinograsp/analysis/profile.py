@@ -16,7 +16,7 @@ from ..core.axes import circle_directions, plane_basis, wrench_direction
 from ..core.model import GraspModel
 from ..core.query import Query, make_query
 from ..core.results import MaxWrench, ResistanceProfile
-from ..core.settings import Settings
+from ..core.settings import DEFAULT_METHOD, Settings
 from ..core.validate import directions
 from ..solvers.threads import single_threaded
 from .directions import run_directions
@@ -96,7 +96,7 @@ def resistance_profile(
     command: object,
     plane: Sequence[object] = ("fx", "fy"),
     n: int = 72,
-    method: str = "iterative",
+    method: str = DEFAULT_METHOD,
     upper: float = 1e3,
     steps: int = 20,
     *,

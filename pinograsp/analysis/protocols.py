@@ -18,7 +18,7 @@ import numpy as np
 
 from ..core.model import GraspModel
 from ..core.results import MaxWrench, PassiveResponse
-from ..core.settings import Method, Search, Settings, Variant
+from ..core.settings import DEFAULT_METHOD, Method, Search, Settings, Variant
 from ..errors import AuditWarning, SolverError, SolverTimeoutError
 from ..solvers.base import Mode, SolveStatus
 from ..solvers.problem import ProblemKind
@@ -63,7 +63,7 @@ class SessionLike(SolveContext, Protocol):
         """The preload alone (``w = 0``) solved by ``method``, kept per command."""
         ...
 
-    def response(self, command: object, wrench: object, method: str = "iterative") -> PassiveResponse:
+    def response(self, command: object, wrench: object, method: str = DEFAULT_METHOD) -> PassiveResponse:
         """The passive response to ``wrench`` (6,) [N, N·m] under ``command``."""
         ...
 

@@ -14,10 +14,11 @@ from ..errors import InvalidInputError, UnknownChoiceError
 from .method_energetic import ENERGETIC
 from .method_iterative import ITERATIVE
 from .method_prp import PRP
+from .method_quasistatic import QUASISTATIC
 from .protocols import AnalysisMethod
 
 #: The registered methods, in the order they are listed to users.
-METHODS: dict[str, AnalysisMethod] = {m.name.value: m for m in (PRP, ITERATIVE, ENERGETIC)}
+METHODS: dict[str, AnalysisMethod] = {m.name.value: m for m in (PRP, ITERATIVE, ENERGETIC, QUASISTATIC)}
 
 
 def available_methods() -> tuple[str, ...]:
@@ -61,9 +62,40 @@ def resolve_search(search: object, method: AnalysisMethod) -> Search:
     return kind
 
 
+def limits_apply(method: object) -> bool:
+    """Whether a query's ``upper`` and ``steps`` shape ``method``'s largest loads (False for a
+    method whose one search follows a path to its exact limit: ``"quasistatic"``)."""
+    return get_method(method).searches != (Search.PATH,)
+
+
+def search_resolution(method: object, upper: float, steps: int) -> float:
+    """The resolution of ``method``'s largest loads [N or N·m]: ``upper / 2**steps``, or 0 for
+    a path method (its limit is exact)."""
+    return float(upper) / 2**steps if limits_apply(method) else 0.0
+
+
+def search_text(method: object, upper: float, steps: int, unit: str = "") -> str:
+    """How ``method`` finds a largest load, in words: ``"upper 1000 N, 20 steps (resolution
+    0.00095 N)"``, or for a path method ``"the loading path's limit (exact; upper and steps do
+    not apply)"``."""
+    if not limits_apply(method):
+        return "the loading path's limit (exact; upper and steps do not apply)"
+    u = f" {unit}" if unit else ""
+    return f"upper {upper:g}{u}, {steps} steps (resolution {upper / 2**steps:.2g}{u})"
+
+
 def refining_methods() -> tuple[str, ...]:
     """Names of the methods that ``Settings.cone_tolerance`` applies to."""
     return tuple(n for n, m in METHODS.items() if m.refines)
 
 
-__all__ = ["METHODS", "available_methods", "get_method", "refining_methods", "resolve_search"]
+__all__ = [
+    "METHODS",
+    "available_methods",
+    "get_method",
+    "limits_apply",
+    "refining_methods",
+    "resolve_search",
+    "search_resolution",
+    "search_text",
+]

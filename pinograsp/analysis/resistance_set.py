@@ -22,7 +22,7 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Literal
+from typing import TYPE_CHECKING, Any, Literal, get_args
 
 import numpy as np
 
@@ -31,9 +31,11 @@ from ..core.model import GraspModel
 from ..core.query import Query, make_query
 from ..core.results import MaxWrench, ResistanceProfile
 from ..core.serialize import format_magnitude, jsonable, vector_text
+from ..core.settings import DEFAULT_METHOD
 from ..core.validate import directions as n_directions
 from ..core.validate import finite_array, relative_length, whole_number
 from ..errors import InvalidInputError
+from .registry import search_resolution, search_text
 
 if TYPE_CHECKING:
     from .response import PassiveSolver
@@ -41,6 +43,7 @@ if TYPE_CHECKING:
 #: Outcome per direction: a :data:`~pinograsp.core.results.MaxWrenchStatus`, or ``"failed"`` (the
 #: query raised a :class:`~pinograsp.SolverError`; recorded in ``ResistanceSet.failures``).
 DirectionStatus = Literal["finite", "unbounded", "above_limit", "below_resolution", "failed"]
+_SET_STATUSES: dict[str, DirectionStatus] = {s: s for s in get_args(DirectionStatus)}
 #: Direction classes of the summary: resisted up to a finite limit (``finite``, ``above_limit``),
 #: without bound, not resistible at all (``below_resolution``), or failed.
 CLASSES = ("finite", "unbounded", "not_resistible", "failed")
@@ -132,7 +135,7 @@ class ResistanceSet:
     unbounded: np.ndarray
     failures: tuple[tuple[int, str, str], ...]
     results: tuple[MaxWrench | None, ...] = field(repr=False)
-    method: str = "iterative"
+    method: str = DEFAULT_METHOD
     upper: float = 1e3
     steps: int = 20
     seed: int | None = 0
@@ -181,7 +184,8 @@ class ResistanceSet:
 
     def resolution(self) -> float:
         """Scaled resolution of the searches [N] (largest ``resolution * |(d_f, d_t/length)|``)."""
-        return float(np.max(self.upper / 2**self.steps * _scale_of(self.directions, self.length)))
+        res = search_resolution(self.method, self.upper, self.steps)  # 0 for a path: exact
+        return float(np.max(res * _scale_of(self.directions, self.length)))
 
     def to_dict(self, *, results: bool = False) -> dict[str, Any]:
         """Plain JSON-ready data (``pinograsp resistance-set --json``): arrays as lists,
@@ -223,8 +227,8 @@ class ResistanceSet:
         dim = 3 if np.allclose(self.directions[:, [2, 3, 4]], 0.0) else 6
         lines = [
             f"resistance set: {n} directions on the unit {dim}-D wrench sphere, torques scaled by "
-            f"{self.length:.4g} m ({self.length_source}); method {self.method}, upper {self.upper:g}, "
-            f"{self.steps} steps",
+            f"{self.length:.4g} m ({self.length_source}); method {self.method}, "
+            f"{search_text(self.method, self.upper, self.steps)}",
             "classes: " + ", ".join(f"{k.replace('_', ' ')} {v} ({v / max(n, 1):.1%})" for k, v in c.items()),
         ]
         w = self.worst()
@@ -338,6 +342,13 @@ def wrench_rows(model: GraspModel, value: object, name: str) -> np.ndarray:
     return np.array([model.wrench_vector(w, f"{name}[{i}]") for i, w in enumerate(arr)])
 
 
+def _direction_status(r: MaxWrench | None) -> DirectionStatus:
+    """A direction's status in a set: ``"failed"`` without a result, and for a path stopped
+    without a verdict (``"no_solution"``/``"segment_limit"``; the quasi-static method raises
+    for those, so a set never keeps one)."""
+    return "failed" if r is None else _SET_STATUSES.get(r.status, "failed")
+
+
 def _sphere_directions(model: GraspModel, n: int, seed: int, length: float) -> tuple[np.ndarray, np.ndarray]:
     """Raw wrenches ``(u_f, length * u_t)``, (n, 6), of :func:`sphere_points` in the model's space."""
     u = sphere_points(n, model.nw, seed)
@@ -369,7 +380,7 @@ def resistance_set(
     model: GraspModel,
     command: object,
     n: int | None = None,
-    method: str = "iterative",
+    method: str = DEFAULT_METHOD,
     length: float | None = None,
     seed: int = 0,
     workers: int | None = None,
@@ -390,7 +401,7 @@ def resistance_set(
         model: The grasp.
         command: Actuator commands (see :func:`pinograsp.passive_response`).
         n: Number of directions (default 500; ignored when ``directions`` is given).
-        method: ``"iterative"`` (default) or ``"prp"``.
+        method: ``"iterative"`` (default), ``"prp"``, ``"energetic"`` or ``"quasistatic"``.
         length: Characteristic length [m] scaling torques (default ``model.length_scale``).
         seed: Seed of :func:`sphere_points` (same seed, same directions, same bits).
         workers: Process-pool size (``0``: one per CPU; ``None``/``1``: in this process).
@@ -433,7 +444,7 @@ def resistance_set(
         length_source=source,
         magnitudes=mags,
         scaled=mags * k,
-        statuses=tuple("failed" if r is None else r.status for r in results),
+        statuses=tuple(_direction_status(r) for r in results),
         unbounded=np.array([r is not None and r.unbounded for r in results], dtype=bool),
         failures=tuple(failures),
         results=tuple(results),

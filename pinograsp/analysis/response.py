@@ -46,7 +46,7 @@ import numpy as np
 
 from ..core.model import GraspModel
 from ..core.results import PassiveResponse
-from ..core.settings import Backend, Method, Settings, make_settings
+from ..core.settings import DEFAULT_METHOD, Backend, Method, Settings, make_settings
 from ..core.validate import load_within
 from ..errors import ConditioningWarning, InvalidInputError
 from ..solvers.base import Mode, RawSolution, SolveStatus
@@ -259,7 +259,7 @@ class PassiveSolver:
 
     # ------------------------------------------------------------- response
     @single_threaded
-    def response(self, command: object, wrench: object, method: str = "iterative") -> PassiveResponse:
+    def response(self, command: object, wrench: object, method: str = DEFAULT_METHOD) -> PassiveResponse:
         """Passive response to ``wrench`` under ``command`` (see :func:`passive_response`)."""
         rules = get_method(method)
         if self._refines(rules):
@@ -323,7 +323,7 @@ def passive_response(
     model: GraspModel,
     command: object,
     wrench: object,
-    method: str = "iterative",
+    method: str = DEFAULT_METHOD,
     *,
     settings: Settings | None = None,
     session: PassiveSolver | None = None,
@@ -339,8 +339,9 @@ def passive_response(
             object reference point (planar models also take ``(fx, fy, mz)``).
         method: ``"iterative"`` (default: Alg. 2 + 3, the physically validated scheme, as in
             every analysis, the CLI and the scenes), ``"energetic"`` (maximum dissipation in
-            one mixed-integer problem, docs/methods.md) or ``"prp"`` (Alg. 1, by explicit
-            choice: it admits the wedging artefact).
+            one mixed-integer problem, docs/methods.md), ``"prp"`` (Alg. 1, by explicit
+            choice: it admits the wedging artefact) or ``"quasistatic"`` (the state reached on
+            the loading path at ``wrench``; docs/methods.md).
         settings: Base :class:`Settings`; keyword ``overrides`` replace single fields
             (e.g. ``solver="gurobi"``, ``gamma=2.0``, ``variant="single-step"``).
         session: A :class:`~pinograsp.Session` of ``model`` the caller owns (its settings rule;

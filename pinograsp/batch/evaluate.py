@@ -28,7 +28,7 @@ from pathlib import Path
 from typing import Any, ClassVar
 
 from ..core.query import Query
-from ..core.settings import METHODS, Method
+from ..core.settings import DEFAULT_METHOD, METHODS, PATH_METHODS, Method
 from ..core.validate import choice, force, positive_number, whole_number
 from ..core.validate import steps as n_steps
 from ..errors import InvalidInputError, MissingDependencyError
@@ -77,14 +77,15 @@ class WorstAxisScore:
     Attributes:
         upper: Search limit [N].
         steps: Search steps (resolution ``upper / 2**steps``; small for speed).
-        method: ``"iterative"``, ``"prp"`` or ``"energetic"`` (maximum dissipation: one
-            load-factor solve per axis, ``search="direct"``), kept as a
+        method: ``"iterative"``, ``"prp"``, ``"energetic"`` (maximum dissipation: one
+            load-factor solve per axis, ``search="direct"``) or ``"quasistatic"`` (the loading
+            path's limit per axis; ``upper`` is then only the cap of the score), kept as a
             :class:`~pinograsp.core.settings.Method`.
     """
 
     upper: float = 50.0
     steps: int = 6
-    method: Method | str = Method.ITERATIVE
+    method: Method | str = Method(DEFAULT_METHOD)
 
     #: The columns of every table scored with it (planar models leave ``max_±fz`` NaN).
     columns: ClassVar[tuple[str, ...]] = (
@@ -94,9 +95,10 @@ class WorstAxisScore:
     no_grasp: ClassVar[dict[str, float]] = dict.fromkeys(columns, 0.0)
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "upper", force("upper", self.upper, "N or N·m"))  # docs/errors.md
-        object.__setattr__(self, "steps", n_steps(self.steps))
         object.__setattr__(self, "method", Method(choice("method", self.method, METHODS)))
+        object.__setattr__(self, "upper", force("upper", self.upper, "N or N·m"))  # docs/errors.md
+        bounded = self.method not in PATH_METHODS  # the loading path does not bisect
+        object.__setattr__(self, "steps", n_steps(self.steps, bounded=bounded))
 
     def __call__(self, model: Any, command: Mapping[str, float]) -> dict[str, float]:
         from ..analysis.max_wrench import max_resistible_wrench

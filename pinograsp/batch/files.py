@@ -13,7 +13,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from ..core.settings import METHODS, Method
+from ..core.settings import DEFAULT_METHOD, METHODS, PATH_METHODS, Method
 from ..core.validate import force
 from ..core.validate import steps as n_steps
 from ..errors import PinograspError
@@ -228,10 +228,11 @@ def load_grasps(path: str | Path) -> GraspBatch:
     score: dict[str, Any] = {}
     if "upper" in s:
         score["upper"] = f.domain(lambda k, v: force(k, v, "N or N·m"), s["upper"], "score.upper")
-    if "steps" in s:  # domains checked before any grasp runs (docs/errors.md)
-        score["steps"] = f.domain(lambda k, v: n_steps(v, k), s["steps"], "score.steps")
     if "method" in s:
         if s["method"] not in METHODS:
             raise f.error("score.method", f"must be one of {', '.join(METHODS)}, got {s['method']!r}")
         score["method"] = Method(s["method"])
+    if "steps" in s:  # domains checked before any grasp runs (docs/errors.md); a path ignores steps
+        bounded = score.get("method", DEFAULT_METHOD) not in PATH_METHODS
+        score["steps"] = f.domain(lambda k, v: n_steps(v, k, bounded=bounded), s["steps"], "score.steps")
     return GraspBatch(p, tuple(grasps), score)

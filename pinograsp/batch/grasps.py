@@ -19,7 +19,7 @@ from typing import Any, Literal, cast
 import numpy as np
 
 from ..core.poses import rotation_rpy, rpy_of
-from ..core.settings import METHODS, Method
+from ..core.settings import DEFAULT_METHOD, METHODS, Method
 from ..core.validate import MAX_SAMPLES, choice, count, finite_number, positive_number, whole_number
 from ..core.validate import size as check_size
 from ..errors import InvalidInputError
@@ -170,9 +170,10 @@ class GraspSpec:
             ``{actuator: value}`` [N·m or N].
         max_command: Bound of every command of the ``"auto"`` preload [N·m or N].
         preload_method: Whose preload stage ``"auto"`` verifies (:func:`pinograsp.equilibrium_preload`
-            at ``w = 0``): ``"iterative"`` (default) or ``"prp"`` (the object settles), or
-            ``"energetic"``. The energetic method's preload stage is the iterative one (the
-            object held still while the hand closes), so it verifies the same commands, plus one
+            at ``w = 0``): ``"iterative"`` (default) or ``"prp"`` (the object settles),
+            ``"quasistatic"`` (its preload path), or ``"energetic"``. The energetic method's
+            preload stage is the iterative one (the object held still while the hand closes),
+            so it verifies the same commands, plus one
             energetic solve at ``w = 0``; it is accepted so that a batch scored with
             ``method="energetic"`` can name the same method throughout.
         id: Label of the grasp's row (default: its position in the batch).
@@ -192,7 +193,7 @@ class GraspSpec:
     stiffness: float = 1.0
     command: Literal["auto"] | float | tuple[tuple[str, float], ...] = "auto"
     max_command: float = 1.0
-    preload_method: Method | str = Method.ITERATIVE
+    preload_method: Method | str = Method(DEFAULT_METHOD)
     id: str | None = None
 
     def __post_init__(self) -> None:

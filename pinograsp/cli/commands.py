@@ -33,6 +33,14 @@ from .report import (
 )
 
 
+def _search_text(method: object, upper: float, steps: int, unit: str = "") -> str:
+    """:func:`pinograsp.analysis.registry.search_text`, imported on use (the registry loads the
+    solvers; ``pinograsp scenes`` and ``--help`` stay light)."""
+    from ..analysis.registry import search_text
+
+    return search_text(method, upper, steps, unit)
+
+
 def _scene_data(scene: Any) -> dict[str, Any]:
     """``pinograsp scenes NAME --json``: the model, the preload and the analysis block."""
     an = scene.analysis
@@ -78,7 +86,7 @@ def cmd_scenes(args: argparse.Namespace) -> int:
     print(scene.summary())
     note = model_settings(scene.settings)[1]
     print(
-        f"  analysis: method {an.method}{note}, upper {an.upper:g}, {an.steps} steps, "
+        f"  analysis: method {an.method}{note}, {_search_text(an.method, an.upper, an.steps)}, "
         f"n = {an.n}, plane {','.join(map(str, an.plane))}"
     )
     for key in ("directions", "wrenches"):
@@ -134,6 +142,15 @@ def cmd_analyze(args: argparse.Namespace) -> int:
 def _verdict(mw: Any, upper: float) -> str:
     """The max resistible magnitude in words, by the search's status."""
     unit = wrench_unit(mw.direction)
+    if mw.search == "path":  # the loading path's limit: exact, no upper limit, no resolution
+        if mw.status == "unbounded":
+            return (
+                "UNBOUNDED: the loading path's last segment has no event ahead (decided exactly), "
+                "i.e. passively resisted without bound under this model"
+            )
+        if mw.status == "below_resolution":
+            return f"0 {unit}: the loading path ends at zero load (the grasp gives way at once)"
+        return f"{format_max_wrench(mw)} {unit} (the loading path's limit, exact)"
     if mw.status == "unbounded":
         return (
             f"UNBOUNDED: resisted at the upper limit {upper:g} {unit} and without preload, i.e. "
@@ -176,15 +193,21 @@ def cmd_max_wrench(args: argparse.Namespace) -> int:
     lines = [
         scene_line(scene),
         preload_line(command, preload_name),
-        f"direction: {label} = {vector_text(mw.direction)}; method {method}{note}, upper {upper:g}, "
-        f"{steps} steps",
+        f"direction: {label} = {vector_text(mw.direction)}; method {method}{note}, "
+        f"{_search_text(method, upper, steps)}",
         "",
         f"max resistible magnitude: {_verdict(mw, upper)}",
-        f"{mw.search}: {len(mw.evidence)} magnitudes tried, monotone: {'yes' if mw.monotone else 'NO'}; "
-        f"{mw.n_solves} solves, {mw.wall_time:.2f} s",
+        (
+            f"loading path: {mw.n_solves} LCP solves, {mw.wall_time:.2f} s"
+            if mw.search == "path"
+            else f"{mw.search}: {len(mw.evidence)} magnitudes tried, monotone: "
+            f"{'yes' if mw.monotone else 'NO'}; {mw.n_solves} solves, {mw.wall_time:.2f} s"
+        ),
     ]
     if mw.response is not None:
-        at = "at the upper limit" if mw.unbounded else "at the limit"
+        at = "at the limit"
+        if mw.unbounded:
+            at = "at the path's last breakpoint" if mw.search == "path" else "at the upper limit"
         lines += ["", f"contact forces {at}:", *contact_table(scene.model, mw.response)]
     out.print(*lines)
     out.write_json("max_wrench.json", data)

@@ -14,6 +14,7 @@ Sub-commands::
     pinograsp batch GRASPS.yaml [--executor local|ray|dask] [--workers N] [--out results.parquet]
                     [--resume] [--timeout SECONDS]
     pinograsp simulate SCENE -d DIRECTION [--compare] [--upper N] [--preload NAME]
+    pinograsp path SCENE -d DIRECTION [--png FILE] [--csv FILE] [--json]
 
 ``SCENE`` is a built-in scene name (``pinograsp scenes``) or the path of a scene YAML file.
 Common options: ``--method prp|iterative|energetic``, ``--upper``, ``--steps``,
@@ -36,7 +37,7 @@ import warnings
 from collections.abc import Callable, Iterator, Sequence
 
 from ..errors import PinograspError
-from . import commands, sim_commands, sweep_commands
+from . import commands, path_command, sim_commands, sweep_commands
 from .parse import UsageError, build_parser, join_dash_values
 
 #: Sub-command -> its function (parsed arguments -> exit code).
@@ -52,6 +53,7 @@ COMMANDS: dict[str, Callable[..., int]] = {
     "optimal-preload": commands.cmd_optimal_preload,
     "batch": commands.cmd_batch,
     "simulate": sim_commands.cmd_simulate,
+    "path": path_command.cmd_path,
 }
 
 

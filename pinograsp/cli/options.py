@@ -17,7 +17,7 @@ import numpy as np
 import pinograsp as pg
 
 from ..core.axes import WRENCH_AXES, axis_index
-from ..core.settings import Settings, make_settings
+from ..core.settings import PATH_METHODS, Settings, make_settings
 from ..core.validate import MAX_FORCE, MAX_STEPS
 from ..errors import InvalidInputError, PinograspError, UnknownNameError
 
@@ -40,7 +40,8 @@ def query(args: argparse.Namespace, scene: Any, default_steps: int | None = None
 
 
 def upper_steps(args: argparse.Namespace, scene: Any, default_steps: int | None = None) -> tuple[float, int]:
-    """``--upper`` [N or N·m] and ``--steps``, defaulting to ``default_steps`` or the scene's."""
+    """``--upper`` [N or N·m] and ``--steps``, defaulting to ``default_steps`` or the scene's
+    (``--steps`` is not bounded by ``MAX_STEPS`` for a loading-path method, which ignores it)."""
     upper = args.upper if args.upper is not None else float(scene.analysis.upper)
     if args.steps is not None:
         steps = args.steps
@@ -50,7 +51,10 @@ def upper_steps(args: argparse.Namespace, scene: Any, default_steps: int | None 
         steps = int(scene.analysis.steps)
     if not (math.isfinite(upper) and 0 < upper <= MAX_FORCE):  # domains: docs/errors.md
         raise InvalidInputError("--upper", f"must be in (0, {MAX_FORCE:g}] [N or N·m], got {upper!r}")
-    if not 1 <= steps <= MAX_STEPS:
+    if method(args, scene) in PATH_METHODS:  # the loading path does not bisect: steps is ignored
+        if steps < 1:
+            raise InvalidInputError("--steps", f"must be an integer >= 1, got {steps}")
+    elif not 1 <= steps <= MAX_STEPS:
         raise InvalidInputError("--steps", f"must be an integer in [1, {MAX_STEPS}], got {steps}")
     return upper, steps
 
@@ -60,7 +64,8 @@ ANGLE_OPTIONS = {"normal_uncertainty": "--normal-uncertainty", "cone_tolerance":
 
 
 def settings(args: argparse.Namespace, scene: Any) -> Settings:
-    """The scene's settings with ``--solver``, ``--time-limit``, ``--variant`` and the angles
+    """The scene's settings with ``--solver``, ``--time-limit``, ``--variant``,
+    ``--tangential-ratio`` and the angles
     ``--normal-uncertainty`` / ``--cone-tolerance`` (given in [deg], stored in [rad]) applied.
 
     A bad angle raises :class:`InvalidInputError` naming the option, with the value in degrees.
@@ -72,11 +77,15 @@ def settings(args: argparse.Namespace, scene: Any) -> Settings:
         over["time_limit"] = args.time_limit
     if getattr(args, "variant", None):
         over["variant"] = args.variant
+    if getattr(args, "tangential_ratio", None) is not None:
+        over["tangential_ratio"] = args.tangential_ratio
     degrees = {k: getattr(args, k, None) for k in ANGLE_OPTIONS}
     over.update({k: math.radians(v) for k, v in degrees.items() if v is not None})
     try:
         return make_settings(scene.settings, **over)
     except InvalidInputError as exc:
+        if exc.name == "tangential_ratio" and getattr(args, "tangential_ratio", None) is not None:
+            raise InvalidInputError("--tangential-ratio", str(exc).removeprefix(f"{exc.name}: ")) from None
         deg = degrees.get(exc.name) if exc.name in ANGLE_OPTIONS else None
         if deg is None:
             raise

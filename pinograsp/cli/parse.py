@@ -10,6 +10,7 @@ import argparse
 from collections.abc import Sequence
 
 from ..core.settings import Method, Variant
+from .path_command import add_path
 
 #: Defaults of ``pinograsp demo``: small enough to finish in well under a minute on 2 cores.
 DEMO_SCENE = "case1"
@@ -59,8 +60,9 @@ def _common(p: argparse.ArgumentParser, *, out_default: str | None = None) -> No
     g.add_argument(
         "--method",
         choices=_METHODS,
-        help="prp (Alg. 1, one MIQP), iterative (Alg. 2+3, no wedging) or energetic (maximum "
-        "dissipation: friction opposes slip, one solve per direction); default: the scene's",
+        help="prp (Alg. 1, one MIQP), iterative (Alg. 2+3, no wedging), energetic (maximum "
+        "dissipation: friction opposes slip, one solve per direction) or quasistatic (the loading "
+        "path followed exactly: the limit load without bisection); default: the scene's",
     )
     g.add_argument(
         "--variant",
@@ -68,9 +70,13 @@ def _common(p: argparse.ArgumentParser, *, out_default: str | None = None) -> No
         help="load path: preload and load together, preload first (object held still), or the "
         "object settled into the preload first; default: the scene's (docs/design.md)",
     )
-    g.add_argument("--upper", type=float, help="bisection upper limit [N or N·m]; default: the scene's")
     g.add_argument(
-        "--steps", type=int, help="bisection steps (resolution upper/2**steps); default: the scene's"
+        "--upper", type=float, help="search upper limit [N or N·m] (quasistatic: none); default: the scene's"
+    )
+    g.add_argument(
+        "--steps",
+        type=int,
+        help="bisection steps (resolution upper/2**steps; quasistatic: none); default: the scene's",
     )
     g.add_argument("--solver", help="MIQP backend (default: the scene's, normally scip)")
     g.add_argument("--time-limit", type=float, help="per-MIQP time limit [s]")
@@ -87,6 +93,12 @@ def _common(p: argparse.ArgumentParser, *, out_default: str | None = None) -> No
         metavar="DEG",
         help="prp/energetic: refine each loaded contact's friction pyramid until the sector holding "
         "its force or slip is at most this wide [deg] (default: the scene's, normally none)",
+    )
+    g.add_argument(
+        "--tangential-ratio",
+        type=float,
+        metavar="R",
+        help="quasistatic: tangential / normal contact stiffness (default: the scene's, normally 1)",
     )
     g.add_argument("--json", action="store_true", help="print the result as JSON on stdout (nothing else)")
     g.add_argument(
@@ -317,7 +329,9 @@ def _add_batch(sub: argparse._SubParsersAction) -> None:
     b.add_argument("--upper", type=float, help="score search limit [N] (default: the file's score block)")
     b.add_argument("--steps", type=int, help="score search steps (default: the file's score block)")
     b.add_argument(
-        "--method", choices=_METHODS, help="score method: prp, iterative or energetic (default: the file's)"
+        "--method",
+        choices=_METHODS,
+        help="score method: prp, iterative, energetic or quasistatic (default: the file's)",
     )
     b.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None, help=_PROGRESS_HELP)
     _debug_option(b)
@@ -346,7 +360,7 @@ def _add_simulate(sub: argparse._SubParsersAction) -> None:
     sm.add_argument(
         "--method",
         choices=_METHODS,
-        help="method of --compare (prp, iterative, energetic); default: the scene's",
+        help="method of --compare (prp, iterative, energetic, quasistatic); default: the scene's",
     )
     g = sm.add_argument_group("simulation options (defaults: docs/simulation.md)")
     g.add_argument("--stiffness", type=float, help="stiffest contact's stiffness [N/m] (default 1e6)")
@@ -380,6 +394,7 @@ _SUBCOMMANDS = (
     _add_optimal_preload,
     _add_batch,
     _add_simulate,
+    add_path,
 )
 
 

@@ -60,6 +60,21 @@ def cmd_profile(args: argparse.Namespace) -> int:
     return _profile_report(args, sweep, plane, n, "profile")
 
 
+def _resolution(method: object, upper: float, steps: int) -> float:
+    """:func:`pinograsp.analysis.registry.search_resolution`, imported on use."""
+    from ..analysis.registry import search_resolution
+
+    return search_resolution(method, upper, steps)
+
+
+def _search_text(method: object, upper: float, steps: int, unit: str = "") -> str:
+    """:func:`pinograsp.analysis.registry.search_text`, imported on use (the registry loads the
+    solvers; ``pinograsp scenes`` and ``--help`` stay light)."""
+    from ..analysis.registry import search_text
+
+    return search_text(method, upper, steps, unit)
+
+
 def cmd_demo(args: argparse.Namespace) -> int:
     """``pinograsp demo``: ``profile`` of a built-in scene with few directions and steps."""
     scene = opt.load_scene(args.scene)
@@ -120,7 +135,7 @@ def _profile_lines(sweep: _Sweep, p: Any, norm: float | None, wall: float, runs:
         scene_line(sweep.scene),
         preload_line(sweep.command, sweep.preload_name),
         f"profile in the plane ({b1}, {b2}): {len(p.angles)} directions, method {sweep.method}{sweep.note}, "
-        f"upper {upper:g} {unit}, {steps} steps (resolution {upper / 2**steps:.2g} {unit}); {wall:.1f} s",
+        f"{_search_text(sweep.method, upper, steps, unit)}; {wall:.1f} s",
         "",
         header,
     ]
@@ -141,7 +156,8 @@ def _profile_lines(sweep: _Sweep, p: Any, norm: float | None, wall: float, runs:
     else:
         lines.append("no unbounded direction")
     if norm is not None:
-        lines.append(f"normalised by the {b2} value {format_magnitude(norm, upper / 2**steps, unit)}")
+        res = _resolution(sweep.method, upper, steps)
+        lines.append(f"normalised by the {b2} value {format_magnitude(norm, res, unit)}")
     bad = [f"{deg[i]:g}°" for i, r in enumerate(p.results) if not r.monotone]
     if bad:
         lines.append("non-monotone bisection evidence at: " + ", ".join(bad))
@@ -186,7 +202,7 @@ def _profile_report(args: argparse.Namespace, sweep: _Sweep, plane: Any, n: int,
         **model_data,
         "upper": upper,
         "steps": steps,
-        "resolution": upper / 2**steps,
+        "resolution": _resolution(sweep.method, upper, steps),
         "unit": wrench_unit(p.basis[0] + p.basis[1]),
         **p.to_dict(norm),
         "statuses": list(p.statuses),
@@ -316,7 +332,7 @@ def cmd_compare_preloads(args: argparse.Namespace) -> int:
         ],
         "total_time": wall,
     }
-    head = f"method {method}, upper {upper:g}, {steps} steps; {wall:.1f} s"
+    head = f"method {method}, {_search_text(method, upper, steps)}; {wall:.1f} s"
     out.print(*_compare_lines(scene, names, rows, head))
     out.write_json("compare_preloads.json", data)
     out.figure("compare_preloads.png", lambda path: _plot_comparison(scene, rows, method, path))

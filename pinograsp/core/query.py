@@ -12,7 +12,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from ..errors import InvalidInputError
-from .settings import METHODS, Method, Search
+from .settings import DEFAULT_METHOD, METHODS, PATH_METHODS, Method, Search
 from .validate import choice, force
 from .validate import steps as n_steps
 
@@ -25,19 +25,25 @@ class Query:
     it) searches the largest resisted magnitude along a direction.
 
     Attributes:
-        method: ``"iterative"`` (default), ``"energetic"`` or ``"prp"``
-            (:class:`~pinograsp.core.settings.Method`).
+        method: ``"iterative"`` (default), ``"energetic"``, ``"prp"`` or ``"quasistatic"``
+            (:class:`~pinograsp.core.settings.Method`; the default is
+            :data:`~pinograsp.core.settings.DEFAULT_METHOD`).
         upper: Upper limit of the search [N or N·m along the unit direction], in (0, 1e12]
-            (and within 1e6 times the grasp's force scale, checked per query).
-        steps: Search steps, in [1, 60]; resolution ``upper / 2**steps``.
-        search: ``"auto"`` (the method's default), ``"bisection"``, ``"secant"`` or
-            ``"direct"`` (:class:`~pinograsp.core.settings.Search`).
+            (and, for the searching methods, within 1e6 times the grasp's force scale, checked
+            per query; the quasi-static path's limit is exact: ``upper`` does not decide
+            unboundedness there and is not checked against the grasp).
+        steps: Search steps, in [1, 60]; resolution ``upper / 2**steps``. The quasi-static
+            method (:data:`~pinograsp.core.settings.PATH_METHODS`) does not bisect: any whole
+            number >= 1 is accepted and ignored.
+        search: ``"auto"`` (the method's default), ``"bisection"``, ``"secant"``, ``"direct"``
+            or ``"path"`` (:class:`~pinograsp.core.settings.Search`; ``"path"``: quasi-static,
+            where ``upper`` and ``steps`` do not apply).
 
     Raises:
         InvalidInputError: A field out of its domain (named).
     """
 
-    method: Method = Method.ITERATIVE
+    method: Method = Method(DEFAULT_METHOD)
     upper: float = 1e3
     steps: int = 20
     search: Search = Search.AUTO
@@ -46,7 +52,8 @@ class Query:
         object.__setattr__(self, "method", Method(choice("method", self.method, METHODS)))
         # domains (docs/errors.md, "Input domains"); against a grasp: analysis.max_wrench.query_within
         object.__setattr__(self, "upper", force("upper", self.upper, "N or N·m"))
-        object.__setattr__(self, "steps", n_steps(self.steps))
+        bounded = self.method not in PATH_METHODS  # the path does not bisect (docs/errors.md)
+        object.__setattr__(self, "steps", n_steps(self.steps, bounded=bounded))
         object.__setattr__(self, "search", Search(choice("search", self.search, SEARCHES)))
 
     @property
@@ -66,7 +73,7 @@ class Query:
 
 def make_query(
     query: Query | None,
-    method: object = "iterative",
+    method: object = DEFAULT_METHOD,
     upper: object = 1e3,
     steps: object = 20,
     search: object = "auto",
@@ -81,7 +88,7 @@ def make_query(
         return Query(method, upper, steps, search)  # type: ignore[arg-type]
     if not isinstance(query, Query):
         raise InvalidInputError("query", f"expected pinograsp.Query or None, got {type(query).__name__}")
-    loose = zip((method, upper, steps, search), ("iterative", 1e3, 20, "auto"))
+    loose = zip((method, upper, steps, search), (DEFAULT_METHOD, 1e3, 20, "auto"))
     if not all(isinstance(a, (str, int, float)) and not isinstance(a, bool) and a == b for a, b in loose):
         raise InvalidInputError("query", "pass either query= or method/upper/steps/search, not both")
     return query

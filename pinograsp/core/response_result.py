@@ -21,7 +21,7 @@ if TYPE_CHECKING:
 #: ``pinograsp.solvers.base.SolveStatus`` that are not optimal or infeasible).
 ResponseStatus = Literal["resisted", "not_resisted", "not_converged", "timeout", "node_limit", "failed"]
 #: Name of an analysis method (the values of :class:`~pinograsp.core.settings.Method`).
-MethodName = Literal["prp", "iterative", "energetic"]
+MethodName = Literal["prp", "iterative", "energetic", "quasistatic"]
 #: State of a contact in a solution: ``"separated"`` (no force), ``"sticking"`` (touching, no
 #: slip) or ``"sliding"`` (touching and slipping; for ``method="energetic"`` its force then sits
 #: on the pyramid's boundary, pointing most against the slip).
@@ -41,7 +41,7 @@ class PassiveResponse:
             converged to equilibrium below ``eps``).
         status: ``"resisted"``, ``"not_resisted"`` (infeasible / converged above ``eps``),
             ``"not_converged"`` (iteration cap), ``"timeout"``, ``"node_limit"`` or ``"failed"``.
-        method: ``"prp"``, ``"iterative"`` or ``"energetic"``.
+        method: ``"prp"``, ``"iterative"``, ``"energetic"`` or ``"quasistatic"``.
         variant: ``"single-step"``, ``"preload-first"`` or ``"settled-preload"``.
         wrench: Applied wrench ``(fx, fy, fz, mx, my, mz)`` about the object reference point.
         command: Actuator commands of the kept actuators (na,).

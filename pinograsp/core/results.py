@@ -91,7 +91,9 @@ def _num(x: float) -> str:
 
 
 #: How a max-wrench search ended (see :class:`MaxWrench`).
-MaxWrenchStatus = Literal["finite", "unbounded", "above_limit", "below_resolution", "failed"]
+MaxWrenchStatus = Literal[
+    "finite", "unbounded", "above_limit", "below_resolution", "failed", "no_solution", "segment_limit"
+]
 
 
 @dataclass(frozen=True, repr=False)
@@ -102,26 +104,34 @@ class MaxWrench:
         direction: Unit direction in wrench space, (6,) (torques in [N·m] per unit).
         magnitude: Largest magnitude verified resistible [N or N·m along ``direction``];
             ``inf`` when ``unbounded``; ``upper`` (a lower bound) when ``"above_limit"``; ``0``
-            when ``"below_resolution"`` (the limit is below ``resolution``).
+            when ``"below_resolution"`` (the limit is below ``resolution``); the load reached (a
+            lower bound) for the quasi-static path's ``"no_solution"`` / ``"segment_limit"``.
         unbounded: Passively resisted without bound under this model: resisted at ``upper``
             *and* in the limit of an infinite load (the load under a zero preload, by the
             model's homogeneity; docs/accuracy.md). ``magnitude`` is then ``inf``.
         status: ``"finite"``, ``"unbounded"``, ``"above_limit"`` (resisted at ``upper`` but
             not without bound: the limit is ``>= upper``) or ``"below_resolution"`` (the
-            magnitude is below ``floor``: indistinguishable from zero).
+            magnitude is below ``floor``: indistinguishable from zero); from
+            :func:`~pinograsp.quasistatic_max_wrench` also ``"no_solution"`` and
+            ``"segment_limit"`` (the path stopped without a verdict; ``magnitude`` is the load
+            reached, a lower bound). Through ``method="quasistatic"`` those two raise a
+            :class:`~pinograsp.SolverError` instead (a failed direction of profiles, sets and
+            batches, as for the other methods).
         floor: Smallest magnitude distinguishable from zero [N or N·m]: the resolution, and for
             the iterative method at least its equilibrium tolerance ``eps`` along the direction.
         upper: Upper limit of the search.
         resolution: Bisection resolution ``upper / 2**steps`` (the true limit lies in
             ``[magnitude, magnitude + resolution]`` if resistibility is monotone along the ray).
         evidence: Every magnitude tried and its verdict, in order.
-        method: ``"prp"``, ``"iterative"`` or ``"energetic"``.
+        method: ``"prp"``, ``"iterative"``, ``"energetic"`` or ``"quasistatic"``.
         solve_time: Total solver wall time [s] (including the preload check).
         wall_time: Total wall time of the query [s].
         n_solves: Complementarity problems solved.
         response: The passive response at ``magnitude`` (or at ``upper`` when unbounded).
-        search: ``"bisection"``, ``"secant"`` (iterative) or ``"direct"`` (one load-factor
-            complementarity problem, PRP only).
+        search: ``"bisection"``, ``"secant"`` (iterative), ``"direct"`` (one load-factor
+            complementarity problem, PRP and energetic) or ``"path"`` (quasi-static: the limit
+            load of the loading path, exact; ``upper`` is then ``inf`` and ``resolution`` and
+            ``floor`` 0: neither the query's ``upper`` nor its ``steps`` apply).
         audit_failures: Resisted magnitudes whose solution fails the audit (energy balance or
             displacement size; ``inf`` for the zero-preload limit test), ascending. Non-empty
             means, for the PRP, that its wedging artefact carries the verdict above

@@ -28,7 +28,7 @@ class Vocabulary(str, Enum):
 
 
 class Method(Vocabulary):
-    """Which passive-response algorithm (docs/design.md)."""
+    """Which passive-response algorithm (docs/design.md; the default: :data:`DEFAULT_METHOD`)."""
 
     #: Seed Alg. 1: one mixed-integer problem; admits the wedging artefact.
     PRP = "prp"
@@ -37,6 +37,10 @@ class Method(Vocabulary):
     #: Maximum dissipation (docs/methods.md): the PRP plus slip variables, friction opposing
     #: slip and sliding contacts on the pyramid's boundary; one mixed-integer problem.
     ENERGETIC = "energetic"
+    #: The quasi-static loading path (docs/methods.md): the equilibrium of the preloaded grasp
+    #: followed exactly, event by event, as the load grows (tangential contact springs with
+    #: Coulomb slip); the limit load without bisection.
+    QUASISTATIC = "quasistatic"
 
 
 class Variant(Vocabulary):
@@ -72,7 +76,8 @@ class Search(Vocabulary):
     """How :func:`~pinograsp.max_resistible_wrench` searches the magnitude."""
 
     #: The method's default (its registry row): secant for the iterative method, one
-    #: load-factor problem for the energetic one, bisection for the PRP.
+    #: load-factor problem for the energetic one, bisection for the PRP, the path for the
+    #: quasi-static one.
     AUTO = "auto"
     #: The seed paper's bisection.
     BISECTION = "bisection"
@@ -80,9 +85,19 @@ class Search(Vocabulary):
     SECANT = "secant"
     #: One load-factor complementarity problem (PRP and energetic).
     DIRECT = "direct"
+    #: Follow the loading path to its end (quasi-static only): no bisection, the limit is
+    #: exact; ``steps`` does not apply and ``upper`` does not decide unboundedness.
+    PATH = "path"
 
 
 METHODS = tuple(m.value for m in Method)
+#: The method every analysis, scene, batch file and CLI command uses when none is named (the
+#: one place to change it: /work/notes/qs_default.md lists what follows such a change).
+DEFAULT_METHOD: str = Method.ITERATIVE.value
+#: Methods that follow a loading path instead of searching ``[0, upper]``: ``steps`` does not
+#: apply (not bounded by :data:`~pinograsp.core.validate.MAX_STEPS`, ignored) and ``upper`` does
+#: not decide unboundedness (not checked against the grasp's force scale; docs/errors.md).
+PATH_METHODS: tuple[str, ...] = (Method.QUASISTATIC.value,)
 VARIANTS = tuple(v.value for v in Variant)
 BACKENDS = tuple(b.value for b in Backend)
 COMPLEMENTARITIES = tuple(c.value for c in Complementarity)
@@ -155,6 +170,9 @@ class Settings:
             pyramid (edges added on the Coulomb cone) until the sector holding its force or
             slip direction is at most this wide [rad]; ``None`` (default) keeps the model's
             pyramid. At most 100 edges per contact; planar pyramids are exact already.
+        tangential_ratio: ``"quasistatic"``: tangential contact stiffness as a multiple of the
+            normal stiffness ``k`` (default 1, the simulation's; > 0; large values approach the
+            paper's rigid friction).
     """
 
     backend: str = "bnb"
@@ -175,6 +193,7 @@ class Settings:
     verify_infeasible: bool = True
     normal_uncertainty: float = 0.0
     cone_tolerance: float | None = None
+    tangential_ratio: float = 1.0
 
     def validated(self) -> Settings:
         """Check every field; raise :class:`InvalidInputError` naming the bad one."""
@@ -212,6 +231,7 @@ class Settings:
         if self.variant is not None:
             choice("variant", self.variant, VARIANTS)
         check_angle("normal_uncertainty", self.normal_uncertainty)
+        positive_number("tangential_ratio", self.tangential_ratio)
         if self.cone_tolerance is not None:
             check_angle("cone_tolerance", self.cone_tolerance, np.pi / 4)
             if self.cone_tolerance <= 0:

@@ -145,6 +145,8 @@ LOAD_RATIO = 1e6
 MAX_STEPS = 60
 #: Largest number of directions of a profile, resistance set or grasp score (one search each).
 MAX_DIRECTIONS = 100_000
+#: Largest segment-count limit of a quasi-static loading path (each segment one LCP).
+MAX_PATH_SEGMENTS = 1_000_000
 #: Largest number of sampled grasps (``sample_grasps``, batch files).
 MAX_SAMPLES = 1_000_000
 #: Largest number of joints of a contact Jacobian (``Contact.revolute(nq=...)``, a hand has ~30).
@@ -192,8 +194,12 @@ def count(name: str, value: object, maximum: int, minimum: int = 1, what: str = 
     return v
 
 
-def steps(value: object, name: str = "steps") -> int:
-    """Bisection halvings in ``[1, MAX_STEPS]``."""
+def steps(value: object, name: str = "steps", *, bounded: bool = True) -> int:
+    """Bisection halvings in ``[1, MAX_STEPS]``; with ``bounded=False`` (a method that does not
+    bisect, :data:`~pinograsp.core.settings.PATH_METHODS`: the value is ignored) any whole
+    number >= 1."""
+    if not bounded:
+        return whole_number(name, value)
     return count(name, value, MAX_STEPS, what="upper / 2**52 is already below double resolution")
 
 

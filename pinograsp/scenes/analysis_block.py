@@ -16,7 +16,7 @@ import numpy as np
 
 from ..core.axes import WRENCH_AXES, plane_basis, wrench_direction
 from ..core.model import GraspModel
-from ..core.settings import METHODS, Method, Settings, make_settings
+from ..core.settings import DEFAULT_METHOD, METHODS, PATH_METHODS, Method, Settings, make_settings
 from ..core.validate import directions as n_directions
 from ..core.validate import force
 from ..core.validate import steps as n_steps
@@ -93,11 +93,12 @@ def _named(f: SceneFile, value: object, key: str, what: str) -> Mapping:
 
 def _block(f: SceneFile, model: GraspModel, a: Mapping) -> SceneAnalysis:
     """The analysis keys of an ``analysis`` block (its settings aside)."""
-    method = a.get("method", Method.ITERATIVE)
+    method = a.get("method", DEFAULT_METHOD)
     if method not in METHODS:
         raise f.error("analysis.method", f"must be one of {', '.join(METHODS)}, got {method!r}")
     upper = f.domain(lambda k, v: force(k, v, "N or N·m"), a.get("upper", 1e3), "analysis.upper")
-    steps = f.domain(lambda k, v: n_steps(v, k), a.get("steps", 20), "analysis.steps")
+    bounded = method not in PATH_METHODS  # the loading path does not bisect: steps is ignored
+    steps = f.domain(lambda k, v: n_steps(v, k, bounded=bounded), a.get("steps", 20), "analysis.steps")
     n = f.domain(lambda k, v: n_directions(v, k), a.get("n", 72), "analysis.n")
     planes: dict[str, Plane] = {}
     if a.get("planes") is not None:

@@ -19,7 +19,7 @@ from ..core.actuation import Actuator, Coupling
 from ..core.contact import Contact
 from ..core.model import GraspModel
 from ..core.query import Query
-from ..core.settings import Method, Settings
+from ..core.settings import DEFAULT_METHOD, Method, Settings
 from ..errors import UnknownNameError
 
 if TYPE_CHECKING:  # the URDF side and the results only pass through
@@ -45,6 +45,7 @@ SETTINGS_KEYS = (
     "eps_rel",
     "complementarity",
     "verify_infeasible",
+    "tangential_ratio",
 )
 #: ``analysis`` keys written in [deg] -> the :class:`~pinograsp.core.settings.Settings` field
 #: they set in [rad] (``cone_tolerance_deg: null``: the model's pyramids).
@@ -139,7 +140,7 @@ class SceneAnalysis:
         preloads: Named preloads, name -> ``{actuator: command}`` [N·m or N].
     """
 
-    method: Method = Method.ITERATIVE
+    method: Method = Method(DEFAULT_METHOD)
     upper: float = 1e3
     steps: int = 20
     n: int = 72

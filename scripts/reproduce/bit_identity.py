@@ -314,20 +314,20 @@ def run(only: str | None = None) -> list[str]:
     return lines
 
 
-def _drop_added(x: object) -> object:
-    """``x`` without the record fields of :data:`ADDED_FIELDS`."""
+def _drop_added_value(x: object) -> object:
+    """``x`` (a decoded value) without the record fields of :data:`ADDED_FIELDS`."""
     if isinstance(x, dict):
         added = ADDED_FIELDS.get(str(x.get("__type__")), ())
-        return {k: _drop_added(v) for k, v in x.items() if k not in added}
+        return {k: _drop_added_value(v) for k, v in x.items() if k not in added}
     if isinstance(x, list):
-        return [_drop_added(v) for v in x]
+        return [_drop_added_value(v) for v in x]
     return x
 
 
 def _drop_counts(line: str) -> str:
     name, _, body = line.partition("\t")
     if not name.startswith(COUNT_FREE):
-        return name + "\t" + json.dumps(_drop_added(json.loads(body)), sort_keys=True)
+        return name + "\t" + json.dumps(_drop_added_value(json.loads(body)), sort_keys=True)
     added = ADDED.get(name.split("/")[0], ())
 
     def strip(x: object) -> object:
@@ -337,7 +337,7 @@ def _drop_counts(line: str) -> str:
             return [strip(v) for v in x]
         return x
 
-    value = strip(_drop_added(json.loads(body)))
+    value = strip(_drop_added_value(json.loads(body)))
     if isinstance(value, dict):
         value = {k: v for k, v in value.items() if not (k in added and v == [])}
     return name + "\t" + json.dumps(value, sort_keys=True)

@@ -1,0 +1,95 @@
+"""Speed of the quasi-static loading path: median CPU time per direction, segments, events and
+LCP sizes on the pinch, the paper's cases 1-3 and seeded random grasps (4-40 contacts).
+
+Prints a Markdown table. CPU time (``time.process_time``) of ``pg.quasistatic_max_wrench`` per
+direction, the preload path included once per grasp (it is kept per model and command) and
+reported apart. No timed asserts: this is a measurement.
+
+    python benchmarks/quasistatic_speed.py [--quick]
+"""
+
+from __future__ import annotations
+
+import argparse
+import collections
+import time
+
+import numpy as np
+
+import pinograsp as pg
+
+
+def _plane(n: int = 24) -> list[np.ndarray]:
+    return [
+        np.array([np.cos(a), np.sin(a), 0, 0, 0, 0]) for a in np.linspace(0, 2 * np.pi, n, endpoint=False)
+    ]
+
+
+def grasps(quick: bool) -> list[tuple[str, object, object, list[np.ndarray]]]:
+    """(label, model, command, directions)."""
+    out = [("pinch", pg.examples.pinch(), 1.0, [d[[0, 1, 5]] for d in _plane()])]
+    for name in ("case1", "case2", "case3"):
+        s = pg.load_scene(name)
+        out.append((name, s.model, s.preload(None), _plane()))
+    pairs = (1, 2, 4) if quick else (1, 2, 3, 4, 6, 10)
+    for n_pairs in pairs:
+        for seed in range(3):
+            m = pg.examples.random_grasp(seed, n_pairs, contacts_per_finger=2)
+            rng = np.random.default_rng(1000 + seed)
+            out.append(
+                (
+                    f"random {4 * n_pairs} (seed {seed})",
+                    m,
+                    1.0,
+                    [rng.normal(size=6) for _ in range(3 if quick else 6)],
+                )
+            )
+    return out
+
+
+def measure(model, command, dirs) -> dict:
+    t0 = time.process_time()
+    pg.quasistatic_max_wrench(model, command, dirs[0])  # the preload path, once
+    first = time.process_time() - t0
+    times, segs, events, lcp, statuses = [], [], [], [], collections.Counter()
+    for d in dirs:
+        t0 = time.process_time()
+        r = pg.quasistatic_max_wrench(model, command, d)
+        times.append(time.process_time() - t0)
+        lp = pg.loading_path(model, command, d)
+        segs.append(lp.segments)
+        events.append(sum(e.kind in ("contact", "actuator") for e in lp.events))
+        lcp.append(lp.largest_lcp)
+        statuses[r.status] += 1
+    return {
+        "first": first,
+        "median": float(np.median(times)),
+        "max": float(np.max(times)),
+        "segments": (int(np.median(segs)), int(np.max(segs))),
+        "events": (int(np.median(events)), int(np.max(events))),
+        "lcp": int(np.max(lcp)),
+        "statuses": dict(statuses),
+    }
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__)
+    ap.add_argument("--quick", action="store_true", help="fewer random grasps and directions")
+    args = ap.parse_args()
+    print(
+        "| grasp | contacts | directions | median ms/dir | max ms | first (with preload) ms "
+        "| segments med/max | events med/max | largest LCP | statuses |"
+    )
+    print("|---|---:|---:|---:|---:|---:|---|---|---:|---|")
+    for label, m, fc, dirs in grasps(args.quick):
+        r = measure(m, fc, dirs)
+        print(
+            f"| {label} | {m.nc} | {len(dirs)} | {r['median'] * 1e3:.2f} | {r['max'] * 1e3:.1f} | "
+            f"{r['first'] * 1e3:.1f} | {r['segments'][0]}/{r['segments'][1]} | "
+            f"{r['events'][0]}/{r['events'][1]} | {r['lcp']} | "
+            f"{', '.join(f'{k} {v}' for k, v in sorted(r['statuses'].items()))} |"
+        )
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,171 @@
+"""The quasi-static loading path (docs/methods.md, "Quasi-static loading path"): the equilibrium
+of the preloaded grasp followed exactly, event by event, as the load ``λ d`` grows from 0 —
+tangential contact springs with Coulomb slip on the model's friction polygon, ratchets and
+couplings, each segment's rates from a small LCP (:mod:`pinograsp.analysis.quasistatic`).
+
+A registry row that is not built from complementarity stages: no problem kinds, one search
+(``"path"``: the limit load λ* of the path, no bisection; ``steps`` does not apply and is
+ignored, ``upper`` does not decide unboundedness — the path's last segment does, exactly).
+Variants: the preload is a path of its own first, the object held (``"preload-first"``, the
+default; the simulation's ``preload="held"``) or free (``"settled-preload"``);
+``"single-step"`` does not apply (a typed refusal). The paths' preloaded states are kept per
+model, settings and command (``quasistatic.api``), so every direction of a profile's or set's
+block — one session, one model — follows the preload path once.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import replace
+
+import numpy as np
+
+from ..core.results import MaxWrench, PassiveResponse
+from ..core.settings import Method, Search, Settings, Variant
+from ..errors import InvalidInputError, PreloadNotInEquilibriumError, SolverError
+from ..solvers.base import Mode
+from ..solvers.problem import ProblemKind
+from .context import SolveContext
+from .protocols import LimitQuery, SessionLike
+from .quasistatic.answers import quasistatic_max_wrench, quasistatic_response
+from .stages import Stage
+
+#: The settings' variants that apply, and the preload path each names.
+PATH_VARIANTS = {Variant.PRELOAD_FIRST: "held", Variant.SETTLED_PRELOAD: "settled"}
+#: Path statuses without a verdict: the path stopped (no or several continuations, or the
+#: segment-count limit); the load reached is a lower bound, never reported as the limit.
+NO_VERDICT = ("no_solution", "segment_limit")
+
+
+def path_variant(settings: Settings) -> tuple[Variant, str]:
+    """The variant under ``settings`` and the preload path it names (``"held"``/``"settled"``).
+
+    Raises:
+        InvalidInputError: ``variant="single-step"`` (the path starts from the preloaded grasp).
+    """
+    v = Variant.PRELOAD_FIRST if settings.variant is None else Variant(settings.variant)
+    if v not in PATH_VARIANTS:
+        raise InvalidInputError(
+            "variant",
+            f"{v.value!r} does not apply to method='quasistatic' (its preload is a path of its own "
+            f"before the load): one of {[x.value for x in PATH_VARIANTS]} or None "
+            "('preload-first': the object held while the hand closes, the default; "
+            "'settled-preload': the object free)",
+        )
+    return v, PATH_VARIANTS[v]
+
+
+def no_preload_response(
+    session: SessionLike, fc: np.ndarray, w6: np.ndarray, variant: Variant, residual: object = None
+) -> PassiveResponse:
+    """``"not_resisted"``: the preload path itself ends before the commands are reached (as the
+    staged methods answer a preload without equilibrium). The path has no state at the load, so
+    every force and displacement is NaN; ``net_wrench`` is the preload path's residual (6,)
+    [N, N·m] when its error carries one (else NaN), so that
+    :func:`~pinograsp.analysis.max_wrench.check_preload` names it. :func:`pinograsp.loading_path`
+    raises :class:`~pinograsp.PreloadNotInEquilibriumError` with where the preload path stopped."""
+    m = session.model
+    nan = np.full
+    return PassiveResponse(
+        resistible=False,
+        status="not_resisted",
+        method="quasistatic",
+        variant=variant.value,
+        wrench=np.asarray(w6, float),
+        command=np.asarray(fc, float),
+        contact_forces=nan((m.nc, 3), np.nan),
+        contact_forces_world=nan((m.nc, 3), np.nan),
+        joint_torques=nan(m.nq, np.nan),
+        actuator_forces=nan(m.na, np.nan),
+        coupling_forces=nan(m.ncp, np.nan),
+        object_displacement=nan(6, np.nan),
+        joint_displacements=nan(m.nq, np.nan),
+        actuator_displacements=nan(m.na, np.nan),
+        contact_modes=("separated",) * m.nc,
+        actuator_modes=("holding",) * m.na,
+        net_wrench=nan(6, np.nan) if residual is None else np.asarray(residual, float).reshape(6),
+        audit=None,
+        iterations=0,
+        solver="lemke",
+        contact_names=m.contact_names,
+        joint_names=m.joint_names,
+        actuator_names=m.actuator_names,
+        contact_mu=np.array(m.mu, dtype=float),
+        actuator_kinds=tuple(m.kinds),
+        edge_counts=m.edge_counts,
+    )
+
+
+class QuasistaticMethod:
+    """Rules of ``method="quasistatic"`` (:class:`~pinograsp.analysis.protocols.AnalysisMethod`)."""
+
+    name = Method.QUASISTATIC
+    load_kind: ProblemKind | None = None  # LCPs of its own (solvers/lcp.py), no MIQP stage
+    load_factor_kind: ProblemKind | None = None
+    default_variant = Variant.PRELOAD_FIRST
+    searches: tuple[Search, ...] = (Search.PATH,)
+    refines = False  # follows the model's own polygon (refine the model's pyramids instead)
+    exact = True
+    limit_point = False
+    preload_method = Method.QUASISTATIC
+    carries_residual = False
+
+    def stage(
+        self, session: SolveContext, w: np.ndarray, fc: np.ndarray, p: np.ndarray, start: Mode | None
+    ) -> Stage:
+        """Refused (:class:`InvalidInputError`): the path has no complementarity stages."""
+        raise InvalidInputError(
+            "method", "'quasistatic' follows a loading path: it has no complementarity stages"
+        )
+
+    def floor(self, session: SolveContext, direction: np.ndarray, upper: float, steps: int) -> float:
+        """0: the limit is exact (λ* = 0 is ``"below_resolution"`` with magnitude 0)."""
+        return 0.0
+
+    def response(self, session: SessionLike, fc: np.ndarray, w6: np.ndarray) -> PassiveResponse:
+        """The state reached on the path at ``w6`` (``"resisted"``), or at the limit load when
+        the path ends before it (``"not_resisted"``; ``"failed"`` without a verdict)."""
+        v, path = path_variant(session.settings)
+        try:
+            r = quasistatic_response(session.model, fc, w6, session.settings, variant=path)
+        except PreloadNotInEquilibriumError as exc:
+            return no_preload_response(session, fc, w6, v, exc.residual)
+        return replace(r, variant=v.value)
+
+    def max_load(self, session: SessionLike, query: LimitQuery) -> MaxWrench:
+        """The limit load λ* of the path along ``query.direction`` (no bisection).
+
+        Raises:
+            SolverError: The path stopped without a verdict (status ``"no_solution"`` or
+                ``"segment_limit"``; the load reached is in the message).
+        """
+        v, path = path_variant(session.settings)
+        mw = quasistatic_max_wrench(
+            session.model, query.command, query.direction, session.settings, variant=path
+        )
+        if mw.status in NO_VERDICT:
+            raise SolverError(
+                f"the quasi-static loading path stopped at load {mw.magnitude:.6g} without a verdict "
+                f"({mw.status}: "
+                + (
+                    "the segment-count limit"
+                    if mw.status == "segment_limit"
+                    else "the local rate problem has no unique continuation"
+                )
+                + "); that load is a lower "
+                "bound of the limit. pg.loading_path(model, command, direction) shows the path",
+                solver="lemke",
+                status=str(mw.status),
+            )
+        resp = None if mw.response is None else replace(mw.response, variant=v.value)
+        tally = query.tally
+        return replace(
+            mw,
+            response=resp,
+            solve_time=mw.solve_time + tally.solve_time,
+            n_solves=mw.n_solves,  # the path's LCPs, its preload path's included (once)
+            wall_time=time.perf_counter() - query.t0,
+        )
+
+
+QUASISTATIC = QuasistaticMethod()

@@ -1,0 +1,100 @@
+"""Past a softening limit: the equilibrium path under displacement control, and the snap.
+
+At a limit point with softening (``dλ < 0`` per unit displacement along the load) a grasp under
+a growing load cannot stay quasi-static: it jumps. The simulation (and a real hand) may land a
+short distance further on a branch that stiffens again and hold there; whether it "gave way"
+depends on how far it jumped. This module follows the equilibrium path beyond the limit under
+displacement control (the load may fall) until the load comes back to the limit load — the
+*landing* point of the snap, from where the path continues under load control as usual — or
+until the load falls to zero or the path stops. :meth:`LoadingPath.load_at_displacement` uses
+it; the limit load λ* itself stays the first limit (QUASISTATIC.md).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .model import QSModel
+from .path import StageRun, Trigger, _plan, _planned, advance, follow, next_event
+from .rates import Segment, StageCache, StageSpec, classify
+
+#: Largest number of segments of one descent past a limit (a count).
+MAX_DESCENT = 200
+#: Largest number of snaps followed.
+MAX_SNAPS = 20
+
+
+def _descend(qm: QSModel, out: StageRun, seg: Segment, spec: StageSpec, sc: StageCache) -> str:
+    """Follow the path from ``out.states[-1]`` (a softening limit, leaving segment ``seg``)
+    under displacement control until the load is back at the limit (``"landed"``), falls to
+    zero (``"unloaded"``) or the path stops; the states are appended to ``out``."""
+    st = out.states[-1]
+    peak = st.t
+    cls = classify(qm, st, spec)
+    for _ in range(MAX_DESCENT):
+        out.segments.append(seg)
+        t, trig = next_event(qm, st, spec, cls, seg)
+        lam_rate = seg.lam_rate
+        if lam_rate > 0 and (peak - st.t) / lam_rate <= t:
+            t, trig = max((peak - st.t) / lam_rate, 0.0), (Trigger("landed", -1),)
+        elif lam_rate < 0 and st.t / -lam_rate <= t:
+            out.states.append(advance(st, seg, st.t / -lam_rate))
+            out.triggers.append((Trigger("unloaded", -1),))
+            return "unloaded"
+        if not np.isfinite(t):
+            return "mechanism" if lam_rate <= 0 else "unbounded"
+        st = advance(st, seg, t)
+        out.states.append(st)
+        out.triggers.append(trig)
+        if trig and trig[0].kind == "landed":
+            st.t = peak
+            return "landed"
+        cls = classify(qm, st, spec)
+        prev: Segment = seg
+        seg = _planned(qm, st, spec, cls, "displacement", _plan(qm, cls, prev), out, sc, (prev.active,))
+        if seg.status != "ok":
+            return seg.status
+        if abs(seg.lam_rate) * float(np.linalg.norm(qm.w_scaled(spec.dw))) <= 1e-9 * qm.k_ref:
+            return "mechanism"
+    return "segment_limit"
+
+
+def continue_past_limit(qm: QSModel, run: StageRun, spec: StageSpec, max_segments: int) -> StageRun | None:
+    """The path from the limit state of ``run`` (status ``"limit"``) beyond it: descents
+    under displacement control and, after each landing, the load-controlled path to its next
+    limit, up to :data:`MAX_SNAPS` snaps. ``status``: ``"landed:<status of the last
+    load-controlled part>"``, ``"unloaded"`` (the load falls to zero), ``"mechanism"`` (no
+    stiffness left) or a failure; ``snaps`` holds ``(limit index, landing index)`` pairs. None
+    when the limit is not a softening one (a mechanism along the load: nothing to land on)."""
+    seg = run.segments[-1]
+    if not (seg.lam_rate < 0 and seg.control == "displacement"):
+        return None
+    out = StageRun(states=[run.states[-1].copy()])
+    out.snaps = []  # type: ignore[attr-defined]
+    sc = StageCache.of(qm, spec)
+    for _ in range(MAX_SNAPS):
+        top = len(out.states) - 1
+        status = _descend(qm, out, seg, spec, sc)
+        if status != "landed":
+            out.status = status
+            return out
+        out.snaps.append((top, len(out.states) - 1))  # type: ignore[attr-defined]
+        rest = follow(qm, out.states[-1], spec, max_segments)
+        out.states += rest.states[1:]
+        out.segments += rest.segments
+        out.triggers += rest.triggers
+        out.lcp_solves += rest.lcp_solves
+        out.status = "landed:" + rest.status
+        last = rest.segments[-1] if rest.segments else None
+        if (
+            rest.status != "limit"
+            or last is None
+            or not (last.lam_rate < 0 and last.control == "displacement")
+        ):
+            return out
+        out.segments.pop()  # the limit's segment is the next descent's first
+        seg = last
+    return out
+
+
+__all__ = ["MAX_DESCENT", "MAX_SNAPS", "continue_past_limit"]

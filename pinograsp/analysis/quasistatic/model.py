@@ -1,0 +1,208 @@
+"""The quasi-static state-space model of a :class:`~pinograsp.GraspModel` (QUASISTATIC.md).
+
+Everything the path follower needs, precomputed once per model, in *scaled* coordinates so
+that rank decisions and tolerances do not depend on units:
+
+* displacements ``v_s = S v`` with ``S`` = 1 for object translations, the model's length scale
+  ``ℓ`` for object rotations and each joint's lever (its largest Jacobian entry [m/rad]) for
+  joints — every component is a length [m];
+* equilibrium rows multiplied by ``S^-1`` — every row is a force [N];
+* contact forces in [N] (contact frames), as in the model.
+
+The relative displacement of the object over the hand at contact ``i`` (contact frame) is
+``g_i = A_i^T v_s`` with ``A = S^-1 [G; -J^T]`` (nv, nc*d); equilibrium of the object and the
+joints is ``A c + S^-1 [w; R f + C^T lam_C] = 0``. The friction polygon of each contact (the
+pyramid's cross-section per unit normal force, refined cones and normal uncertainty included
+since they live in ``D``) is stored as its faces: outward unit normals ``nu_j`` in the tangent
+plane and support values ``h_j`` (``nu_j . c_t <= h_j c_n``), so each face's slack is
+``h_j c_n - nu_j . c_t``, one row of :attr:`QSModel.Phi`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...core.actuation import BACKDRIVABLE, LOCKED, NON_BACKDRIVABLE
+from ...core.model import GraspModel
+from ...errors import ModelError
+
+
+def _polygon_faces(block: np.ndarray, d: int) -> tuple[np.ndarray, np.ndarray]:
+    """Faces ``(nu (m, d-1), h (m,))`` of the friction polygon of one contact's pyramid block
+    (d, m_i); empty for a frictionless contact."""
+    V = (block[1:] / block[0]).T  # (m_i, d-1) tangential vertices per unit normal force
+    if V.size == 0 or float(np.abs(V).max()) == 0.0:
+        return np.zeros((0, d - 1)), np.zeros(0)
+    if d == 2:
+        v = V[:, 0]
+        v = v[v != 0.0]
+        nu = np.sign(v)[:, None]
+        return nu, np.abs(v)
+    ang = np.arctan2(V[:, 1], V[:, 0])
+    V = V[np.argsort(ang, kind="stable")]
+    E = np.roll(V, -1, axis=0) - V
+    length = np.linalg.norm(E, axis=1)
+    keep = length > 1e-12 * float(np.abs(V).max())
+    V, E, length = V[keep], E[keep], length[keep]
+    nu = np.column_stack([E[:, 1], -E[:, 0]]) / length[:, None]  # outward for counter-clockwise
+    h = np.einsum("ij,ij->i", nu, V)
+    if np.any(h <= 0.0):
+        raise ModelError("a friction pyramid does not contain its normal (the polygon misses the origin)")
+    return nu, h
+
+
+@dataclass(frozen=True, eq=False)
+class QSModel:
+    """Precomputed arrays of one model (shapes: ``nv = nx + nq``, ``nf`` faces in all).
+
+    Attributes:
+        model: The :class:`GraspModel`.
+        nx, nq, na, ncp, nc, d: Sizes.
+        S: Displacement scaling (nv,) [m per unit of the model's coordinate].
+        A: ``S^-1 [G; -J^T]``, (nv, nc*d).
+        kn: Normal stiffness (nc,) [N/m]; kt: tangential stiffness (nc,) (0 without friction).
+        Phi: Face rows (nf, nc*d): slack of face f = ``Phi[f] @ c``.
+        face_contact: Contact of each face (nf,); face_index: its index on that contact (nf,).
+        Rn: Scaled, unit-column transmission ``S_q^-1 R / r_norm`` (nq, na); r_norm (na,).
+        Cn: Scaled, unit-row couplings (ncp, nq); c_norm (ncp,).
+        nbd, bd, locked: Actuator kinds as boolean masks (na,).
+        k_ref: Largest contact stiffness [N/m] (the balancing factor of constraint rows).
+        lever: Joint levers (nq,) [m/rad].
+    """
+
+    model: GraspModel
+    nx: int
+    nq: int
+    na: int
+    ncp: int
+    nc: int
+    d: int
+    S: np.ndarray
+    A: np.ndarray
+    kn: np.ndarray
+    kt: np.ndarray
+    Phi: np.ndarray
+    face_contact: np.ndarray
+    face_index: np.ndarray
+    Rn: np.ndarray
+    r_norm: np.ndarray
+    Cn: np.ndarray
+    c_norm: np.ndarray
+    nbd: np.ndarray
+    bd: np.ndarray
+    locked: np.ndarray
+    k_ref: float
+    lever: np.ndarray
+    row_contact: np.ndarray
+    kn_rows: np.ndarray
+    kt_rows: np.ndarray
+    PhiT_t: np.ndarray
+    slip_rows: np.ndarray
+
+    @property
+    def nv(self) -> int:
+        """Scaled displacement unknowns ``nx + nq``."""
+        return self.nx + self.nq
+
+    @property
+    def nf(self) -> int:
+        """Friction-polygon faces of all contacts."""
+        return self.Phi.shape[0]
+
+    @property
+    def ncd(self) -> int:
+        """Contact force components ``nc * d``."""
+        return self.nc * self.d
+
+    def w_scaled(self, w: np.ndarray) -> np.ndarray:
+        """A reduced wrench (nx,) [N, N·m] as scaled equilibrium rows (nx,) [N]."""
+        return np.asarray(w, float) / self.S[: self.nx]
+
+    def unscale_x(self, xs: np.ndarray) -> np.ndarray:
+        """Object displacement in the model's coordinates (nx,) [m, rad]."""
+        return xs / self.S[: self.nx]
+
+    def unscale_q(self, qs: np.ndarray) -> np.ndarray:
+        """Joint displacements (nq,) [rad or m]."""
+        return qs / self.S[self.nx :]
+
+
+def build_qs_model(model: GraspModel, tangential_ratio: float = 1.0) -> QSModel:
+    """The :class:`QSModel` of ``model`` with tangential springs ``tangential_ratio * k``."""
+    nx, nq, na, ncp, nc, d = model.nw, model.nq, model.na, model.ncp, model.nc, model.d
+    ell = float(model.length_scale)
+    absJ = np.abs(np.asarray(model.J, float))
+    lever = absJ.max(axis=0) if nq else np.zeros(0)
+    lever = np.where(lever > 0, lever, ell)
+    sx = np.ones(nx)
+    sx[(2 if model.planar else 3) :] = ell
+    S = np.concatenate([sx, lever])
+    A = np.vstack([np.asarray(model.G, float), -np.asarray(model.J, float).T]) / S[:, None]
+    kn = np.asarray(model.k, float).copy()
+    kt = np.zeros(nc)
+    rows, owner, index = [], [], []
+    D = np.asarray(model.D, float)
+    bc = np.asarray(model.beta_contact)
+    for i in range(nc):
+        nu, h = _polygon_faces(D[i * d : (i + 1) * d, bc == i], d)
+        if len(h):
+            kt[i] = float(tangential_ratio) * kn[i]
+        for j in range(len(h)):
+            row = np.zeros(nc * d)
+            row[i * d] = h[j]
+            row[i * d + 1 : (i + 1) * d] = -nu[j]
+            rows.append(row)
+            owner.append(i)
+            index.append(j)
+    Phi = np.array(rows) if rows else np.zeros((0, nc * d))
+    Rs = np.asarray(model.R, float) / lever[:, None] if na else np.zeros((nq, 0))
+    r_norm = np.linalg.norm(Rs, axis=0) if na else np.zeros(0)
+    if na and np.any(r_norm == 0):
+        raise ModelError("an actuator reaches no joint of the model")
+    Rn = Rs / r_norm[None, :] if na else Rs
+    Cs = np.asarray(model.C, float) / lever[None, :] if ncp else np.zeros((0, nq))
+    c_norm = np.linalg.norm(Cs, axis=1) if ncp else np.zeros(0)
+    Cn = Cs / np.where(c_norm > 0, c_norm, 1.0)[:, None] if ncp else Cs
+    kinds = tuple(model.kinds)
+    row_contact = np.repeat(np.arange(nc), d)
+    kn_rows = np.zeros(nc * d)
+    kn_rows[::d] = kn
+    kt_rows = np.repeat(kt, d)
+    kt_rows[::d] = 0.0
+    PhiT_t = Phi.T.copy()
+    PhiT_t[::d] = 0.0  # tangential part only: the force rate of a unit slip flow on a face
+    owner_kt = kt[np.array(owner, int)] if owner else np.zeros(0)
+    # slip rate da = -nu / kt per unit flow (flows are in force units: kt * slip rate)
+    slip_rows = PhiT_t.T / np.where(owner_kt > 0, owner_kt, 1.0)[:, None] * (owner_kt > 0)[:, None]
+    return QSModel(
+        model=model,
+        nx=nx,
+        nq=nq,
+        na=na,
+        ncp=ncp,
+        nc=nc,
+        d=d,
+        S=S,
+        A=A,
+        kn=kn,
+        kt=kt,
+        Phi=Phi,
+        face_contact=np.array(owner, int),
+        face_index=np.array(index, int),
+        Rn=Rn,
+        r_norm=r_norm,
+        Cn=Cn,
+        c_norm=c_norm,
+        nbd=np.array([k == NON_BACKDRIVABLE for k in kinds], bool),
+        bd=np.array([k == BACKDRIVABLE for k in kinds], bool),
+        locked=np.array([k == LOCKED for k in kinds], bool),
+        k_ref=float(kn.max()),
+        lever=lever,
+        row_contact=row_contact,
+        kn_rows=kn_rows,
+        kt_rows=kt_rows,
+        PhiT_t=PhiT_t,
+        slip_rows=slip_rows,
+    )

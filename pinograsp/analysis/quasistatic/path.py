@@ -1,0 +1,304 @@
+"""The segment loop: follow the equilibrium along one stage, event by event.
+
+Each pass: classify the state (:func:`~.rates.classify`), solve the local rate problem under
+load control (:func:`~.rates.rates`); if that has no solution (the load has reached a limit, or
+the LCP has none), solve it under displacement control: a continuation with ``dλ > 0`` is
+followed, ``dλ <= 0`` (softening, or a mechanism along the load) is the **limit**. Then the
+next event in closed form: the smallest step at which an inequality that is slack now reaches
+zero (a pressed contact's normal force, an open contact's gap, a face of a touching contact's
+polygon, a holding actuator's over-force, or the end of the stage). No event ahead: the last
+segment is a ray, the stage is **unbounded**.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .model import QSModel
+from .rates import (
+    FULL,
+    PRESS,
+    RATE_RTOL,
+    SEPARATE,
+    Classes,
+    Segment,
+    StageCache,
+    StageSpec,
+    State,
+    classify,
+    rates,
+    rescaled,
+)
+
+#: A mechanism along the load: ``dλ`` per unit displacement below this fraction of the
+#: largest contact stiffness.
+LIMIT_RTOL = 1e-9
+#: Under load control, a stiffness along the load below this fraction of the largest contact
+#: stiffness is checked under displacement control (a limit hides there as a huge rate).
+SOFT_RTOL = 1e-6
+#: Default largest number of segments of one stage (a count, reported when reached).
+MAX_SEGMENTS = 5000
+
+
+@dataclass(frozen=True)
+class Trigger:
+    """An inequality reached at the end of a segment: ``kind`` is ``"separates"``,
+    ``"touches"``, ``"face"``, ``"command"`` (an actuator's force reaches its command) or
+    ``"end"``; ``index`` the contact, face (row of :attr:`QSModel.Phi`) or actuator."""
+
+    kind: str
+    index: int
+
+
+@dataclass
+class StageRun:
+    """What following one stage produced.
+
+    Attributes:
+        states: Breakpoint states, the start included.
+        segments: ``segments[k]`` is the segment leaving ``states[k]``; one more than the
+            segments between breakpoints when the stage ends in a ray (unbounded) or at a
+            limit (the state found there).
+        triggers: Inequalities reached at each breakpoint after the first.
+        status: ``"end"`` (reached ``t_end``), ``"unbounded"``, ``"limit"``,
+            ``"segment_limit"``, or the rate problem's failure (``"ray_termination"``,
+            ``"pivot_limit"``, ``"singular"``).
+        lcp_solves, pivots, largest_lcp: Work done.
+    """
+
+    states: list[State]
+    segments: list[Segment] = field(default_factory=list)
+    triggers: list[tuple[Trigger, ...]] = field(default_factory=list)
+    status: str = "end"
+    lcp_solves: int = 0
+    pivots: int = 0
+    largest_lcp: int = 0
+
+
+def _planned(
+    qm: QSModel,
+    st: State,
+    spec: StageSpec,
+    cls: Classes,
+    control: str,
+    plan0: np.ndarray,
+    run: StageRun,
+    sc: StageCache,
+    hints: tuple[np.ndarray, ...] = (),
+) -> Segment:
+    """The rate problem with each zero-force contact guessed pressed or separated.
+
+    Plans tried in order: ``plan0`` (the history's guess), every zero-force contact separated,
+    every one pressed; within a plan a contradicted guess is flipped, and the faces of a
+    pressed zero-force contact enter the LCP only once its rates would cross them (an
+    active set of faces: at zero force every face is tight, and all of them at once make an
+    LCP that Lemke's method may not solve). Last resort: every zero-force contact with both
+    its opening and all its faces in the LCP. Each (plan, faces) combination is tried once.
+    """
+    candidates = [plan0]
+    if cls.zero.any():
+        for fill in (SEPARATE, PRESS):
+            alt = plan0.copy()
+            alt[cls.zero] = fill
+            candidates.append(alt)
+    tried: set[bytes] = set()
+    first = None
+    for start in candidates:
+        plan = start.copy()
+        apex = np.zeros(qm.nf, bool)
+        while True:
+            key = plan.tobytes() + apex.tobytes()
+            if key in tried:
+                break
+            tried.add(key)
+            seg = rates(qm, st, spec, cls, control, plan, sc, hints, apex)
+            run.lcp_solves += 1
+            run.pivots += seg.pivots
+            run.largest_lcp = max(run.largest_lcp, seg.lcp_size)
+            first = first or seg
+            if seg.status == "guess":
+                plan[seg.flip] = np.where(plan[seg.flip] == PRESS, SEPARATE, PRESS)
+            elif seg.status == "apex":
+                apex[seg.add] = True
+            else:
+                break
+            if len(tried) > 8 * (qm.nc + 1):
+                break
+        if seg.status in ("ok", "singular"):
+            return seg
+        if not cls.zero.any():
+            return seg
+    full = rates(qm, st, spec, cls, control, np.full(qm.nc, FULL), sc)
+    run.lcp_solves += 1
+    run.pivots += full.pivots
+    run.largest_lcp = max(run.largest_lcp, full.lcp_size)
+    if full.status == "ok" or first is None:
+        return full
+    return first if first.status not in ("guess", "apex") else full
+
+
+def _plan(qm: QSModel, cls: Classes, prev: Segment | None) -> np.ndarray:
+    """First guess for the zero-force contacts: one that was separated has just touched
+    (pressed), one that was touching has just unloaded (separated)."""
+    plan = np.full(qm.nc, PRESS)
+    if prev is not None and prev.contact:
+        for i in np.flatnonzero(cls.zero):
+            plan[i] = PRESS if prev.contact[i] == "separated" else SEPARATE
+    return plan
+
+
+def _solve_segment(
+    qm: QSModel,
+    st: State,
+    spec: StageSpec,
+    cls: Classes,
+    run: StageRun,
+    prev: Segment | None,
+    sc: StageCache,
+    trig: tuple[Trigger, ...] = (),
+) -> Segment:
+    """Load control first; displacement control when that fails (limit or continuation)."""
+    plan = _plan(qm, cls, prev)
+    hints: tuple[np.ndarray, ...] = ()
+    if prev is not None:
+        new = [
+            qm.nc + tr.index if tr.kind == "face" else qm.nc + qm.nf + tr.index
+            for tr in trig
+            if tr.kind in ("face", "command")
+        ]
+        hints = (np.union1d(prev.active, new), prev.active) if new else (prev.active,)
+    seg = _planned(qm, st, spec, cls, "load", plan, run, sc, hints)
+    if not np.any(spec.dw):
+        return seg
+    r0 = qm.w_scaled(spec.dw)
+    size = float(np.linalg.norm(r0))
+    if seg.status == "ok":
+        along = float(r0 @ seg.dvs[: qm.nx]) / size  # displacement along the load per unit load
+        if along * SOFT_RTOL * qm.k_ref < size:
+            return seg
+        # nearly a mechanism along the load: decide under displacement control
+    alt = _planned(qm, st, spec, cls, "displacement", plan, run, sc)
+    if alt.status != "ok":
+        return seg
+    load_rate = alt.lam_rate * size
+    alt.stiffness_rate = load_rate
+    if load_rate <= LIMIT_RTOL * qm.k_ref:
+        alt.status = "limit"
+        return alt
+    return rescaled(alt, 1.0 / alt.lam_rate)
+
+
+def next_event(
+    qm: QSModel, st: State, spec: StageSpec, cls: Classes, seg: Segment
+) -> tuple[float, tuple[Trigger, ...]]:
+    """The step to the next event along ``seg`` (``inf``: none) and the inequalities reached."""
+    d = qm.d
+    tol = cls.tol
+    rscale = max(
+        float(np.abs(seg.dc).max(initial=0.0)),
+        float(np.abs(qm.w_scaled(spec.dw)).max(initial=0.0)),
+        float(np.abs(spec.dfc * qm.r_norm).max(initial=0.0)),
+        1e-300,
+    )
+    rtol = RATE_RTOL * rscale
+    kinds, idx, steps = [], [], []
+    staying = np.array([s != "separated" for s in seg.contact], bool)
+    cn, dcn = st.c[::d], seg.dc[::d]
+    sel = np.flatnonzero(staying & (cn > tol) & (dcn < -rtol))
+    kinds += ["separates"] * len(sel)
+    idx += sel.tolist()
+    steps += (cn[sel] / -dcn[sel]).tolist()
+    An = qm.A[:, ::d]
+    gap = An.T @ st.vs  # -delta
+    dgap = An.T @ seg.dvs
+    sel = np.flatnonzero(cls.open & (-dgap * qm.kn > rtol))
+    kinds += ["touches"] * len(sel)
+    idx += sel.tolist()
+    steps += (gap[sel] / -dgap[sel]).tolist()
+    if spec.friction and qm.nf:
+        slack = qm.Phi @ st.c
+        rate = qm.Phi @ seg.dc
+        sel = np.flatnonzero(staying[qm.face_contact] & (slack > tol) & (rate < -rtol))
+        kinds += ["face"] * len(sel)
+        idx += sel.tolist()
+        steps += (slack[sel] / -rate[sel]).tolist()
+    if qm.na:
+        phi = (st.f - spec.command(st.t)) * qm.r_norm
+        dphi = (seg.df - spec.dfc) * qm.r_norm
+        sel = np.flatnonzero(qm.nbd & ~cls.act_lcp & (dphi < -rtol))
+        kinds += ["command"] * len(sel)
+        idx += sel.tolist()
+        steps += (phi[sel] / -dphi[sel]).tolist()
+    if np.isfinite(spec.t_end):
+        kinds.append("end")
+        idx.append(-1)
+        steps.append(max(spec.t_end - st.t, 0.0))
+    if not steps:
+        return float("inf"), ()
+    arr = np.maximum(np.array(steps), 0.0)
+    t = float(arr.min())
+    near = arr <= t * (1.0 + 1e-9)
+    found = [Trigger(kinds[m], int(idx[m])) for m in np.flatnonzero(near)]
+    # a contact that unloads reaches every face at once: keep only its unloading
+    gone = {tr.index for tr in found if tr.kind == "separates"}
+    trig = tuple(tr for tr in found if not (tr.kind == "face" and int(qm.face_contact[tr.index]) in gone))
+    return t, trig
+
+
+def advance(st: State, seg: Segment, t: float, t_end: float | None = None) -> State:
+    """The state after a step ``t`` along ``seg``."""
+    out = State(
+        st.vs + t * seg.dvs,
+        st.c + t * seg.dc,
+        st.f + t * seg.df,
+        st.lam_c + t * seg.dlam_c,
+        st.hold + t * seg.dhold,
+        st.slip + t * seg.dslip,
+        st.t + t * seg.lam_rate,
+    )
+    if t_end is not None:
+        out.t = t_end
+    return out
+
+
+def follow(qm: QSModel, start: State, spec: StageSpec, max_segments: int = MAX_SEGMENTS) -> StageRun:
+    """Follow ``spec`` from ``start`` until its end, a limit, a ray or a failure."""
+    st = start.copy()
+    run = StageRun(states=[st])
+    sc = StageCache.of(qm, spec)
+    while True:
+        cls = classify(qm, st, spec)
+        seg = _solve_segment(
+            qm,
+            st,
+            spec,
+            cls,
+            run,
+            run.segments[-1] if run.segments else None,
+            sc,
+            run.triggers[-1] if run.triggers else (),
+        )
+        run.segments.append(seg)
+        if seg.status != "ok":
+            run.status = seg.status
+            return run
+        t, trig = next_event(qm, st, spec, cls, seg)
+        if not np.isfinite(t):
+            run.status = "unbounded"
+            return run
+        ends = any(tr.kind == "end" for tr in trig)
+        st = advance(st, seg, t, spec.t_end if ends else None)
+        run.states.append(st)
+        run.triggers.append(trig)
+        if ends:
+            classify(qm, st, spec)  # zero the forces of contacts that reached zero
+            run.status = "end"
+            return run
+        if len(run.segments) >= max_segments:
+            run.status = "segment_limit"
+            return run
+
+
+__all__ = ["MAX_SEGMENTS", "StageRun", "Trigger", "advance", "follow", "next_event"]

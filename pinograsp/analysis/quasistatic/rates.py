@@ -1,0 +1,376 @@
+"""One segment of the loading path: the local rate problem at a point of the path.
+
+At a point (the :class:`State`), every contact and actuator is classified by the inequalities
+that hold with zero slack (QUASISTATIC.md, "The local rate problem is an LCP"):
+
+* a contact is *open* (gap ``delta < 0``), at *zero force* (touching with ``c_n = 0``: its
+  opening rate and every face of its polygon are boundary items) or *pressed* (``c_n > 0``:
+  the faces its tangential force lies on are boundary items);
+* a non-backdrivable actuator is at its command (``f = f_c``: a boundary item, it may move or
+  hold) or holds above it; backdrivable actuators keep ``f = f_c``; locked ones ``u = 0``.
+
+Every boundary item carries one complementary pair *flow* ``>= 0`` ⟂ *force-rate slack*
+``>= 0``: the slip rate on a face ⟂ the rate of that face's slack, the opening rate of a
+zero-force contact ⟂ its normal force rate, the closing rate of an actuator ⟂ its over-force
+rate. With the flows as unknowns the remaining relations are linear: the tangent stiffness of
+the touching contacts (normal ``k``, tangential ``k_t``), the actuator and coupling constraints
+and the object's equilibrium, plus one control row — the load rate ``dλ = 1`` (load control),
+or unit displacement rate along the load (displacement control, which passes limit points and
+returns ``dλ``). Eliminating them gives the LCP ``w = M ζ + q`` over exactly the boundary
+items, solved by Lemke's method (:mod:`pinograsp.solvers.lcp`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ...solvers.lcp import canonical, lemke, principal_pivoting
+from .model import QSModel
+from .state import StageSpec, State
+from .system import StageCache, affine_full, affine_reduced
+
+#: Relative tolerance (to the force scale of the state) under which a slack is zero.
+EVENT_RTOL = 1e-9
+#: Relative tolerance (to the rate scale of the segment) under which a rate is zero.
+RATE_RTOL = 1e-10
+#: Diagonal regularisation of the faces of zero-force contacts in the LCP, relative to ``M``.
+APEX_REG = 1e-12
+
+
+@dataclass
+class Segment:
+    """Rates of one segment per unit of the path parameter, and its states.
+
+    Attributes:
+        status: ``"ok"``, ``"limit"`` (no continuation with growing load: ``dλ <= 0`` under
+            displacement control), or the LCP's failure (``"ray_termination"``,
+            ``"pivot_limit"``) / ``"singular"``.
+        dvs, dc, df, dlam_c, dhold, dslip: Rates (as :class:`State`).
+        contact: Per contact ``"separated"``, ``"sticking"`` or ``"sliding"``.
+        detail: Per contact the sliding faces (indices) — one face, or two at a vertex.
+        actuator: Per actuator ``"moving"``, ``"holding"``, ``"backdrivable"``, ``"locked"``.
+        lcp_size, pivots: Size of the local LCP and Lemke pivots made.
+        control: ``"load"`` or ``"displacement"``.
+        stiffness_rate: ``dλ`` per unit scaled displacement along the load (displacement
+            control only).
+    """
+
+    status: str
+    dvs: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    dc: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    df: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    dlam_c: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    dhold: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    dslip: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    contact: tuple[str, ...] = ()
+    detail: tuple[tuple[int, ...], ...] = ()
+    actuator: tuple[str, ...] = ()
+    lcp_size: int = 0
+    pivots: int = 0
+    control: str = "load"
+    stiffness_rate: float = float("nan")
+    lam_rate: float = 1.0
+    flip: np.ndarray | None = None
+    tie: bool = False
+    active: np.ndarray = field(default_factory=lambda: np.zeros(0, int))
+    add: np.ndarray | None = None
+
+
+@dataclass(frozen=True, eq=False)
+class Classes:
+    """Classification of a state (see the module docstring)."""
+
+    open: np.ndarray  # (nc,) gap
+    zero: np.ndarray  # (nc,) touching, zero force
+    pressed: np.ndarray  # (nc,)
+    faces: np.ndarray  # indices of boundary faces (of QSModel.Phi rows)
+    act_lcp: np.ndarray  # (na,) non-backdrivable at its command
+    tol: float  # force tolerance [N]
+    fscale: float
+
+
+def force_scale(qm: QSModel, st: State, spec: StageSpec) -> float:
+    """Force scale of a state [N]: contact forces, load and commands (as forces)."""
+    w = spec.w0 + st.t * spec.dw
+    fc = spec.command(st.t)
+    parts = [
+        float(np.abs(st.c).max(initial=0.0)),
+        float(np.abs(qm.w_scaled(w)).max(initial=0.0)),
+        float(np.abs(qm.w_scaled(spec.dw)).max(initial=0.0)),
+        float(np.abs(fc * qm.r_norm).max(initial=0.0)),
+        float(np.abs(spec.dfc * qm.r_norm).max(initial=0.0)),
+    ]
+    return max(max(parts), 1e-300)
+
+
+def classify(qm: QSModel, st: State, spec: StageSpec) -> Classes:
+    """Classify contacts, faces and actuators of ``st`` (and zero the forces of contacts at
+    zero force: their anchors are forgotten)."""
+    fscale = force_scale(qm, st, spec)
+    tol = EVENT_RTOL * fscale
+    d = qm.d
+    cn = st.c[::d]
+    delta = -(qm.A[:, ::d].T @ st.vs)
+    low = cn <= tol
+    opened = low & (delta * qm.kn < -tol)
+    zero = low & ~opened
+    pressed = ~low
+    if low.any():
+        st.c.reshape(qm.nc, d)[low] = 0.0
+    if spec.friction and qm.nf:
+        slack = qm.Phi @ st.c
+        fc = qm.face_contact
+        faces = np.flatnonzero((zero[fc]) | (pressed[fc] & (slack <= tol)))
+    else:
+        faces = np.zeros(0, int)
+    phi = (st.f - spec.command(st.t)) * qm.r_norm
+    act_lcp = qm.nbd & (phi <= tol)
+    return Classes(opened, zero, pressed, faces, act_lcp, tol, fscale)
+
+
+#: Plans for a contact at zero force: both pairs in the LCP, pressed (touching, faces in the
+#: LCP, no opening item) or separated (out of the rate problem).
+FULL, PRESS, SEPARATE = 0, 1, 2
+
+
+def rates(
+    qm: QSModel,
+    st: State,
+    spec: StageSpec,
+    cls: Classes,
+    control: str = "load",
+    plan: np.ndarray | None = None,
+    sc: StageCache | None = None,
+    hints: tuple[np.ndarray, ...] = (),
+    apex: np.ndarray | None = None,
+) -> Segment:
+    """The segment's rates at ``st`` under load (``dλ = 1``) or displacement control.
+
+    ``plan`` (nc,) says how each zero-force contact enters (:data:`FULL`, :data:`PRESS`,
+    :data:`SEPARATE`; default FULL); a PRESS or SEPARATE guess that its own rates contradict
+    comes back in :attr:`Segment.flip` (status ``"guess"``). ``hints``: sets of LCP items
+    (sorted item codes as :attr:`Segment.active`) guessed to flow, tried before Lemke's method (speed only:
+    a wrong guess is detected). ``apex`` (nf,) bool: the faces of zero-force contacts taken
+    into the LCP (default all); a face left out whose slack rate the rates make negative
+    comes back in :attr:`Segment.add` (status ``"apex"``).
+    """
+    sc = StageCache.of(qm, spec) if sc is None else sc
+    plan = np.zeros(qm.nc, int) if plan is None else plan
+    sep = cls.zero & (plan == SEPARATE)
+    touch = (cls.zero & ~sep) | cls.pressed
+    rc = qm.row_contact
+    ks = touch[rc] * (qm.kn_rows + qm.kt_rows) if spec.friction else touch[rc] * qm.kn_rows
+    items = _items(qm, cls, plan, sep, apex)
+    lin = _linear(qm, sc, spec, ks, items, control)
+    if isinstance(lin, Segment):
+        return lin
+    dC, V, lam, Wrows, Mlcp, Rho = lin
+    zero, faces, acts = items
+    nz = Mlcp.shape[0]
+    # faces of a contact at zero force: opposite faces' flows cancel (a null direction of M);
+    # a relative 1e-12 on their diagonal picks the least flow
+    at_apex = np.concatenate(
+        [np.zeros(len(zero), bool), cls.zero[qm.face_contact[faces]], np.zeros(len(acts), bool)]
+    )
+    if at_apex.any():
+        Mlcp[at_apex, at_apex] += APEX_REG * max(float(np.abs(Mlcp).max()), 1.0)
+    # item codes: opening of contact i -> i, face f -> nc + f, actuator a -> nc + nf + a
+    keys = np.concatenate([zero, qm.nc + faces, qm.nc + qm.nf + acts])
+    res = _solve_lcp(Mlcp, Wrows[:, 0], keys, hints, qm.nc + qm.nf + qm.na) if nz else None
+    if res is not None and not res.solved:
+        return Segment(status=res.status.value, lcp_size=nz, pivots=res.pivots, control=control)
+    zeta1 = np.concatenate([[1.0], res.z if res is not None else np.zeros(0)])
+    v = V @ zeta1
+    dc = dC @ zeta1
+    rho = Rho @ zeta1
+    lam_rate = float(lam @ zeta1)
+    seg = _segment(qm, spec, cls, sc, v, dc, rho, lam_rate, zeta1[1:], items, nz, res, control, sep)
+    if nz:
+        assert res is not None  # solved whenever there are items
+        ftol = RATE_RTOL * max(float(np.abs(res.z).max()), 1e-300)
+        seg.active = np.sort(keys[res.z > ftol])
+        seg.tie = res.tie
+    return _check_guesses(qm, spec, cls, plan, sep, apex, seg, v, dc, sc)
+
+
+def _items(qm: QSModel, cls: Classes, plan: np.ndarray, sep: np.ndarray, apex: np.ndarray | None):
+    """The LCP items: zero-force contacts with an opening pair, boundary faces, actuators at
+    their command (index arrays)."""
+    zero = np.flatnonzero(cls.zero & (plan == FULL))
+    faces = cls.faces
+    if len(faces):
+        owner_f = qm.face_contact[faces]
+        keep = ~sep[owner_f]
+        if apex is not None:
+            keep &= ~cls.zero[owner_f] | apex[faces]
+        faces = faces[keep]
+    return zero, faces, np.flatnonzero(cls.act_lcp)
+
+
+def _linear(qm: QSModel, sc: StageCache, spec: StageSpec, ks: np.ndarray, items, control: str):
+    """Contact force rates ``dC`` (ncd, 1+nz), displacement rates ``V`` (nv, 1+nz), load rates
+    ``lam`` (1+nz,), the complementarity rows ``W`` (nz, 1+nz) and ``M`` (nz, nz), and the
+    multipliers ``Rho`` (ncon, 1+nz) per column (load, then one per flow); or a failed
+    :class:`Segment`."""
+    zero, faces, acts = items
+    d, nv, k, A = qm.d, qm.nv, qm.k_ref, qm.A
+    n0, n1 = len(zero), len(zero) + len(faces)
+    nz = n1 + len(acts)
+    F = np.zeros((qm.ncd, 1 + nz))  # contact force rate per unit flow (column 0: the load)
+    F[zero * d, 1 + np.arange(n0)] = 1.0
+    if len(faces):
+        F[:, 1 + n0 : 1 + n1] = qm.PhiT_t[:, faces]  # dc_t = -nu per unit flow
+    cols = sc.col_arr[acts]
+    Vp = np.zeros((nv, 1 + nz))
+    Fm = F
+    if len(acts):
+        Vp[:, 1 + n1 :] = sc.Bt_pinv[:, cols] / k
+        Fm = F.copy()
+        Fm[:, 1 + n1 :] -= ks[:, None] * sc.AtBt[:, cols] / k
+    aff = affine_reduced(qm, sc, ks, Fm, Vp, control)
+    if aff is not None:
+        V, lam, G = aff
+        dC = Fm - ks[:, None] * G
+    else:
+        if control != "load" and sc.crow is None:
+            return Segment(status="singular", control=control)
+        rhs_top = A @ F
+        rhs_top[:, 0] = sc.r0
+        con_rhs = np.zeros((sc.B.shape[1], 1 + nz))
+        if len(acts):
+            con_rhs[cols, 1 + n1 + np.arange(len(acts))] = -1.0
+        full = affine_full(qm, sc, (A * ks) @ A.T, rhs_top, con_rhs, control)
+        if full is None:
+            return Segment(status="singular", lcp_size=nz, control=control)
+        V, lam = full
+        dC = -ks[:, None] * (A.T @ V) + F
+    # multipliers per column: k B rho = K V - r0 lam - A F = -A dC - r0 lam
+    Rho = -(sc.BpA @ dC + np.outer(sc.Bpr0, lam)) / k
+    W = np.zeros((nz, 1 + nz))
+    W[:n0] = dC[zero * d]
+    if len(faces):
+        W[n0:n1] = qm.Phi[faces] @ dC
+    if len(acts):
+        W[n1:] = k * Rho[cols] - np.outer(qm.r_norm[acts] * spec.dfc[acts], lam)
+    # rounding of a zero load rate (symmetric grasps) is zero
+    qscale = max(float(np.abs(W[:, 0]).max(initial=0.0)), float(np.abs(dC[:, 0]).max(initial=0.0)), 1e-300)
+    W[np.abs(W[:, 0]) <= RATE_RTOL * 1e-3 * qscale, 0] = 0.0
+    return dC, V, lam, W, W[:, 1:].copy(), Rho
+
+
+def _solve_lcp(M: np.ndarray, q: np.ndarray, keys: np.ndarray, hints: tuple[np.ndarray, ...], ntot: int):
+    """Principal pivoting from the first hint (the previous segment's flowing items and the
+    inequalities just reached), else Lemke's method; the canonical (least-norm over the tight
+    items) solution."""
+    res = None
+    for hint in hints[:1]:
+        mask = np.zeros(ntot, bool)
+        mask[hint] = True
+        res = principal_pivoting(M, q, mask[keys])
+    if res is None:
+        res = lemke(M, q)
+    if not res.solved:  # Lemke's method gave no (trustworthy) answer: pivot from both ends
+        for start in (np.zeros(q.size, bool), np.ones(q.size, bool)):
+            alt = principal_pivoting(M, q, start)
+            if alt is not None:
+                res = alt
+                break
+    return canonical(M, q, res)
+
+
+def _check_guesses(qm, spec, cls, plan, sep, apex, seg, v, dc, sc) -> Segment:
+    """Flag a contradicted zero-force guess (status ``"guess"``: a pressed one pulls, a
+    separated one closes) or a left-out apex face that the rates cross (``"apex"``)."""
+    d = qm.d
+    rtol = RATE_RTOL * max(float(np.abs(dc).max(initial=0.0)), float(np.abs(sc.r0).max()), 1e-300)
+    bad = cls.zero & (plan == PRESS) & (dc[::d] < -rtol)
+    closing = -(qm.A[:, ::d].T @ v) * qm.kn
+    bad |= sep & (closing > rtol)
+    if bad.any():
+        seg.status = "guess"
+        seg.flip = bad
+        return seg
+    if apex is not None and spec.friction and qm.nf:
+        on = cls.zero & ~sep & ~opening_of(seg)
+        rows = np.flatnonzero(on[qm.face_contact] & ~apex)
+        if len(rows):
+            out = rows[(qm.Phi[rows] @ dc) < -rtol]
+            if len(out):
+                seg.status = "apex"
+                seg.add = out
+    return seg
+
+
+def opening_of(seg: Segment) -> np.ndarray:
+    """Contacts separated on ``seg`` (nc,) bool."""
+    return np.array([c == "separated" for c in seg.contact], bool)
+
+
+def _segment(qm, spec, cls, sc, v, dc, rho, lam_rate, zeta, items, nz, res, control, sep) -> Segment:
+    """Assemble the :class:`Segment` of a solved rate problem."""
+    zero, faces, acts = items
+    d, nx, nc = qm.d, qm.nx, qm.nc
+    k = qm.k_ref
+    owner = sc.owner
+    df = np.zeros(qm.na)
+    if qm.na:
+        df[qm.bd] = spec.dfc[qm.bd] * lam_rate
+        ac = sc.act_cols
+        df[owner[ac]] = k * rho[ac] / qm.r_norm[owner[ac]]
+    dlam = k * rho[sc.coupling_cols] / qm.c_norm if qm.ncp else np.zeros(0)
+    dhold = qm.S[:nx] * k * rho[sc.holder_cols] if spec.held else np.zeros(nx)
+    nzero = len(zero)
+    flows_f = zeta[nzero : nzero + len(faces)]
+    dslip = flows_f @ qm.slip_rows[faces] if len(faces) else np.zeros(qm.ncd)
+    rscale = max(
+        float(np.abs(dc).max(initial=0.0)), float(np.abs(sc.r0).max(initial=0.0)) * abs(lam_rate), 1e-300
+    )
+    ftol = RATE_RTOL * rscale
+    opening = sep.copy()
+    opening[zero] = (zeta[:nzero] > ftol) | (dc[zero * d] <= ftol)
+    sliding: list[list[int]] = [[] for _ in range(nc)]
+    for m in np.flatnonzero(flows_f > ftol):
+        fidx = faces[m]
+        sliding[qm.face_contact[fidx]].append(int(qm.face_index[fidx]))
+    sep_all = cls.open | opening
+    contact = tuple(
+        "separated" if sep_all[i] else ("sliding" if sliding[i] else "sticking") for i in range(nc)
+    )
+    detail = tuple(() if sep_all[i] else tuple(sliding[i]) for i in range(nc))
+    moving = np.zeros(qm.na, bool)
+    moving[acts] = zeta[nzero + len(faces) :] > ftol
+    actuator = tuple(
+        ("moving" if moving[a] else "holding") if qm.nbd[a] else qm.model.kinds[a] for a in range(qm.na)
+    )
+    dc = dc.reshape(nc, d).copy()
+    dc[sep_all] = 0.0
+    return Segment(
+        status="ok",
+        dvs=v,
+        dc=dc.reshape(-1),
+        df=df,
+        dlam_c=dlam,
+        dhold=dhold,
+        dslip=dslip,
+        contact=contact,
+        detail=detail,
+        actuator=actuator,
+        lcp_size=nz,
+        pivots=res.pivots if res is not None else 0,
+        control=control,
+        lam_rate=lam_rate,
+    )
+
+
+def rescaled(seg: Segment, factor: float) -> Segment:
+    """``seg`` with every rate multiplied by ``factor`` (displacement → load control)."""
+    out = Segment(**{**seg.__dict__})
+    for name in ("dvs", "dc", "df", "dlam_c", "dhold", "dslip"):
+        setattr(out, name, getattr(seg, name) * factor)
+    out.lam_rate = 1.0  # per unit load by construction
+    return out
+
+
+__all__ = ["Classes", "Segment", "StageCache", "StageSpec", "State", "classify", "rates", "rescaled"]

@@ -1,0 +1,195 @@
+"""The linear part of the local rate problem: what is constant along a stage
+(:class:`StageCache`) and the displacement and load rates as affine maps of the flows, through
+the motions the constraints allow (Cholesky of the reduced tangent stiffness) or, for
+mechanisms and redundant constraints, a least-norm SVD solve of the whole bordered system."""
+
+from __future__ import annotations
+
+import weakref
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.linalg.lapack import dpotrf, dpotrs
+
+from .model import QSModel
+from .state import StageSpec
+
+#: Relative residual above which a linear solve is taken as having no solution (singular
+#: system whose right-hand side is outside its range).
+RANGE_RTOL = 1e-8
+#: Relative squared pivot of the Cholesky factor below which the stiffness is singular.
+CHOL_RTOL = 1e-12
+#: Relative singular-value cut-off of the rate system (its rank, relative to its scale).
+RANK_RTOL = 1e-11
+
+
+@dataclass(frozen=True, eq=False)
+class StageCache:
+    """What is constant along a stage: the constraint columns ``B`` (nv, ncon) (actuators
+    that are not backdrivable, couplings, the holder), the owner of each column (actuator
+    index; -1 coupling; -2 holder), a basis ``Z`` of the motions they allow, ``pinv(B^T)``
+    and ``pinv(B)``, the load per unit parameter ``r0`` (nv,) and its direction ``crow``."""
+
+    B: np.ndarray
+    owner: np.ndarray
+    Z: np.ndarray
+    Bt_pinv: np.ndarray
+    B_pinv: np.ndarray
+    r0: np.ndarray
+    crow: np.ndarray | None
+    col_of: dict
+    col_arr: np.ndarray
+    act_cols: np.ndarray
+    coupling_cols: np.ndarray
+    holder_cols: np.ndarray
+    AZ: np.ndarray
+    AtBt: np.ndarray
+    BpA: np.ndarray
+    Bpr0: np.ndarray
+    Ztr0: np.ndarray
+    cz: np.ndarray | None
+
+    @classmethod
+    def of(cls, qm: QSModel, spec: StageSpec) -> StageCache:
+        """The cache of ``spec`` (the constraint part kept per model and holder)."""
+        nv, nx = qm.nv, qm.nx
+        per_model = _CONSTRAINTS.setdefault(qm, {})
+        if spec.held not in per_model:
+            per_model[spec.held] = _constraints(qm, spec.held)
+        B, owner, Z, B_pinv, Bt_pinv, col_of, col_arr, AZ, AtBt, BpA = per_model[spec.held]
+        r0 = np.zeros(nv)
+        r0[:nx] = qm.w_scaled(spec.dw)
+        if qm.na and np.any(qm.bd):
+            r0[nx:] = qm.Rn[:, qm.bd] @ (qm.r_norm[qm.bd] * spec.dfc[qm.bd])
+        size = float(np.linalg.norm(r0[:nx]))
+        crow = r0[:nx] / size if size > 0 else None
+        return cls(
+            B,
+            owner,
+            Z,
+            Bt_pinv,
+            B_pinv,
+            r0,
+            crow,
+            col_of,
+            col_arr=col_arr,
+            act_cols=owner >= 0,
+            coupling_cols=owner == -1,
+            holder_cols=owner == -2,
+            AZ=AZ,
+            AtBt=AtBt,
+            BpA=BpA,
+            Bpr0=B_pinv @ r0,
+            Ztr0=Z.T @ r0,
+            cz=None if crow is None else Z[:nx].T @ crow,
+        )
+
+
+#: Constraint part of the stage caches, per model and holder (a pure function of them).
+_CONSTRAINTS: weakref.WeakKeyDictionary[QSModel, dict] = weakref.WeakKeyDictionary()
+
+
+def _constraints(qm: QSModel, held: bool) -> tuple:
+    """Constraint columns, their owners, the allowed motions and the pseudo-inverses."""
+    nv, nx = qm.nv, qm.nx
+    cols, owner = [], []
+    for a in np.flatnonzero(qm.nbd | qm.locked):
+        col = np.zeros(nv)
+        col[nx:] = qm.Rn[:, a]
+        cols.append(col)
+        owner.append(int(a))
+    for k in range(qm.ncp):
+        col = np.zeros(nv)
+        col[nx:] = qm.Cn[k]
+        cols.append(col)
+        owner.append(-1)
+    if held:
+        for j in range(nx):
+            col = np.zeros(nv)
+            col[j] = 1.0
+            cols.append(col)
+            owner.append(-2)
+    B = np.column_stack(cols) if cols else np.zeros((nv, 0))
+    if B.shape[1]:
+        u, sv, _ = np.linalg.svd(B, full_matrices=True)
+        rank = int(np.sum(sv > RANK_RTOL * sv[0]))
+        Z = u[:, rank:]
+        B_pinv = np.linalg.pinv(B, rcond=RANK_RTOL)
+    else:
+        Z, B_pinv = np.eye(nv), np.zeros((0, nv))
+    col_of = {a: j for j, a in enumerate(owner) if a >= 0}
+    Bt_pinv = B_pinv.T.copy()
+    A = qm.A
+    col_arr = np.array([col_of.get(a, -1) for a in range(qm.na)], int)
+    return B, np.array(owner, int), Z, B_pinv, Bt_pinv, col_of, col_arr, A.T @ Z, A.T @ Bt_pinv, B_pinv @ A
+
+
+def affine_reduced(qm, sc, ks, Fm, Vp, control):
+    """Displacement rates ``V`` (nv, 1+nz) and load rates ``lam`` (1+nz,) as affine maps of
+    the flows, through the allowed motions ``Z`` and a Cholesky factor; None when the
+    stiffness on them is (nearly) singular. ``Fm``: contact force rates per column before the
+    motions (flows minus the springs' share of the actuator flows' particular motion)."""
+    AZ = sc.AZ
+    if AZ.shape[1] == 0:
+        return None
+    AZs = AZ * ks[:, None]
+    Kr = AZ.T @ AZs
+    L, info = dpotrf(Kr, lower=1, clean=0)
+    if info != 0:
+        return None
+    diag = L.diagonal()
+    if diag.min() ** 2 <= CHOL_RTOL * diag.max() ** 2:
+        return None
+    rhs = AZ.T @ Fm
+    rhs[:, 0] += sc.Ztr0
+    Y, info = dpotrs(L, rhs, lower=1)
+    if info != 0:
+        return None
+    nz1 = Y.shape[1]
+    lam = np.zeros(nz1)
+    if control == "load":
+        lam[0] = 1.0
+    else:
+        along = float(sc.cz @ Y[:, 0])  # the load column has no actuator flow
+        if not abs(along) > 0:
+            return None
+        rest = sc.cz @ Y[:, 1:] + (Vp[: qm.nx, 1:].T @ sc.crow)
+        lam[0] = 1.0 / along
+        lam[1:] = -rest / along
+        Y = np.outer(Y[:, 0], lam) + np.concatenate([np.zeros((Y.shape[0], 1)), Y[:, 1:]], axis=1)
+        Vp = np.outer(Vp[:, 0], lam) + np.concatenate([np.zeros((Vp.shape[0], 1)), Vp[:, 1:]], axis=1)
+    return sc.Z @ Y + Vp, lam, AZ @ Y
+
+
+def affine_full(qm, sc, K, rhs_top, con_rhs, control):
+    """As :func:`_affine_reduced` from the whole bordered system by a least-norm SVD solve
+    (mechanisms, redundant constraints); None when the load is outside its range."""
+    nv = qm.nv
+    k = qm.k_ref
+    B = sc.B
+    ncon = B.shape[1]
+    n = nv + ncon + 1
+    H = np.zeros((n, n))
+    H[:nv, :nv] = K
+    H[:nv, nv : nv + ncon] = -k * B
+    H[nv : nv + ncon, :nv] = -k * B.T
+    H[:nv, -1] = -sc.r0
+    if control == "load":
+        H[-1, -1] = 1.0
+    else:
+        H[-1, : qm.nx] = sc.crow
+    rhs = np.zeros((n, rhs_top.shape[1]))
+    rhs[:nv] = rhs_top
+    rhs[:nv, 0] = 0.0
+    rhs[nv : nv + ncon] = con_rhs
+    rhs[-1, 0] = 1.0
+    u, s, vt = np.linalg.svd(H)
+    keep = s > RANK_RTOL * s[0]
+    U = vt[keep].T @ ((u[:, keep].T @ rhs) / s[keep][:, None])
+    res = np.abs(H @ U[:, 0] - rhs[:, 0]).max()
+    if res > RANGE_RTOL * (np.abs(H).max() * np.abs(U[:, 0]).max() + 1.0):
+        return None
+    return U[:nv], U[-1]
+
+
+__all__ = ["CHOL_RTOL", "RANGE_RTOL", "RANK_RTOL", "StageCache", "affine_full", "affine_reduced"]

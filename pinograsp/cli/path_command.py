@@ -1,0 +1,102 @@
+"""``pinograsp path SCENE -d D``: the quasi-static loading path of a scene along a direction
+(docs/cli.md, docs/methods.md "Quasi-static loading path")."""
+
+from __future__ import annotations
+
+import argparse
+import math
+from pathlib import Path
+
+from ..core.serialize import vector_text
+from ..errors import InvalidInputError
+from . import options as opt
+from .report import Output, preload_line, scene_header, scene_line
+
+
+def add_path(sub: argparse._SubParsersAction) -> None:
+    """The ``path`` sub-command's options."""
+    p = sub.add_parser(
+        "path",
+        help="quasi-static loading path along a direction: limit load, events, load-displacement curve",
+        description="Follow the equilibrium of the preloaded grasp exactly while the load along a "
+        "direction grows (the quasi-static loading path: tangential contact springs, Coulomb slip on "
+        "the model's friction polygon, ratchets); prints the limit load and the events, and writes "
+        "the load-displacement plot and the breakpoints on request.",
+    )
+    p.add_argument("scene", metavar="SCENE")
+    p.add_argument(
+        "--direction",
+        "-d",
+        required=True,
+        help="an axis with sign (fy, -fy, mx), a wrench vector 1,0,0,0,0,0, or a scene direction name",
+    )
+    p.add_argument("--preload", help="one of the scene's named preloads (default: the scene's preload)")
+    p.add_argument("--variant", choices=("held", "settled"), help="preload: object held (default) or settled")
+    p.add_argument(
+        "--tangential-ratio",
+        type=float,
+        help="tangential / normal contact stiffness (default 1, the simulation's)",
+    )
+    p.add_argument("--max-segments", type=int, default=5000, help="segment-count limit (default 5000)")
+    p.add_argument("--png", metavar="FILE", help="write the load-displacement plot to FILE")
+    p.add_argument("--csv", metavar="FILE", help="write the breakpoints to FILE (one row each)")
+    p.add_argument("--json", action="store_true", help="print the path as JSON on stdout (nothing else)")
+    p.add_argument("--debug", action="store_true", default=argparse.SUPPRESS, help="show full tracebacks")
+
+
+def cmd_path(args: argparse.Namespace) -> int:
+    """Run ``pinograsp path``."""
+    import pinograsp as pg
+
+    scene = opt.load_scene(args.scene)
+    out = Output(args)
+    command, preload_name = opt.preload(args, scene)
+    direction, label = opt.parse_direction(scene, args.direction)
+    over = {}
+    if args.tangential_ratio is not None:
+        if not (math.isfinite(args.tangential_ratio) and args.tangential_ratio > 0):
+            raise InvalidInputError(
+                "--tangential-ratio", f"must be finite and > 0, got {args.tangential_ratio!r}"
+            )
+        over["tangential_ratio"] = args.tangential_ratio
+    base = {k: getattr(scene.settings, k) for k in ("normal_uncertainty", "tangential_ratio")}
+    settings = pg.Settings(**{**base, **over}).validated()  # the scene's, --tangential-ratio first
+    lp = pg.loading_path(
+        scene.model,
+        command,
+        direction,
+        variant=args.variant,
+        settings=settings,
+        max_segments=args.max_segments,
+    )
+    unit = (
+        "N"
+        if sum(abs(v) for v in lp.direction[3:]) == 0
+        else "N·m"
+        if sum(abs(v) for v in lp.direction[:3]) == 0
+        else "N, N·m"
+    )
+    limit = "unbounded (no event ahead)" if lp.unbounded else f"{lp.limit:.6g} {unit}"
+    lines = [
+        scene_line(scene),
+        preload_line(command, preload_name),
+        f"direction: {label} = {vector_text(lp.direction)}; preload {lp.variant}, tangential ratio "
+        f"{lp.tangential_ratio:g}",
+        "",
+        f"status: {lp.status} ({lp.stop_reason})",
+        f"limit load: {limit}",
+        f"{lp.segments} segments, {len(lp.events)} events, {lp.lcp_solves} LCPs (largest {lp.largest_lcp}), "
+        f"{lp.wall_time * 1e3:.3g} ms",
+        "events:",
+        *("  " + e.text() for e in lp.events),
+    ]
+    if args.png:
+        ax = pg.plot_loading_path(lp)
+        pg.save_figure(ax, Path(args.png), close=True)
+        out.written.append(Path(args.png))
+    if args.csv:
+        lp.to_csv(args.csv)
+        out.written.append(Path(args.csv))
+    out.print(*lines)
+    out.finish({**scene_header(scene), "preload_name": preload_name, "label": label, **lp.to_dict()})
+    return 0

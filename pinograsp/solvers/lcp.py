@@ -1,0 +1,258 @@
+"""Linear complementarity problems by Lemke's complementary pivoting (pure NumPy).
+
+Solves ``w = M z + q, z >= 0, w >= 0, z^T w = 0`` for a small dense ``M`` (n, n) and ``q``
+(n,). Lemke's method adds an artificial variable ``z0`` with covering vector ``e = 1`` and
+pivots complementary pairs until ``z0`` leaves the basis (a solution) or the entering column
+has no positive entry (a *ray termination*: for copositive-plus ``M`` — positive semidefinite
+included — there is then no solution; for other matrices the method gives no verdict).
+
+Determinism and degeneracy: the leaving row is chosen by the lexicographic minimum-ratio rule
+on the rows of the basis inverse (the classical anti-cycling rule), with ratios that agree to a
+relative ``1e-12`` treated as ties. The pivots are a function of the data alone; the number of
+pivots is limited by a count (``max_pivots``), never by time.
+
+Used by the quasi-static loading path (:mod:`pinograsp.analysis.quasistatic`) for its local
+rate problems. NumPy and SciPy's LAPACK wrappers only.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from enum import Enum
+
+import numpy as np
+from scipy.linalg.lapack import dgesv
+
+#: Pivots below this fraction of ``max |M|`` are rounding (nearly equal rows of ``M``), never used.
+PIVOT_RTOL = 1e-9
+#: Relative tolerance under which two ratios of the minimum-ratio test are a tie.
+TIE_RTOL = 1e-12
+
+
+class LCPStatus(str, Enum):
+    """How a Lemke solve ended."""
+
+    #: A solution ``z`` was found.
+    SOLVED = "solved"
+    #: The entering column had no positive entry (no solution for copositive-plus ``M``).
+    RAY = "ray_termination"
+    #: The pivot limit was reached (a count).
+    PIVOT_LIMIT = "pivot_limit"
+    #: The final tableau's point fails the check ``w = M z + q >= 0``, ``z^T w = 0`` (a
+    #: nearly singular basis): no trustworthy answer.
+    INACCURATE = "inaccurate"
+
+
+@dataclass(frozen=True)
+class LCPResult:
+    """Answer of :func:`lemke`.
+
+    Attributes:
+        status: :class:`LCPStatus`.
+        z: The solution (n,) (zeros when not solved).
+        w: ``M z + q`` (n,).
+        pivots: Pivots made (the initial one included).
+        tie: The solution was not unique on its tight set and the least-norm one was taken
+            (:func:`canonical`).
+    """
+
+    status: LCPStatus
+    z: np.ndarray
+    w: np.ndarray
+    pivots: int
+    tie: bool = False
+
+    @property
+    def solved(self) -> bool:
+        """Whether a solution was found."""
+        return self.status is LCPStatus.SOLVED
+
+
+def _leaving_row(T: np.ndarray, col: int, rhs: np.ndarray, n: int, tol: float) -> int:
+    """Row of the lexicographic minimum ratio for entering column ``col`` (-1: ray)."""
+    a = T[:, col]
+    pos = a > tol
+    if not pos.any():
+        return -1
+    ratios = np.full(a.shape, np.inf)
+    np.divide(rhs, a, out=ratios, where=pos)
+    best = ratios.min()
+    cand = np.flatnonzero(ratios <= best + TIE_RTOL * max(abs(best), 1.0))
+    if cand.size == 1:
+        return int(cand[0])
+    # lexicographic rule: rows of the basis inverse (the columns of the initial basis w)
+    for j in range(n):
+        vals = T[cand, j] / a[cand]
+        low = vals.min()
+        cand = cand[vals <= low + TIE_RTOL * max(abs(low), 1.0)]
+        if cand.size == 1:
+            break
+    return int(cand[0])
+
+
+def warm(M: np.ndarray, q: np.ndarray, active: np.ndarray, rtol: float = 1e-12) -> LCPResult | None:
+    """The solution whose positive ``z`` are exactly ``active`` (bool (n,)), if the guess is
+    right: ``M_BB z_B = -q_B`` with ``z_B >= 0`` and ``w_N >= 0`` (to ``rtol`` of the data's
+    scale); else None. A guess only saves pivots: a wrong one is detected, never returned."""
+    n = q.size
+    z = np.zeros(n)
+    scale = max(float(np.abs(q).max(initial=0.0)), 1e-300)
+    if active.any():
+        Mbb = M[np.ix_(active, active)]
+        _, _, zb, info = dgesv(Mbb, -q[active])
+        if info != 0 or not np.all(np.isfinite(zb)):
+            return None
+        zscale = max(float(np.abs(zb).max()), 1e-300)
+        if zb.min() < -rtol * zscale:
+            return None
+        z[active] = np.maximum(zb, 0.0)
+        scale = max(scale, float(np.abs(M).max()) * zscale)
+    w = M @ z + q
+    w[active] = 0.0
+    if w.min(initial=0.0) < -rtol * scale:
+        return None
+    return LCPResult(LCPStatus.SOLVED, z, np.maximum(w, 0.0), 0)
+
+
+def principal_pivoting(
+    M: np.ndarray, q: np.ndarray, active: np.ndarray, max_iter: int | None = None, rtol: float = 1e-12
+) -> LCPResult | None:
+    """Block principal pivoting from the guessed set ``active`` (bool (n,)) of positive ``z``.
+
+    Each step solves ``M_BB z_B = -q_B`` and flips the items that violate ``z_B >= 0`` or
+    ``w_N >= 0`` (all at once for three steps, then only the first one: Murty's rule, finite
+    for P-matrices). Returns the solution when the signs hold (to ``rtol`` of the data's scale),
+    None after ``max_iter`` steps (default ``2 n + 4``) or on a singular block: the caller then
+    uses :func:`lemke`. A guess only saves pivots; the answer is checked, never trusted.
+    """
+    n = q.size
+    act = np.asarray(active, bool).copy()
+    limit = 2 * n + 4 if max_iter is None else int(max_iter)
+    mscale = max(float(np.abs(M).max(initial=0.0)), 1e-300)
+    qscale = max(float(np.abs(q).max(initial=0.0)), 1e-300)
+    for it in range(limit):
+        z = np.zeros(n)
+        if act.any():
+            _, _, zb, info = dgesv(M[act][:, act], -q[act])
+            if info != 0 or not np.all(np.isfinite(zb)):
+                return None
+            z[act] = zb
+        w = M @ z + q
+        w[act] = 0.0
+        tol = rtol * max(qscale, mscale * float(np.abs(z).max(initial=0.0)))
+        bad = (act & (z < -tol)) | (~act & (w < -tol))
+        if not bad.any():
+            z[act] = np.maximum(z[act], 0.0)
+            return LCPResult(LCPStatus.SOLVED, z, np.maximum(w, 0.0), 0)
+        if it < 3:
+            act ^= bad
+        else:
+            j = int(np.flatnonzero(bad)[0])
+            act[j] = not act[j]
+    return None
+
+
+def lemke(M: np.ndarray, q: np.ndarray, max_pivots: int | None = None) -> LCPResult:
+    """Solve the LCP ``(M, q)`` by Lemke's method with the lexicographic pivoting rule.
+
+    Args:
+        M: (n, n) matrix (need not be symmetric).
+        q: (n,) vector.
+        max_pivots: Pivot limit (a count); default ``50 * (n + 1)``.
+
+    Returns:
+        An :class:`LCPResult`; when solved, ``z`` and ``w`` are the basic values of the final
+        tableau (nonbasic ones exactly 0, so ``z^T w = 0`` holds exactly).
+    """
+    M = np.asarray(M, dtype=float)
+    q = np.asarray(q, dtype=float).reshape(-1)
+    n = q.size
+    if n == 0 or q.min() >= 0.0:
+        return LCPResult(LCPStatus.SOLVED, np.zeros(n), q.copy(), 0)
+    limit = 50 * (n + 1) if max_pivots is None else int(max_pivots)
+    scale = max(float(np.abs(M).max(initial=0.0)), 1e-300)
+    tol = PIVOT_RTOL * scale
+    # tableau columns: w (0..n-1), z (n..2n-1), z0 (2n); basic variables are stored per row
+    T = np.empty((n, 2 * n + 1))
+    T[:, :n] = np.eye(n)
+    T[:, n : 2 * n] = -M
+    T[:, 2 * n] = -1.0
+    rhs = q.copy()
+    basis = np.arange(n)
+    # initial pivot: z0 enters, the row of the most negative q leaves (ties: lexicographic)
+    low = rhs.min()
+    cand = np.flatnonzero(rhs <= low + TIE_RTOL * max(abs(low), 1.0))
+    row = int(cand[-1])  # the lexicographically smallest perturbed q_i + eps^(i+1)
+    col = 2 * n
+    pivots = 0
+    while True:
+        piv = T[row, col]
+        T[row] /= piv
+        rhs[row] /= piv
+        f = T[:, col].copy()
+        f[row] = 0.0
+        T -= f[:, None] * T[row]
+        rhs -= f * rhs[row]
+        leaving = int(basis[row])
+        basis[row] = col
+        pivots += 1
+        if leaving == 2 * n:
+            break
+        col = leaving + n if leaving < n else leaving - n  # the complement enters
+        if pivots >= limit:
+            return LCPResult(LCPStatus.PIVOT_LIMIT, np.zeros(n), q.copy(), pivots)
+        row = _leaving_row(T, col, rhs, n, tol)
+        if row < 0:
+            return LCPResult(LCPStatus.RAY, np.zeros(n), q.copy(), pivots)
+    x = np.zeros(2 * n + 1)
+    x[basis] = np.maximum(rhs, 0.0)  # basic values; -1e-16 rounding of a degenerate row is 0
+    z, w = x[n : 2 * n].copy(), x[:n].copy()
+    if not _verified(M, q, z):
+        return LCPResult(LCPStatus.INACCURATE, np.zeros(n), q.copy(), pivots)
+    return LCPResult(LCPStatus.SOLVED, z, w, pivots)
+
+
+def _verified(M: np.ndarray, q: np.ndarray, z: np.ndarray, rtol: float = 1e-8) -> bool:
+    """``w = M z + q >= 0`` and ``z^T w = 0`` to ``rtol`` of the data's scale."""
+    w = M @ z + q
+    scale = max(
+        float(np.abs(q).max(initial=0.0)),
+        float(np.abs(M).max(initial=0.0)) * float(z.max(initial=0.0)),
+        1e-300,
+    )
+    return bool(
+        w.min(initial=0.0) >= -rtol * scale
+        and np.abs(z * w).max(initial=0.0) <= rtol * scale * max(float(z.max(initial=0.0)), 1e-300)
+    )
+
+
+def canonical(M: np.ndarray, q: np.ndarray, res: LCPResult, rtol: float = 1e-9) -> LCPResult:
+    """The least-norm solution over the tight items of a solution ``res``.
+
+    When several solutions share the tight set ``T`` (``z > 0`` or ``w = 0``, e.g. nearly equal
+    rows of ``M``), the least-norm ``z_T`` with ``M_TT z_T = -q_T`` is unique and does not depend
+    on the order of the items; it is returned when it is nonnegative (else ``res``)."""
+    if not res.solved or res.z.size == 0:
+        return res
+    zmax = max(float(res.z.max()), 1e-300)
+    wscale = max(float(np.abs(q).max()), float(np.abs(M).max()) * zmax, 1e-300)
+    active = res.z > 0
+    tight = active | (res.w <= rtol * wscale)
+    if not tight.any():
+        return res
+    if not (tight & ~active).any():
+        return res  # no degenerate item: Lemke's basis makes M_BB nonsingular, z is unique there
+    Mt = M[np.ix_(tight, tight)]
+    zt = np.linalg.lstsq(Mt, -q[tight], rcond=rtol)[0]
+    if zt.min() < -rtol * zmax:
+        return res
+    z = np.zeros_like(res.z)
+    z[tight] = np.maximum(zt, 0.0)
+    if not _verified(M, q, z, 1e-8):
+        return res
+    w = M @ z + q
+    w[tight] = 0.0
+    return LCPResult(LCPStatus.SOLVED, z, np.maximum(w, 0.0), res.pivots, tie=True)
+
+
+__all__ = ["LCPResult", "LCPStatus", "canonical", "lemke", "principal_pivoting", "warm"]

@@ -1,0 +1,342 @@
+"""The quasi-static loading path (pinograsp/analysis/quasistatic): closed forms, invariants,
+events, audits and determinism."""
+
+import subprocess
+import sys
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+import pinograsp as pg
+from pinograsp import examples
+
+MU, TAU, L = 0.5, 1.0, 0.1
+
+
+def _dir(deg: float) -> list[float]:
+    t = np.radians(deg)
+    return [np.cos(t), np.sin(t), 0.0, 0.0, 0.0, 0.0]
+
+
+@pytest.fixture(scope="module")
+def case1():
+    s = pg.load_scene("case1")
+    return s.model, s.preload(None)
+
+
+# ------------------------------------------------------------------ closed forms
+@pytest.mark.parametrize("deg", range(0, 360, 15))
+def test_pinch_closed_form_24_directions(deg):
+    m = examples.pinch()
+    r = pg.quasistatic_max_wrench(m, TAU, _dir(deg))
+    s = abs(np.sin(np.radians(deg)))
+    if s < 1e-9:
+        assert r.status == "unbounded" and r.unbounded and np.isinf(r.magnitude)
+    else:
+        assert r.status == "finite"
+        assert r.magnitude == pytest.approx(2 * MU * TAU / (L * s), rel=1e-9)
+    assert r.method == "quasistatic" and r.search == "path"
+    assert r.response is not None and r.response.resistible and r.response.audit.ok
+
+
+def test_pinch_3d_closed_form():
+    m = examples.pinch(planar=False, edges=4)  # pyramid edges along ±t: the band is exact
+    for deg in (30, 90, 135):
+        r = pg.quasistatic_max_wrench(m, TAU, _dir(deg))
+        assert r.magnitude == pytest.approx(2 * MU * TAU / (L * abs(np.sin(np.radians(deg)))), rel=1e-9)
+
+
+def test_differential_pinch():
+    m = examples.pinch(differential=True)
+    for d in ("fy", "-fy"):
+        r = pg.quasistatic_max_wrench(m, TAU, d)
+        assert r.status == "finite" and r.magnitude == pytest.approx(2 * MU * TAU / L, rel=1e-9)
+    for deg in (0, 10, 45, 100, 180, 300):
+        r = pg.quasistatic_max_wrench(m, TAU, _dir(deg))
+        assert r.status == "below_resolution" and r.magnitude == 0.0
+
+
+def test_wedge():
+    m = examples.wedge()
+    up = pg.quasistatic_max_wrench(m, TAU, "fy")
+    # the energetic and iterative methods give 2.556 N (free friction); the tangential springs
+    # load both contacts alike here, so the path reaches the same limit
+    assert up.status == "finite" and up.magnitude == pytest.approx(2.5565233413457, rel=1e-9)
+    down = pg.quasistatic_max_wrench(m, TAU, "-fy")
+    assert down.status == "unbounded"
+
+
+def test_case1_named_directions(case1):
+    m, fc = case1
+    assert pg.quasistatic_max_wrench(m, fc, "fy").magnitude == pytest.approx(4.3354335167, rel=1e-9)
+    for d in ("-fy", "fx", "-fx"):
+        assert pg.quasistatic_max_wrench(m, fc, d).status == "unbounded"
+
+
+# ------------------------------------------------------------------ invariants
+def _transformed(m, rot=None, shift=None, unit=1.0, cperm=None, jperm=None):
+    """``m`` under a world rotation/reflection ``rot``, a translation, a change of length unit
+    (lengths x ``unit``) and a reordering of contacts and joints (3D models)."""
+    rot = np.eye(3) if rot is None else rot
+    shift = np.zeros(3) if shift is None else shift
+    det = float(np.linalg.det(rot))
+    nc, d = m.nc, m.d
+    Q = np.ones(d)
+    if det < 0:
+        Q[2] = -1.0  # keep right-handed contact frames: t2 flips
+    Qfull = np.tile(Q, nc)
+    P = np.zeros((6, 6))
+    P[:3, :3] = rot
+    P[3:, 3:] = det * rot
+    G = P @ np.asarray(m.G) * Qfull[None, :]
+    G[3:] *= unit
+    J = Qfull[:, None] * np.asarray(m.J) * unit
+    D = Qfull[:, None] * np.asarray(m.D)
+    frames = np.einsum("ab,ibc->iac", rot, np.asarray(m.frames)) * np.array([1.0, 1.0, Q[2]])[None, None, :]
+    cperm = np.arange(nc) if cperm is None else np.asarray(cperm)
+    jperm = np.arange(m.nq) if jperm is None else np.asarray(jperm)
+    rows = np.concatenate([np.arange(i * d, (i + 1) * d) for i in cperm])
+    bc = np.asarray(m.beta_contact)
+    cols = np.concatenate([np.flatnonzero(bc == i) for i in cperm])
+    newbc = np.concatenate([np.full(np.sum(bc == i), k) for k, i in enumerate(cperm)])
+    return replace(
+        m,
+        G=G[:, rows],
+        J=J[rows][:, jperm],
+        D=D[rows][:, cols],
+        beta_contact=newbc,
+        k=np.asarray(m.k)[cperm] / unit,
+        mu=np.asarray(m.mu)[cperm],
+        R=np.asarray(m.R)[jperm] * (unit if False else 1.0),
+        C=np.asarray(m.C)[:, jperm],
+        points=((np.asarray(m.points) @ rot.T) * unit + shift)[cperm],
+        frames=frames[cperm],
+        reference_point=(rot @ np.asarray(m.reference_point)) * unit + shift,
+        length_scale=m.length_scale * unit,
+        contact_names=tuple(m.contact_names[i] for i in cperm),
+        joint_names=tuple(m.joint_names[j] for j in jperm),
+    ), P
+
+
+def test_mirror_pairs_of_case1_equal(case1):
+    """Case 1 mirrored about the YZ plane, with contacts and joints in another order: every
+    direction's mirror gives the same limit to 1e-12 and the same status."""
+    m, fc = case1
+    mirror = np.diag([-1.0, 1.0, 1.0])
+    mm, P = _transformed(m, mirror, cperm=[2, 3, 0, 1], jperm=[2, 3, 0, 1])
+    for deg in range(0, 360, 30):
+        d = np.array(_dir(deg))
+        a = pg.quasistatic_max_wrench(m, fc, d)
+        b = pg.quasistatic_max_wrench(mm, fc, P @ d)
+        assert a.status == b.status
+        if a.status == "finite":
+            assert b.magnitude == pytest.approx(a.magnitude, rel=1e-12)
+    # the vertices case 1's contacts slide on are ties, broken by the least-norm rule
+    assert pg.loading_path(m, fc, "fy").ties > 0
+
+
+def test_rigid_motion_invariance():
+    m = examples.random_grasp(1, 1, contacts_per_finger=2)
+    c, s = np.cos(0.7), np.sin(0.7)
+    rot = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]) @ np.array(
+        [[1.0, 0.0, 0.0], [0.0, np.cos(0.3), -np.sin(0.3)], [0.0, np.sin(0.3), np.cos(0.3)]]
+    )
+    mr, P = _transformed(m, rot, shift=np.array([0.3, -0.2, 0.5]))
+    rng = np.random.default_rng(5)
+    for _ in range(4):
+        d = rng.normal(size=6)
+        d /= np.linalg.norm(d)
+        a = pg.quasistatic_max_wrench(m, 1.0, d)
+        b = pg.quasistatic_max_wrench(mr, 1.0, P @ d)
+        assert a.status == b.status
+        assert b.magnitude == pytest.approx(a.magnitude, rel=1e-9)
+
+
+def test_unit_change_invariance():
+    """Metres to millimetres: forces unchanged, torques x 1000 (commands in N·mm)."""
+    m = examples.random_grasp(2, 1, contacts_per_finger=2)
+    mm, _ = _transformed(m, unit=1000.0)
+    for d, scale in (([0.3, -0.5, 0.8, 0, 0, 0], 1.0), ([0, 0, 0, 0.2, 0.9, -0.4], 1000.0)):
+        a = pg.quasistatic_max_wrench(m, 1.0, d)
+        b = pg.quasistatic_max_wrench(mm, 1000.0, d)
+        assert a.status == b.status
+        if a.status == "finite":
+            assert b.magnitude == pytest.approx(a.magnitude * scale, rel=1e-9)
+
+
+def test_stiffness_scaling(case1):
+    m, fc = case1
+    stiff = replace(m, k=np.asarray(m.k) * 250.0)
+    for d in ("fy", "fz", _dir(60)):
+        a = pg.quasistatic_max_wrench(m, fc, d)
+        b = pg.quasistatic_max_wrench(stiff, fc, d)
+        assert a.status == b.status and b.magnitude == pytest.approx(a.magnitude, rel=1e-10)
+
+
+# ------------------------------------------------------------------ the path record
+def test_events_recorded():
+    m = examples.pinch()
+    lp = pg.loading_path(m, TAU, _dir(45))
+    assert lp.status == "finite" and lp.limit == pytest.approx(
+        2 * MU * TAU / (L * np.sin(np.pi / 4)), rel=1e-12
+    )
+    kinds = [(e.kind, e.name, e.before, e.after) for e in lp.events]
+    assert ("contact", "left", "sticking", "sliding (face 1)") in kinds
+    assert lp.events[-1].kind == "limit" and lp.events[-1].load == lp.limit
+    assert lp.contact_states[0] == ("sticking", "sticking")
+    assert lp.actuator_modes[0] == ("moving", "holding")  # pushed towards the right finger
+    # one segment: stiffness along the direction from the breakpoints
+    s = lp.displacement_along
+    assert lp.stiffness[0] == pytest.approx((lp.loads[1] - lp.loads[0]) / (s[1] - s[0]), rel=1e-12)
+
+
+def test_unbounded_has_a_ray():
+    lp = pg.loading_path(examples.pinch(), TAU, "fx")
+    assert lp.status == "unbounded" and np.isinf(lp.limit) and lp.ray is not None
+    assert lp.events[-1].kind == "unbounded"
+    st = lp.state_at(1e6)
+    # the pushed right contact carries the load, the left keeps its preload
+    assert st["contact_forces"][1, 0] == pytest.approx(10.0 + 1e6, rel=1e-12)
+    assert st["contact_forces"][0, 0] == pytest.approx(10.0, rel=1e-12)
+
+
+@pytest.mark.parametrize("name", ["pinch", "wedge", "case1", "random8"])
+def test_audit_at_every_breakpoint(name, case1):
+    if name == "case1":
+        m, fc = case1
+        dirs = ["fy", "fz", _dir(30), [0.2, 0.4, -0.3, 0.01, 0.02, -0.005]]
+    elif name == "random8":
+        m, fc = examples.random_grasp(0, 2, contacts_per_finger=2), 1.0
+        rng = np.random.default_rng(0)
+        dirs = [rng.normal(size=6) for _ in range(3)]
+    else:
+        m, fc = getattr(examples, name)(), 1.0
+        dirs = [_dir(a) for a in (20, 90, 200)]
+    for d in dirs:
+        lp = pg.loading_path(m, fc, d)
+        force = max(float(np.abs(lp.contact_forces).max()), 1.0)
+        assert lp.audit["equilibrium"].max() <= 1e-9 * force
+        assert lp.audit["hand"].max() <= 1e-9 * force
+        assert lp.audit["friction"].max() <= 1e-9 * force
+        # energy: load and actuator work = elastic energy change + friction dissipation
+        work = np.abs(lp.loads[1:]).max(initial=1.0) * np.abs(lp.object_displacements).max() + 1.0
+        assert np.abs(lp.audit["energy"]).max(initial=0.0) <= 1e-8 * work
+
+
+def test_response_on_the_path():
+    m = examples.pinch()
+    r = pg.quasistatic_response(m, TAU, [0.0, 5.0, 0.0])
+    assert r.resistible and r.status == "resisted"
+    np.testing.assert_allclose(r.contact_forces[:, 0], [10.0, 10.0], rtol=1e-12)
+    np.testing.assert_allclose(r.contact_forces[:, 1], [-2.5, 2.5], rtol=1e-12)
+    assert r.contact_states == ("sticking", "sticking")
+    assert r.audit.ok
+    assert not pg.quasistatic_response(m, TAU, [0.0, 10.5, 0.0]).resistible
+    assert pg.quasistatic_response(m, TAU, [1e5, 0.0, 0.0]).resistible
+    zero = pg.quasistatic_response(m, TAU, np.zeros(3))
+    np.testing.assert_allclose(zero.contact_forces[:, 0], [10.0, 10.0], rtol=1e-12)
+
+
+def test_load_at_displacement_scales_with_stiffness():
+    lp = pg.loading_path(examples.pinch(), TAU, _dir(60))
+    # sharp give-way: the path's limit when the threshold is not reached before it
+    assert lp.load_at_displacement(1.0, stiffness=1e6) == lp.limit
+    # soft springs: the elastic displacement reaches the threshold first, linearly in the load
+    s1 = lp.load_at_displacement(1e-3, stiffness=1e3)
+    s2 = lp.load_at_displacement(2e-3, stiffness=1e3)
+    assert s1 < lp.limit and s2 == pytest.approx(2 * s1, rel=1e-12)
+
+
+def test_snap_past_a_softening_limit():
+    """Case 2 pushed along +Z: a softening limit at 14.7 N; past it the path (displacement
+    control) lands again and stiffens, so the load at 1 mm of motion (the simulation's
+    give-way threshold; the simulation gives way gradually at 26.3 N) is far above λ*."""
+    s = pg.load_scene("case2")
+    lp = pg.loading_path(s.model, s.preload(None), "fz")
+    assert lp.status == "finite" and lp.limit == pytest.approx(14.7155, rel=1e-4)
+    c = lp.continuation
+    assert c is not None and c.snaps and c.loads[c.snaps[0][1]] == pytest.approx(lp.limit, rel=1e-12)
+    assert min(c.loads[: c.snaps[0][1]]) < lp.limit  # the load falls past the limit
+    assert lp.load_at_displacement(1e-3) == pytest.approx(26.56, rel=1e-3)
+    assert pg.quasistatic_max_wrench(s.model, s.preload(None), "fz").magnitude == lp.limit
+
+
+def test_to_dict_and_rows():
+    import json
+
+    lp = pg.loading_path(examples.pinch(), TAU, _dir(45))
+    data = lp.to_dict()
+    json.dumps(data)
+    assert data["status"] == "finite" and data["method"] == "quasistatic"
+    assert len(lp.rows()) == len(lp.loads)
+    assert lp.rows()[-1]["load"] == lp.limit
+
+
+def test_tangential_ratio_setting():
+    m = examples.pinch()
+    # the pinch's limit does not depend on the tangential stiffness
+    for ratio in (0.1, 10.0):
+        r = pg.quasistatic_max_wrench(m, TAU, "fy", pg.Settings(tangential_ratio=ratio))
+        assert r.magnitude == pytest.approx(10.0, rel=1e-9)
+    with pytest.raises(pg.InvalidInputError, match="tangential_ratio"):
+        pg.Settings(tangential_ratio=0.0).validated()
+
+
+def test_bad_inputs():
+    m = examples.pinch()
+    with pytest.raises(pg.InvalidInputError, match="variant"):
+        pg.loading_path(m, TAU, "fy", variant="loose")
+    with pytest.raises(pg.InvalidInputError, match="cone_tolerance"):
+        pg.loading_path(m, TAU, "fy", settings=pg.Settings(cone_tolerance=0.1))
+    with pytest.raises(pg.InvalidInputError):
+        pg.loading_path(m, TAU, [np.nan, 0, 0])
+
+
+def test_segment_limit_is_reported(case1):
+    m, fc = case1
+    lp = pg.loading_path(m, fc, "fy", max_segments=1)
+    assert lp.status == "segment_limit" and lp.segments == 1 and lp.limit == lp.loads[-1] > 0
+
+
+def test_cli_path(capsys, tmp_path):
+    from support.clirun import run, run_json
+
+    data = run_json(capsys, "path", "pinch", "-d", "fy")
+    assert data["status"] == "finite" and data["limit"] == pytest.approx(10.0, rel=1e-9)
+    assert data["events"][-1]["kind"] == "limit"
+    png, csv = tmp_path / "p.png", tmp_path / "p.csv"
+    rc, out, _ = run(capsys, "path", "pinch", "-d", "fx", "--png", str(png), "--csv", str(csv))
+    assert rc == 0 and "unbounded" in out and png.stat().st_size > 0
+    assert csv.read_text().splitlines()[0].startswith("breakpoint,load,displacement_along")
+    rc, _, err = run(capsys, "path", "pinch", "-d", "fy", "--tangential-ratio", "0")
+    assert rc != 0 and "--tangential-ratio" in err
+
+
+def test_plot_loading_path():
+    lp = pg.loading_path(examples.pinch(), TAU, _dir(45))
+    ax = pg.plot_loading_path(lp)
+    x, y = (
+        ax.lines[0].get_data() if ax.lines[0].get_gid() != "pinograsp-unbounded" else ax.lines[1].get_data()
+    )
+    assert max(y) == pytest.approx(lp.limit, rel=1e-12)
+    with pytest.raises(pg.InvalidInputError):
+        pg.plot_loading_path("not a path")
+
+
+SCRIPT = """
+import numpy as np, pinograsp as pg
+m = pg.examples.random_grasp(0, 2, contacts_per_finger=2)
+rng = np.random.default_rng(1)
+for _ in range(3):
+    lp = pg.loading_path(m, 1.0, rng.normal(size=6))
+    print(lp.status, float(lp.limit).hex(), float(np.abs(lp.contact_forces).sum()).hex(), len(lp.loads))
+"""
+
+
+def test_bit_identical_in_fresh_processes():
+    runs = [
+        subprocess.run([sys.executable, "-c", SCRIPT], capture_output=True, text=True, check=True).stdout
+        for _ in range(2)
+    ]
+    assert runs[0] == runs[1] and runs[0].count("\n") == 3
