@@ -357,7 +357,7 @@ def test_case3_mirror_pairs_agree(case3, pair):
     linearised grasp is a mechanism (object sliding on a zero-force proximal contact, the
     distal tendon paying out at constant force): d(lambda)/ds is 1e-10 to 1e-9 k, rounding of a
     degenerate rate problem. Before the fix 255° gave 0 and 285° accepted 1.3e-9 k as a
-    continuation (every rate x 7.5e8: object displacement 2e11, friction residual 0.03 N) and
+    continuation (every rate scaled by about 1e9: object displacement 2e11, friction residual 0.03 N) and
     reported 29.81 N. The model's answer is lambda* = 0 for both; the simulation gives 26.43 N at
     255°/285° (its finite motion engages the proximal contacts, second order) and ~0.02 N at
     240°/300°, which the path matches."""
@@ -380,3 +380,20 @@ def test_case3_path_failing_its_audit_is_no_verdict(case3, monkeypatch):
     assert lp.limit == 0.0 and lp.audit["friction"].max() > 1e-3
     r = pg.quasistatic_max_wrench(m, fc, _dir(285), path=lp)
     assert r.status == "no_solution"
+
+
+def test_case2_minus_x_limit_is_a_tiny_snap():
+    """Case 2 along −X (validation bug 2): λ* = 12.49 N is a genuine softening limit (no
+    load-controlled continuation exists: the 4-item LCP has no solution in any of its 16
+    bases), but the snap is tiny — the load falls 0.14 % and lands once bh_finger_12_link
+    touches — and the landed branch holds: 1 mm of motion at 71.6 N, where the simulation
+    holds to 50 N (docs/methods.md, "Past a softening limit")."""
+    s = pg.load_scene("case2")
+    lp = pg.loading_path(s.model, s.preload(None), "-fx")
+    assert lp.status == "finite" and lp.limit == pytest.approx(12.4902, rel=1e-4)
+    c = lp.continuation
+    assert c is not None and c.status == "unbounded" and len(c.snaps) == 2
+    i, j = c.snaps[0]
+    assert min(c.loads[i : j + 1]) == pytest.approx(12.4727, rel=1e-4)
+    held = lp.load_at_displacement(1e-3)
+    assert held == pytest.approx(71.64, rel=1e-3) and held > 50.0
