@@ -340,3 +340,60 @@ def test_bit_identical_in_fresh_processes():
         for _ in range(2)
     ]
     assert runs[0] == runs[1] and runs[0].count("\n") == 3
+
+
+# ------------------------------------------------------------------ case 3 mirror pair (validation bug 1)
+@pytest.fixture(scope="module")
+def case3():
+    s = pg.load_scene("case3")
+    assert s.analysis.plane == ("fx", "fy")
+    return s.model, s.model.command_vector(s.preload(None))
+
+
+@pytest.mark.parametrize("pair", [(255, 285), (240, 300), (105, 75)])
+def test_case3_mirror_pairs_agree(case3, pair):
+    """Case 3 is mirror-symmetric about the YZ plane. At the preload its proximal contacts touch
+    with zero force and the distal tendon is at its command: pushed with any X component, the
+    linearised grasp is a mechanism (object sliding on a zero-force proximal contact, the
+    distal tendon paying out at constant force): d(lambda)/ds is 1e-10 to 1e-9 k, rounding of a
+    degenerate rate problem. Before the fix 255° gave 0 and 285° accepted 1.3e-9 k as a
+    continuation (every rate scaled by about 1e9: object displacement 2e11, friction residual 0.03 N) and
+    reported 29.81 N. The model's answer is lambda* = 0 for both; the simulation gives 26.43 N at
+    255°/285° (its finite motion engages the proximal contacts, second order) and ~0.02 N at
+    240°/300°, which the path matches."""
+    m, fc = case3
+    a, b = (pg.quasistatic_max_wrench(m, fc, _dir(deg)) for deg in pair)
+    assert a.status == b.status == "below_resolution"
+    assert a.magnitude == b.magnitude == 0.0
+    assert a.magnitude == pytest.approx(b.magnitude, rel=1e-9, abs=0.0)
+
+
+def test_case3_path_failing_its_audit_is_no_verdict(case3, monkeypatch):
+    """With the former mechanism bar (1e-9 k) 285° follows a broken path (its audit fails at
+    breakpoint 1): it must stop as ``no_solution`` (reason ``audit``), never ``finite``."""
+    from pinograsp.analysis.quasistatic import path as qpath
+
+    m, fc = case3
+    monkeypatch.setattr(qpath, "LIMIT_RTOL", 1e-9)
+    lp = pg.loading_path(m, fc, _dir(285), continuation=False)
+    assert lp.status == "no_solution" and lp.stop_reason == "audit"
+    assert lp.limit == 0.0 and lp.audit["friction"].max() > 1e-3
+    r = pg.quasistatic_max_wrench(m, fc, _dir(285), path=lp)
+    assert r.status == "no_solution"
+
+
+def test_case2_minus_x_limit_is_a_tiny_snap():
+    """Case 2 along −X (validation bug 2): λ* = 12.49 N is a genuine softening limit (no
+    load-controlled continuation exists: the 4-item LCP has no solution in any of its 16
+    bases), but the snap is tiny — the load falls 0.14 % and lands once bh_finger_12_link
+    touches — and the landed branch holds: 1 mm of motion at 71.6 N, where the simulation
+    holds to 50 N (docs/methods.md, "Past a softening limit")."""
+    s = pg.load_scene("case2")
+    lp = pg.loading_path(s.model, s.preload(None), "-fx")
+    assert lp.status == "finite" and lp.limit == pytest.approx(12.4902, rel=1e-4)
+    c = lp.continuation
+    assert c is not None and c.status == "unbounded" and len(c.snaps) == 2
+    i, j = c.snaps[0]
+    assert min(c.loads[i : j + 1]) == pytest.approx(12.4727, rel=1e-4)
+    held = lp.load_at_displacement(1e-3)
+    assert held == pytest.approx(71.64, rel=1e-3) and held > 50.0

@@ -173,6 +173,23 @@ def _audit(p: Prepared, states: list[State], arrays: dict[str, np.ndarray], d_re
     return {"equilibrium": eq, "hand": hand, "friction": fr, "energy": np.asarray(energy, float)}
 
 
+#: Audit bar of a reported path: equilibrium, joint balance and polygon residuals at a breakpoint
+#: above this fraction of the path's force scale (a sound path has ~1e-12) mean the rate
+#: problem's answer was not an equilibrium path (a degenerate LCP accepted): never a verdict.
+AUDIT_RTOL = 1e-6
+
+
+def _audit_failure(audit: dict, loads: np.ndarray, arrays: dict[str, np.ndarray]) -> int | None:
+    """Index of the first breakpoint whose audit fails (None: all pass)."""
+    c = arrays["contact_forces"]
+    force = max(float(np.abs(c).max(initial=0.0)), float(np.abs(loads).max(initial=0.0)), 1e-300)
+    bad = ~np.isfinite(arrays["object_displacements"]).all(axis=1) | ~np.isfinite(loads)
+    for key in ("equilibrium", "hand", "friction"):
+        r = np.asarray(audit[key], float)
+        bad |= ~(r <= AUDIT_RTOL * force)
+    return int(np.argmax(bad)) if bad.any() else None
+
+
 def _status(run: StageRun, p: Prepared, spec: StageSpec) -> tuple[str, float, str]:
     """(status, limit, stop reason) of a load stage."""
     last = run.states[-1].t
@@ -221,6 +238,11 @@ def build_path(p: Prepared, d6: np.ndarray, run: StageRun, spec: StageSpec, wall
         along = float(ray["object_displacements"] @ d6)
         stiff = np.append(stiff, 1.0 / along if along > 0 else np.inf)
     d_red = m.reduce_wrench(d6)
+    audit = _audit(p, states, arrays, d_red)
+    first_bad = _audit_failure(audit, run_loads, arrays)
+    if first_bad is not None:  # no verdict from a path that is not an equilibrium path
+        status, reason, ray = "no_solution", "audit", None
+        limit = float(run_loads[max(first_bad - 1, 0)])
     return LoadingPath(
         direction=d6,
         command=p.fc * p.signs,
@@ -236,7 +258,7 @@ def build_path(p: Prepared, d6: np.ndarray, run: StageRun, spec: StageSpec, wall
         actuator_modes=tuple(am),
         events=path_events(qm, run, status),
         ray=ray,
-        audit=_audit(p, states, arrays, d_red),
+        audit=audit,
         segments=len(states) - 1,
         lcp_solves=run.lcp_solves + sum(r.lcp_solves for r in p.preload_runs),
         pivots=run.pivots,
@@ -333,6 +355,8 @@ def _continuation(p: Prepared, d6: np.ndarray, more: StageRun, spec: StageSpec) 
         0.0,
     )
     snaps = tuple(getattr(more, "snaps", ()))
+    if cont.stop_reason == "audit":
+        return replace(cont, snaps=snaps)
     tail = more.status.split(":")[-1]
     status: PathStatus
     if not snaps:

@@ -33,8 +33,10 @@ from .rates import (
 )
 
 #: A mechanism along the load: ``dλ`` per unit displacement below this fraction of the
-#: largest contact stiffness.
-LIMIT_RTOL = 1e-9
+#: largest contact stiffness. Rounding of a degenerate rate problem (zero-force contacts at the
+#: start, case 3 at 255°/285°) leaves ``dλ`` of 1e-10 to 1e-9 ``k`` on a mechanism; accepting
+#: it as a continuation rescales every rate by 1e9 (a broken path), so the bar is 1e-7.
+LIMIT_RTOL = 1e-7
 #: Under load control, a stiffness along the load below this fraction of the largest contact
 #: stiffness is checked under displacement control (a limit hides there as a huge rate).
 SOFT_RTOL = 1e-6
