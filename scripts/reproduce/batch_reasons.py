@@ -2,9 +2,10 @@
 status and reason (``pg.batch.rows.reason_counts``), written into ``docs/batch.md``.
 
 Any grasp file works (a built-in hand's sampled grasps, your own); the defaults are the
-sampled case-1 (Barrett), case-3 (tendon gripper), EZGripper and Allegro grasps of ``scripts/reproduce/data/grasps/``::
+sampled case-1 (Barrett), case-3 (tendon gripper), EZGripper and Allegro grasps of
+``scripts/reproduce/data/grasps/``::
 
-    python -m scripts.reproduce.batch_reasons                       # both, 2 workers
+    python -m scripts.reproduce.batch_reasons                       # all four, 2 workers
     python -m scripts.reproduce.batch_reasons my_grasps.yaml --no-write
 
 Expected: error rows only for real errors (a solver failure, a bug), none for a grasp that is
