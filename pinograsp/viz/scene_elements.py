@@ -389,8 +389,6 @@ def scene_elements(
     style = SceneStyle() if style is None else style
     model, hand, q, obj, to_model = resolve_scene(model, hand, q, obj, frame)
     show_closing = model is None if style.show_closing is None else style.show_closing
-    cone_scale, force_scale = style.cone_scale, style.force_scale
-    show_cones, show_forces, tolerance = style.show_cones, style.show_forces, style.tolerance
     forces, wrench, status = response_forces(model, response)
     states, slip = response_states(model, response)
     skipped: list[str] = []
@@ -406,7 +404,7 @@ def scene_elements(
     c = _contacts(model, obj, to_model)
     nc = len(c.points)
     size = _scene_size(c, obj_mesh, hand_mesh, model is None)
-    h = cone_scale if cone_scale is not None else 0.3 * size
+    h = style.cone_scale if style.cone_scale is not None else 0.3 * size
     segments: list[Segments] = []
     if nc:
         segments.append(
@@ -418,7 +416,7 @@ def scene_elements(
                 True,
             )
         )
-    if show_cones and nc:
+    if style.show_cones and nc:
         parts = [
             cone(p, -n, h, h * float(m)) + (name,)
             for p, n, m, name in zip(c.points, c.normals, c.mu, c.names)
@@ -428,8 +426,8 @@ def scene_elements(
         if len(v):
             meshes.append(Mesh("friction cones", v, f, COLORS["cones"], 0.3, lab))
     fmax = _largest_force(forces, wrench)
-    s = force_scale if force_scale is not None else (0.3 * size / fmax if fmax > 0 else 0.0)
-    if show_forces and forces is not None and fmax > 0:
+    s = style.force_scale if style.force_scale is not None else (0.3 * size / fmax if fmax > 0 else 0.0)
+    if style.show_forces and forces is not None and fmax > 0:
         arrow_segments, arrow_meshes = _force_arrows(c, forces, wrench, s, size)
         segments += arrow_segments
         meshes += arrow_meshes
@@ -441,7 +439,7 @@ def scene_elements(
         meshes += slip_meshes
     title = _title(nc, status, states)
     extra = _hand_extras(
-        hand, q, obj, to_model, hand_mesh, obj_mesh, c.ref_point, size, show_closing, tolerance
+        hand, q, obj, to_model, hand_mesh, obj_mesh, c.ref_point, size, show_closing, style.tolerance
     )
     if model is None:
         title = extra.pop("title")
