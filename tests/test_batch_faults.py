@@ -65,8 +65,12 @@ def same_rows(a, b):
     same_table(a, b)
 
 
-def spawn(tmp_path, delay, *extra):
+def spawn(tmp_path, delay, *extra, hold_after=None):
+    """The slow CLI batch; ``hold_after=K``: grasps ending after K journaled rows wait to be killed
+    (tests/support/batch_faults_cli.py), so an interrupt never races the batch's end."""
     env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(HERE.parent), os.environ.get("PYTHONPATH", "")]))
+    if hold_after is not None:
+        env["PINOGRASP_TEST_HOLD_AFTER"] = str(hold_after)
     cmd = [sys.executable, str(HERE / "support" / "batch_faults_cli.py"), str(delay), "batch", "grasps.yaml",
            "--out", "out.csv", "--workers", "2", "--no-progress", *extra]  # fmt: skip
     return subprocess.Popen(
@@ -122,7 +126,7 @@ def busy_workers(proc, journal, rows=2):
 def test_interrupt_then_resume_equals_uninterrupted(tmp_path, batch_file, reference, sig, code):
     (tmp_path / "grasps.yaml").write_text(batch_file.read_text())
     journal = tmp_path / "out.csv.partial.jsonl"
-    proc = spawn(tmp_path, 0.4)
+    proc = spawn(tmp_path, 0.4, hold_after=2)
     workers = busy_workers(proc, journal)
     proc.send_signal(sig)
     _, err = proc.communicate(timeout=30)
@@ -157,7 +161,7 @@ def test_sigkill_of_a_worker_costs_one_retry(tmp_path, batch_file, reference):
 def test_sigkill_of_the_batch_kills_its_workers_and_resume_finishes(tmp_path, batch_file, reference):
     (tmp_path / "grasps.yaml").write_text(batch_file.read_text())
     journal = tmp_path / "out.csv.partial.jsonl"
-    proc = spawn(tmp_path, 0.4)
+    proc = spawn(tmp_path, 0.4, hold_after=2)
     workers = busy_workers(proc, journal)
     proc.kill()
     proc.communicate(timeout=30)

@@ -1,12 +1,19 @@
 """``pinograsp`` with a slow default score, for the fault tests of tests/test_batch_faults.py.
 
-Usage: ``python tests/batch_faults_cli.py SECONDS batch GRASPS.yaml ...``: the CLI, with every
-``WorstAxisScore`` call lasting at least SECONDS longer (a custom grasp evaluator: the tests need
-a batch that is still running when they interrupt it). The numbers are the real score's.
+Usage: ``python tests/support/batch_faults_cli.py SECONDS batch GRASPS.yaml ...``: the CLI, with
+every ``WorstAxisScore`` call lasting at least SECONDS longer (a custom grasp evaluator: the tests
+need a batch that is still running when they interrupt it). The numbers are the real score's.
+
+With ``PINOGRASP_TEST_HOLD_AFTER=K`` in the environment, a score call that ends once the journal
+``out.csv.partial.jsonl`` (in the working directory) holds K rows waits until its worker is
+killed (at most 120 s, a hang guard): the batch is then certainly still running when the test
+interrupts it, however slow the machine — no race between the signal and the batch's end.
 """
 
+import os
 import sys
 import time
+from pathlib import Path
 
 from pinograsp.batch import evaluate
 from pinograsp.cli import main
@@ -14,9 +21,17 @@ from pinograsp.cli import main
 _score = evaluate.WorstAxisScore.__call__
 
 
+def _journal_rows() -> int:
+    path = Path("out.csv.partial.jsonl")
+    return max(0, len(path.read_text().splitlines()) - 1) if path.is_file() else 0
+
+
 def _slow_score(self, model, command):
     values = _score(self, model, command)
     time.sleep(DELAY)
+    hold = os.environ.get("PINOGRASP_TEST_HOLD_AFTER")
+    if hold is not None and _journal_rows() >= int(hold):
+        time.sleep(120.0)  # killed long before: the interrupt finds the batch running
     return values
 
 
