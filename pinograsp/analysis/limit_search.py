@@ -18,7 +18,7 @@ from ..core.settings import Search
 from ..errors import AuditWarning, PreloadNotInEquilibriumError, SolverError, SolverTimeoutError
 from ..solvers.base import SolveStatus
 from .protocols import LimitQuery, verdict
-from .search import bisection, secant
+from .search import bisection, grid_resolution, secant
 
 
 def searched_max_load(q: LimitQuery) -> MaxWrench:
@@ -98,7 +98,7 @@ def finish(q: LimitQuery, magnitude: float, at_upper: bool, response: PassiveRes
         status=status,
         floor=q.floor,
         upper=float(q.upper),
-        resolution=float(q.upper) / 2**q.steps,
+        resolution=grid_resolution(q.upper, q.steps),
         evidence=tuple(q.tally.evidence),
         method=q.method.name.value,
         solve_time=q.tally.solve_time + extra_time,

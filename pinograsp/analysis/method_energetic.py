@@ -16,6 +16,7 @@ from ..solvers.problem import ProblemKind
 from .context import SolveContext
 from .limit_search import searched_max_load
 from .protocols import LimitQuery, SessionLike
+from .search import grid_resolution
 from .staged import staged_response
 from .stages import Stage, prp_stage
 
@@ -42,7 +43,7 @@ class EnergeticMethod:
 
     def floor(self, session: SolveContext, direction: np.ndarray, upper: float, steps: int) -> float:
         """The search's resolution ``upper / 2**steps``."""
-        return float(upper) / 2**steps
+        return grid_resolution(upper, steps)
 
     def response(self, session: SessionLike, fc: np.ndarray, w6: np.ndarray) -> PassiveResponse:
         """Preload stage (per the variant) and the energetic problem on top."""

@@ -15,6 +15,7 @@ from ..solvers.problem import ProblemKind
 from .context import SolveContext
 from .limit_search import searched_max_load
 from .protocols import LimitQuery, SessionLike
+from .search import grid_resolution
 from .staged import staged_response
 from .stages import Stage, iterative_stage
 
@@ -41,7 +42,7 @@ class IterativeMethod:
 
     def floor(self, session: SolveContext, direction: np.ndarray, upper: float, steps: int) -> float:
         """The resolution, and at least the equilibrium tolerance ``eps`` along ``direction``."""
-        floor = float(upper) / 2**steps
+        floor = grid_resolution(upper, steps)
         scale = float(np.linalg.norm(session.model.reduce_wrench(direction) * session.form.wscale))
         return max(floor, session.settings.eps / scale)
 

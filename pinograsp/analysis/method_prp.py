@@ -14,6 +14,7 @@ from ..solvers.problem import ProblemKind
 from .context import SolveContext
 from .limit_search import searched_max_load
 from .protocols import LimitQuery, SessionLike
+from .search import grid_resolution
 from .staged import staged_response
 from .stages import Stage, prp_stage
 
@@ -40,7 +41,7 @@ class PrpMethod:
 
     def floor(self, session: SolveContext, direction: np.ndarray, upper: float, steps: int) -> float:
         """The search's resolution ``upper / 2**steps``."""
-        return float(upper) / 2**steps
+        return grid_resolution(upper, steps)
 
     def response(self, session: SessionLike, fc: np.ndarray, w6: np.ndarray) -> PassiveResponse:
         """Preload stage (per the variant) and Alg. 1 on top."""

@@ -16,6 +16,7 @@ from .method_iterative import ITERATIVE
 from .method_prp import PRP
 from .method_quasistatic import QUASISTATIC
 from .protocols import AnalysisMethod
+from .search import grid_resolution
 
 #: The registered methods, in the order they are listed to users.
 METHODS: dict[str, AnalysisMethod] = {m.name.value: m for m in (PRP, ITERATIVE, ENERGETIC, QUASISTATIC)}
@@ -71,7 +72,7 @@ def limits_apply(method: object) -> bool:
 def search_resolution(method: object, upper: float, steps: int) -> float:
     """The resolution of ``method``'s largest loads [N or N·m]: ``upper / 2**steps``, or 0 for
     a path method (its limit is exact)."""
-    return float(upper) / 2**steps if limits_apply(method) else 0.0
+    return grid_resolution(upper, steps) if limits_apply(method) else 0.0
 
 
 def search_text(method: object, upper: float, steps: int, unit: str = "") -> str:

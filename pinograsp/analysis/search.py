@@ -29,6 +29,11 @@ from ..core.results import PassiveResponse
 Test = Callable[[float], tuple[bool, PassiveResponse]]
 
 
+def grid_resolution(upper: float, steps: int) -> float:
+    """The search grid's step ``upper / 2**steps`` [N or N·m]: the resolution of a searched limit."""
+    return float(upper) / 2**steps
+
+
 def bisection(test: Test, upper: float, steps: int) -> tuple[float, PassiveResponse | None]:
     """The paper's bisection on ``[0, upper]`` (``upper`` known not to be resisted)."""
     lo, hi, best = 0.0, float(upper), None

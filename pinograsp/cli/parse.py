@@ -10,6 +10,7 @@ import argparse
 from collections.abc import Sequence
 
 from ..core.settings import Method, Variant
+from .arguments import PRELOAD_HELP, add_direction
 from .path_command import add_path
 
 #: Defaults of ``pinograsp demo``: small enough to finish in well under a minute on 2 cores.
@@ -20,7 +21,6 @@ DEMO_STEPS = 10
 #: Options whose value may start with ``-`` (``--direction -fy``, ``--wrench -5,0,0``).
 _DASH_VALUE_OPTIONS = ("--direction", "-d", "--wrench", "-w", "--plane", "-p")
 _METHODS = [m.value for m in Method]
-_PRELOAD_HELP = "one of the scene's named preloads (default: the scene's preload)"
 _PROGRESS_HELP = "progress bar with ETA on stderr (default: when stderr is a terminal)"
 
 
@@ -165,7 +165,7 @@ def _add_analyze(sub: argparse._SubParsersAction) -> None:
         help="fx,fy,fz,mx,my,mz [N, N·m] (planar scenes: also fx,fy,mz), axis=value pairs "
         "(fy=-5,mz=0.1), or the name of one of the scene's wrenches",
     )
-    a.add_argument("--preload", help=_PRELOAD_HELP)
+    a.add_argument("--preload", help=PRELOAD_HELP)
     a.add_argument("--html", metavar="FILE", help="write the interactive 3D view (plotly) to FILE")
     _common(a)
 
@@ -177,13 +177,8 @@ def _add_max_wrench(sub: argparse._SubParsersAction) -> None:
         description="Largest wrench magnitude along a direction that the preloaded grasp resists passively.",
     )
     m.add_argument("scene", metavar="SCENE")
-    m.add_argument(
-        "--direction",
-        "-d",
-        required=True,
-        help="an axis with sign (fy, -fy, mx), a wrench vector 1,0,0,0,0,0, or a scene direction name",
-    )
-    m.add_argument("--preload", help=_PRELOAD_HELP)
+    add_direction(m)
+    m.add_argument("--preload", help=PRELOAD_HELP)
     m.add_argument(
         "--html", metavar="FILE", help="write the interactive 3D view at the limit (plotly) to FILE"
     )
@@ -212,7 +207,7 @@ def _add_profile(sub: argparse._SubParsersAction) -> None:
         help="divide by the value along the plane's second axis (+Y), as the paper does "
         "(default: the scene's setting)",
     )
-    pr.add_argument("--preload", help=_PRELOAD_HELP)
+    pr.add_argument("--preload", help=PRELOAD_HELP)
     pr.add_argument(
         "--csv",
         metavar="FILE",
@@ -252,7 +247,7 @@ def _add_resistance_set(sub: argparse._SubParsersAction) -> None:
     rs.add_argument("-n", type=int, default=500, help="number of directions (default 500)")
     rs.add_argument("--seed", type=int, default=0, help="seed of the directions (default 0)")
     rs.add_argument("--length", type=float, help="length scaling torques [m] (default: the grasp's own)")
-    rs.add_argument("--preload", help=_PRELOAD_HELP)
+    rs.add_argument("--preload", help=PRELOAD_HELP)
     rs.add_argument("--csv", metavar="FILE", help="also write one CSV row per direction")
     _common(rs)
     _progress_options(rs)
@@ -346,13 +341,8 @@ def _add_simulate(sub: argparse._SubParsersAction) -> None:
         "(pg.simulate_max_wrench; docs/simulation.md). --compare also runs the scene's analysis.",
     )
     sm.add_argument("scene", metavar="SCENE")
-    sm.add_argument(
-        "--direction",
-        "-d",
-        required=True,
-        help="an axis with sign (fy, -fy, mx), a wrench vector 1,0,0,0,0,0, or a scene direction name",
-    )
-    sm.add_argument("--preload", help=_PRELOAD_HELP)
+    add_direction(sm)
+    sm.add_argument("--preload", help=PRELOAD_HELP)
     sm.add_argument("--upper", type=float, help="largest load [N or N·m]; default: the scene's")
     sm.add_argument(
         "--compare", action="store_true", help="also predict (the scene's analysis) and print the difference"

@@ -10,6 +10,7 @@ from pathlib import Path
 from ..core.serialize import vector_text
 from ..errors import InvalidInputError
 from . import options as opt
+from .arguments import PRELOAD_HELP, add_direction
 from .report import Output, preload_line, scene_header, scene_line
 
 
@@ -24,13 +25,8 @@ def add_path(sub: argparse._SubParsersAction) -> None:
         "the load-displacement plot and the breakpoints on request.",
     )
     p.add_argument("scene", metavar="SCENE")
-    p.add_argument(
-        "--direction",
-        "-d",
-        required=True,
-        help="an axis with sign (fy, -fy, mx), a wrench vector 1,0,0,0,0,0, or a scene direction name",
-    )
-    p.add_argument("--preload", help="one of the scene's named preloads (default: the scene's preload)")
+    add_direction(p)
+    p.add_argument("--preload", help=PRELOAD_HELP)
     p.add_argument("--variant", choices=("held", "settled"), help="preload: object held (default) or settled")
     p.add_argument(
         "--tangential-ratio",
