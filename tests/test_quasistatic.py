@@ -397,3 +397,24 @@ def test_case2_minus_x_limit_is_a_tiny_snap():
     assert min(c.loads[i : j + 1]) == pytest.approx(12.4727, rel=1e-4)
     held = lp.load_at_displacement(1e-3)
     assert held == pytest.approx(71.64, rel=1e-3) and held > 50.0
+
+
+def test_case2_finger2_preload_drifts_past_a_neutral_limit():
+    """Case 2, finger-2 preload, along +X: the first limit (2.83 N) snaps, lands, and the next
+    limit (8.37 N) is neutral — a mechanism along the load with zero stiffness. The grasp
+    drifts there at constant load until finger 1's distal link touches, then stiffens again
+    and holds up to ≈ 18.98 N without moving 1 mm, where it gives way (the simulation: 18.22 N).
+    Before, the continuation stopped at the neutral limit (1 mm "at" 8.37 N)."""
+    s = pg.load_scene("case2")
+    lp = pg.loading_path(s.model, s.preload("finger2_only"), "fx")
+    assert lp.status == "finite" and lp.limit == pytest.approx(2.8332, rel=1e-4)
+    c = lp.continuation
+    assert c is not None and len(c.snaps) == 2 and c.stop_reason == "mechanism"
+    top, land = c.snaps[1]
+    assert c.loads[top] == pytest.approx(8.3725, rel=1e-4)
+    # the neutral drift keeps the load, and the object moves along +X while it drifts
+    assert np.ptp(c.loads[top : land + 1]) <= 1e-9 * c.loads[top]
+    assert c.object_displacements[land][0] > c.object_displacements[top][0]
+    assert c.status == "finite" and c.limit == pytest.approx(18.98, rel=1e-3)
+    assert c.limit == max(c.loads[land:])
+    assert lp.load_at_displacement(1e-3) == c.limit

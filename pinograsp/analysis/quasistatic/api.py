@@ -366,6 +366,8 @@ def _continuation(p: Prepared, d6: np.ndarray, more: StageRun, spec: StageSpec) 
         status, limit = "unbounded", float("inf")
     elif tail == "limit":
         status, limit = "finite", float(more.states[-1].t)
+    elif tail in ("unloaded", "mechanism"):  # gave way past the last landing: its peak
+        status, limit = "finite", max(float(s.t) for s in more.states[snaps[-1][1] :])
     else:
         status, limit = "no_solution", float(more.states[-1].t)
     ray = _seg_rates(p, more.segments[-1], None) if status == "unbounded" else None

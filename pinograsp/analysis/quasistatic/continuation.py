@@ -12,10 +12,12 @@ it; the limit load λ* itself stays the first limit (QUASISTATIC.md).
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from .model import QSModel
-from .path import StageRun, Trigger, _plan, _planned, advance, follow, next_event
+from .path import LIMIT_RTOL, StageRun, Trigger, _plan, _planned, advance, follow, next_event
 from .rates import Segment, StageCache, StageSpec, classify
 
 #: Largest number of segments of one descent past a limit (a count).
@@ -24,17 +26,32 @@ MAX_DESCENT = 200
 MAX_SNAPS = 20
 
 
+def _neutral(qm: QSModel, seg: Segment, spec: StageSpec) -> bool:
+    """Whether ``seg`` (displacement control) keeps the load: ``|dλ|`` per unit displacement
+    along the load within :data:`~.path.LIMIT_RTOL` of the largest contact stiffness — a
+    mechanism along the load, which the grasp follows at the limit load (it drifts)."""
+    size = float(np.linalg.norm(qm.w_scaled(spec.dw)))
+    return abs(seg.lam_rate) * size <= LIMIT_RTOL * qm.k_ref
+
+
 def _descend(qm: QSModel, out: StageRun, seg: Segment, spec: StageSpec, sc: StageCache) -> str:
-    """Follow the path from ``out.states[-1]`` (a softening limit, leaving segment ``seg``)
-    under displacement control until the load is back at the limit (``"landed"``), falls to
-    zero (``"unloaded"``) or the path stops; the states are appended to ``out``."""
+    """Follow the path from ``out.states[-1]`` (a limit, leaving segment ``seg``) under
+    displacement control until the load is back at the limit (``"landed"``), falls to zero
+    (``"unloaded"``) or the path stops; the states are appended to ``out``. A neutral segment
+    (a mechanism along the load, :func:`_neutral`) is followed at the limit load to its next
+    event (a contact touches, a face is reached): it lands where the grasp stiffens again, and
+    is a ``"mechanism"`` when no event lies ahead."""
     st = out.states[-1]
     peak = st.t
     cls = classify(qm, st, spec)
     for _ in range(MAX_DESCENT):
+        if _neutral(qm, seg, spec):  # drift at the limit load: rounding of dλ is no load change
+            seg = replace(seg, lam_rate=0.0)
         out.segments.append(seg)
         t, trig = next_event(qm, st, spec, cls, seg)
         lam_rate = seg.lam_rate
+        if lam_rate == 0.0 and not np.isfinite(t):
+            return "mechanism"
         if lam_rate > 0 and (peak - st.t) / lam_rate <= t:
             t, trig = max((peak - st.t) / lam_rate, 0.0), (Trigger("landed", -1),)
         elif lam_rate < 0 and st.t / -lam_rate <= t:
@@ -54,8 +71,6 @@ def _descend(qm: QSModel, out: StageRun, seg: Segment, spec: StageSpec, sc: Stag
         seg = _planned(qm, st, spec, cls, "displacement", _plan(qm, cls, prev), out, sc, (prev.active,))
         if seg.status != "ok":
             return seg.status
-        if abs(seg.lam_rate) * float(np.linalg.norm(qm.w_scaled(spec.dw))) <= 1e-9 * qm.k_ref:
-            return "mechanism"
     return "segment_limit"
 
 
@@ -67,7 +82,7 @@ def continue_past_limit(qm: QSModel, run: StageRun, spec: StageSpec, max_segment
     stiffness left) or a failure; ``snaps`` holds ``(limit index, landing index)`` pairs. None
     when the limit is not a softening one (a mechanism along the load: nothing to land on)."""
     seg = run.segments[-1]
-    if not (seg.lam_rate < 0 and seg.control == "displacement"):
+    if seg.control != "displacement":
         return None
     out = StageRun(states=[run.states[-1].copy()])
     out.snaps = []  # type: ignore[attr-defined]
@@ -86,11 +101,7 @@ def continue_past_limit(qm: QSModel, run: StageRun, spec: StageSpec, max_segment
         out.lcp_solves += rest.lcp_solves
         out.status = "landed:" + rest.status
         last = rest.segments[-1] if rest.segments else None
-        if (
-            rest.status != "limit"
-            or last is None
-            or not (last.lam_rate < 0 and last.control == "displacement")
-        ):
+        if rest.status != "limit" or last is None or last.control != "displacement":
             return out
         out.segments.pop()  # the limit's segment is the next descent's first
         seg = last
