@@ -423,7 +423,7 @@ START, END = "<!-- quasistatic-validation:start -->", "<!-- quasistatic-validati
 
 def put_section(path: Path, text: str) -> None:
     """Replace the text between :data:`START` and :data:`END` in ``path`` (appended when absent;
-    ``benchmarks/validate_mujoco.py`` rewrites the whole of docs/validation.md: run it first)."""
+    ``validate_mujoco.py`` rewrites the rest of docs/validation.md and keeps this section)."""
     old = path.read_text() if path.exists() else ""
     block = f"{START}\n{text}{END}\n"
     if START in old and END in old:
