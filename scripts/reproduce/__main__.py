@@ -9,7 +9,11 @@ Targets (each a module of this package, run in its own process so that its BLAS 
 caches are its own):
 
 * ``results`` — ``paper_results``: docs/results.md and the README "Results vs the paper" table;
-* ``validation`` — ``validate_mujoco``: docs/validation.md;
+* ``validation`` — ``validate_mujoco``: docs/validation.md (the marked sections below kept);
+* ``quasistatic`` — ``validate_quasistatic``: the quasi-static method against the cached
+  simulations, the paper's methods beside it, and λ* against ``tangential_ratio`` on case 1-3
+  (docs/validation.md between the ``quasistatic-validation`` markers; ~15 s, the simulations and
+  the paper's methods read from ``scripts/reproduce/data/``);
 * ``performance`` — ``error_vs_runtime``: docs/error_vs_runtime.md and the README
   "Performance" table;
 * ``energetic``, ``resistance-set``, ``batch`` — the measured tables of docs/methods.md,
@@ -30,7 +34,7 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
-DEFAULT = ("results", "validation", "performance")
+DEFAULT = ("results", "validation", "quasistatic", "performance")
 #: Optional packages a target needs beyond the dev extra.
 NEEDS = {"batch": ("ray", "distributed")}
 EXTRA = ("energetic", "resistance-set", "batch")
@@ -42,6 +46,15 @@ def commands(smoke: Path | None) -> dict[str, list[str]]:
         return {
             "results": ["paper_results"],
             "validation": ["validate_mujoco"],
+            "quasistatic": [
+                "validate_quasistatic",
+                "--methods",
+                "quasistatic,energetic,iterative,prp",
+                "--ratios",
+                "0.1,1,10,100",
+                "--doc",
+                "docs/validation.md",
+            ],
             "performance": ["error_vs_runtime"],
             "energetic": ["energetic"],
             "resistance-set": ["resistance_set"],
@@ -58,6 +71,15 @@ def commands(smoke: Path | None) -> dict[str, list[str]]:
             "2",
             "--out",
             str(smoke / "validation.md"),
+        ],
+        "quasistatic": [
+            "validate_quasistatic",
+            "--methods",
+            "quasistatic,energetic,iterative,prp",
+            "--limit",
+            "2",
+            "--out",
+            str(smoke / "validation_quasistatic.md"),
         ],
         "performance": ["error_vs_runtime", "--quick", "--repeat", "1", "--out", str(smoke / "evr.md")],
         "energetic": ["energetic", "--quick", "--img", str(smoke / "img" / "energetic.png")],

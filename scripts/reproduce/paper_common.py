@@ -31,6 +31,7 @@ class Row:
     ours: str
     agrees: str  # "yes" / "partly" / "no" / "n/a"
     seconds: float
+    quasistatic: str = ""  # the same question answered by method="quasistatic" (its own column)
 
 
 @dataclass
@@ -98,11 +99,19 @@ def progress_log(label: str, total: int) -> Any:
 
 
 # ---------------------------------------------------------------------------- scenes and settings
+#: The paper's column uses the scene's method, or this one where the scene's is the quasi-static
+#: method (which has a column of its own).
+PAPER_FALLBACK = "iterative"
+
+
 def scene_settings(scene: Any, args: argparse.Namespace) -> RunSettings:
+    """The run settings of one case: ``args.method`` when given (the quasi-static column), else the
+    scene's method (:data:`PAPER_FALLBACK` in place of ``"quasistatic"``)."""
     a = scene.analysis
+    method = getattr(args, "method", None) or (PAPER_FALLBACK if a.method == "quasistatic" else a.method)
     if args.fast:
-        return RunSettings(a.method, a.upper, min(a.steps, 8), min(a.n, 16), args.workers)
-    return RunSettings(a.method, a.upper, a.steps, a.n, args.workers)
+        return RunSettings(method, a.upper, min(a.steps, 8), min(a.n, 16), args.workers)
+    return RunSettings(method, a.upper, a.steps, a.n, args.workers)
 
 
 def load(name: str) -> Any | None:

@@ -120,6 +120,7 @@ def _case2_details(
 
 # ---------------------------------------------------------------------------- case 3
 SETTLED = "iterative, settled-preload"
+QS_SETTLED = "quasistatic, settled-preload"
 
 
 def case3(args: argparse.Namespace, img: Path, case1_result: Case | None) -> Case:
@@ -138,14 +139,17 @@ def case3(args: argparse.Namespace, img: Path, case1_result: Case | None) -> Cas
         c.rows.append(Row("3", "preloads", "-", "scene lacks proximal/distal preloads", "n/a", 0.0))
         return c
     results: dict[str, dict[str, Any]] = {}
-    for method in dict.fromkeys([s.method, "prp"]):
+    qs = s.method == "quasistatic"  # its own column: held and settled preload, no PRP
+    for method in dict.fromkeys([s.method] if qs else [s.method, "prp"]):
         results[method] = {nm: max_wrench(scene, scene.preload(nm), torque, s, method) for nm in (prox, dist)}
-    results[SETTLED] = {
-        nm: max_wrench(scene, scene.preload(nm), torque, s, "iterative", "settled-preload")
+    settled = QS_SETTLED if qs else SETTLED
+    settled_method = s.method if qs else "iterative"
+    results[settled] = {
+        nm: max_wrench(scene, scene.preload(nm), torque, s, settled_method, "settled-preload")
         for nm in (prox, dist)
     }
     t_ratio = sum(r.wall_time for per in results.values() for r in per.values())
-    ratios = _torque_row(c, results, s, dist, prox, tname, t_ratio)
+    ratios = _torque_row(c, results, s, dist, prox, tname, t_ratio, settled)
     p = profile(scene, s, scene.analysis.plane, label="XY")
     n = len(p.angles)
     if n % 4 == 0 and tuple(p.plane) == ("fx", "fy"):
@@ -175,12 +179,14 @@ def case3(args: argparse.Namespace, img: Path, case1_result: Case | None) -> Cas
 
 
 def _torque_row(
-    c: Case, results: dict, s: Any, dist: str, prox: str, tname: str, t_ratio: float
+    c: Case, results: dict, s: Any, dist: str, prox: str, tname: str, t_ratio: float, settled: str = SETTLED
 ) -> dict[str, float | None]:
     """The distal / proximal torque ratio row; returns the ratios (``main``, ``prp``, ``settled``)."""
     res_limit = s.upper / 2**s.steps
 
     def val(mw: Any) -> str:
+        if s.method == "quasistatic":  # no bisection: the limit as it is
+            return "0 N·m (not resisted)" if mw.magnitude == 0 else fmt(mw.magnitude, mw.unbounded, "N·m")
         if not mw.unbounded and mw.magnitude <= res_limit:
             return f"≈ 0 N·m (one bisection step, {mw.magnitude:.2g})"
         return fmt(mw.magnitude, mw.unbounded, "N·m")
@@ -199,8 +205,8 @@ def _torque_row(
         text += f"; prp: {prp_text}"
     else:
         prp_ratio = main_ratio
-    settled_ratio, settled_text = ratio_of(results[SETTLED])
-    text += f"; {SETTLED}: {settled_text}"
+    settled_ratio, settled_text = ratio_of(results[settled])
+    text += f"; {settled}: {settled_text}"
     ok_main = main_ratio is not None and main_ratio > 1
     ok_prp = prp_ratio is not None and prp_ratio > 1
     ok_settled = settled_ratio is not None and settled_ratio > 1
@@ -208,6 +214,8 @@ def _torque_row(
         agrees = "yes"
     elif ok_prp and ok_settled:
         agrees = "with the object settling into the preload (prp, settled-preload)"
+    elif ok_settled and s.method == "quasistatic":
+        agrees = "with the object settling into the preload (settled-preload)"
     else:
         agrees = "partly (prp only)" if ok_prp else "no"
     question = f"torque about X ({tname}), distal / proximal tendon preload"

@@ -9,7 +9,12 @@ steps, n) unless ``--fast`` is given (few directions and steps: a quick check, n
 Usage::
 
     python -m scripts.reproduce.paper_results [--fast] [--workers 0] [--cases case1,case2,case3,fig1]
-                                       [--no-readme] [--docs docs]
+                                       [--no-readme] [--docs docs] [--no-quasistatic]
+    python -m scripts.reproduce.paper_results --only quasistatic    # the quasi-static column alone
+
+The column "quasi-static" answers the same questions with ``method="quasistatic"``
+(``paper_quasistatic.py``); ``--only quasistatic`` computes just that column (seconds) and merges
+it into the table already in ``docs/results.md`` and the README, keeping the other columns.
 """
 
 from __future__ import annotations
@@ -26,8 +31,9 @@ from pathlib import Path
 
 import pinograsp as pg
 
+from . import paper_quasistatic as qs
 from .paper_case1 import case1, fig1
-from .paper_common import CACHE, Case, log
+from .paper_common import CACHE, PAPER_FALLBACK, Case, Row, log
 from .paper_families import add_case2_family, add_case3_family
 from .paper_preloads import case2, case3
 
@@ -36,15 +42,20 @@ START, END = "<!-- results:start -->", "<!-- results:end -->"
 
 
 # ---------------------------------------------------------------------------- output
-def summary_table(cases: list[Case]) -> list[str]:
+def summary_table(cases: list[Case] | list[Row]) -> list[str]:
+    """The summary table (rows of ``cases``, or rows); the quasi-static column when any row has it."""
+    rows = [r for c in cases for r in c.rows] if cases and isinstance(cases[0], Case) else list(cases)
+    with_qs = any(r.quasistatic for r in rows)
     lines = [
-        "| case | question | paper | pinograsp | agrees | time [s] |",
-        "|---|---|---|---|---|---:|",
+        "| case | question | paper | pinograsp | "
+        + ("quasi-static | " if with_qs else "")
+        + "agrees | time [s] |",
+        "|---|---|---|---|" + ("---|" if with_qs else "") + "---|---:|",
     ]
-    for c in cases:
-        for r in c.rows:
-            t = f"{r.seconds:.0f}" if r.seconds else ""
-            lines.append(f"| {r.case} | {r.question} | {r.paper} | {r.ours} | {r.agrees} | {t} |")
+    for r in rows:
+        t = f"{r.seconds:.0f}" if r.seconds else ""
+        q = f" {r.quasistatic or '—'} |" if with_qs else ""
+        lines.append(f"| {r.case} | {r.question} | {r.paper} | {r.ours} |{q} {r.agrees} | {t} |")
     return lines
 
 
@@ -67,8 +78,10 @@ def write_results(cases: list[Case], args: argparse.Namespace, docs: Path, total
         "Scenes: the built-in `case1`, `case2`, `case3` and `fig1` (`pinograsp scenes`) and the case-2 "
         "family members in `pinograsp/data/scenes/case2_family/`; every number "
         "uses the scene file's analysis settings (method, upper limit, bisection steps, directions)"
-        + (" — except that this is a **--fast** run (n ≤ 16, ≤ 8 steps)." if args.fast else "."),
-        "Time per row: the computation that row needed (wall clock).",
+        + (" — except that this is a **--fast** run (n ≤ 16, ≤ 8 steps)." if args.fast else ".")
+        + f" Column pinograsp: the scene's method (`{PAPER_FALLBACK}` where that is the quasi-static"
+        " method); column quasi-static: see the last section.",
+        "Time per row: the computation that row needed (wall clock; the paper's methods).",
         "",
         *summary_table(cases),
         "",
@@ -116,6 +129,57 @@ def update_readme(readme: Path, block: str) -> bool:
     return True
 
 
+def run_cases(args: argparse.Namespace, img: Path) -> list[Case]:
+    """The cases of ``args.cases``, each with the method of ``scene_settings`` (plots into ``img``)."""
+    wanted = [c.strip() for c in args.cases.split(",") if c.strip()]
+    cases: list[Case] = []
+    done: dict[str, Case] = {}
+    for name in wanted:
+        log(f"== {name}" + (f" ({args.method})" if getattr(args, "method", None) else ""))
+        t = time.perf_counter()
+        if name == "case1":
+            c = case1(args, img)
+        elif name == "case2":
+            c = case2(args, img)
+            add_case2_family(c, args)  # the headline and its family of reconstructions
+        elif name == "case3":
+            c = case3(args, img, done.get("case1"))
+            if getattr(args, "method", None) != "quasistatic":  # its row has both preload states
+                add_case3_family(c, args)  # held-still against settled preload
+        elif name == "fig1":
+            c = fig1(args, img)
+        else:
+            raise SystemExit(f"unknown case {name!r}")
+        c.seconds = c.seconds or (time.perf_counter() - t)  # compute time (also from the cache)
+        done[name] = c
+        cases.append(c)
+        log(f"   {name}: {c.seconds:.0f} s")
+        for r in c.rows:
+            log(f"   {r.question}: {r.ours} [{r.agrees}]")
+    return cases
+
+
+def only_quasistatic(args: argparse.Namespace, docs: Path) -> int:
+    """Compute the quasi-static column alone and merge it into the published table (docs/results.md
+    and the README), the other columns unchanged."""
+    results = docs / "results.md"
+    if not results.is_file():
+        raise SystemExit(f"{results} not found: run paper_results without --only first")
+    text = results.read_text()
+    qs_cases, seconds = qs.run_quasistatic(run_cases, args)
+    rows = qs.merge(qs.parse_rows(text), qs_cases)
+    table = summary_table(rows)
+    text = qs.put_section(qs.replace_table(text, table), qs.section(qs_cases, seconds, only=True))
+    results.write_text(text)
+    log(f"wrote {results} (quasi-static column, {seconds:.0f} s)")
+    if not args.no_readme:
+        readme = Path(args.readme)
+        readme.write_text(qs.readme_note(qs.replace_table(readme.read_text(), table), seconds))
+        log(f"updated {readme}")
+    print("\n".join(table))
+    return 0
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--fast", action="store_true", help="few directions and steps (a smoke run)")
@@ -124,6 +188,12 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--docs", default=str(ROOT / "docs"), help="docs folder (results.md, img/)")
     ap.add_argument("--readme", default=str(ROOT / "README.md"))
     ap.add_argument("--no-readme", action="store_true", help="do not rewrite the README section")
+    ap.add_argument("--no-quasistatic", action="store_true", help="without the quasi-static column")
+    ap.add_argument(
+        "--only",
+        choices=["quasistatic"],
+        help="compute only the quasi-static column and merge it into the published table",
+    )
     ap.add_argument(
         "--cache",
         default=str(
@@ -139,39 +209,29 @@ def main(argv: list[str] | None = None) -> int:
     args = ap.parse_args(argv)
     CACHE["dir"], CACHE["reuse"] = args.cache, args.reuse
     docs = Path(args.docs)
+    if args.only == "quasistatic":
+        return only_quasistatic(args, docs)
     img = docs / "img"
     img.mkdir(parents=True, exist_ok=True)
-    wanted = [c.strip() for c in args.cases.split(",") if c.strip()]
     t0 = time.perf_counter()
-    cases: list[Case] = []
-    done: dict[str, Case] = {}
-    for name in wanted:
-        log(f"== {name}")
-        t = time.perf_counter()
-        if name == "case1":
-            c = case1(args, img)
-        elif name == "case2":
-            c = case2(args, img)
-            add_case2_family(c, args)  # the headline and its family of reconstructions
-        elif name == "case3":
-            c = case3(args, img, done.get("case1"))
-            add_case3_family(c, args)  # held-still against settled preload
-        elif name == "fig1":
-            c = fig1(args, img)
-        else:
-            raise SystemExit(f"unknown case {name!r}")
-        c.seconds = c.seconds or (time.perf_counter() - t)  # compute time (also from the cache)
-        done[name] = c
-        cases.append(c)
-        log(f"   {name}: {c.seconds:.0f} s")
-        for r in c.rows:
-            log(f"   {r.question}: {r.ours} [{r.agrees}]")
+    cases = run_cases(args, img)
     total = sum(c.seconds for c in cases)
     log(f"this run: {time.perf_counter() - t0:.0f} s")
+    qs_block: list[str] = []
+    seconds = 0.0
+    if not args.no_quasistatic:
+        qs_cases, seconds = qs.run_quasistatic(run_cases, args)
+        qs.merge_cases(cases, qs_cases)
+        qs_block = qs.section(qs_cases, seconds, only=False)
     path = write_results(cases, args, docs, total)
+    if qs_block:
+        path.write_text(qs.put_section(path.read_text(), qs_block))
     log(f"wrote {path}")
     if not args.no_readme:
         update_readme(Path(args.readme), readme_block(cases, args, total))
+        if qs_block:
+            readme = Path(args.readme)
+            readme.write_text(qs.readme_note(readme.read_text(), seconds))
         log(f"updated {args.readme}")
     print("\n".join(summary_table(cases)))
     return 0
