@@ -93,7 +93,7 @@ class Search(Vocabulary):
 METHODS = tuple(m.value for m in Method)
 #: The method every analysis, scene, batch file and CLI command uses when none is named (the
 #: one place to change it: /work/notes/qs_default.md lists what follows such a change).
-DEFAULT_METHOD: str = Method.ITERATIVE.value
+DEFAULT_METHOD: str = Method.QUASISTATIC.value
 #: Methods that follow a loading path instead of searching ``[0, upper]``: ``steps`` does not
 #: apply (not bounded by :data:`~pinograsp.core.validate.MAX_STEPS`, ignored) and ``upper`` does
 #: not decide unboundedness (not checked against the grasp's force scale; docs/errors.md).
