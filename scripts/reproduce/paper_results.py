@@ -3,8 +3,9 @@
 Writes ``docs/results.md`` (tables, per-case details, run times, plots in ``docs/img/case*.png``)
 and rewrites the README section between ``<!-- results:start -->`` and ``<!-- results:end -->``.
 Cases 2 and 3 are reported as families of plausible reconstructions (``paper_families.py``).
-Every number comes from the scene files' own analysis settings (method, upper limit, bisection
-steps, n) unless ``--fast`` is given (few directions and steps: a quick check, not the table).
+Every number comes from the paper's iterative method with the scene files' own analysis settings
+(upper limit, bisection steps, n) unless ``--fast`` is given (few directions and steps: a quick
+check, not the table).
 
 Usage::
 
@@ -66,7 +67,8 @@ def write_results(cases: list[Case], args: argparse.Namespace, docs: Path, total
         "",
         "Scenes: the built-in `case1`, `case2`, `case3` and `fig1` (`pinograsp scenes`) and the case-2 "
         "family members in `pinograsp/data/scenes/case2_family/`; every number "
-        "uses the scene file's analysis settings (method, upper limit, bisection steps, directions)"
+        "uses the paper's iterative method and the scene file's analysis settings (upper limit, "
+        "bisection steps, directions)"
         + (" — except that this is a **--fast** run (n ≤ 16, ≤ 8 steps)." if args.fast else "."),
         "Time per row: the computation that row needed (wall clock).",
         "",
