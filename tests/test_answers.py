@@ -13,26 +13,35 @@ from pinograsp.cli import main
 
 def test_unbounded_is_a_property_of_the_grasp_not_of_upper(case1):
     s = case1
-    # +Y is finite (4.30 N): a tiny upper is resisted but is not "unbounded"
-    tiny = pg.max_resistible_wrench(s.model, s.command, "fy", upper=1e-9, steps=4)
+    # the default (quasi-static path): +Y is finite, the same limit at every upper, exactly
+    # (4.3354 N; the simulation gives way at 4.3287 N, scripts/reproduce/data/qs_sim.jsonl)
+    for u in (1e-9, 1.0, 50.0, 1e3):
+        r = pg.max_resistible_wrench(s.model, s.command, "fy", upper=u, steps=4)
+        assert r.status == "finite" and r.magnitude == pytest.approx(4.3354, abs=1e-4)
+    # the iterative scheme's bisection: +Y is finite (4.30 N): a tiny upper is resisted but
+    # is not "unbounded"
+    it = "iterative"
+    tiny = pg.max_resistible_wrench(s.model, s.command, "fy", it, upper=1e-9, steps=4)
     assert tiny.status == "above_limit" and not tiny.unbounded and tiny.magnitude == 1e-9
-    one = pg.max_resistible_wrench(s.model, s.command, "fy", upper=1.0)
+    one = pg.max_resistible_wrench(s.model, s.command, "fy", it, upper=1.0)
     assert one.status == "above_limit" and one.magnitude == 1.0
     # the same value at every upper above the limit, to the resolution
-    vals = [pg.max_resistible_wrench(s.model, s.command, "fy", upper=u) for u in (5.0, 50.0, 1e3)]
+    vals = [pg.max_resistible_wrench(s.model, s.command, "fy", it, upper=u) for u in (5.0, 50.0, 1e3)]
     assert all(v.status == "finite" for v in vals)
     for v in vals:
         assert abs(v.magnitude - vals[0].magnitude) <= max(v.resolution, vals[0].resolution)
-    # ±X and -Y: passively resisted without bound at upper 50 and 1e3 (iterative and PRP)
+    # ±X and -Y: passively resisted without bound at upper 50 and 1e3 (iterative, and the
+    # path's exact verdict)
     for d in ("fx", "-fx", "-fy"):
-        for upper in (50.0, 1e3):
-            r = pg.max_resistible_wrench(s.model, s.command, d, upper=upper)
-            assert r.status == "unbounded" and r.unbounded and r.magnitude == np.inf
+        for method in (it, "quasistatic"):
+            for upper in (50.0, 1e3):
+                r = pg.max_resistible_wrench(s.model, s.command, d, method, upper=upper)
+                assert r.status == "unbounded" and r.unbounded and r.magnitude == np.inf
 
 
 def test_below_resolution_is_not_a_number(case1):
     # (upper within 1e6 times the grasp's force scale, docs/errors.md)
-    coarse = pg.max_resistible_wrench(case1.model, case1.command, "fy", upper=1e7, steps=4)
+    coarse = pg.max_resistible_wrench(case1.model, case1.command, "fy", "iterative", upper=1e7, steps=4)
     assert coarse.status == "below_resolution" and coarse.floor == pytest.approx(1e7 / 16)
     # the pinch's band is 10 N: below a 50 N resolution it is not distinguishable from zero
     r = pg.max_resistible_wrench(examples.pinch(), 1.0, "fy", "prp", upper=100, steps=1)
@@ -48,7 +57,9 @@ def test_iterative_values_below_eps_are_below_resolution():
     case 3, torque about X with the distal tendon alone held still: one bisection step
     (4.8e-5 N·m) was printed as a value and gave a ratio of 182 that reversed the paper."""
     s = pg.load_scene("case3")
-    r = pg.max_resistible_wrench(s.model, s.preload("distal_only"), "mx", upper=50, settings=s.settings)
+    r = pg.max_resistible_wrench(
+        s.model, s.preload("distal_only"), "mx", "iterative", upper=50, settings=s.settings
+    )
     assert r.status == "below_resolution" and r.magnitude < r.floor
     assert r.floor == pytest.approx(1e-3 * s.model.length_scale, rel=1e-9)
 
@@ -59,33 +70,41 @@ def _cli_json(capsys, *argv):
 
 
 def test_cli_reports_statuses_and_undefined_ratios(capsys):
-    data = _cli_json(capsys, "max-wrench", "case1", "-d", "fy", "--upper", "1e-9", "--steps", "4")
+    it = ("--method", "iterative")  # the bisection's statuses
+    data = _cli_json(capsys, "max-wrench", "case1", "-d", "fy", "--upper", "1e-9", "--steps", "4", *it)
     assert data["status"] == "above_limit" and data["unbounded"] is False
-    assert main(["max-wrench", "case1", "-d", "fy", "--upper", "1e7", "--steps", "4"]) == 0
+    assert main(["max-wrench", "case1", "-d", "fy", "--upper", "1e7", "--steps", "4", *it]) == 0
     out = capsys.readouterr().out
     assert "< 6.2e+05 N" in out and "UNBOUNDED" not in out
-    data = _cli_json(capsys, "compare-preloads", "case3", "-d", "torque_x")
-    row = data["directions"][0]
-    assert row["ratio"] is None and row["results"]["distal_only"]["status"] == "below_resolution"
+    for method in it, ():  # the iterative scheme below eps; the default path's exact 0
+        data = _cli_json(capsys, "compare-preloads", "case3", "-d", "torque_x", *method)
+        row = data["directions"][0]
+        assert row["ratio"] is None and row["results"]["distal_only"]["status"] == "below_resolution"
+    assert row["results"]["distal_only"]["magnitude"] == 0.0 and data["method"] == "quasistatic"
 
 
 def test_one_default_method_and_scenes_apply_their_analysis_block(case1):
-    """The API, the CLI and the scenes default to the iterative scheme; a scene's own upper,
-    steps and method apply through ``scene.max_resistible_wrench`` / ``scene.profile``."""
+    """The API, the CLI and the scenes default to the quasi-static loading path (it agrees
+    with the simulation most often: docs/validation.md); a scene's own upper, steps and method
+    apply through ``scene.max_resistible_wrench`` / ``scene.profile``."""
     s = case1
     w = [0.0, -20.0, 0.0, 0.0, 0.0, 0.0]
     default = pg.passive_response(s.model, s.command, w)
-    explicit = pg.passive_response(s.model, s.command, w, "iterative")
-    assert default.method == "iterative" and np.array_equal(default.contact_forces, explicit.contact_forces)
-    assert s.passive_response(w).method == s.analysis.method == "iterative"
-    mw = s.max_resistible_wrench("fy")
-    assert mw.upper == s.analysis.upper == 50.0
-    assert mw.resolution == 50.0 / 2**s.analysis.steps
-    ref = pg.max_resistible_wrench(s.model, s.command, "fy", upper=50.0, steps=s.analysis.steps)
-    assert mw.magnitude == ref.magnitude
+    explicit = pg.passive_response(s.model, s.command, w, "quasistatic")
+    assert default.method == "quasistatic" and np.array_equal(default.contact_forces, explicit.contact_forces)
+    assert s.passive_response(w).method == s.analysis.method == "quasistatic"
+    mw = s.max_resistible_wrench("fy")  # the path's limit: exact, upper and steps do not apply
+    ref = pg.max_resistible_wrench(s.model, s.command, "fy", "quasistatic")
+    assert mw.method == "quasistatic" and mw.resolution == 0 and mw.magnitude == ref.magnitude
+    assert mw.magnitude == pytest.approx(4.3354, abs=1e-4)  # the simulation: 4.3287 N
+    it = s.max_resistible_wrench("fy", method="iterative")  # the scene's upper and steps apply
+    assert it.upper == s.analysis.upper == 50.0
+    assert it.resolution == 50.0 / 2**s.analysis.steps
+    ref = pg.max_resistible_wrench(s.model, s.command, "fy", "iterative", upper=50.0, steps=s.analysis.steps)
+    assert it.magnitude == ref.magnitude
     prp = s.max_resistible_wrench("fy", method="prp", steps=8)
     assert prp.method == "prp" and prp.resolution == 50.0 / 2**8
-    p = s.profile(n=4, steps=4)
+    p = s.profile(n=4, steps=4, method="iterative")
     assert p.plane == ("fx", "fy") and len(p.magnitudes) == 4 and p.results[0].upper == 50.0
 
 

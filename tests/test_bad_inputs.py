@@ -70,5 +70,5 @@ def test_the_quasistatic_path_keeps_only_the_domains_that_apply_to_it():
     from pinograsp.cli import main  # the CLI's --steps: the same rule
 
     argv = ["max-wrench", "pinch", "--direction", "fy", "--steps", "500"]
-    assert main([*argv, "--method", "quasistatic"]) == 0
-    assert main(argv) == 2
+    assert main([*argv, "--method", "quasistatic"]) == 0 and main(argv) == 0  # (the default)
+    assert main([*argv, "--method", "iterative"]) == 2

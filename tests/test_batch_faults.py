@@ -174,9 +174,16 @@ def test_sigkill_of_the_batch_kills_its_workers_and_resume_finishes(tmp_path, ba
     same_rows(read(tmp_path / "out.csv"), reference)
 
 
+def _is_wedge(values):
+    """The wedge's row, whatever method FAST uses: the pinch's worst axis is its closed form
+    2 mu tau0 / L = 10 N under every method (the wedge's: 6 N on the default path, 5 N by the
+    iterative bisection at upper 20, steps 4)."""
+    return values["score"] != 10.0
+
+
 def _crash_on_wedge(model, command):
     values = FAST(model, command)
-    if values["score"] == 5.0:  # the wedge's limit (pinch: 10 N)
+    if _is_wedge(values):
         os._exit(3)
     return values
 
@@ -203,7 +210,7 @@ def test_crashing_grasp_is_an_error_row_after_one_retry(tmp_path, monkeypatch):
 
 def _slow_wedge(model, command):
     values = FAST(model, command)
-    if values["score"] == 5.0:
+    if _is_wedge(values):
         time.sleep(60)
     return values
 
@@ -294,7 +301,7 @@ def test_resume_refuses_another_batch(tmp_path):
 
 def _interrupt_on_wedge(model, command):
     values = FAST(model, command)
-    if values["score"] == 5.0:
+    if _is_wedge(values):
         raise KeyboardInterrupt
     return values
 

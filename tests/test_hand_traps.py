@@ -147,7 +147,7 @@ def test_energetic_zero_load_on_allegro_left_is_resisted():
     # against 1e-6 of the force scale
     _, _, _, m = allegro_left_grasp()
     assert m.nc == 7
-    choice = pg.equilibrium_preload(m, max_command=0.5)
+    choice = pg.equilibrium_preload(m, max_command=0.5, method="iterative")  # the preload it checks
     assert choice.status == "found"
     r = pg.passive_response(m, choice.command, np.zeros(6), "energetic")
     assert r.status == "resisted" and r.audit.ok
@@ -426,7 +426,8 @@ def test_above_limit_is_drawn_as_a_lower_bound(pinch):
     import matplotlib.pyplot as plt
 
     cmd = {"left": 1.0, "right": 1.0}
-    p = pg.resistance_profile(pinch, cmd, ("fx", "fy"), n=8, upper=5, steps=8)
+    it = "iterative"  # the bisection's above_limit (the default path has none: its limit is exact)
+    p = pg.resistance_profile(pinch, cmd, ("fx", "fy"), n=8, method=it, upper=5, steps=8)
     assert p.statuses.count("above_limit") == 6 and p.statuses.count("unbounded") == 2
     ax = pg.plot_profile(p)
     (tri,) = [ln for ln in ax.lines if ln.get_gid() == "pinograsp-above-limit"]
@@ -434,7 +435,9 @@ def test_above_limit_is_drawn_as_a_lower_bound(pinch):
     np.testing.assert_allclose(tri.get_ydata(), 5.0)
     assert "above upper (≥, a lower bound)" in [t.get_text() for t in ax.get_legend().get_texts()]
     plt.close(ax.figure)
-    rs = pg.resistance_set(pinch, cmd, directions=[[0, 1, 0, 0, 0, 0], [1, 0, 0, 0, 0, 0]], upper=5, steps=8)
+    rs = pg.resistance_set(
+        pinch, cmd, directions=[[0, 1, 0, 0, 0, 0], [1, 0, 0, 0, 0, 0]], method=it, upper=5, steps=8
+    )
     assert rs.statuses == ("above_limit", "unbounded")
     fig = pg.plot_resistance_set(rs)
     gids = [c.get_gid() for a in fig.axes for c in a.collections]

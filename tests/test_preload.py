@@ -30,10 +30,15 @@ def test_pinch_closed_forms(method):
 def test_unbalanced_preload_error_names_the_residual_and_the_way_out():
     """Backdrivable fingers at 1 and 0.5 N·m: the object is pushed by 10 - 5 = 5 N along +x."""
     m = examples.pinch(kind="backdrivable")
-    with pytest.raises(pg.PreloadNotInEquilibriumError, match="equilibrium_preload") as info:
-        pg.max_resistible_wrench(m, [1.0, 0.5], "fy", upper=20, steps=4)
+    for method in ("quasistatic", "iterative"):  # the default path's held preload, the staged solve
+        with pytest.raises(pg.PreloadNotInEquilibriumError, match="equilibrium_preload") as info:
+            pg.max_resistible_wrench(m, [1.0, 0.5], "fy", method, upper=20, steps=4)
+        np.testing.assert_allclose(info.value.residual, [5.0, 0, 0, 0, 0, 0], atol=1e-9)
+        assert "fx=5" in str(info.value)
+    with pytest.raises(pg.PreloadNotInEquilibriumError, match="release path") as info:
+        pg.loading_path(m, [1.0, 0.5], "fy")
     np.testing.assert_allclose(info.value.residual, [5.0, 0, 0, 0, 0, 0], atol=1e-9)
-    assert "fx=5" in str(info.value)
+    assert "net wrench left on the held object: fx=5" in str(info.value)
     fixed = pg.equilibrium_preload(m)
     assert fixed.found and fixed.command == {"left": 1.0, "right": 1.0}
     mw = pg.max_resistible_wrench(m, fixed.command, "fy", upper=20, steps=10)

@@ -142,10 +142,14 @@ def test_a_session_the_caller_owns_gives_the_same_answers(pinch):
     assert first.magnitude == again.magnitude == alone.magnitude
     assert first.evidence == again.evidence == alone.evidence
     assert again.n_solves < first.n_solves == alone.n_solves  # the preload stage is kept
-    r1 = pg.passive_response(pinch, 1.0, [0.0, 4.0, 0.0], session=s)
-    r2 = pg.passive_response(pinch, 1.0, [0.0, 4.0, 0.0])
+    r1 = pg.passive_response(pinch, 1.0, [0.0, 4.0, 0.0], "iterative", session=s)
+    r2 = pg.passive_response(pinch, 1.0, [0.0, 4.0, 0.0], "iterative")
     np.testing.assert_array_equal(r1.contact_forces, r2.contact_forces)
     assert r1.n_solves < r2.n_solves  # the session's preload stage is kept
+    q1 = pg.passive_response(pinch, 1.0, [0.0, 4.0, 0.0], session=s)  # the default path
+    q2 = pg.passive_response(pinch, 1.0, [0.0, 4.0, 0.0])
+    assert q1.method == q2.method == "quasistatic"
+    np.testing.assert_array_equal(q1.contact_forces, q2.contact_forces)
     p1 = pg.resistance_profile(pinch, 1.0, n=6, upper=50.0, steps=8)
     p2 = pg.resistance_profile(pinch, 1.0, n=6, upper=50.0, steps=8, session=s)
     np.testing.assert_array_equal(p1.magnitudes, p2.magnitudes)
@@ -173,7 +177,7 @@ def test_query_record_is_validated_once_and_equals_the_loose_arguments(pinch):
     with pytest.raises(pg.InvalidInputError, match="query: pass either"):
         pg.max_resistible_wrench(pinch, 1.0, "fy", "prp", query=q)
     scene = pg.load_scene("pinch")
-    assert scene.analysis.query == pg.Query("iterative", 1000.0, 20)
+    assert scene.analysis.query == pg.Query("quasistatic", 1000.0, 20)  # the default method
     assert scene.max_resistible_wrench("up", steps=8, method="prp").method == "prp"
 
 

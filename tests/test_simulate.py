@@ -78,7 +78,7 @@ def test_pinch_insensitive_to_step_mass_and_ramp(pinch):
 def test_case1_pull_within_five_percent_of_the_iterative_prediction():
     pytest.importorskip("mujoco")
     scene = pg.load_scene("case1")
-    predicted = scene.max_resistible_wrench("fy")
+    predicted = scene.max_resistible_wrench("fy", method="iterative")
     r = pg.simulate_max_wrench(scene, "fy")
     assert predicted.status == "finite" and predicted.magnitude == pytest.approx(4.30, abs=0.01)
     assert r.status == "gave_way"
@@ -91,10 +91,11 @@ def test_cli_simulate_pinch_compare_json(pinch, capsys):
 
     assert main(["simulate", "pinch", "-d", "fy", "--compare", "--json"]) == 0
     data = json.loads(capsys.readouterr().out)  # stdout holds exactly one JSON document
-    assert data["scene"] == "pinch" and data["label"] == "+fy" and data["method"] == "iterative"
+    assert data["scene"] == "pinch" and data["label"] == "+fy" and data["method"] == "quasistatic"
     assert data["status"] == "gave_way" and data["same_class"] is True
     assert data["load"] == pytest.approx(PINCH_Y, rel=0.02)
-    assert data["predicted"] == pytest.approx(PINCH_Y, rel=1e-3) and data["predicted_status"] == "finite"
+    # the default path's limit is the closed form, exactly
+    assert data["predicted"] == pytest.approx(PINCH_Y, rel=1e-12) and data["predicted_status"] == "finite"
     assert abs(data["agreement"]) < 0.02 and data["direction"] == [0.0, 1.0, 0.0, 0.0, 0.0, 0.0]
 
 
@@ -104,7 +105,7 @@ def test_cli_simulate_text_held_along_x(pinch, capsys):
     assert main(["simulate", "pinch", "-d", "-fx", "--compare", "--upper", "100"]) == 0
     out = capsys.readouterr().out
     assert "status: held" in out and "held up to the upper load 100 N" in out
-    assert "predicted (iterative): unbounded; class agrees" in out
+    assert "predicted (quasistatic): unbounded; class agrees" in out
 
 
 def test_cli_simulate_without_mujoco_names_the_extra(monkeypatch, capsys):

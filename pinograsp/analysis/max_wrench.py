@@ -109,11 +109,11 @@ def max_resistible_wrench(
         command: Actuator commands (see :func:`pinograsp.passive_response`).
         direction: Wrench direction: axis name (``"fx"``, ``"-fy"``, ``"mz"``) or vector
             (normalised here).
-        method: ``"iterative"`` (default; no wedging artefact), ``"energetic"`` (maximum
-            dissipation, one solve per direction; docs/methods.md), ``"prp"`` or
-            ``"quasistatic"`` (the loading path followed exactly to its limit load, no
-            bisection: ``upper`` and ``steps`` do not apply; docs/design.md, "The quasi-static
-            row").
+        method: ``"quasistatic"`` (default: the loading path followed exactly to its limit
+            load, no bisection: ``upper`` and ``steps`` do not apply; docs/design.md, "The
+            quasi-static row"), ``"iterative"`` (the paper's scheme; no wedging artefact),
+            ``"energetic"`` (maximum dissipation, one solve per direction; docs/methods.md) or
+            ``"prp"``.
         upper: Upper limit of the search [N or N·m along the unit direction].
         steps: Bisection steps; resolution ``upper / 2**steps``.
         search: ``"auto"`` (default: ``"secant"`` for the iterative method, ``"direct"`` for

@@ -26,6 +26,7 @@ from ..errors import InvalidInputError, PreloadNotInEquilibriumError, SolverErro
 from ..solvers.base import Mode
 from ..solvers.problem import ProblemKind
 from .context import SolveContext
+from .limit_search import free_motion_note
 from .protocols import LimitQuery, SessionLike
 from .quasistatic.answers import quasistatic_max_wrench, quasistatic_response
 from .stages import Stage
@@ -159,8 +160,12 @@ class QuasistaticMethod:
             )
         resp = None if mw.response is None else replace(mw.response, variant=v.value)
         tally = query.tally
+        note = mw.note or (
+            free_motion_note(session.model, query.direction) if mw.status == "below_resolution" else ""
+        )  # the searching methods' note: a load that drives a free motion of the object
         return replace(
             mw,
+            note=note,
             response=resp,
             solve_time=mw.solve_time + tally.solve_time,
             n_solves=mw.n_solves,  # the path's LCPs, its preload path's included (once)

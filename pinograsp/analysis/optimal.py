@@ -237,9 +237,9 @@ def optimal_preload(
         model: The grasp.
         disturbances: Wrenches (K, 6) or (K, 3) planar [N, N·m]; items may also be axis names
             (``"fy"``: a unit force) or ``(direction, magnitude)`` pairs.
-        method: ``"iterative"`` (default: the search) or ``"prp"`` (exact program for the
-            ``"single-step"`` variant, else the search); ``"energetic"`` and ``"quasistatic"``
-            (the limit loads of the loading path) run the search.
+        method: ``"quasistatic"`` (default: the search, with the limit loads of the loading
+            path), ``"iterative"`` (the search) or ``"prp"`` (exact program for the
+            ``"single-step"`` variant, else the search); ``"energetic"`` runs the search.
         objective: ``phi(f) = max_a weights_a f_a`` (``"max"``, default) or
             ``sum_a weights_a f_a`` (``"sum"``) [N·m or N].
         budget: None: minimise ``phi`` (task "smallest"). A number: ``phi(f) <= budget`` and

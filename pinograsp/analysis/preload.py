@@ -300,8 +300,8 @@ def equilibrium_preload(
 
     Args:
         model: The grasp.
-        method: Whose preload stage verifies the commands: ``"iterative"`` (default),
-            ``"prp"``, ``"energetic"`` or ``"quasistatic"`` (its preload path, the object held).
+        method: Whose preload stage verifies the commands: ``"quasistatic"`` (default: its
+            preload path, the object held), ``"iterative"``, ``"prp"`` or ``"energetic"``.
         objective: ``"balanced"`` (default: the largest smallest normal force within the
             bounds) or ``"least_norm"`` (the smallest commands pressing every contact with at
             least ``grip``).

@@ -401,7 +401,7 @@ def resistance_set(
         model: The grasp.
         command: Actuator commands (see :func:`pinograsp.passive_response`).
         n: Number of directions (default 500; ignored when ``directions`` is given).
-        method: ``"iterative"`` (default), ``"prp"``, ``"energetic"`` or ``"quasistatic"``.
+        method: ``"quasistatic"`` (default), ``"iterative"``, ``"prp"`` or ``"energetic"``.
         length: Characteristic length [m] scaling torques (default ``model.length_scale``).
         seed: Seed of :func:`sphere_points` (same seed, same directions, same bits).
         workers: Process-pool size (``0``: one per CPU; ``None``/``1``: in this process).

@@ -337,11 +337,12 @@ def passive_response(
             [N·m for direct drive, N for tendons].
         wrench: External wrench on the object ``(fx, fy, fz, mx, my, mz)`` [N, N·m] about the
             object reference point (planar models also take ``(fx, fy, mz)``).
-        method: ``"iterative"`` (default: Alg. 2 + 3, the physically validated scheme, as in
-            every analysis, the CLI and the scenes), ``"energetic"`` (maximum dissipation in
-            one mixed-integer problem, docs/methods.md), ``"prp"`` (Alg. 1, by explicit
-            choice: it admits the wedging artefact) or ``"quasistatic"`` (the state reached on
-            the loading path at ``wrench``; docs/methods.md).
+        method: ``"quasistatic"`` (default, as in every analysis, the CLI, the scenes and
+            batches: the state reached on the loading path at ``wrench``, the method that agrees
+            with the simulation most often; docs/methods.md), ``"iterative"`` (Alg. 2 + 3, the
+            paper's scheme), ``"energetic"`` (maximum dissipation in one mixed-integer problem,
+            docs/methods.md) or ``"prp"`` (Alg. 1, by explicit choice: it admits the wedging
+            artefact).
         settings: Base :class:`Settings`; keyword ``overrides`` replace single fields
             (e.g. ``solver="gurobi"``, ``gamma=2.0``, ``variant="single-step"``).
         session: A :class:`~pinograsp.Session` of ``model`` the caller owns (its settings rule;

@@ -77,10 +77,10 @@ class WorstAxisScore:
     Attributes:
         upper: Search limit [N].
         steps: Search steps (resolution ``upper / 2**steps``; small for speed).
-        method: ``"iterative"``, ``"prp"``, ``"energetic"`` (maximum dissipation: one
-            load-factor solve per axis, ``search="direct"``) or ``"quasistatic"`` (the loading
-            path's limit per axis; ``upper`` is then only the cap of the score), kept as a
-            :class:`~pinograsp.core.settings.Method`.
+        method: ``"quasistatic"`` (default: the loading path's limit per axis; ``upper`` is
+            then only the cap of the score and ``steps`` does not apply), ``"iterative"``,
+            ``"prp"`` or ``"energetic"`` (maximum dissipation: one load-factor solve per axis,
+            ``search="direct"``), kept as a :class:`~pinograsp.core.settings.Method`.
     """
 
     upper: float = 50.0

@@ -170,8 +170,8 @@ class GraspSpec:
             ``{actuator: value}`` [N·m or N].
         max_command: Bound of every command of the ``"auto"`` preload [N·m or N].
         preload_method: Whose preload stage ``"auto"`` verifies (:func:`pinograsp.equilibrium_preload`
-            at ``w = 0``): ``"iterative"`` (default) or ``"prp"`` (the object settles),
-            ``"quasistatic"`` (its preload path), or ``"energetic"``. The energetic method's
+            at ``w = 0``): ``"quasistatic"`` (default: its preload path, the object held),
+            ``"iterative"``, ``"prp"`` (the object settles) or ``"energetic"``. The energetic method's
             preload stage is the iterative one (the object held still while the hand closes),
             so it verifies the same commands, plus one
             energetic solve at ``w = 0``; it is accepted so that a batch scored with

@@ -60,9 +60,10 @@ def _common(p: argparse.ArgumentParser, *, out_default: str | None = None) -> No
     g.add_argument(
         "--method",
         choices=_METHODS,
-        help="prp (Alg. 1, one MIQP), iterative (Alg. 2+3, no wedging), energetic (maximum "
-        "dissipation: friction opposes slip, one solve per direction) or quasistatic (the loading "
-        "path followed exactly: the limit load without bisection); default: the scene's",
+        help="prp (Alg. 1, one MIQP), iterative (Alg. 2+3, the paper's, no wedging), energetic "
+        "(maximum dissipation: friction opposes slip, one solve per direction) or quasistatic (the "
+        "loading path followed exactly: the limit load without bisection); default: the scene's "
+        "analysis.method, else quasistatic (the package default; every built-in scene)",
     )
     g.add_argument(
         "--variant",
@@ -326,7 +327,8 @@ def _add_batch(sub: argparse._SubParsersAction) -> None:
     b.add_argument(
         "--method",
         choices=_METHODS,
-        help="score method: prp, iterative, energetic or quasistatic (default: the file's)",
+        help="score method: prp, iterative, energetic or quasistatic (default: the file's score "
+        "block, else quasistatic)",
     )
     b.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None, help=_PROGRESS_HELP)
     _debug_option(b)
@@ -350,7 +352,8 @@ def _add_simulate(sub: argparse._SubParsersAction) -> None:
     sm.add_argument(
         "--method",
         choices=_METHODS,
-        help="method of --compare (prp, iterative, energetic, quasistatic); default: the scene's",
+        help="method of --compare (prp, iterative, energetic, quasistatic); default: the scene's "
+        "(quasistatic unless it names one)",
     )
     g = sm.add_argument_group("simulation options (defaults: docs/simulation.md)")
     g.add_argument("--stiffness", type=float, help="stiffest contact's stiffness [N/m] (default 1e6)")

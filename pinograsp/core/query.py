@@ -25,7 +25,7 @@ class Query:
     it) searches the largest resisted magnitude along a direction.
 
     Attributes:
-        method: ``"iterative"`` (default), ``"energetic"``, ``"prp"`` or ``"quasistatic"``
+        method: ``"quasistatic"`` (default), ``"iterative"``, ``"energetic"`` or ``"prp"``
             (:class:`~pinograsp.core.settings.Method`; the default is
             :data:`~pinograsp.core.settings.DEFAULT_METHOD`).
         upper: Upper limit of the search [N or N·m along the unit direction], in (0, 1e12]

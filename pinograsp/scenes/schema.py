@@ -128,7 +128,8 @@ class SceneAnalysis:
     """A scene file's ``analysis`` block, validated (docs/scenes.md).
 
     Attributes:
-        method: Analysis method (``"iterative"``, ``"prp"`` or ``"energetic"``).
+        method: Analysis method (``"quasistatic"``, the default when the file names none,
+            ``"iterative"``, ``"prp"`` or ``"energetic"``).
         upper: Upper limit of the max-wrench search [N or N·m].
         steps: Search steps (resolution ``upper / 2**steps``).
         n: Directions of a profile.

@@ -228,8 +228,9 @@ def simulate_command(
         compare: Also run the scene's own analysis (``scene.max_resistible_wrench``) along the
             same direction, with the same command and upper load, and record it as
             ``predicted``.
-        method: The analysis method of the comparison (``"iterative"``, ``"energetic"`` or ``"prp"``); default
-            the scene's ``analysis.method``.
+        method: The analysis method of the comparison (``"quasistatic"``, ``"iterative"``,
+            ``"energetic"`` or ``"prp"``); default the scene's ``analysis.method`` (the package
+            default, ``"quasistatic"``, for every built-in scene).
         **opts: ``command`` and the keyword arguments of :func:`simulate_max_wrench`.
 
     Returns:

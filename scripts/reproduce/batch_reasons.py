@@ -73,9 +73,7 @@ def tabulate(path: Path, workers: int) -> tuple[str, pd.DataFrame]:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument(
-        "files", nargs="*", type=Path, help="GRASPS.yaml files (default: data/grasps/*)"
-    )
+    ap.add_argument("files", nargs="*", type=Path, help="GRASPS.yaml files (default: data/grasps/*)")
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--no-write", action="store_true", help="print only; do not update docs/batch.md")
     args = ap.parse_args()

@@ -23,7 +23,9 @@ to the bound: case 1 was a raw Clarabel error and is now "found", the others mov
 digits of the normal forces) and the two batch rows (new ``reason`` and ``max_±fz`` columns, the
 longer built-in scene list in an error message). Update the baseline only with such a list.
 
-Counts: ``n_solves`` is kept. A profile or set that shares one session per worker block solves
+Methods: every query names its method (the baseline holds the paper's methods' answers; the
+package default became ``"quasistatic"`` after it, so a query relying on the default would
+change). Counts: ``n_solves`` is kept. A profile or set that shares one session per worker block solves
 the preload stage once per block, so its per-direction ``n_solves`` may be smaller than when
 every direction built its own session; such rows are compared with ``n_solves`` dropped
 (``COUNT_FREE``), every other field bit for bit.
@@ -235,7 +237,9 @@ def queries() -> list[tuple[str, Callable[[], object]]]:
 
     def normalized() -> object:
         s = _scene("case1")
-        return pg.resistance_profile(s.model, s.command, n=4, upper=50.0, steps=10, normalize=True)
+        return pg.resistance_profile(
+            s.model, s.command, n=4, method="iterative", upper=50.0, steps=10, normalize=True
+        )
 
     out.append(("profile/case1/iterative/normalized", normalized))
     # sets and scores
@@ -249,7 +253,7 @@ def queries() -> list[tuple[str, Callable[[], object]]]:
 
     def score() -> object:
         s = _scene("wedge")
-        return pg.grasp_score(s.model, s.command, n=8, upper=50.0, steps=8)
+        return pg.grasp_score(s.model, s.command, n=8, method="iterative", upper=50.0, steps=8)
 
     out.append(("score/wedge/iterative", score))
     # preloads
@@ -285,7 +289,7 @@ def queries() -> list[tuple[str, Callable[[], object]]]:
 
     # batch rows
     def batch() -> object:
-        score_fn = pg.WorstAxisScore(upper=20, steps=4)
+        score_fn = pg.WorstAxisScore(upper=20, steps=4, method="iterative")
         df = pg.evaluate_grasps(
             ["pinch", {"scene": "wedge", "id": "w"}, "no_such_scene"], score=score_fn, workers=1
         )

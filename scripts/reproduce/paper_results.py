@@ -3,8 +3,9 @@
 Writes ``docs/results.md`` (tables, per-case details, run times, plots in ``docs/img/case*.png``)
 and rewrites the README section between ``<!-- results:start -->`` and ``<!-- results:end -->``.
 Cases 2 and 3 are reported as families of plausible reconstructions (``paper_families.py``).
-Every number comes from the scene files' own analysis settings (method, upper limit, bisection
-steps, n) unless ``--fast`` is given (few directions and steps: a quick check, not the table).
+Every number comes from the paper's iterative method with the scene files' own analysis settings
+(upper limit, bisection steps, n) unless ``--fast`` is given (few directions and steps: a quick
+check, not the table).
 
 Usage::
 
@@ -33,7 +34,7 @@ import pinograsp as pg
 
 from . import paper_quasistatic as qs
 from .paper_case1 import case1, fig1
-from .paper_common import CACHE, PAPER_FALLBACK, Case, Row, log
+from .paper_common import CACHE, PAPER_METHOD, Case, Row, log
 from .paper_families import add_case2_family, add_case3_family
 from .paper_preloads import case2, case3
 
@@ -77,10 +78,10 @@ def write_results(cases: list[Case], args: argparse.Namespace, docs: Path, total
         "",
         "Scenes: the built-in `case1`, `case2`, `case3` and `fig1` (`pinograsp scenes`) and the case-2 "
         "family members in `pinograsp/data/scenes/case2_family/`; every number "
-        "uses the scene file's analysis settings (method, upper limit, bisection steps, directions)"
+        "uses the scene file's analysis settings (upper limit, bisection steps, directions)"
         + (" — except that this is a **--fast** run (n ≤ 16, ≤ 8 steps)." if args.fast else ".")
-        + f" Column pinograsp: the scene's method (`{PAPER_FALLBACK}` where that is the quasi-static"
-        " method); column quasi-static: see the last section.",
+        + f" Column pinograsp: the paper's `{PAPER_METHOD}` method; column quasi-static: the"
+        " package's default method (see the last section).",
         "Time per row: the computation that row needed (wall clock; the paper's methods).",
         "",
         *summary_table(cases),

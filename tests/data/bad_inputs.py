@@ -35,6 +35,11 @@ class Case:
 CASES: list[Case] = []
 
 
+#: The bisection's domains (steps <= 60, upper within the grasp's force scale) are the searching
+#: methods'; the default quasi-static path does not bisect (core.settings.PATH_METHODS).
+IT = "iterative"
+
+
 def case(id: str, area: str, run: Callable[[Path], Any], error: type | None = pg.InvalidInputError,
          match: str = "", verdict: Callable[[Any], bool] | None = None) -> None:  # fmt: skip
     CASES.append(Case(id, area, run, error, match, verdict))
@@ -76,13 +81,15 @@ def cli_json(*argv: str) -> Callable[[Path], Any]:
 # ------------------------------------------------------------------------------ API: searches
 case("upper-1e300", "api", mw(upper=1e300), match="upper: must be in (0, 1e+12]")
 case("upper-1e200-steps-20", "api", mw(upper=1e200, steps=20), match="upper")
-case("upper-1e12-pinch", "api", mw(upper=1e12), match="times the grasp's force scale")
+case("upper-1e12-pinch", "api", mw(upper=1e12, method=IT), match="times the grasp's force scale")
 case("upper-negative", "api", mw(upper=-1.0), match="upper")
 case("upper-nan", "api", mw(upper=float("nan")), match="upper: must be finite")
 case("upper-zero", "api", mw(upper=0.0), match="upper")
 case("upper-string", "api", mw(upper="100"), match="upper")
-case("steps-1024", "api", mw(steps=1024), match="steps: must be an integer in [1, 60]")
-case("steps-1e6", "api", mw(steps=10**6), match="steps")
+case("steps-1024", "api", mw(steps=1024, method=IT), match="steps: must be an integer in [1, 60]")
+case("steps-1e6", "api", mw(steps=10**6, method=IT), match="steps")
+# the default path does not bisect: steps and upper do not apply (the closed form 2 mu tau0 / L = 10 N)
+case("steps-1024-path", "api", mw(steps=1024, upper=1e12), None, verdict=lambda r: r.magnitude == 10.0)
 case("steps-zero", "api", mw(steps=0), match="steps")
 case("steps-float", "api", mw(steps=2.5), match="steps")
 case("eps-1e300", "api", mw(eps=1e300), match="eps")
@@ -134,7 +141,8 @@ case("score-length-1e-300", "api", lambda t: pg.grasp_score(pinch(), 1.0, n=4, l
      match="length")  # fmt: skip
 case("score-length-1.35e154", "api", lambda t: pg.grasp_score(pinch(), 1.0, n=4, length=1.35e154),
      match="length")  # fmt: skip
-case("score-steps-1024", "api", lambda t: pg.grasp_score(pinch(), 1.0, n=4, steps=1024), match="steps")
+case("score-steps-1024", "api", lambda t: pg.grasp_score(pinch(), 1.0, n=4, steps=1024, method=IT),
+     match="steps")  # fmt: skip
 case("score-quantile-1.5", "api", lambda t: pg.grasp_score(pinch(), 1.0, n=4, quantile=1.5), match="quantile")
 case("ferrari-canny-length-1e-17", "api", lambda t: pg.ferrari_canny(pinch(), 1e-17), match="length")
 case("ferrari-canny-length-1e200", "api", lambda t: pg.ferrari_canny(pinch(), 1e200), match="length")
@@ -146,7 +154,8 @@ case("optimal-max-command-1e300", "api", lambda t: pg.optimal_preload(pinch(), [
      match="max_command")  # fmt: skip
 case("optimal-refine-1e6", "api", lambda t: pg.optimal_preload(pinch(), ["fy"], refine=10**6), match="refine")
 case("optimal-upper-1e300", "api", lambda t: pg.optimal_preload(pinch(), ["fy"], upper=1e300), match="upper")
-case("optimal-steps-1000", "api", lambda t: pg.optimal_preload(pinch(), ["fy"], steps=1000), match="steps")
+case("optimal-steps-1000", "api",
+     lambda t: pg.optimal_preload(pinch(), ["fy"], steps=1000, method=IT), match="steps")  # fmt: skip
 case("optimal-budget-1e300", "api", lambda t: pg.optimal_preload(pinch(), ["fy"], budget=1e300),
      match="budget")  # fmt: skip
 case("preload-max-command-1e300", "api", lambda t: pg.equilibrium_preload(pinch(), max_command=1e300),
@@ -230,9 +239,11 @@ case("cli-preload-max-command-1e300", "cli", cli("preload", "pinch", "--max-comm
      verdict=lambda r: r[0] == 2 and "max_command" in r[1])  # fmt: skip
 case("cli-upper-1e300", "cli", cli("max-wrench", "pinch", "-d", "fy", "--upper", "1e300"), None,
      verdict=lambda r: r[0] == 2 and "--upper" in r[1])  # fmt: skip
-case("cli-steps-1024", "cli", cli("max-wrench", "pinch", "-d", "fy", "--steps", "1024"), None,
+case("cli-steps-1024", "cli",
+     cli("max-wrench", "pinch", "-d", "fy", "--steps", "1024", "--method", IT), None,
      verdict=lambda r: r[0] == 2 and "--steps" in r[1])  # fmt: skip
-case("cli-upper-beyond-force-scale", "cli", cli("max-wrench", "pinch", "-d", "fy", "--upper", "1e9"), None,
+case("cli-upper-beyond-force-scale", "cli",
+     cli("max-wrench", "pinch", "-d", "fy", "--upper", "1e9", "--method", IT), None,
      verdict=lambda r: r[0] == 2 and "force scale" in r[1])  # fmt: skip
 case("cli-profile-n-1e12", "cli", cli("profile", "pinch", "-n", "1000000000000"), None,
      verdict=lambda r: r[0] == 2 and "n: must be" in r[1])  # fmt: skip
@@ -296,7 +307,7 @@ case("scene-upper-1e200", "scene", scene(pinch_with("upper: 1000", "upper: 1.0e+
 case(
     "scene-steps-1024",
     "scene",
-    scene(pinch_with("steps: 20", "steps: 1024")),
+    scene(pinch_with("steps: 20", f"method: {IT}\n  steps: 1024")),
     pg.SceneError,
     "analysis.steps",
 )
@@ -365,7 +376,8 @@ def batch_with(old: str, new: str) -> str:
 case("batch-alias-bomb", "batch", batch(BOMB + "\nscore: {upper: *i}\n"), pg.SceneError, "aliases")
 case("batch-upper-1e300", "batch", batch(batch_with("upper: 50", "upper: 1.0e+300")), pg.SceneError,
      "score.upper")  # fmt: skip
-case("batch-steps-1024", "batch", batch(batch_with("steps: 6", "steps: 1024")), pg.SceneError, "score.steps")
+case("batch-steps-1024", "batch", batch(batch_with("steps: 6", f"method: {IT}, steps: 1024")), pg.SceneError,
+     "score.steps")  # fmt: skip
 case("batch-sample-n-1e10", "batch", batch(batch_with("n: 2", "n: 10000000000")), pg.SceneError, "n")
 case("batch-size-1e-300", "batch", batch(batch_with("[0.05, 0.05, 0.05]", "[1.0e-300, 0.05, 0.05]")),
      pg.SceneError, "size")  # fmt: skip

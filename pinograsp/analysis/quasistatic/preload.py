@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...core.axes import WRENCH_AXES
 from ...errors import PreloadNotInEquilibriumError
 from .model import QSModel
 from .path import StageRun, follow
@@ -37,13 +38,22 @@ def zero_state(qm: QSModel) -> State:
     )
 
 
-def _fail(fc: np.ndarray, stage: str, run: StageRun) -> PreloadNotInEquilibriumError:
+def _fail(
+    fc: np.ndarray, stage: str, run: StageRun, residual: np.ndarray | None = None
+) -> PreloadNotInEquilibriumError:
+    """``residual``: the net wrench (6,) [N, N·m] the preload leaves on the held object."""
     st = run.states[-1]
+    net = ""
+    if residual is not None:
+        shown = ", ".join(f"{a}={v:.3g}" for a, v in zip(WRENCH_AXES, residual) if abs(v) > 0)
+        net = f"; net wrench left on the held object: {shown or '0'} [N, N·m]"
     return PreloadNotInEquilibriumError(
         fc.tolist(),
         f"quasi-static {stage} path stopped at {st.t:.6g} of the way ({run.status}: "
         + ("the grasp gives way under the preload" if run.status == "limit" else "no continuation")
-        + ")",
+        + ")"
+        + net,
+        residual,
     )
 
 
@@ -81,8 +91,8 @@ def preload_path(
             spec = StageSpec(wh, -wh, fc, zero_a, 1.0, held=False, friction=True)
             run = follow(qm, st, spec, max_segments)
             runs.append(run)
-            if run.status != "end":
-                raise _fail(fc, "release", run)
+            if run.status != "end":  # the contacts' net wrench on the held object, unbalanced
+                raise _fail(fc, "release", run, qm.model.expand_wrench(qm.model.G @ runs[0].states[-1].c))
             st = run.states[-1].copy()
     st.t = 0.0
     st.slip[:] = 0.0
