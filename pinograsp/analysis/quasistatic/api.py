@@ -193,11 +193,11 @@ def _audit_failure(audit: dict, loads: np.ndarray, arrays: dict[str, np.ndarray]
 def _status(run: StageRun, p: Prepared, spec: StageSpec) -> tuple[str, float, str]:
     """(status, limit, stop reason) of a load stage."""
     last = run.states[-1].t
-    if run.status == "limit":
+    if run.status in ("limit", "unstable"):
         scale = force_scale(p.qm, p.start, spec) / max(float(np.abs(p.qm.w_scaled(spec.dw)).max()), 1e-300)
         if last <= EVENT_RTOL * scale:
-            return "below_resolution", 0.0, "limit"
-        return "finite", float(last), "limit"
+            return "below_resolution", 0.0, run.status
+        return "finite", float(last), run.status
     if run.status == "unbounded":
         return "unbounded", float("inf"), "ray"
     if run.status == "end":
