@@ -8,9 +8,9 @@ scene's settings; energetic capped at ``max_nodes=ENERGETIC_NODES``, a node limi
 verdict). The quasi-static prediction (``method="quasistatic"``, milliseconds per direction) is
 not cached: the report computes it live against the cached simulations, so it always shows the
 code it runs with; a limit λ* above the scene's ``upper`` counts as "held up to upper" (the
-simulation tests no further). Classes and differences as ``benchmarks/validate_mujoco.py`` (whose comparison and
-tables this script reuses). Results are cached per hand in ``scripts/reproduce/validate_hands/``
-so that the report can be rewritten without solving again; the report replaces the section
+simulation tests no further). Classes and differences as ``scripts/reproduce/validate_mujoco.py``
+(whose comparison and tables this script reuses). Results are cached per hand in
+``scripts/reproduce/validate_hands/`` so that the report can be rewritten without solving again; the report replaces the section
 between ``<!-- hands:begin -->`` and ``<!-- hands:end -->`` of ``docs/validation.md``.
 
 Usage (2 cores shared: run it niced)::
@@ -93,7 +93,8 @@ def _threshold_load(scene: object, d: np.ndarray, fraction: float) -> float | No
     o = _options(model, np.asarray(d, float), upper, {})
     try:
         lp = pg.loading_path(model, scene.command, d)  # type: ignore[attr-defined]
-        return float(lp.load_at_displacement(fraction * o.slip, stiffness=o.stiffness, rotation=fraction * o.rotation))
+        at = lp.load_at_displacement(fraction * o.slip, stiffness=o.stiffness, rotation=fraction * o.rotation)
+        return float(at)
     except pg.PinograspError:
         return None
 

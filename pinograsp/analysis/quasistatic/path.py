@@ -17,7 +17,6 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .model import QSModel
-from .snap import no_continuation, unstable_segment
 from .rates import (
     FULL,
     PRESS,
@@ -32,6 +31,7 @@ from .rates import (
     rates,
     rescaled,
 )
+from .snap import no_continuation, unstable_segment
 
 #: A mechanism along the load: ``dλ`` per unit displacement below this fraction of the
 #: largest contact stiffness. Rounding of a degenerate rate problem (zero-force contacts at the

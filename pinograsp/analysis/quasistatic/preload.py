@@ -48,7 +48,8 @@ def _fail(fc: np.ndarray, stage: str, run: StageRun, why: str = "") -> PreloadNo
     st = run.states[-1]
     return PreloadNotInEquilibriumError(
         fc.tolist(),
-        f"quasi-static {stage} path stopped at {st.t:.6g} of the way ({run.status}: "
+        f"method 'quasistatic': the {stage} path of the preload stopped at {st.t:.6g} of the way "
+        f"({run.status}: "
         + (why or ("the grasp gives way under the preload" if run.status == "limit" else "no continuation"))
         + ")",
     )
