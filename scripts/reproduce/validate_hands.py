@@ -10,8 +10,9 @@ not cached: the report computes it live against the cached simulations, so it al
 code it runs with; a limit λ* above the scene's ``upper`` counts as "held up to upper" (the
 simulation tests no further). Classes and differences as ``scripts/reproduce/validate_mujoco.py``
 (whose comparison and tables this script reuses). Results are cached per hand in
-``scripts/reproduce/validate_hands/`` so that the report can be rewritten without solving again; the report replaces the section
-between ``<!-- hands:begin -->`` and ``<!-- hands:end -->`` of ``docs/validation.md``.
+``scripts/reproduce/validate_hands/`` so that the report can be rewritten without solving
+again; the report replaces the section between ``<!-- hands:begin -->`` and
+``<!-- hands:end -->`` of ``docs/validation.md``.
 
 Usage (2 cores shared: run it niced)::
 
