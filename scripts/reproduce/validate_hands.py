@@ -199,10 +199,24 @@ def report(results: dict[str, list[dict]], meta: dict[str, dict]) -> list[str]:
     lines += [f"- {name}: {_facts(name)}" for name in results]
     lines += ["", *VM._summary_table(summaries), ""]
     lines += [f"- {VM.summary_line(s)}" for s in summaries]
+    lines += ["", _via_line(results)]
     for name, rows in results.items():
         lines += [line.replace("## ", "### ", 1) for line in VM._scene_table(name, rows)]
     lines += [line.replace("## Class", "### Built-in hands: class", 1) for line in VM._disagreements(results)]
     return [*lines, "", END]
+
+
+def _via_line(results: dict[str, list[dict]]) -> str:
+    """How many quasi-static verdicts came through the simulation's threshold, per hand."""
+    via = {name: sum(r[LIVE].get("via") is not None for r in rows) for name, rows in results.items()}
+    same = ("both hold", "both give way", "both ≈ 0")
+    strict = {n: sum(r[LIVE]["verdict"] in same for r in rows) - via[n] for n, rows in results.items()}
+    parts = ", ".join(f"{n} {via[n]} (by λ* alone {strict[n]}/{len(results[n])})" for n in results)
+    return (
+        "Quasi-static directions in the simulation's class through its threshold (the path has no limit"
+        " below `upper` but moves the object as far as the simulation's give-way criterion there: its"
+        f" thresholds, a tenth of them for a gradual give-way): {parts}."
+    )
 
 
 def _live_stamp() -> str:
