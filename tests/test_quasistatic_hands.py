@@ -142,3 +142,21 @@ def test_so101_readme_pull_is_finite():
     assert np.abs(lp.object_displacements).max() < 1e3  # no runaway along the free spin
     half = pg.loading_path(model, {"gripper": 1.0}, [np.sqrt(0.5), 0, np.sqrt(0.5), 0, 0, 0])
     assert half.status == "finite" and half.limit == pytest.approx(0.998562, rel=1e-5)
+
+
+def test_free_spin_note_and_preload_residual_as_the_other_methods():
+    """A below-resolution limit names the free motion the load drives (as the staged methods'
+    ``MaxWrench.note``); a preload whose release fails names the contacts' net wrench on the
+    held object (the backdrivable pinch: 10 - 5 = 5 N along +x) and keeps it as ``residual``."""
+    hand = pg.Hand.builtin("so101")
+    ball = pg.RigidObject.sphere(0.012, pose=[0.00175, 0.0, -0.08])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        model = pg.grasp_model_from_scene(hand, hand.close_on(ball), ball, mu=0.5)
+    r = pg.max_resistible_wrench(model, {"gripper": 1.0}, "fy", method=QS)
+    assert r.status == "below_resolution" and "free to rotate about the axis" in r.note
+    m = pg.examples.pinch(kind="backdrivable")
+    with pytest.raises(pg.PreloadNotInEquilibriumError, match="release path") as info:
+        pg.max_resistible_wrench(m, [1.0, 0.5], "fy", method=QS)
+    np.testing.assert_allclose(info.value.residual, [5.0, 0, 0, 0, 0, 0], atol=1e-9)
+    assert "fx=5" in str(info.value)

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...core.axes import WRENCH_AXES
 from ...errors import PreloadNotInEquilibriumError
 from .model import QSModel, finger_groups, with_friction_on
 from .path import StageRun, follow
@@ -44,15 +45,23 @@ def zero_state(qm: QSModel) -> State:
     )
 
 
-def _fail(fc: np.ndarray, stage: str, run: StageRun, why: str = "") -> PreloadNotInEquilibriumError:
+def _fail(
+    fc: np.ndarray, stage: str, run: StageRun, why: str = "", unbalanced: np.ndarray | None = None
+) -> PreloadNotInEquilibriumError:
+    """The error of a preload stage that stopped; ``unbalanced``: the contacts' net wrench on the
+    held object at the end of the closing (6,) [N, N·m], named in the message and kept as the
+    error's ``residual`` (what the object is pushed by when it is let go)."""
     st = run.states[-1]
-    return PreloadNotInEquilibriumError(
-        fc.tolist(),
+    detail = (
         f"method 'quasistatic': the {stage} path of the preload stopped at {st.t:.6g} of the way "
         f"({run.status}: "
         + (why or ("the grasp gives way under the preload" if run.status == "limit" else "no continuation"))
-        + ")",
+        + ")"
     )
+    if unbalanced is not None:
+        shown = ", ".join(f"{a}={v:.3g}" for a, v in zip(WRENCH_AXES, unbalanced) if abs(v) > 0)
+        detail += f"; net wrench of the contacts on the held object: {shown or '0'} [N, N·m]"
+    return PreloadNotInEquilibriumError(fc.tolist(), detail, unbalanced)
 
 
 #: Audit bar of a preload stage's breakpoints, relative to the stage's force scale (a sound
@@ -182,7 +191,8 @@ def preload_path(
             run = follow(qm, st, spec, max_segments)
             runs.append(run)
             if not _ended(qm, run, spec):
-                raise _fail(fc, "release", run, _why(run, release=True))
+                unbalanced = qm.model.expand_wrench(-wh) + 0.0  # the holder took -G c
+                raise _fail(fc, "release", run, _why(run, release=True), unbalanced)
             st = run.states[-1].copy()
     st.t = 0.0
     st.slip[:] = 0.0
