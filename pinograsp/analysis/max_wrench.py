@@ -32,6 +32,10 @@ def check_preload(solver: SessionLike, command: object, method: str) -> PassiveR
     passive equilibrium."""
     resp = solver.response(command, np.zeros(6), method)
     if not verdict(resp, 0.0):
+        why = getattr(get_method(method), "preload_error", None)  # the method's own account, if it has one
+        exc = why(solver, command) if why is not None else None
+        if exc is not None:
+            raise exc
         detail = f"{method} solve at w = 0 returned {resp.status!r}"
         residual = None
         if np.all(np.isfinite(resp.net_wrench)):

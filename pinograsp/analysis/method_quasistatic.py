@@ -133,6 +133,16 @@ class QuasistaticMethod:
             return no_preload_response(session, fc, w6, v, exc.residual)
         return replace(r, variant=v.value)
 
+    def preload_error(self, session: SessionLike, command: object) -> PreloadNotInEquilibriumError | None:
+        """Why the preload path of ``command`` does not reach its end (the error
+        :func:`pinograsp.loading_path` raises: which stage stopped, where and why), or None."""
+        _, path = path_variant(session.settings)
+        try:
+            quasistatic_response(session.model, command, np.zeros(6), session.settings, variant=path)
+        except PreloadNotInEquilibriumError as exc:
+            return exc
+        return None
+
     def max_load(self, session: SessionLike, query: LimitQuery) -> MaxWrench:
         """The limit load λ* of the path along ``query.direction`` (no bisection).
 

@@ -5,10 +5,14 @@ For each built-in hand scene (``allegro_left``, ``ezgripper``, ``hey5``, ``abili
 named directions into the palm, pull out and sideways), one simulation each (the defaults of
 docs/simulation.md) and the prediction of each method (``scene.max_resistible_wrench`` with the
 scene's settings; energetic capped at ``max_nodes=ENERGETIC_NODES``, a node limit being no
-verdict). Classes and differences as ``benchmarks/validate_mujoco.py`` (whose comparison and
-tables this script reuses). Results are cached per hand in ``scripts/reproduce/validate_hands/``
-so that the report can be rewritten without solving again; the report replaces the section
-between ``<!-- hands:begin -->`` and ``<!-- hands:end -->`` of ``docs/validation.md``.
+verdict). The quasi-static prediction (``method="quasistatic"``, milliseconds per direction) is
+not cached: the report computes it live against the cached simulations, so it always shows the
+code it runs with; a limit λ* above the scene's ``upper`` counts as "held up to upper" (the
+simulation tests no further). Classes and differences as ``scripts/reproduce/validate_mujoco.py``
+(whose comparison and tables this script reuses). Results are cached per hand in
+``scripts/reproduce/validate_hands/`` so that the report can be rewritten without solving
+again; the report replaces the section between ``<!-- hands:begin -->`` and
+``<!-- hands:end -->`` of ``docs/validation.md``.
 
 Usage (2 cores shared: run it niced)::
 
@@ -42,7 +46,7 @@ BEGIN, END = "<!-- hands:begin -->", "<!-- hands:end -->"
 
 def _validate_mujoco():  # type: ignore[no-untyped-def]
     """benchmarks/validate_mujoco.py as a module (its comparison, summaries and tables)."""
-    path = ROOT / "benchmarks" / "validate_mujoco.py"
+    path = ROOT / "scripts" / "reproduce" / "validate_mujoco.py"
     spec = importlib.util.spec_from_file_location("validate_mujoco", path)
     assert spec is not None and spec.loader is not None
     module = importlib.util.module_from_spec(spec)
@@ -62,6 +66,81 @@ def _predict(scene: object, d: np.ndarray, method: str) -> dict:
     except pg.PinograspError as exc:
         return {"status": type(exc).__name__, "magnitude": float("nan"), "upper": 0.0, "wedging": False,
                 "wedge_from": None, "t": time.perf_counter() - t0, "error": str(exc)[:300]}  # fmt: skip
+
+
+#: The method computed live in the report (not cached), shown first.
+LIVE = "quasistatic"
+
+
+def _predict_live(scene: object, d: np.ndarray) -> dict:
+    """The quasi-static prediction of one direction, as a cached method's: a limit above the
+    scene's ``upper`` is ``"above_limit"`` (the simulation is not asked beyond ``upper``)."""
+    pred = _predict(scene, d, LIVE)
+    upper = float(scene.analysis.upper)  # type: ignore[attr-defined]
+    pred["upper"] = upper
+    if pred["status"] == "finite" and pred["magnitude"] > upper:
+        pred["status"] = "above_limit"
+    return pred
+
+
+def _threshold_load(scene: object, d: np.ndarray, fraction: float) -> float | None:
+    """The quasi-static path's load where the object has moved ``fraction`` of the simulation's
+    give-way thresholds (its defaults for this direction and upper, docs/simulation.md), with
+    the contact springs scaled to the simulation's stiffness (``load_at_displacement``)."""
+    from pinograsp.sim.simulate import _options
+
+    model = scene.model  # type: ignore[attr-defined]
+    upper = float(scene.analysis.upper)  # type: ignore[attr-defined]
+    o = _options(model, np.asarray(d, float), upper, {})
+    try:
+        lp = pg.loading_path(model, scene.command, d)  # type: ignore[attr-defined]
+        at = lp.load_at_displacement(fraction * o.slip, stiffness=o.stiffness, rotation=fraction * o.rotation)
+        return float(at)
+    except pg.PinograspError:
+        return None
+
+
+def _verdict_live(scene: object, d: np.ndarray, pred: dict, sim: dict) -> tuple[str, float | None]:
+    """As ``VM._compare``, and as ``validate_quasistatic.classify``: where the simulation gives
+    way and the path holds, the path also gives way when it moves as far as the simulation's own
+    criterion below ``upper`` (its thresholds for a sharp give-way, a tenth of them for a
+    gradual one); then ``pred["via"]`` is that load and the difference is taken to it."""
+    verdict, rel = VM._compare(pred, sim)
+    if verdict != "predicted holds":
+        return verdict, rel
+    crit = _threshold_load(scene, d, 0.1 if sim["status"] == "gradual" else 1.0)
+    if crit is None or not crit < pred["upper"]:
+        return verdict, rel
+    pred["via"] = crit
+    at = sim["onset"] if sim["status"] == "gradual" else sim["load"]  # a tenth of the thresholds: the onset
+    return "both give way", (at / crit - 1.0 if crit > 0 and at and at > 0 else None)
+
+
+def add_live(name: str, rows: list[dict], n: int = 12) -> list[dict]:
+    """``rows`` (cached) with the live quasi-static prediction and its verdict on each row
+    (the rows are the directions of :func:`run_hand`, in order)."""
+    scene = pg.load_scene(name)
+    dirs = VM._directions(scene, n)
+    if len(dirs) != len(rows) or any(not r["direction"].startswith(lab) for (lab, _), r in zip(dirs, rows)):
+        raise ValueError(f"{name}: the cached directions do not match -n {n}; rerun the hand")
+    out = []
+    for (_, d), row in zip(dirs, rows):
+        pred = _predict_live(scene, d)
+        pred["verdict"], pred["rel"] = _verdict_live(scene, d, pred, row["sim"])
+        out.append({**row, LIVE: pred})
+    return out
+
+
+_PRED_TEXT = VM._pred_text
+
+
+def _pred_text(p: dict) -> str:
+    """A prediction's cell; a path that reaches the simulation's threshold says at which load."""
+    text = _PRED_TEXT(p)
+    return text if p.get("via") is None else f"{text}; at the threshold {p['via']:.4g}"
+
+
+VM._pred_text = _pred_text
 
 
 def run_hand(name: str, n: int) -> list[dict]:
@@ -96,7 +175,10 @@ def _facts(name: str) -> str:
 
 
 def report(results: dict[str, list[dict]], meta: dict[str, dict]) -> list[str]:
-    """The markdown section: summary per hand and method, one table per hand, disagreements."""
+    """The markdown section: summary per hand and method, one table per hand, disagreements
+    (the live quasi-static column first: ``VM.METHODS`` is this script's own copy)."""
+    if LIVE not in VM.METHODS:
+        VM.METHODS = (LIVE, *VM.METHODS)
     summaries = [VM.summarize(name, m, rows) for name, rows in results.items() for m in VM.METHODS]
     when = ", ".join(f"{k} {v['date']} ({v['elapsed']:.0f} s)" for k, v in meta.items())
     lines = [
@@ -108,17 +190,50 @@ def report(results: dict[str, list[dict]], meta: dict[str, dict]) -> list[str]:
         " Each hand's built-in scene (`pg.load_scene(name)`, pictures in `docs/img/hands/`), 12 directions"
         " in its plane, which holds its named directions (into the palm, pull out, sideways). Same"
         f" procedure and classes as above; energetic capped at `max_nodes={ENERGETIC_NODES}` (a node limit,"
-        " or a solver failure, is no verdict). Why the methods disagree, and which to trust:"
+        " or a solver failure, is no verdict). The quasi-static column is computed live when the report is"
+        f" written ({_live_stamp()}) against the cached simulations; its limit above `upper` counts as held."
+        " Why the methods disagree, and which to trust:"
         " [`hands.md`](hands.md#when-the-methods-disagree).",
         "",
     ]
     lines += [f"- {name}: {_facts(name)}" for name in results]
     lines += ["", *VM._summary_table(summaries), ""]
     lines += [f"- {VM.summary_line(s)}" for s in summaries]
+    lines += ["", _via_line(results)]
     for name, rows in results.items():
         lines += [line.replace("## ", "### ", 1) for line in VM._scene_table(name, rows)]
     lines += [line.replace("## Class", "### Built-in hands: class", 1) for line in VM._disagreements(results)]
     return [*lines, "", END]
+
+
+def _via_line(results: dict[str, list[dict]]) -> str:
+    """How many quasi-static verdicts came through the simulation's threshold, per hand."""
+    via = {name: sum(r[LIVE].get("via") is not None for r in rows) for name, rows in results.items()}
+    same = ("both hold", "both give way", "both ≈ 0")
+    strict = {n: sum(r[LIVE]["verdict"] in same for r in rows) - via[n] for n, rows in results.items()}
+    parts = ", ".join(f"{n} {via[n]} (by λ* alone {strict[n]}/{len(results[n])})" for n in results)
+    return (
+        "Quasi-static directions in the simulation's class through its threshold (the path has no limit"
+        " below `upper` but moves the object as far as the simulation's give-way criterion there: its"
+        f" thresholds, a tenth of them for a gradual give-way): {parts}."
+    )
+
+
+def _live_stamp() -> str:
+    """Date and code of the live column."""
+    return f"{datetime.date.today()}, pinograsp {pg.__version__} at {_commit()}"
+
+
+def _commit() -> str:
+    """The checkout's commit (short), or "unknown"."""
+    import subprocess
+
+    try:
+        out = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"], capture_output=True,
+                             text=True, check=True)  # fmt: skip
+        return out.stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        return "unknown"
 
 
 def meta_machine(meta: dict[str, dict]) -> str:
@@ -164,7 +279,7 @@ def main() -> None:
         f = CACHE / f"{name}.json"
         if f.is_file():
             data = json.loads(f.read_text())
-            results[name], meta[name] = data["rows"], data["meta"]
+            results[name], meta[name] = add_live(name, data["rows"], args.n), data["meta"]
     write_doc(report(results, meta))
     for s in (VM.summarize(name, m, rows) for name, rows in results.items() for m in VM.METHODS):
         print(VM.summary_line(s))

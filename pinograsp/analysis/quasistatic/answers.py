@@ -14,6 +14,7 @@ from ...core.axes import wrench_direction
 from ...core.model import GraspModel
 from ...core.results import Audit, MaxWrench, PassiveResponse
 from ...core.settings import Settings
+from ..limit_search import free_motion_note
 from .api import Prepared, _variant, checked_settings, loading_path, prepare
 from .result import LoadingPath
 
@@ -180,6 +181,7 @@ def quasistatic_max_wrench(
     at = float(lp.loads[-1])
     resp_status = "resisted" if status in ("finite", "unbounded", "below_resolution") else "failed"
     resp = response_at(p, lp, at, at * d6, resp_status, s, t0)
+    note = free_motion_note(p.model, d6) if status == "below_resolution" else ""
     return MaxWrench(
         direction=d6,
         magnitude=magnitude,
@@ -195,6 +197,7 @@ def quasistatic_max_wrench(
         n_solves=lp.lcp_solves,
         response=resp,
         search="path",
+        note=note,
     )
 
 

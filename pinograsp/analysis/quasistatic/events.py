@@ -109,7 +109,10 @@ def path_events(qm: QSModel, run: StageRun, status: str) -> tuple[PathEvent, ...
     load = run.states[-1].t
     cause = "; ".join(trigger_text(qm, tr) for tr in run.triggers[-1]) if run.triggers else ""
     if status in ("finite", "below_resolution"):
-        out.append(PathEvent(load, "limit", "", -1, "", "limit load", cause, last))
+        what = "limit load"
+        if run.status == "unstable":
+            what += " (no quasi-static continuation: the grasp snaps)"
+        out.append(PathEvent(load, "limit", "", -1, "", what, cause, last))
     elif status == "unbounded":
         out.append(PathEvent(load, "unbounded", "", -1, "", "no event ahead: unbounded", "", last))
     elif status != "end":

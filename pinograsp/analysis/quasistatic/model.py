@@ -20,7 +20,7 @@ plane and support values ``h_j`` (``nu_j . c_t <= h_j c_n``), so each face's sla
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -206,3 +206,58 @@ def build_qs_model(model: GraspModel, tangential_ratio: float = 1.0) -> QSModel:
         PhiT_t=PhiT_t,
         slip_rows=slip_rows,
     )
+
+
+def with_friction_on(qm: QSModel, mask: np.ndarray) -> QSModel:
+    """``qm`` with friction (tangential springs and polygon faces) only at the contacts of
+    ``mask`` (nc,) bool; the others are frictionless. States are interchangeable with ``qm``'s
+    (same unknowns), so a stage followed on one continues on the other."""
+    mask = np.asarray(mask, bool)
+    keep = mask[qm.face_contact] if qm.nf else np.zeros(0, bool)
+    kt = np.where(mask, qm.kt, 0.0)
+    kt_rows = np.repeat(kt, qm.d)
+    kt_rows[:: qm.d] = 0.0
+    return replace(
+        qm,
+        kt=kt,
+        kt_rows=kt_rows,
+        Phi=qm.Phi[keep],
+        face_contact=qm.face_contact[keep],
+        face_index=qm.face_index[keep],
+        PhiT_t=qm.PhiT_t[:, keep],
+        slip_rows=qm.slip_rows[keep],
+    )
+
+
+def finger_groups(qm: QSModel) -> list[np.ndarray]:
+    """The contacts of each group of the hand that moves independently of the others while the
+    object is held still (joints linked through a contact, an actuator or a coupling; in
+    practice one finger each), as boolean masks (nc,), in order of their first contact.
+    Contacts on no joint (the palm) form no group: with the object held they carry no force."""
+    model = qm.model
+    nq, nc, d = qm.nq, qm.nc, qm.d
+    parent = list(range(nq))
+
+    def root(j: int) -> int:
+        while parent[j] != j:
+            parent[j] = parent[parent[j]]
+            j = parent[j]
+        return j
+
+    def link(js: np.ndarray) -> None:
+        for j in js[1:]:
+            parent[root(int(j))] = root(int(js[0]))
+
+    J = np.abs(np.asarray(model.J, float)).reshape(nc, d, nq).max(axis=1)  # (nc, nq)
+    for i in range(nc):
+        link(np.flatnonzero(J[i] > 0))
+    for a in range(qm.na):
+        link(np.flatnonzero(np.asarray(model.R, float)[:, a] != 0))
+    for k in range(qm.ncp):
+        link(np.flatnonzero(np.asarray(model.C, float)[k] != 0))
+    groups: dict[int, np.ndarray] = {}
+    for i in range(nc):
+        js = np.flatnonzero(J[i] > 0)
+        if len(js):
+            groups.setdefault(root(int(js[0])), np.zeros(nc, bool))[i] = True
+    return list(groups.values())

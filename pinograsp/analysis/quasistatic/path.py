@@ -31,6 +31,7 @@ from .rates import (
     rates,
     rescaled,
 )
+from .snap import no_continuation, unstable_segment
 
 #: A mechanism along the load: ``dλ`` per unit displacement below this fraction of the
 #: largest contact stiffness. Rounding of a degenerate rate problem (zero-force contacts at the
@@ -183,6 +184,8 @@ def _solve_segment(
         # nearly a mechanism along the load: decide under displacement control
     alt = _planned(qm, st, spec, cls, "displacement", plan, run, sc)
     if alt.status != "ok":
+        if seg.status == alt.status == "ray_termination" and no_continuation(qm, spec, cls, sc):
+            return unstable_segment()  # certified: no equilibrium path leaves this state
         return seg
     load_rate = alt.lam_rate * size
     alt.stiffness_rate = load_rate

@@ -6,6 +6,13 @@
   is switched on with every anchor at the contact's current position (no tangential force
   stored) and the object is released: the holder's wrench is removed gradually, one more
   stage of the path, which must reach its end (else the preload is not an equilibrium).
+  A finger that has no frictionless equilibrium under the commands (e.g. a ratchet at zero
+  command lets a joint close while its contacts slide along the object: the energy falls
+  without bound) closes with friction on from the touch instead — the simulation's closing
+  is not frictionless there either: its relaxed contacts keep their tangential damping, the
+  finger creeps and friction catches it when the object is released. Fingers (groups of
+  joints and contacts that move independently while the object is held,
+  :func:`~.model.finger_groups`) that close without friction keep doing so.
 * ``"settled"``: the object is free and friction is on while the commands ramp.
 
 Both start from zero force, where the problem is positively homogeneous, so the closing is
@@ -18,7 +25,7 @@ import numpy as np
 
 from ...core.axes import WRENCH_AXES
 from ...errors import PreloadNotInEquilibriumError
-from .model import QSModel
+from .model import QSModel, finger_groups, with_friction_on
 from .path import StageRun, follow
 from .rates import EVENT_RTOL, StageSpec, State, force_scale
 
@@ -39,28 +46,122 @@ def zero_state(qm: QSModel) -> State:
 
 
 def _fail(
-    fc: np.ndarray, stage: str, run: StageRun, residual: np.ndarray | None = None
+    fc: np.ndarray, stage: str, run: StageRun, why: str = "", unbalanced: np.ndarray | None = None
 ) -> PreloadNotInEquilibriumError:
-    """``residual``: the net wrench (6,) [N, N·m] the preload leaves on the held object."""
+    """The error of a preload stage that stopped; ``unbalanced``: the contacts' net wrench on the
+    held object at the end of the closing (6,) [N, N·m], named in the message and kept as the
+    error's ``residual`` (what the object is pushed by when it is let go)."""
     st = run.states[-1]
-    net = ""
-    if residual is not None:
-        shown = ", ".join(f"{a}={v:.3g}" for a, v in zip(WRENCH_AXES, residual) if abs(v) > 0)
-        net = f"; net wrench left on the held object: {shown or '0'} [N, N·m]"
-    return PreloadNotInEquilibriumError(
-        fc.tolist(),
-        f"quasi-static {stage} path stopped at {st.t:.6g} of the way ({run.status}: "
-        + ("the grasp gives way under the preload" if run.status == "limit" else "no continuation")
+    detail = (
+        f"method 'quasistatic': the {stage} path of the preload stopped at {st.t:.6g} of the way "
+        f"({run.status}: "
+        + (why or ("the grasp gives way under the preload" if run.status == "limit" else "no continuation"))
         + ")"
-        + net,
-        residual,
     )
+    if unbalanced is not None:
+        shown = ", ".join(f"{a}={v:.3g}" for a, v in zip(WRENCH_AXES, unbalanced) if abs(v) > 0)
+        detail += f"; net wrench of the contacts on the held object: {shown or '0'} [N, N·m]"
+    return PreloadNotInEquilibriumError(fc.tolist(), detail, unbalanced)
+
+
+#: Audit bar of a preload stage's breakpoints, relative to the stage's force scale (a sound
+#: path has ~1e-12): object and joint balance, normal forces, polygons and ratchets.
+STAGE_AUDIT_RTOL = 1e-6
+
+
+def stage_sound(qm: QSModel, run: StageRun, spec: StageSpec) -> bool:
+    """Whether every breakpoint of a preload stage is an equilibrium of the model: object
+    (with the holder's wrench) and joints balanced, normal forces >= 0, friction forces in
+    their polygons and ratchets at or above their commands, to :data:`STAGE_AUDIT_RTOL` of the
+    force scale [N]. A rate problem accepted on a nearly singular system (a finger that is a
+    mechanism) shows here as huge displacements and unbalanced forces: never an "end"."""
+    m = qm.model
+    d = qm.d
+    for st in run.states:
+        if not (np.all(np.isfinite(st.vs)) and np.all(np.isfinite(st.c)) and np.all(np.isfinite(st.f))):
+            return False
+        tol = STAGE_AUDIT_RTOL * force_scale(qm, st, spec)
+        w = spec.w0 + st.t * spec.dw
+        obj = (np.asarray(m.G) @ st.c + w + st.hold) / qm.S[: qm.nx]
+        hand = np.asarray(m.J).T @ st.c - np.asarray(m.R) @ st.f
+        if qm.ncp:
+            hand = hand - np.asarray(m.C).T @ st.lam_c
+        over = (st.f - spec.command(st.t)) * qm.r_norm
+        bad = (
+            np.abs(obj).max(initial=0.0) > tol
+            or np.abs(hand / qm.lever).max(initial=0.0) > tol
+            or st.c[::d].min(initial=0.0) < -tol
+            or (spec.friction and qm.nf and (qm.Phi @ st.c).min() < -tol)
+            or over[qm.nbd].min(initial=0.0) < -tol
+        )
+        if bad:
+            return False
+    return True
+
+
+def _ended(qm: QSModel, run: StageRun, spec: StageSpec) -> bool:
+    """The stage reached its end through equilibrium states."""
+    return run.status == "end" and stage_sound(qm, run, spec)
+
+
+def _why(run: StageRun, release: bool = False) -> str:
+    """What a preload stage that did not reach its end means."""
+    if run.status == "end":
+        return "its states are not equilibria: the rate problem is nearly singular there"
+    if run.status == "limit":
+        return (
+            "the released grasp gives way before the holder's wrench is gone"
+            if release
+            else "the grasp gives way under the preload"
+        )
+    if run.status == "unbounded":
+        return "the path runs off without bound"
+    return "no continuation"
+
+
+def _held_closing(qm: QSModel, fc: np.ndarray, max_segments: int) -> tuple[StageRun, np.ndarray]:
+    """The held closing (object still, commands ramped) and the contacts (nc,) bool that
+    close with friction on: none when the frictionless closing reaches its end, else those of
+    every finger whose frictionless closing fails while the other fingers have friction (the
+    fingers are independent while the object is held, so each is tested once).
+
+    Raises:
+        PreloadNotInEquilibriumError: Some finger has no equilibrium even with friction.
+    """
+    z = np.zeros(qm.nx)
+    zero_a = np.zeros(qm.na)
+    spec = StageSpec(z, z, zero_a, fc, 1.0, held=True, friction=False)
+    run = follow(qm, zero_state(qm), spec, max_segments)
+    none = np.zeros(qm.nc, bool)
+    if _ended(qm, run, spec):
+        return run, none
+    with_friction = StageSpec(z, z, zero_a, fc, 1.0, held=True, friction=True)
+    on = none.copy()
+    for group in finger_groups(qm):
+        others = with_friction_on(qm, ~group)
+        if not _ended(others, follow(others, zero_state(qm), with_friction, max_segments), with_friction):
+            on |= group
+    if not on.any():
+        raise _fail(fc, "closing (held)", run)
+    partial = with_friction_on(qm, on)
+    closing = follow(partial, zero_state(qm), with_friction, max_segments)
+    if not _ended(partial, closing, with_friction):
+        names = ", ".join(qm.model.contact_names[i] for i in np.flatnonzero(on))
+        raise _fail(
+            fc,
+            "closing (held)",
+            closing,
+            f"the hand has no equilibrium under these commands with the object held, neither "
+            f"frictionless nor with friction at {names}",
+        )
+    return closing, on
 
 
 def preload_path(
     qm: QSModel, fc: np.ndarray, variant: str, max_segments: int
 ) -> tuple[State, list[StageRun]]:
-    """The preloaded state (``t = 0``, ``slip = 0``) and the stages that led to it.
+    """The preloaded state (``t = 0``, ``slip = 0``) and the stages that led to it (the held
+    closing's run carries ``friction_on`` (nc,) bool: the contacts that closed with friction).
 
     Raises:
         PreloadNotInEquilibriumError: The closing or the release reaches a limit or finds no
@@ -73,15 +174,13 @@ def preload_path(
         spec = StageSpec(z, z, zero_a, fc, 1.0, held=False, friction=True)
         run = follow(qm, zero_state(qm), spec, max_segments)
         runs.append(run)
-        if run.status != "end":
-            raise _fail(fc, "closing (settled)", run)
+        if not _ended(qm, run, spec):
+            raise _fail(fc, "closing (settled)", run, _why(run))
         st = run.states[-1].copy()
     else:
-        spec = StageSpec(z, z, zero_a, fc, 1.0, held=True, friction=False)
-        run = follow(qm, zero_state(qm), spec, max_segments)
+        run, on = _held_closing(qm, fc, max_segments)
+        run.friction_on = on  # type: ignore[attr-defined]
         runs.append(run)
-        if run.status != "end":
-            raise _fail(fc, "closing (held)", run)
         st = run.states[-1].copy()
         wh = st.hold.copy()
         st.hold[:] = 0.0
@@ -91,8 +190,9 @@ def preload_path(
             spec = StageSpec(wh, -wh, fc, zero_a, 1.0, held=False, friction=True)
             run = follow(qm, st, spec, max_segments)
             runs.append(run)
-            if run.status != "end":  # the contacts' net wrench on the held object, unbalanced
-                raise _fail(fc, "release", run, qm.model.expand_wrench(qm.model.G @ runs[0].states[-1].c))
+            if not _ended(qm, run, spec):
+                unbalanced = qm.model.expand_wrench(-wh) + 0.0  # the holder took -G c
+                raise _fail(fc, "release", run, _why(run, release=True), unbalanced)
             st = run.states[-1].copy()
     st.t = 0.0
     st.slip[:] = 0.0

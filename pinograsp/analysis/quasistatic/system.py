@@ -16,9 +16,9 @@ from .state import StageSpec
 
 #: Relative residual above which a linear solve is taken as having no solution (singular
 #: system whose right-hand side is outside its range).
-RANGE_RTOL = 1e-8
+RANGE_RTOL = 1e-6
 #: Relative squared pivot of the Cholesky factor below which the stiffness is singular.
-CHOL_RTOL = 1e-12
+CHOL_RTOL = 1e-9
 #: Relative singular-value cut-off of the rate system (its rank, relative to its scale).
 RANK_RTOL = 1e-11
 
