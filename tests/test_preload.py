@@ -38,7 +38,7 @@ def test_unbalanced_preload_error_names_the_residual_and_the_way_out():
     with pytest.raises(pg.PreloadNotInEquilibriumError, match="release path") as info:
         pg.loading_path(m, [1.0, 0.5], "fy")
     np.testing.assert_allclose(info.value.residual, [5.0, 0, 0, 0, 0, 0], atol=1e-9)
-    assert "net wrench left on the held object: fx=5" in str(info.value)
+    assert "net wrench of the contacts on the held object: fx=5" in str(info.value)
     fixed = pg.equilibrium_preload(m)
     assert fixed.found and fixed.command == {"left": 1.0, "right": 1.0}
     mw = pg.max_resistible_wrench(m, fixed.command, "fy", upper=20, steps=10)
