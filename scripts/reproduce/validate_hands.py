@@ -116,12 +116,17 @@ def _verdict_live(scene: object, d: np.ndarray, pred: dict, sim: dict) -> tuple[
     return "both give way", (at / crit - 1.0 if crit > 0 and at and at > 0 else None)
 
 
+def _matches(label: str, row: dict) -> bool:
+    """Whether a cached row is the direction ``label`` (its label, or its label and a name)."""
+    return row["direction"] == label or row["direction"].startswith(label + " (")
+
+
 def add_live(name: str, rows: list[dict], n: int = 12) -> list[dict]:
     """``rows`` (cached) with the live quasi-static prediction and its verdict on each row
     (the rows are the directions of :func:`run_hand`, in order)."""
     scene = pg.load_scene(name)
     dirs = VM._directions(scene, n)
-    if len(dirs) != len(rows) or any(not r["direction"].startswith(lab) for (lab, _), r in zip(dirs, rows)):
+    if len(dirs) != len(rows) or any(not _matches(lab, r) for (lab, _), r in zip(dirs, rows)):
         raise ValueError(f"{name}: the cached directions do not match -n {n}; rerun the hand")
     out = []
     for (_, d), row in zip(dirs, rows):
@@ -143,14 +148,46 @@ def _pred_text(p: dict) -> str:
 VM._pred_text = _pred_text
 
 
+def _named_label(scene: object, label: str, d: np.ndarray) -> str:
+    """A direction's label with the scene's name for it, if it has one."""
+    for key, named in scene.analysis.directions.items():  # type: ignore[attr-defined]
+        if np.allclose(named, d) and key not in label:
+            label = f"{label} ({key})"
+    return label
+
+
+#: A paper method's cell in a direction added by ``--extend`` (simulated, not predicted).
+NOT_RUN = {"status": "not_run", "magnitude": float("nan"), "upper": 0.0, "wedging": False, "wedge_from": None,
+           "t": 0.0, "verdict": "not run", "rel": None}  # fmt: skip
+
+
+def extend_hand(name: str, n: int, rows: list[dict]) -> list[dict]:
+    """The cached ``rows`` with the directions of ``-n n`` they lack, in the order of
+    :func:`run_hand`: the new ones simulated only, the paper methods marked "not run" (they
+    cost seconds to minutes per direction; the quasi-static column is live). The cached rows
+    are kept as they are."""
+    scene = pg.load_scene(name)
+    out = []
+    for label, d in VM._directions(scene, n):
+        old = [r for r in rows if _matches(label, r)]
+        if old:
+            out.append(old[0])
+            continue
+        row = {"direction": _named_label(scene, label, d), "sim": VM._simulate(scene, d)}
+        row.update({m: dict(NOT_RUN) for m in VM.METHODS})
+        out.append(row)
+        print(f"{name} {row['direction']:28s} sim {VM._sim_text(row['sim'])} ({row['sim']['t']:.2f} s)", flush=True)
+    if sum(any(r is o for o in out) for r in rows) != len(rows):
+        raise ValueError(f"{name}: cached directions that are not among -n {n}; rerun the hand")
+    return out
+
+
 def run_hand(name: str, n: int) -> list[dict]:
     """One row per direction: the simulation and each method's prediction and verdict."""
     scene = pg.load_scene(name)
     rows = []
     for label, d in VM._directions(scene, n):
-        for key, named in scene.analysis.directions.items():
-            if np.allclose(named, d) and key not in label:
-                label = f"{label} ({key})"
+        label = _named_label(scene, label, d)
         row = {"direction": label, "sim": VM._simulate(scene, d)}
         for m in VM.METHODS:
             pred = _predict(scene, d, m)
@@ -256,21 +293,29 @@ def write_doc(lines: list[str]) -> None:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--hands", default=",".join(HANDS))
-    ap.add_argument("-n", type=int, default=12)
+    ap.add_argument("-n", type=int, default=24, help="directions in each hand's plane (default 24)")
     ap.add_argument("--report", action="store_true", help="only rewrite the report from the cache")
+    ap.add_argument("--extend", action="store_true",
+                    help="simulate only the directions of -n missing from each hand's cache (the paper"
+                    " methods marked 'not run'), keeping the cached rows")  # fmt: skip
     args = ap.parse_args()
     CACHE.mkdir(parents=True, exist_ok=True)
     warnings.simplefilter("ignore")
     if not args.report:
         for name in args.hands.split(","):
             t0 = time.perf_counter()
-            rows = run_hand(name, args.n)
             machine = f"{platform.machine()}, pinograsp {pg.__version__}"
-            meta = {
-                "date": str(datetime.date.today()),
-                "elapsed": time.perf_counter() - t0,
-                "machine": machine,
-            }
+            now = {"date": str(datetime.date.today()), "machine": machine}
+            if args.extend:
+                data = json.loads((CACHE / f"{name}.json").read_text())
+                rows, meta = extend_hand(name, args.n, data["rows"]), data["meta"]
+                added = [r["direction"] for r in rows if r["iterative"]["verdict"] == "not run"]
+                meta["n"] = args.n
+                meta["extended"] = {**now, "elapsed": time.perf_counter() - t0, "code": f"pinograsp at {_commit()}",
+                                    "simulated only": added}  # fmt: skip
+            else:
+                rows = run_hand(name, args.n)
+                meta = {**now, "elapsed": time.perf_counter() - t0, "n": args.n}
             (CACHE / f"{name}.json").write_text(
                 json.dumps({"meta": meta, "rows": rows}, indent=1, default=float)
             )
@@ -279,7 +324,8 @@ def main() -> None:
         f = CACHE / f"{name}.json"
         if f.is_file():
             data = json.loads(f.read_text())
-            results[name], meta[name] = add_live(name, data["rows"], args.n), data["meta"]
+            n = data["meta"].get("n", 12)
+            results[name], meta[name] = add_live(name, data["rows"], n), data["meta"]
     write_doc(report(results, meta))
     for s in (VM.summarize(name, m, rows) for name, rows in results.items() for m in VM.METHODS):
         print(VM.summary_line(s))
