@@ -253,11 +253,15 @@ def report(results: dict[str, list[dict]], meta: dict[str, dict]) -> list[str]:
     lines += ["", *VM._summary_table(summaries), ""]
     lines += [f"- {VM.summary_line(s)}" for s in summaries]
     lines += ["", _via_line(results)]
-    for name, rows in results.items():  # a method not run has no class to differ
-        lines += [line.replace("## ", "### ", 1).replace("not run **(class differs)**", "not run")
-                  for line in VM._scene_table(name, rows)]  # fmt: skip
+    for name, rows in results.items():
+        lines += [line.replace("## ", "### ", 1) for line in _scene_table(name, rows)]
     lines += [line.replace("## Class", "### Built-in hands: class", 1) for line in VM._disagreements(results)]
     return [*lines, "", END]
+
+
+def _scene_table(name: str, rows: list[dict]) -> list[str]:
+    """``VM._scene_table``; a method not run in a direction has no class to differ there."""
+    return [line.replace("not run **(class differs)**", "not run") for line in VM._scene_table(name, rows)]
 
 
 def _extended(meta: dict) -> str:
