@@ -2,7 +2,7 @@
 equilibrium for every method, answers its named directions and agrees with the simulation.
 
 Numbers asserted here were measured with the scene files as shipped (docs/hands.md, docs/validation.md
-"Built-in hands"); the full 12-direction comparison is ``scripts/reproduce/validate_hands.py``.
+"Built-in hands"); the full 24-direction comparison is ``scripts/reproduce/validate_hands.py``.
 """
 
 from __future__ import annotations
