@@ -169,6 +169,24 @@ def test_grasps_yaml_and_cli(tmp_path):
     assert pd.read_parquet(pq)["status"].tolist() == ["ok"]
 
 
+def test_auto_preloads_are_verified_by_the_scoring_method(tmp_path):
+    """A file whose score names a method verifies its ``"auto"`` preloads with that method
+    (a grasp's own ``preload_method`` wins); without one, the package default."""
+    obj = "{shape: sphere, radius: 0.04}"
+    body = (
+        f"defaults: {{hand: barrett_bh8_282, object: {obj}}}\n"
+        f"grasps:\n  - {{id: a}}\n  - {{id: b, preload_method: prp}}\n"
+        f"sample: [{{n: 1, seed: 0}}]\n"
+    )
+    path = tmp_path / "g.yaml"
+    path.write_text(body + "score: {method: iterative}\n")
+    got = [g.preload_method for g in pg.load_grasps(path).grasps]
+    assert got == [pg.Method.ITERATIVE, pg.Method.PRP, pg.Method.ITERATIVE]
+    path.write_text(body)
+    got = [g.preload_method for g in pg.load_grasps(path).grasps]
+    assert got == [pg.Method.QUASISTATIC, pg.Method.PRP, pg.Method.QUASISTATIC]
+
+
 @pytest.mark.parametrize(
     "text, key",
     [

@@ -204,6 +204,9 @@ def load_grasps(path: str | Path) -> GraspBatch:
     d = f.mapping(data.get("defaults") or {}, "defaults")
     f.keys(d, tuple(k for k in GRASP_KEYS if k != "id"), "defaults")
     defaults = _grasp_fields(f, d, "defaults")
+    score = _score(f, data)
+    if "method" in score:  # "auto" preloads are verified by the method that scores them
+        defaults.setdefault("preload_method", score["method"].value)
     grasps: list[Any] = []
     raw = data.get("grasps") or []
     if not isinstance(raw, list):
@@ -223,6 +226,11 @@ def load_grasps(path: str | Path) -> GraspBatch:
     grasps += _samples(f, data.get("sample") or [], defaults)
     if not grasps:
         raise f.error("grasps", "no grasps: give 'grasps' and/or 'sample'")
+    return GraspBatch(p, tuple(grasps), score)
+
+
+def _score(f: SceneFile, data: dict[str, Any]) -> dict[str, Any]:
+    """The validated ``score`` block (options of the default score)."""
     s = f.mapping(data.get("score") or {}, "score")
     f.keys(s, SCORE_KEYS, "score")
     score: dict[str, Any] = {}
@@ -235,4 +243,4 @@ def load_grasps(path: str | Path) -> GraspBatch:
     if "steps" in s:  # domains checked before any grasp runs (docs/errors.md); a path ignores steps
         bounded = score.get("method", DEFAULT_METHOD) not in PATH_METHODS
         score["steps"] = f.domain(lambda k, v: n_steps(v, k, bounded=bounded), s["steps"], "score.steps")
-    return GraspBatch(p, tuple(grasps), score)
+    return score
