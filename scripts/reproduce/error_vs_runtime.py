@@ -54,7 +54,7 @@ CONFIGS = {
     "PRP direct (1 load-factor solve)": ("prp", dict(search="direct")),
     "PRP reference MIQP (SCIP), 20 steps": ("prp", dict(steps=20, backend="miqp")),
     "iter. secant, 10 steps": ("iterative", dict(steps=10)),
-    "iter. secant, 20 steps (default)": ("iterative", dict(steps=20)),
+    "iter. secant, 20 steps (its default search)": ("iterative", dict(steps=20)),
     "iter. secant, 30 steps": ("iterative", dict(steps=30)),
     "iter. bisection, 20 steps": ("iterative", dict(steps=20, search="bisection")),
     "iter. accelerate=False, 20 steps": ("iterative", dict(steps=20, accelerate=False)),

@@ -70,7 +70,7 @@ def reading(rows: list[dict], configs: dict, ref_failures: list[str]) -> str:
         rr = rows_of(cfg)
         return statistics.median(r["time"] for r in rr) if rr else float("nan")
 
-    base = "iter. secant, 20 steps (default)"
+    base = "iter. secant, 20 steps (its default search)"
     out = ["## Reading it", ""]
     out.append(
         "* Reference: the closed form (pinch, wedge), else the exact core's finest answer — PRP: the direct "
@@ -133,7 +133,7 @@ README_CONFIGS = (
     "PRP bisection, 20 steps",
     "PRP direct (1 load-factor solve)",
     "PRP reference MIQP (SCIP), 20 steps",
-    "iter. secant, 20 steps (default)",
+    "iter. secant, 20 steps (its default search)",
     "iter. bisection, 20 steps",
     "iter. accelerate=False, 20 steps",
 )
