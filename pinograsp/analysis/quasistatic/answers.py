@@ -6,6 +6,7 @@ the path at the load, or not resisted)."""
 from __future__ import annotations
 
 import time
+from dataclasses import replace
 
 import numpy as np
 
@@ -14,7 +15,8 @@ from ...core.axes import wrench_direction
 from ...core.model import GraspModel
 from ...core.results import Audit, MaxWrench, PassiveResponse
 from ...core.settings import Settings
-from .api import Prepared, _variant, checked_settings, loading_path, prepare
+from .api import Prepared, _variant, checked_settings, loading_path, prepare, run_path, unit_again
+from .path import MAX_SEGMENTS
 from .result import LoadingPath
 
 #: Name of the method in the records.
@@ -119,6 +121,13 @@ def _complementarity(p: Prepared, x: np.ndarray, q: np.ndarray, c: np.ndarray, f
     return float(max(law, ratchet))
 
 
+def fresh(resp: PassiveResponse, solve_time: float) -> PassiveResponse:
+    """A kept response as a new record: its arrays copied (a caller may write into them), its
+    ``solve_time`` [s] this call's."""
+    arrays = {k: v.copy() for k, v in vars(resp).items() if isinstance(v, np.ndarray)}
+    return replace(resp, solve_time=solve_time, **arrays)
+
+
 def quasistatic_response(
     model: GraspModel,
     command: object,
@@ -138,9 +147,12 @@ def quasistatic_response(
     p = prepare(model, command, s, v)
     w6 = model.wrench_vector(wrench)
     size = float(np.linalg.norm(w6))
-    if size == 0.0:
-        lp = loading_path(model, command, "fx", variant=v, settings=s, up_to=0.0)
-        return response_at(p, lp, 0.0, w6, "resisted", s, t0)
+    if size == 0.0:  # the preloaded state: a pure function of the prepared grasp, kept with it
+        hit = p.memo.get("zero")
+        if hit is None:
+            lp = loading_path(model, command, "fx", variant=v, settings=s, up_to=0.0)
+            hit = p.memo["zero"] = response_at(p, lp, 0.0, w6, "resisted", s, t0)
+        return fresh(hit, time.perf_counter() - t0)
     lp = loading_path(model, command, w6 / size, variant=v, settings=s, up_to=size)
     if lp.status in ("reached", "unbounded"):
         return response_at(p, lp, size, w6, "resisted", s, t0)
@@ -169,11 +181,8 @@ def quasistatic_max_wrench(
     v = _variant(variant, s)
     p = prepare(model, command, s, v)
     d6 = wrench_direction(model, direction)
-    lp = (
-        path
-        if path is not None
-        else loading_path(model, command, d6, variant=v, settings=s, continuation=False)
-    )
+    # loading_path's validation done once (the direction normalised again as it would be)
+    lp = path if path is not None else run_path(p, unit_again(d6), MAX_SEGMENTS, None, False, time.perf_counter())
     status = lp.status
     unbounded = status == "unbounded"
     magnitude = float("inf") if unbounded else float(lp.limit)

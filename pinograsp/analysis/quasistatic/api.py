@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import time
 import weakref
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -39,6 +39,9 @@ class Prepared:
     preload_runs: tuple[StageRun, ...]
     variant: str
     ratio: float
+    #: Records that are pure functions of the prepared grasp (the zero-load response), kept
+    #: with it: only time is saved.
+    memo: dict = field(default_factory=dict, compare=False, repr=False)
 
 
 _VALID: dict[Settings, Settings] = {}
@@ -323,6 +326,13 @@ def loading_path(
     return run_path(p, d6, int(max_segments), up_to, continuation, t0)
 
 
+def unit_again(d6: np.ndarray) -> np.ndarray:
+    """:func:`~pinograsp.core.axes.wrench_direction`'s arithmetic on a direction (6,) it has
+    already validated and normalised (the same bits, without validating it again)."""
+    d = d6 / float(np.abs(d6).max())
+    return d / float(np.linalg.norm(d))
+
+
 def run_path(
     p: Prepared, d6: np.ndarray, max_segments: int, up_to: float | None, continuation: bool, t0: float
 ) -> LoadingPath:
@@ -379,4 +389,4 @@ def _continuation(p: Prepared, d6: np.ndarray, more: StageRun, spec: StageSpec) 
     )
 
 
-__all__ = ["Prepared", "loading_path", "prepare", "run_path"]
+__all__ = ["Prepared", "loading_path", "prepare", "run_path", "unit_again"]

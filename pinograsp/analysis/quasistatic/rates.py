@@ -76,6 +76,7 @@ class Segment:
     tie: bool = False
     active: np.ndarray = field(default_factory=lambda: np.zeros(0, int))
     add: np.ndarray | None = None
+    separated: np.ndarray | None = None  # (nc,) bool: contact == "separated" (speed only)
 
 
 @dataclass(frozen=True, eq=False)
@@ -91,16 +92,38 @@ class Classes:
     fscale: float
 
 
+def stage_constants(qm: QSModel, spec: StageSpec) -> tuple[float, float, np.ndarray, float, bool]:
+    """What the segment loop reads of ``spec`` and never changes along it (kept with the spec,
+    speed only): the largest scaled load rate and command rate [N], the scaled load rate (nx,),
+    its norm [N], whether the stage loads the object."""
+    memo = spec.__dict__.get("_qs_constants")
+    if memo is None or memo[0] is not qm:
+        r0 = qm.w_scaled(spec.dw)
+        memo = (
+            qm,
+            (
+                float(np.abs(r0).max(initial=0.0)),
+                float(np.abs(spec.dfc * qm.r_norm).max(initial=0.0)),
+                r0,
+                float(np.linalg.norm(r0)),
+                bool(np.any(spec.dw)),
+            ),
+        )
+        spec.__dict__["_qs_constants"] = memo  # a frozen record: its own dict, not setattr
+    return memo[1]
+
+
 def force_scale(qm: QSModel, st: State, spec: StageSpec) -> float:
     """Force scale of a state [N]: contact forces, load and commands (as forces)."""
     w = spec.w0 + st.t * spec.dw
     fc = spec.command(st.t)
+    wd, fd = stage_constants(qm, spec)[:2]
     parts = [
         float(np.abs(st.c).max(initial=0.0)),
         float(np.abs(qm.w_scaled(w)).max(initial=0.0)),
-        float(np.abs(qm.w_scaled(spec.dw)).max(initial=0.0)),
+        wd,
         float(np.abs(fc * qm.r_norm).max(initial=0.0)),
-        float(np.abs(spec.dfc * qm.r_norm).max(initial=0.0)),
+        fd,
     ]
     return max(max(parts), 1e-300)
 
@@ -284,7 +307,7 @@ def _check_guesses(qm, spec, cls, plan, sep, apex, seg, v, dc, sc) -> Segment:
     """Flag a contradicted zero-force guess (status ``"guess"``: a pressed one pulls, a
     separated one closes) or a left-out apex face that the rates cross (``"apex"``)."""
     d = qm.d
-    rtol = RATE_RTOL * max(float(np.abs(dc).max(initial=0.0)), float(np.abs(sc.r0).max()), 1e-300)
+    rtol = RATE_RTOL * max(float(np.abs(dc).max(initial=0.0)), sc.r0max, 1e-300)
     bad = cls.zero & (plan == PRESS) & (dc[::d] < -rtol)
     closing = -(qm.A[:, ::d].T @ v) * qm.kn
     bad |= sep & (closing > rtol)
@@ -293,7 +316,7 @@ def _check_guesses(qm, spec, cls, plan, sep, apex, seg, v, dc, sc) -> Segment:
         seg.flip = bad
         return seg
     if apex is not None and spec.friction and qm.nf:
-        on = cls.zero & ~sep & ~opening_of(seg)
+        on = cls.zero & ~sep & ~seg.separated
         rows = np.flatnonzero(on[qm.face_contact] & ~apex)
         if len(rows):
             out = rows[(qm.Phi[rows] @ dc) < -rtol]
@@ -305,6 +328,8 @@ def _check_guesses(qm, spec, cls, plan, sep, apex, seg, v, dc, sc) -> Segment:
 
 def opening_of(seg: Segment) -> np.ndarray:
     """Contacts separated on ``seg`` (nc,) bool."""
+    if seg.separated is not None:
+        return seg.separated
     return np.array([c == "separated" for c in seg.contact], bool)
 
 
@@ -324,26 +349,24 @@ def _segment(qm, spec, cls, sc, v, dc, rho, lam_rate, zeta, items, nz, res, cont
     nzero = len(zero)
     flows_f = zeta[nzero : nzero + len(faces)]
     dslip = flows_f @ qm.slip_rows[faces] if len(faces) else np.zeros(qm.ncd)
-    rscale = max(
-        float(np.abs(dc).max(initial=0.0)), float(np.abs(sc.r0).max(initial=0.0)) * abs(lam_rate), 1e-300
-    )
+    rscale = max(float(np.abs(dc).max(initial=0.0)), sc.r0max * abs(lam_rate), 1e-300)
     ftol = RATE_RTOL * rscale
     opening = sep.copy()
     opening[zero] = (zeta[:nzero] > ftol) | (dc[zero * d] <= ftol)
     sliding: list[list[int]] = [[] for _ in range(nc)]
-    for m in np.flatnonzero(flows_f > ftol):
-        fidx = faces[m]
-        sliding[qm.face_contact[fidx]].append(int(qm.face_index[fidx]))
+    flowing = faces[flows_f > ftol]
+    for i, f in zip(qm.face_contact[flowing].tolist(), qm.face_index[flowing].tolist()):
+        sliding[i].append(f)
     sep_all = cls.open | opening
+    sep_l = sep_all.tolist()
     contact = tuple(
-        "separated" if sep_all[i] else ("sliding" if sliding[i] else "sticking") for i in range(nc)
+        "separated" if sep_l[i] else ("sliding" if sliding[i] else "sticking") for i in range(nc)
     )
-    detail = tuple(() if sep_all[i] else tuple(sliding[i]) for i in range(nc))
+    detail = tuple(() if sep_l[i] else tuple(sliding[i]) for i in range(nc))
     moving = np.zeros(qm.na, bool)
     moving[acts] = zeta[nzero + len(faces) :] > ftol
-    actuator = tuple(
-        ("moving" if moving[a] else "holding") if qm.nbd[a] else qm.model.kinds[a] for a in range(qm.na)
-    )
+    mv, nbd, kinds = moving.tolist(), qm.nbd.tolist(), qm.model.kinds
+    actuator = tuple(("moving" if mv[a] else "holding") if nbd[a] else kinds[a] for a in range(qm.na))
     dc = dc.reshape(nc, d).copy()
     dc[sep_all] = 0.0
     return Segment(
@@ -361,6 +384,7 @@ def _segment(qm, spec, cls, sc, v, dc, rho, lam_rate, zeta, items, nz, res, cont
         pivots=res.pivots if res is not None else 0,
         control=control,
         lam_rate=lam_rate,
+        separated=sep_all,
     )
 
 

@@ -1,0 +1,106 @@
+"""Bit-for-bit answers of the quasi-static method over the speed benchmarks' directions: a guard
+for speed work (an optimisation must not change one bit of λ*).
+
+Writes one line per direction: case, direction index, status, λ* as ``float.hex`` and a hash of
+the path's loads (every breakpoint's load, ``float.hex``) and of the response's contact forces,
+from ``pg.max_resistible_wrench(..., method="quasistatic")`` and ``pg.loading_path``. With
+``--compare OLD`` it reports how many directions changed (status, λ*, loads, forces) and the
+largest relative change of λ*. Directions: those of ``benchmarks.quasistatic_ratios`` (pinch,
+cases 1-2: 24 plane + named; random 4-40 contacts: 3 seeds x 3) plus case 3's plane and
+``benchmarks/quasistatic_speed.py``'s 6 random directions per random grasp.
+
+    python -m benchmarks.quasistatic_bits --out /tmp/bits_after.txt [--compare /tmp/bits_before.txt]
+"""
+
+from __future__ import annotations
+
+import argparse
+import hashlib
+from pathlib import Path
+
+import numpy as np
+
+import pinograsp as pg
+from benchmarks.quasistatic_ratios import speed_cases
+
+
+def cases() -> list[tuple[str, object, np.ndarray, list[np.ndarray]]]:
+    """``(name, model, command, directions)``."""
+    out = []
+    for name, model, cmd, dirs, _ in speed_cases([1, 2, 3, 4, 6, 10]):
+        out.append((name, model, cmd, dirs))
+    sc = pg.load_scene("case3")
+    out.append(
+        (
+            "case3",
+            sc.model,
+            sc.model.command_vector(sc.preload(None)),
+            [np.asarray(d, float) for d in pg.plane_directions(sc.model, sc.analysis.plane, 24)],
+        )
+    )
+    for n_pairs in (1, 2, 3, 4, 6, 10):
+        for seed in range(3):
+            m = pg.examples.random_grasp(seed, n_pairs, contacts_per_finger=2)
+            rng = np.random.default_rng(1000 + seed)
+            dirs = [rng.normal(size=6) for _ in range(6)]
+            out.append((f"speed {4 * n_pairs} seed {seed}", m, np.ones(m.na), dirs))
+    return out
+
+
+def _hash(a: np.ndarray) -> str:
+    return hashlib.sha1(" ".join(float(x).hex() for x in np.ravel(a)).encode()).hexdigest()[:16]
+
+
+def lines() -> list[str]:
+    out = []
+    for name, model, cmd, dirs in cases():
+        for i, d in enumerate(dirs):
+            try:
+                mw = pg.max_resistible_wrench(model, cmd, d, method="quasistatic")
+                lp = pg.loading_path(model, cmd, d)
+                forces = mw.response.contact_forces if mw.response is not None else np.zeros(0)
+                out.append(
+                    f"{name}\t{i}\t{mw.status}\t{float(mw.magnitude).hex()}\t{_hash(lp.loads)}\t{_hash(forces)}"
+                )
+            except pg.PinograspError as exc:
+                out.append(f"{name}\t{i}\t{type(exc).__name__}\t-\t-\t-")
+    return out
+
+
+def compare(old: list[str], new: list[str]) -> str:
+    """How many directions changed, by field, and the largest relative change of λ*."""
+    if len(old) != len(new):
+        return f"different direction counts: {len(old)} before, {len(new)} after"
+    changed = {"status": 0, "lambda": 0, "loads": 0, "forces": 0}
+    worst = 0.0
+    for a, b in zip(old, new):
+        fa, fb = a.split("\t"), b.split("\t")
+        for k, j in (("status", 2), ("lambda", 3), ("loads", 4), ("forces", 5)):
+            changed[k] += fa[j] != fb[j]
+        if fa[3] != fb[3] and "-" not in (fa[3], fb[3]):
+            x, y = float.fromhex(fa[3]), float.fromhex(fb[3])
+            if np.isfinite(x) and np.isfinite(y):
+                worst = max(worst, abs(x - y) / max(abs(x), 1e-300))
+            else:
+                worst = float("inf")
+    return (
+        f"{len(new)} directions; changed: "
+        + ", ".join(f"{k} {v}" for k, v in changed.items())
+        + f"; largest relative change of lambda* {worst:.3g}"
+    )
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--out", required=True)
+    ap.add_argument("--compare", help="a previous --out file")
+    args = ap.parse_args()
+    new = lines()
+    Path(args.out).write_text("\n".join(new) + "\n")
+    print(f"wrote {len(new)} lines to {args.out}")
+    if args.compare:
+        print(compare(Path(args.compare).read_text().splitlines(), new))
+
+
+if __name__ == "__main__":
+    main()
