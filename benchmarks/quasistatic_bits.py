@@ -1,9 +1,9 @@
 """Bit-for-bit answers of the quasi-static method over the speed benchmarks' directions: a guard
 for speed work (an optimisation must not change one bit of λ*).
 
-Writes one line per direction: case, direction index, status, λ* as ``float.hex`` and a hash of
-the path's loads (every breakpoint's load, ``float.hex``) and of the response's contact forces,
-from ``pg.max_resistible_wrench(..., method="quasistatic")`` and ``pg.loading_path``. With
+Writes one line per direction: case, direction index, status, λ* as ``float.hex``, a hash of
+the path's loads (every breakpoint's load, ``float.hex``), of the response's contact forces and
+of the whole ``MaxWrench`` and ``LoadingPath`` records (``to_dict()`` without timings), from ``pg.max_resistible_wrench(..., method="quasistatic")`` and ``pg.loading_path``. With
 ``--compare OLD`` it reports how many directions changed (status, λ*, loads, forces) and the
 largest relative change of λ*. Directions: those of ``benchmarks.quasistatic_ratios`` (pinch,
 cases 1-2: 24 plane + named; random 4-40 contacts: 3 seeds x 3) plus case 3's plane and
@@ -51,6 +51,24 @@ def _hash(a: np.ndarray) -> str:
     return hashlib.sha1(" ".join(float(x).hex() for x in np.ravel(a)).encode()).hexdigest()[:16]
 
 
+def _record(x: object) -> str:
+    """A hash of a result record's ``to_dict()`` without its timings (every other field, floats
+    as ``float.hex``)."""
+
+    def norm(v: object) -> object:
+        if isinstance(v, dict):
+            return {k: norm(w) for k, w in sorted(v.items()) if "time" not in k}
+        if isinstance(v, (list, tuple)):
+            return [norm(w) for w in v]
+        if isinstance(v, np.ndarray):
+            return norm(v.tolist())
+        if isinstance(v, (float, np.floating)):
+            return float(v).hex()
+        return repr(v)
+
+    return hashlib.sha1(repr(norm(x.to_dict())).encode()).hexdigest()[:16]  # type: ignore[attr-defined]
+
+
 def lines() -> list[str]:
     out = []
     for name, model, cmd, dirs in cases():
@@ -61,9 +79,10 @@ def lines() -> list[str]:
                 forces = mw.response.contact_forces if mw.response is not None else np.zeros(0)
                 out.append(
                     f"{name}\t{i}\t{mw.status}\t{float(mw.magnitude).hex()}\t{_hash(lp.loads)}\t{_hash(forces)}"
+                    f"\t{_record(mw)}\t{_record(lp)}"
                 )
             except pg.PinograspError as exc:
-                out.append(f"{name}\t{i}\t{type(exc).__name__}\t-\t-\t-")
+                out.append(f"{name}\t{i}\t{type(exc).__name__}\t-\t-\t-\t-\t-")
     return out
 
 
@@ -71,11 +90,12 @@ def compare(old: list[str], new: list[str]) -> str:
     """How many directions changed, by field, and the largest relative change of λ*."""
     if len(old) != len(new):
         return f"different direction counts: {len(old)} before, {len(new)} after"
-    changed = {"status": 0, "lambda": 0, "loads": 0, "forces": 0}
+    changed = {"status": 0, "lambda": 0, "loads": 0, "forces": 0, "max-wrench record": 0, "path record": 0}
     worst = 0.0
     for a, b in zip(old, new):
         fa, fb = a.split("\t"), b.split("\t")
-        for k, j in (("status", 2), ("lambda", 3), ("loads", 4), ("forces", 5)):
+        keys = ("status", "lambda", "loads", "forces", "max-wrench record", "path record")
+        for j, k in enumerate(keys, start=2):
             changed[k] += fa[j] != fb[j]
         if fa[3] != fb[3] and "-" not in (fa[3], fb[3]):
             x, y = float.fromhex(fa[3]), float.fromhex(fb[3])

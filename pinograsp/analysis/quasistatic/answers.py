@@ -28,9 +28,17 @@ def _modes(states: tuple[str, ...]) -> tuple[str, ...]:
 
 
 def response_at(
-    p: Prepared, lp: LoadingPath, load: float, w6: np.ndarray, status: str, settings: Settings, t0: float
+    p: Prepared,
+    lp: LoadingPath,
+    load: float,
+    w6: np.ndarray,
+    status: str,
+    settings: Settings,
+    t0: float,
+    label: str | None = None,
 ) -> PassiveResponse:
-    """The :class:`PassiveResponse` of the path's state at ``load`` (on the path)."""
+    """The :class:`PassiveResponse` of the path's state at ``load`` (on the path); ``label``:
+    its ``variant`` (default the preload path's, ``p.variant``)."""
     m = p.model
     st = lp.state_at(min(load, lp.loads[-1]) if lp.ray is None else load)
     assert st is not None
@@ -77,7 +85,7 @@ def response_at(
         resistible=status == "resisted",
         status=status,  # type: ignore[arg-type]
         method=METHOD,  # type: ignore[arg-type]
-        variant=p.variant,
+        variant=p.variant if label is None else label,
         wrench=w6,
         command=p.fc * p.signs,
         contact_forces=c,
@@ -180,7 +188,19 @@ def quasistatic_max_wrench(
     s = checked_settings(settings)
     v = _variant(variant, s)
     p = prepare(model, command, s, v)
-    d6 = wrench_direction(model, direction)
+    return max_wrench_prepared(p, wrench_direction(model, direction), s, t0, path)
+
+
+def max_wrench_prepared(
+    p: Prepared,
+    d6: np.ndarray,
+    s: Settings,
+    t0: float,
+    path: LoadingPath | None = None,
+    label: str | None = None,
+) -> MaxWrench:
+    """:func:`quasistatic_max_wrench` of a prepared grasp along a validated unit direction
+    ``d6`` (6,) with validated settings; ``label``: the response's ``variant``."""
     # loading_path's validation done once (the direction normalised again as it would be)
     lp = path if path is not None else run_path(p, unit_again(d6), MAX_SEGMENTS, None, False, time.perf_counter())
     status = lp.status
@@ -188,7 +208,7 @@ def quasistatic_max_wrench(
     magnitude = float("inf") if unbounded else float(lp.limit)
     at = float(lp.loads[-1])
     resp_status = "resisted" if status in ("finite", "unbounded", "below_resolution") else "failed"
-    resp = response_at(p, lp, at, at * d6, resp_status, s, t0)
+    resp = response_at(p, lp, at, at * d6, resp_status, s, t0, label)
     return MaxWrench(
         direction=d6,
         magnitude=magnitude,
@@ -207,4 +227,4 @@ def quasistatic_max_wrench(
     )
 
 
-__all__ = ["METHOD", "quasistatic_max_wrench", "quasistatic_response", "response_at"]
+__all__ = ["METHOD", "max_wrench_prepared", "quasistatic_max_wrench", "quasistatic_response", "response_at"]

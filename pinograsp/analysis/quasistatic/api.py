@@ -10,7 +10,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from ...core.axes import wrench_direction
+from ...core.axes import PLANAR_AXES, wrench_direction
 from ...core.model import GraspModel
 from ...core.settings import Settings, make_settings
 from ...core.validate import MAX_FORCE, MAX_PATH_SEGMENTS, count, load_within, number_in
@@ -117,8 +117,7 @@ def _arrays(p: Prepared, states: list[State]) -> dict[str, np.ndarray]:
     x = vs[:, : qm.nx] / qm.S[: qm.nx]
     q = vs[:, qm.nx :] / qm.S[qm.nx :]
     x6 = np.zeros((k, 6))
-    for j in range(k):
-        x6[j] = m.expand_twist(x[j])
+    x6[:, list(PLANAR_AXES) if m.planar else slice(None)] = x  # m.expand_twist of every row
     c = np.zeros((k, qm.nc, 3))
     c[:, :, : qm.d] = np.array([s.c for s in states]).reshape(k, qm.nc, qm.d)
     slip = np.array([s.slip for s in states]).reshape(k, qm.nc, qm.d)
