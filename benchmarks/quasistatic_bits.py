@@ -7,7 +7,8 @@ of the whole ``MaxWrench`` and ``LoadingPath`` records (``to_dict()`` without ti
 ``--compare OLD`` it reports how many directions changed (status, λ*, loads, forces) and the
 largest relative change of λ*. Directions: those of ``benchmarks.quasistatic_ratios`` (pinch,
 cases 1-2: 24 plane + named; random 4-40 contacts: 3 seeds x 3) plus case 3's plane and
-``benchmarks/quasistatic_speed.py``'s 6 random directions per random grasp.
+``benchmarks/quasistatic_speed.py``'s 6 random directions per random grasp, and the sampled
+Barrett grasps of ``benchmarks/quasistatic_batch.py`` (26 directions each).
 
     python -m benchmarks.quasistatic_bits --out /tmp/bits_after.txt [--compare /tmp/bits_before.txt]
 """
@@ -44,6 +45,25 @@ def cases() -> list[tuple[str, object, np.ndarray, list[np.ndarray]]]:
             rng = np.random.default_rng(1000 + seed)
             dirs = [rng.normal(size=6) for _ in range(6)]
             out.append((f"speed {4 * n_pairs} seed {seed}", m, np.ones(m.na), dirs))
+    out += barrett_cases()
+    return out
+
+
+def barrett_cases(n: int = 30) -> list[tuple[str, object, object, list[np.ndarray]]]:
+    """The first ``n`` sampled Barrett grasps of the batch benchmark that build and preload, with
+    its 26 cube directions (``benchmarks/quasistatic_batch.py``)."""
+    from pinograsp.batch.grasps import build_grasp
+
+    from benchmarks.quasistatic_batch import cube_directions, grasps
+
+    out = []
+    dirs = [d for _, d in cube_directions()]
+    for g in grasps(n, 0):
+        try:
+            model, command, _ = build_grasp(g)
+        except pg.PinograspError:
+            continue
+        out.append((f"barrett {g.id}", model, command, dirs))
     return out
 
 
