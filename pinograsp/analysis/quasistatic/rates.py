@@ -194,10 +194,9 @@ def rates(
     nz = Mlcp.shape[0]
     # faces of a contact at zero force: opposite faces' flows cancel (a null direction of M);
     # a relative 1e-12 on their diagonal picks the least flow
-    at_apex = np.concatenate(
-        [np.zeros(len(zero), bool), cls.zero[qm.face_contact[faces]], np.zeros(len(acts), bool)]
-    )
-    if at_apex.any():
+    apex_faces = cls.zero[qm.face_contact[faces]]
+    if apex_faces.any():
+        at_apex = np.concatenate([np.zeros(len(zero), bool), apex_faces, np.zeros(len(acts), bool)])
         Mlcp[at_apex, at_apex] += APEX_REG * max(float(np.abs(Mlcp).max()), 1.0)
     # item codes: opening of contact i -> i, face f -> nc + f, actuator a -> nc + nf + a
     keys = np.concatenate([zero, qm.nc + faces, qm.nc + qm.nf + acts])
@@ -242,7 +241,8 @@ def _linear(qm: QSModel, sc: StageCache, spec: StageSpec, ks: np.ndarray, items,
     n0, n1 = len(zero), len(zero) + len(faces)
     nz = n1 + len(acts)
     F = np.zeros((qm.ncd, 1 + nz))  # contact force rate per unit flow (column 0: the load)
-    F[zero * d, 1 + np.arange(n0)] = 1.0
+    if n0:
+        F[zero * d, 1 + np.arange(n0)] = 1.0
     if len(faces):
         F[:, 1 + n0 : 1 + n1] = qm.PhiT_t[:, faces]  # dc_t = -nu per unit flow
     cols = sc.col_arr[acts]
