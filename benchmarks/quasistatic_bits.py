@@ -6,9 +6,9 @@ the path's loads (every breakpoint's load, ``float.hex``), of the response's con
 of the whole ``MaxWrench`` and ``LoadingPath`` records (``to_dict()`` without timings), from ``pg.max_resistible_wrench(..., method="quasistatic")`` and ``pg.loading_path``. With
 ``--compare OLD`` it reports how many directions changed (status, λ*, loads, forces) and the
 largest relative change of λ*. Directions: those of ``benchmarks.quasistatic_ratios`` (pinch,
-cases 1-2: 24 plane + named; random 4-40 contacts: 3 seeds x 3) plus case 3's plane and
-``benchmarks/quasistatic_speed.py``'s 6 random directions per random grasp, and the sampled
-Barrett grasps of ``benchmarks/quasistatic_batch.py`` (26 directions each).
+cases 1-3: 24 plane + named; random 4-40 contacts: 3 seeds x 3) plus 6 more random ones per
+random grasp, and the sampled Barrett grasps of ``benchmarks/quasistatic_batch.py`` (26
+directions each).
 
     python -m benchmarks.quasistatic_bits --out /tmp/bits_after.txt [--compare /tmp/bits_before.txt]
 """
@@ -22,29 +22,26 @@ from pathlib import Path
 import numpy as np
 
 import pinograsp as pg
-from benchmarks.quasistatic_ratios import speed_cases
 
 
 def cases() -> list[tuple[str, object, np.ndarray, list[np.ndarray]]]:
     """``(name, model, command, directions)``."""
     out = []
-    for name, model, cmd, dirs, _ in speed_cases([1, 2, 3, 4, 6, 10]):
-        out.append((name, model, cmd, dirs))
-    sc = pg.load_scene("case3")
-    out.append(
-        (
-            "case3",
-            sc.model,
-            sc.model.command_vector(sc.preload(None)),
-            [np.asarray(d, float) for d in pg.plane_directions(sc.model, sc.analysis.plane, 24)],
-        )
-    )
+    for name in ("pinch", "case1", "case2", "case3"):
+        sc = pg.load_scene(name)
+        dirs = [np.asarray(d, float) for d in pg.plane_directions(sc.model, sc.analysis.plane, 24)]
+        for dn in sc.analysis.directions:
+            d = np.asarray(sc.direction(dn), float)
+            if not any(np.allclose(d, e) for e in dirs):
+                dirs.append(d)
+        out.append((name, sc.model, sc.model.command_vector(sc.preload(None)), dirs))
     for n_pairs in (1, 2, 3, 4, 6, 10):
         for seed in range(3):
             m = pg.examples.random_grasp(seed, n_pairs, contacts_per_finger=2)
             rng = np.random.default_rng(1000 + seed)
-            dirs = [rng.normal(size=6) for _ in range(6)]
-            out.append((f"speed {4 * n_pairs} seed {seed}", m, np.ones(m.na), dirs))
+            dirs = [d / np.linalg.norm(d) for d in (rng.standard_normal(6) for _ in range(3))]
+            dirs += [rng.normal(size=6) for _ in range(6)]
+            out.append((f"{4 * n_pairs} contacts seed {seed}", m, np.ones(m.na), dirs))
     out += barrett_cases()
     return out
 

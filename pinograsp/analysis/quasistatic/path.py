@@ -213,21 +213,22 @@ def next_event(
     idx += sel.tolist()
     steps += (cn[sel] / -dcn[sel]).tolist()
     An = qm.A[:, ::d]
-    gap = An.T @ st.vs  # -delta
+    same = cls.src is st  # what classify computed of this state
+    gap = cls.gap if same and cls.gap is not None else An.T @ st.vs  # -delta
     dgap = An.T @ seg.dvs
     sel = np.flatnonzero(cls.open & (-dgap * qm.kn > rtol))
     kinds += ["touches"] * len(sel)
     idx += sel.tolist()
     steps += (gap[sel] / -dgap[sel]).tolist()
     if spec.friction and qm.nf:
-        slack = qm.Phi @ st.c
+        slack = cls.slack if same and cls.slack is not None else qm.Phi @ st.c
         rate = qm.Phi @ seg.dc
         sel = np.flatnonzero(staying[qm.face_contact] & (slack > tol) & (rate < -rtol))
         kinds += ["face"] * len(sel)
         idx += sel.tolist()
         steps += (slack[sel] / -rate[sel]).tolist()
     if qm.na:
-        phi = (st.f - spec.command(st.t)) * qm.r_norm
+        phi = cls.phi if same and cls.phi is not None else (st.f - spec.command(st.t)) * qm.r_norm
         dphi = (seg.df - spec.dfc) * qm.r_norm
         sel = np.flatnonzero(qm.nbd & ~cls.act_lcp & (dphi < -rtol))
         kinds += ["command"] * len(sel)

@@ -90,6 +90,12 @@ class Classes:
     act_lcp: np.ndarray  # (na,) non-backdrivable at its command
     tol: float  # force tolerance [N]
     fscale: float
+    # of the state classified (its identity): gaps ``-delta`` (nc,), face slacks (nf,) and
+    # actuator over-forces (na,), read again by the event search (speed only)
+    src: object = None
+    gap: np.ndarray | None = None
+    slack: np.ndarray | None = None
+    phi: np.ndarray | None = None
 
 
 def stage_constants(qm: QSModel, spec: StageSpec) -> tuple[float, float, np.ndarray, float, bool]:
@@ -135,7 +141,8 @@ def classify(qm: QSModel, st: State, spec: StageSpec) -> Classes:
     tol = EVENT_RTOL * fscale
     d = qm.d
     cn = st.c[::d]
-    delta = -(qm.A[:, ::d].T @ st.vs)
+    gap = qm.A[:, ::d].T @ st.vs
+    delta = -gap
     low = cn <= tol
     opened = low & (delta * qm.kn < -tol)
     zero = low & ~opened
@@ -147,10 +154,10 @@ def classify(qm: QSModel, st: State, spec: StageSpec) -> Classes:
         fc = qm.face_contact
         faces = np.flatnonzero((zero[fc]) | (pressed[fc] & (slack <= tol)))
     else:
-        faces = np.zeros(0, int)
+        faces, slack = np.zeros(0, int), None
     phi = (st.f - spec.command(st.t)) * qm.r_norm
     act_lcp = qm.nbd & (phi <= tol)
-    return Classes(opened, zero, pressed, faces, act_lcp, tol, fscale)
+    return Classes(opened, zero, pressed, faces, act_lcp, tol, fscale, st, gap, slack, phi)
 
 
 #: Plans for a contact at zero force: both pairs in the LCP, pressed (touching, faces in the
