@@ -229,7 +229,7 @@ def _items(qm: QSModel, cls: Classes, plan: np.ndarray, sep: np.ndarray, apex: n
     their command (index arrays)."""
     zero = np.flatnonzero(cls.zero & (plan == FULL))
     faces = cls.faces
-    if len(faces):
+    if len(faces) and (sep.any() or (apex is not None and cls.zero.any())):  # else every face stays
         owner_f = qm.face_contact[faces]
         keep = ~sep[owner_f]
         if apex is not None:
