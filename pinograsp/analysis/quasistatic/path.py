@@ -214,12 +214,13 @@ def next_event(
     steps += (cn[sel] / -dcn[sel]).tolist()
     An = qm.A[:, ::d]
     same = cls.src is st  # what classify computed of this state
-    gap = cls.gap if same and cls.gap is not None else An.T @ st.vs  # -delta
-    dgap = An.T @ seg.dvs
-    sel = np.flatnonzero(cls.open & (-dgap * qm.kn > rtol))
-    kinds += ["touches"] * len(sel)
-    idx += sel.tolist()
-    steps += (gap[sel] / -dgap[sel]).tolist()
+    if cls.open.any():  # only open contacts touch
+        gap = cls.gap if same and cls.gap is not None else An.T @ st.vs  # -delta
+        dgap = An.T @ seg.dvs
+        sel = np.flatnonzero(cls.open & (-dgap * qm.kn > rtol))
+        kinds += ["touches"] * len(sel)
+        idx += sel.tolist()
+        steps += (gap[sel] / -dgap[sel]).tolist()
     if spec.friction and qm.nf:
         slack = cls.slack if same and cls.slack is not None else qm.Phi @ st.c
         rate = qm.Phi @ seg.dc

@@ -313,6 +313,8 @@ def _solve_lcp(M: np.ndarray, q: np.ndarray, keys: np.ndarray, hints: tuple[np.n
 def _check_guesses(qm, spec, cls, plan, sep, apex, seg, v, dc, sc) -> Segment:
     """Flag a contradicted zero-force guess (status ``"guess"``: a pressed one pulls, a
     separated one closes) or a left-out apex face that the rates cross (``"apex"``)."""
+    if not cls.zero.any():  # no zero-force contact: no guess (``sep`` is part of ``cls.zero``)
+        return seg
     d = qm.d
     rtol = RATE_RTOL * max(float(np.abs(dc).max(initial=0.0)), sc.r0max, 1e-300)
     bad = cls.zero & (plan == PRESS) & (dc[::d] < -rtol)
