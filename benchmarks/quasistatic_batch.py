@@ -68,7 +68,11 @@ class CubeScore:
             )
             unbounded += bool(mw.unbounded)
             mags.append(0.0 if mw.status == "below_resolution" else float(mw.magnitude))
-        return {"score": min(mags), "unbounded_fraction": unbounded / len(mags), "directions": float(len(mags))}
+        return {
+            "score": min(mags),
+            "unbounded_fraction": unbounded / len(mags),
+            "directions": float(len(mags)),
+        }
 
 
 def grasps(n: int, seed: int) -> list[Any]:
@@ -124,7 +128,9 @@ def main() -> None:
     ):
         x = x.astype(float)
         print(f"| {label} | {x.median():.3f} | {x.mean():.3f} | {x.sum():.1f} |")
-    print(f"sum of every row's total: {df['time_total'].astype(float).sum():.1f} s (CPU-seconds of the workers)")
+    print(
+        f"sum of every row's total: {df['time_total'].astype(float).sum():.1f} s (CPU-seconds of the workers)"
+    )
     if len(ok):
         per_dir = ok["time_score"].astype(float) / 26
         print(

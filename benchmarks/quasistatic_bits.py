@@ -3,12 +3,14 @@ for speed work (an optimisation must not change one bit of λ*).
 
 Writes one line per direction: case, direction index, status, λ* as ``float.hex``, a hash of
 the path's loads (every breakpoint's load, ``float.hex``), of the response's contact forces and
-of the whole ``MaxWrench`` and ``LoadingPath`` records (``to_dict()`` without timings), from ``pg.max_resistible_wrench(..., method="quasistatic")`` and ``pg.loading_path``. With
-``--compare OLD`` it reports how many directions changed (status, λ*, loads, forces) and the
-largest relative change of λ*. Directions: those of ``benchmarks.quasistatic_ratios`` (pinch,
-cases 1-3: 24 plane + named; random 4-40 contacts: 3 seeds x 3) plus 6 more random ones per
-random grasp, and the sampled Barrett grasps of ``benchmarks/quasistatic_batch.py`` (26
-directions each).
+of the whole ``MaxWrench`` and ``LoadingPath`` records (``to_dict()`` without timings), from
+``pg.max_resistible_wrench(..., method="quasistatic")`` and ``pg.loading_path``. With
+``--compare OLD`` it reports how many directions changed (per field) and the largest relative
+change of λ*. Directions: those of ``benchmarks.quasistatic_ratios`` (pinch, cases 1-3: 24
+plane + named; random 4-40 contacts: 3 seeds x 3) plus 6 more random ones per random grasp, and
+the first sampled Barrett grasps of ``benchmarks/quasistatic_batch.py`` (26 directions each).
+The reference run of an older tree: run this file from a directory whose ``pinograsp`` is that
+tree's (``python -m`` puts the current directory first on the path).
 
     python -m benchmarks.quasistatic_bits --out /tmp/bits_after.txt [--compare /tmp/bits_before.txt]
 """
@@ -49,9 +51,8 @@ def cases() -> list[tuple[str, object, np.ndarray, list[np.ndarray]]]:
 def barrett_cases(n: int = 30) -> list[tuple[str, object, object, list[np.ndarray]]]:
     """The first ``n`` sampled Barrett grasps of the batch benchmark that build and preload, with
     its 26 cube directions (``benchmarks/quasistatic_batch.py``)."""
-    from pinograsp.batch.grasps import build_grasp
-
     from benchmarks.quasistatic_batch import cube_directions, grasps
+    from pinograsp.batch.grasps import build_grasp
 
     out = []
     dirs = [d for _, d in cube_directions()]

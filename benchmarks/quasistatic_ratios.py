@@ -235,7 +235,11 @@ def resistance_set_line(n: int) -> str:
             + (f" ({cpu:.2f} s CPU)" if workers == 1 else "")
             + f", {int(np.sum(np.isfinite(mags)))} finite, {int(np.sum(np.isinf(mags)))} unbounded"
         )
-    return f"`pg.resistance_set` of case 2, {n} directions on the 6D sphere, quasi-static: " + "; ".join(out) + "."
+    return (
+        f"`pg.resistance_set` of case 2, {n} directions on the 6D sphere, quasi-static: "
+        + "; ".join(out)
+        + "."
+    )
 
 
 def batch_line(n: int) -> str:
@@ -254,7 +258,11 @@ def batch_line(n: int) -> str:
 SPLIT = (
     ("pinograsp.analysis.quasistatic.api", "follow", "path: segments (all)"),
     ("pinograsp.analysis.quasistatic.rates", "_linear", "- rate problem: linear part (reduced Cholesky)"),
-    ("pinograsp.analysis.quasistatic.rates", "_solve_lcp", "- rate problem: LCP (pivoting, Lemke, canonical)"),
+    (
+        "pinograsp.analysis.quasistatic.rates",
+        "_solve_lcp",
+        "- rate problem: LCP (pivoting, Lemke, canonical)",
+    ),
     ("pinograsp.analysis.quasistatic.rates", "_segment", "- rate problem: segment record"),
     ("pinograsp.analysis.quasistatic.rates", "_check_guesses", "- rate problem: zero-force guesses"),
     ("pinograsp.analysis.quasistatic.path", "classify", "- classification of each breakpoint"),
@@ -310,14 +318,24 @@ def split_table() -> list[str]:
         "|---|" + "---:|" * len(names),
     ]
     for _, _, label in SPLIT:
-        out.append(f"| {label} | " + " | ".join(f"{1e3 * rows[n][0][label] / rows[n][2]:.3f}" for n in names) + " |")
+        out.append(
+            f"| {label} | " + " | ".join(f"{1e3 * rows[n][0][label] / rows[n][2]:.3f}" for n in names) + " |"
+        )
     loop = [
         rows[n][0]["path: segments (all)"] - sum(rows[n][0][lb] for _, _, lb in SPLIT if lb.startswith("-"))
         for n in names
     ]
-    out.append("| - rest of the segment loop (plans, hints, steps) | " + " | ".join(f"{1e3 * r / rows[n][2]:.3f}" for r, n in zip(loop, names)) + " |")
+    out.append(
+        "| - rest of the segment loop (plans, hints, steps) | "
+        + " | ".join(f"{1e3 * r / rows[n][2]:.3f}" for r, n in zip(loop, names))
+        + " |"
+    )
     rest = [rows[n][1] - sum(rows[n][0][lb] for _, _, lb in SPLIT if not lb.startswith("-")) for n in names]
-    out.append("| rest (query, session, validation) | " + " | ".join(f"{1e3 * r / rows[n][2]:.3f}" for r, n in zip(rest, names)) + " |")
+    out.append(
+        "| rest (query, session, validation) | "
+        + " | ".join(f"{1e3 * r / rows[n][2]:.3f}" for r, n in zip(rest, names))
+        + " |"
+    )
     out.append("| total | " + " | ".join(f"{1e3 * rows[n][1] / rows[n][2]:.3f}" for n in names) + " |")
     return out
 

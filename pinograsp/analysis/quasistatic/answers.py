@@ -202,7 +202,11 @@ def max_wrench_prepared(
     """:func:`quasistatic_max_wrench` of a prepared grasp along a validated unit direction
     ``d6`` (6,) with validated settings; ``label``: the response's ``variant``."""
     # loading_path's validation done once (the direction normalised again as it would be)
-    lp = path if path is not None else run_path(p, unit_again(d6), MAX_SEGMENTS, None, False, time.perf_counter())
+    lp = (
+        path
+        if path is not None
+        else run_path(p, unit_again(d6), MAX_SEGMENTS, None, False, time.perf_counter())
+    )
     status = lp.status
     unbounded = status == "unbounded"
     magnitude = float("inf") if unbounded else float(lp.limit)

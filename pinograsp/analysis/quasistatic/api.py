@@ -151,7 +151,11 @@ def _arrays(p: Prepared, states: list[State], stacks: dict | None = None) -> dic
 
 
 def _audit(
-    p: Prepared, states: list[State], arrays: dict[str, np.ndarray], d_red: np.ndarray, stacks: dict | None = None
+    p: Prepared,
+    states: list[State],
+    arrays: dict[str, np.ndarray],
+    d_red: np.ndarray,
+    stacks: dict | None = None,
 ) -> dict:
     """Equilibrium, hand and friction residuals per breakpoint; energy balance per segment."""
     qm, m = p.qm, p.model

@@ -368,9 +368,7 @@ def _segment(qm, spec, cls, sc, v, dc, rho, lam_rate, zeta, items, nz, res, cont
         sliding[i].append(f)
     sep_all = cls.open | opening
     sep_l = sep_all.tolist()
-    contact = tuple(
-        "separated" if sep_l[i] else ("sliding" if sliding[i] else "sticking") for i in range(nc)
-    )
+    contact = tuple("separated" if sep_l[i] else ("sliding" if sliding[i] else "sticking") for i in range(nc))
     detail = tuple(() if sep_l[i] else tuple(sliding[i]) for i in range(nc))
     moving = np.zeros(qm.na, bool)
     moving[acts] = zeta[nzero + len(faces) :] > ftol
