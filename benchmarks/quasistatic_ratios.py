@@ -329,19 +329,21 @@ def split_table() -> list[str]:
         "| part | " + " | ".join(names) + " |",
         "|---|" + "---:|" * len(names),
     ]
-    for _, _, label in SPLIT:
+    loop = {
+        n: rows[n][0]["path: segments (all)"]
+        - sum(rows[n][0][lb] for _, _, lb in SPLIT if lb.startswith("-"))
+        for n in names
+    }
+    for k, (_, _, label) in enumerate(SPLIT):
         out.append(
             f"| {label} | " + " | ".join(f"{1e3 * rows[n][0][label] / rows[n][2]:.3f}" for n in names) + " |"
         )
-    loop = [
-        rows[n][0]["path: segments (all)"] - sum(rows[n][0][lb] for _, _, lb in SPLIT if lb.startswith("-"))
-        for n in names
-    ]
-    out.append(
-        "| - rest of the segment loop (plans, hints, steps) | "
-        + " | ".join(f"{1e3 * r / rows[n][2]:.3f}" for r, n in zip(loop, names))
-        + " |"
-    )
+        if label.startswith("-") and not SPLIT[k + 1][2].startswith("-"):
+            out.append(
+                "| - rest of the segment loop (plans, hints, steps) | "
+                + " | ".join(f"{1e3 * loop[n] / rows[n][2]:.3f}" for n in names)
+                + " |"
+            )
     rest = [rows[n][1] - sum(rows[n][0][lb] for _, _, lb in SPLIT if not lb.startswith("-")) for n in names]
     out.append(
         "| rest (query, session, validation) | "

@@ -15,6 +15,7 @@ from ...core.axes import wrench_direction
 from ...core.model import GraspModel
 from ...core.results import Audit, MaxWrench, PassiveResponse
 from ...core.settings import Settings
+from ...solvers.threads import single_threaded
 from .api import Prepared, _variant, checked_settings, loading_path, prepare, run_path, unit_again
 from .path import MAX_SEGMENTS
 from .result import LoadingPath
@@ -136,6 +137,7 @@ def fresh(resp: PassiveResponse, solve_time: float) -> PassiveResponse:
     return replace(resp, solve_time=solve_time, **arrays)
 
 
+@single_threaded
 def quasistatic_response(
     model: GraspModel,
     command: object,
@@ -168,6 +170,7 @@ def quasistatic_response(
     return response_at(p, lp, float(lp.loads[-1]), w6, status, s, t0)
 
 
+@single_threaded
 def quasistatic_max_wrench(
     model: GraspModel,
     command: object,

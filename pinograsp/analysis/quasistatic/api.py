@@ -15,6 +15,7 @@ from ...core.model import GraspModel
 from ...core.settings import Settings, make_settings
 from ...core.validate import MAX_FORCE, MAX_PATH_SEGMENTS, count, load_within, number_in
 from ...errors import InvalidInputError
+from ...solvers.threads import single_threaded
 from .continuation import continue_past_limit
 from .events import path_events
 from .model import QSModel, build_qs_model
@@ -298,6 +299,7 @@ def build_path(p: Prepared, d6: np.ndarray, run: StageRun, spec: StageSpec, wall
     )
 
 
+@single_threaded
 def loading_path(
     model: GraspModel,
     command: object,
