@@ -23,6 +23,13 @@ module                    measures
 ``bench_methods``         method against method on the paper scenes: time, magnitude, agreement
 ========================  ===============================================================
 
+Standalone scripts of the quasi-static method (issue 25; docs/performance.md, "Quasi-static
+method"): ``python -m benchmarks.quasistatic_ratios`` (speed per grasp size against the
+iterative and energetic methods, the case-2 resistance set, where the time goes),
+``python -m benchmarks.quasistatic_batch`` (``evaluate_grasps`` on sampled Barrett grasps, 26
+directions each), ``python -m benchmarks.quasistatic_bits`` (answers bit for bit: the guard of
+speed work) and ``python benchmarks/quasistatic_speed.py``.
+
 No benchmark asserts a time (tests never do either, docs/design.md); the tables go into the
 docs by hand. The scripts that regenerate the documented numbers (docs/results.md,
 docs/validation.md, the README tables) are in ``scripts/reproduce/``.

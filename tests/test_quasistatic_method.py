@@ -241,13 +241,13 @@ def test_a_path_without_verdict_is_a_failed_direction(pinch, monkeypatch):
     number: a SolverError for one query, a failed direction (typed status) in a profile."""
     from pinograsp.analysis import method_quasistatic
 
-    real = method_quasistatic.quasistatic_max_wrench
+    real = method_quasistatic.max_wrench_prepared
 
-    def stopped_along_y(model, command, direction, settings, **kw):
-        mw = real(model, command, direction, settings, **kw)
+    def stopped_along_y(*args, **kw):
+        mw = real(*args, **kw)
         return replace(mw, status="segment_limit") if abs(mw.direction[1]) > 0.99 else mw
 
-    monkeypatch.setattr(method_quasistatic, "quasistatic_max_wrench", stopped_along_y)
+    monkeypatch.setattr(method_quasistatic, "max_wrench_prepared", stopped_along_y)
     with pytest.raises(pg.SolverError, match="without a verdict") as err:
         pg.max_resistible_wrench(pinch, TAU, "fy", QS)
     assert err.value.status == "segment_limit"

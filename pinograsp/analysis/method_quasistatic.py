@@ -28,7 +28,8 @@ from ..solvers.problem import ProblemKind
 from .context import SolveContext
 from .limit_search import free_motion_note
 from .protocols import LimitQuery, SessionLike
-from .quasistatic.answers import quasistatic_max_wrench, quasistatic_response
+from .quasistatic.answers import max_wrench_prepared, quasistatic_response
+from .quasistatic.api import checked_settings, prepare, unit_again
 from .stages import Stage
 
 #: The settings' variants that apply, and the preload path each names.
@@ -151,9 +152,11 @@ class QuasistaticMethod:
                 ``"segment_limit"``; the load reached is in the message).
         """
         v, path = path_variant(session.settings)
-        mw = quasistatic_max_wrench(
-            session.model, query.command, query.direction, session.settings, variant=path
-        )
+        # quasistatic_max_wrench on the session's validated settings and direction, the
+        # response labelled with the registry's variant
+        s = checked_settings(session.settings)
+        p = prepare(session.model, query.command, s, path)
+        mw = max_wrench_prepared(p, unit_again(query.direction), s, time.perf_counter(), label=v.value)
         if mw.status in NO_VERDICT:
             raise SolverError(
                 f"the quasi-static loading path stopped at load {mw.magnitude:.6g} without a verdict "
@@ -168,7 +171,6 @@ class QuasistaticMethod:
                 solver="lemke",
                 status=str(mw.status),
             )
-        resp = None if mw.response is None else replace(mw.response, variant=v.value)
         tally = query.tally
         note = mw.note or (
             free_motion_note(session.model, query.direction) if mw.status == "below_resolution" else ""
@@ -176,7 +178,6 @@ class QuasistaticMethod:
         return replace(
             mw,
             note=note,
-            response=resp,
             solve_time=mw.solve_time + tally.solve_time,
             n_solves=mw.n_solves,  # the path's LCPs, its preload path's included (once)
             wall_time=time.perf_counter() - query.t0,

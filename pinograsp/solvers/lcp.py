@@ -130,11 +130,17 @@ def principal_pivoting(
     limit = 2 * n + 4 if max_iter is None else int(max_iter)
     mscale = max(float(np.abs(M).max(initial=0.0)), 1e-300)
     qscale = max(float(np.abs(q).max(initial=0.0)), 1e-300)
+    seen: set[bytes] = set()
     for it in range(limit):
+        if it >= 3:  # single flips: each set has one successor, so a repeated set cycles to the limit
+            key = act.tobytes()
+            if key in seen:
+                return None
+            seen.add(key)
         z = np.zeros(n)
         if act.any():
-            _, _, zb, info = dgesv(M[act][:, act], -q[act])
-            if info != 0 or not np.all(np.isfinite(zb)):
+            _, _, zb, info = dgesv(M[np.ix_(act, act)], -q[act])
+            if info != 0 or not np.isfinite(zb).all():
                 return None
             z[act] = zb
         w = M @ z + q

@@ -10,6 +10,7 @@ order.
 from __future__ import annotations
 
 import functools
+import threading
 from collections.abc import Callable
 from contextlib import AbstractContextManager
 from typing import Any, ParamSpec, TypeVar
@@ -18,6 +19,8 @@ P = ParamSpec("P")
 R = TypeVar("R")
 
 _CONTROLLER: list[Any] = []
+#: Depth of :func:`single_threaded` calls in this thread (a nested query keeps the outer limit).
+_DEPTH = threading.local()
 
 
 def single_threaded_blas() -> AbstractContextManager[Any]:
@@ -36,8 +39,15 @@ def single_threaded(fn: Callable[P, R]) -> Callable[P, R]:
 
     @functools.wraps(fn)
     def wrapper(*args: P.args, **kwargs: P.kwargs) -> R:
-        with single_threaded_blas():
+        depth = getattr(_DEPTH, "n", 0)
+        if depth:  # inside another public query: BLAS is on one thread already
             return fn(*args, **kwargs)
+        _DEPTH.n = 1
+        try:
+            with single_threaded_blas():
+                return fn(*args, **kwargs)
+        finally:
+            _DEPTH.n = 0
 
     return wrapper
 

@@ -6,6 +6,7 @@ the path at the load, or not resisted)."""
 from __future__ import annotations
 
 import time
+from dataclasses import replace
 
 import numpy as np
 
@@ -14,8 +15,10 @@ from ...core.axes import wrench_direction
 from ...core.model import GraspModel
 from ...core.results import Audit, MaxWrench, PassiveResponse
 from ...core.settings import Settings
+from ...solvers.threads import single_threaded
 from ..limit_search import free_motion_note
-from .api import Prepared, _variant, checked_settings, loading_path, prepare
+from .api import Prepared, _variant, checked_settings, loading_path, prepare, run_path, unit_again
+from .path import MAX_SEGMENTS
 from .result import LoadingPath
 
 #: Name of the method in the records.
@@ -120,6 +123,14 @@ def _complementarity(p: Prepared, x: np.ndarray, q: np.ndarray, c: np.ndarray, f
     return float(max(law, ratchet))
 
 
+def fresh(resp: PassiveResponse, solve_time: float) -> PassiveResponse:
+    """A kept response as a new record: its arrays copied (a caller may write into them), its
+    ``solve_time`` [s] this call's."""
+    arrays = {k: v.copy() for k, v in vars(resp).items() if isinstance(v, np.ndarray)}
+    return replace(resp, solve_time=solve_time, **arrays)
+
+
+@single_threaded
 def quasistatic_response(
     model: GraspModel,
     command: object,
@@ -139,9 +150,12 @@ def quasistatic_response(
     p = prepare(model, command, s, v)
     w6 = model.wrench_vector(wrench)
     size = float(np.linalg.norm(w6))
-    if size == 0.0:
-        lp = loading_path(model, command, "fx", variant=v, settings=s, up_to=0.0)
-        return response_at(p, lp, 0.0, w6, "resisted", s, t0)
+    if size == 0.0:  # the preloaded state: a pure function of the prepared grasp, kept with it
+        hit = p.memo.get("zero")
+        if hit is None:
+            lp = loading_path(model, command, "fx", variant=v, settings=s, up_to=0.0)
+            hit = p.memo["zero"] = response_at(p, lp, 0.0, w6, "resisted", s, t0)
+        return fresh(hit, time.perf_counter() - t0)
     lp = loading_path(model, command, w6 / size, variant=v, settings=s, up_to=size)
     if lp.status in ("reached", "unbounded"):
         return response_at(p, lp, size, w6, "resisted", s, t0)
@@ -149,6 +163,7 @@ def quasistatic_response(
     return response_at(p, lp, float(lp.loads[-1]), w6, status, s, t0)
 
 
+@single_threaded
 def quasistatic_max_wrench(
     model: GraspModel,
     command: object,
@@ -169,11 +184,24 @@ def quasistatic_max_wrench(
     s = checked_settings(settings)
     v = _variant(variant, s)
     p = prepare(model, command, s, v)
-    d6 = wrench_direction(model, direction)
+    return max_wrench_prepared(p, wrench_direction(model, direction), s, t0, path)
+
+
+def max_wrench_prepared(
+    p: Prepared,
+    d6: np.ndarray,
+    s: Settings,
+    t0: float,
+    path: LoadingPath | None = None,
+    label: str | None = None,
+) -> MaxWrench:
+    """:func:`quasistatic_max_wrench` of a prepared grasp along a validated unit direction
+    ``d6`` (6,) with validated settings; ``label``: the response's ``variant``."""
+    # loading_path's validation done once (the direction normalised again as it would be)
     lp = (
         path
         if path is not None
-        else loading_path(model, command, d6, variant=v, settings=s, continuation=False)
+        else run_path(p, unit_again(d6), MAX_SEGMENTS, None, False, time.perf_counter())
     )
     status = lp.status
     unbounded = status == "unbounded"
@@ -182,6 +210,8 @@ def quasistatic_max_wrench(
     resp_status = "resisted" if status in ("finite", "unbounded", "below_resolution") else "failed"
     resp = response_at(p, lp, at, at * d6, resp_status, s, t0)
     note = free_motion_note(p.model, d6) if status == "below_resolution" else ""
+    if label is not None:  # the registry's name of the variant
+        resp = replace(resp, variant=label)
     return MaxWrench(
         direction=d6,
         magnitude=magnitude,
@@ -201,4 +231,4 @@ def quasistatic_max_wrench(
     )
 
 
-__all__ = ["METHOD", "quasistatic_max_wrench", "quasistatic_response", "response_at"]
+__all__ = ["METHOD", "max_wrench_prepared", "quasistatic_max_wrench", "quasistatic_response", "response_at"]

@@ -6,15 +6,16 @@ from __future__ import annotations
 
 import time
 import weakref
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from ...core.axes import wrench_direction
+from ...core.axes import PLANAR_AXES, wrench_direction
 from ...core.model import GraspModel
 from ...core.settings import Settings, make_settings
 from ...core.validate import MAX_FORCE, MAX_PATH_SEGMENTS, count, load_within, number_in
 from ...errors import InvalidInputError
+from ...solvers.threads import single_threaded
 from .continuation import continue_past_limit
 from .events import path_events
 from .model import QSModel, build_qs_model
@@ -39,6 +40,9 @@ class Prepared:
     preload_runs: tuple[StageRun, ...]
     variant: str
     ratio: float
+    #: Records that are pure functions of the prepared grasp (the zero-load response), kept
+    #: with it: only time is saved.
+    memo: dict = field(default_factory=dict, compare=False, repr=False)
 
 
 _VALID: dict[Settings, Settings] = {}
@@ -106,24 +110,36 @@ def prepare(
     return per_model[key]
 
 
-def _arrays(p: Prepared, states: list[State]) -> dict[str, np.ndarray]:
+def _stacks(states: list[State]) -> dict[str, np.ndarray]:
+    """The states' fields stacked, one row per state (read by :func:`_arrays` and :func:`_audit`)."""
+    return {
+        "vs": np.array([s.vs for s in states]),
+        "c": np.array([s.c for s in states]),
+        "f": np.array([s.f for s in states]),
+        "lam": np.array([s.lam_c for s in states]),
+        "slip": np.array([s.slip for s in states]),
+        "t": np.array([s.t for s in states]),
+    }
+
+
+def _arrays(p: Prepared, states: list[State], stacks: dict | None = None) -> dict[str, np.ndarray]:
     """Physical arrays of the states (actuator quantities with the command signs)."""
     qm, m = p.qm, p.model
     k = len(states)
-    vs = np.array([s.vs for s in states]).reshape(k, qm.nv)
+    st = _stacks(states) if stacks is None else stacks
+    vs = st["vs"].reshape(k, qm.nv)
     x = vs[:, : qm.nx] / qm.S[: qm.nx]
     q = vs[:, qm.nx :] / qm.S[qm.nx :]
     x6 = np.zeros((k, 6))
-    for j in range(k):
-        x6[j] = m.expand_twist(x[j])
+    x6[:, list(PLANAR_AXES) if m.planar else slice(None)] = x  # m.expand_twist of every row
     c = np.zeros((k, qm.nc, 3))
-    c[:, :, : qm.d] = np.array([s.c for s in states]).reshape(k, qm.nc, qm.d)
-    slip = np.array([s.slip for s in states]).reshape(k, qm.nc, qm.d)
+    c[:, :, : qm.d] = st["c"].reshape(k, qm.nc, qm.d)
+    slip = st["slip"].reshape(k, qm.nc, qm.d)
     frames = np.asarray(m.frames)[:, :, : qm.d]
     slip_w = np.einsum("ijk,tik->tij", frames, slip)
-    f = np.array([s.f for s in states]).reshape(k, qm.na) * p.signs
+    f = st["f"].reshape(k, qm.na) * p.signs
     u = (q @ np.asarray(m.R)).reshape(k, qm.na) * p.signs if qm.na else np.zeros((k, 0))
-    lam = np.array([s.lam_c for s in states]).reshape(k, qm.ncp)
+    lam = st["lam"].reshape(k, qm.ncp)
     return {
         "object_displacements": x6,
         "joint_displacements": q,
@@ -135,18 +151,25 @@ def _arrays(p: Prepared, states: list[State]) -> dict[str, np.ndarray]:
     }
 
 
-def _audit(p: Prepared, states: list[State], arrays: dict[str, np.ndarray], d_red: np.ndarray) -> dict:
+def _audit(
+    p: Prepared,
+    states: list[State],
+    arrays: dict[str, np.ndarray],
+    d_red: np.ndarray,
+    stacks: dict | None = None,
+) -> dict:
     """Equilibrium, hand and friction residuals per breakpoint; energy balance per segment."""
     qm, m = p.qm, p.model
+    st = _stacks(states) if stacks is None else stacks
     ell = m.length_scale
     wscale = np.ones(qm.nx)
     wscale[(2 if m.planar else 3) :] = 1.0 / ell
-    C = np.array([s.c for s in states])  # (k, ncd)
-    t = np.array([s.t for s in states])
-    Fa = np.array([s.f for s in states]).reshape(len(states), qm.na)
-    Lc = np.array([s.lam_c for s in states]).reshape(len(states), qm.ncp)
-    VS = np.array([s.vs for s in states])
-    SL = np.array([s.slip for s in states])
+    C = st["c"]  # (k, ncd)
+    t = st["t"]
+    Fa = st["f"].reshape(len(states), qm.na)
+    Lc = st["lam"].reshape(len(states), qm.ncp)
+    VS = st["vs"]
+    SL = st["slip"]
     eq = np.linalg.norm((C @ np.asarray(m.G).T + t[:, None] * d_red) * wscale, axis=1)
     if qm.nq:
         tau = C @ np.asarray(m.J) - Fa @ np.asarray(m.R).T - Lc @ np.asarray(m.C)
@@ -246,7 +269,8 @@ def build_path(p: Prepared, d6: np.ndarray, run: StageRun, spec: StageSpec, wall
     m, qm = p.model, p.qm
     status, limit, reason = _status(run, p, spec)
     states = run.states
-    arrays = _arrays(p, states)
+    stacks = _stacks(states)
+    arrays = _arrays(p, states, stacks)
     segs = [s for s in run.segments if s.contact]
     k = len(states)
     cs, sf, am = [], [], []
@@ -265,7 +289,7 @@ def build_path(p: Prepared, d6: np.ndarray, run: StageRun, spec: StageSpec, wall
         along = float(ray["object_displacements"] @ d6)
         stiff = np.append(stiff, 1.0 / along if along > 0 else np.inf)
     d_red = m.reduce_wrench(d6)
-    audit = _audit(p, states, arrays, d_red)
+    audit = _audit(p, states, arrays, d_red, stacks)
     first_bad = _audit_failure(audit, run_loads, arrays, unbalanceable(m, d_red))
     if first_bad is not None:  # no verdict from a path that is not an equilibrium path
         status, reason, ray = "no_solution", "audit", None
@@ -302,6 +326,7 @@ def build_path(p: Prepared, d6: np.ndarray, run: StageRun, spec: StageSpec, wall
     )
 
 
+@single_threaded
 def loading_path(
     model: GraspModel,
     command: object,
@@ -348,6 +373,13 @@ def loading_path(
         up_to = number_in("up_to", up_to, 0.0, MAX_FORCE, "N or N·m")
         load_within(model, model.command_vector(command), "up_to", up_to * d6)
     return run_path(p, d6, int(max_segments), up_to, continuation, t0)
+
+
+def unit_again(d6: np.ndarray) -> np.ndarray:
+    """:func:`~pinograsp.core.axes.wrench_direction`'s arithmetic on a direction (6,) it has
+    already validated and normalised (the same bits, without validating it again)."""
+    d = d6 / float(np.abs(d6).max())
+    return d / float(np.linalg.norm(d))
 
 
 def run_path(
@@ -408,4 +440,4 @@ def _continuation(p: Prepared, d6: np.ndarray, more: StageRun, spec: StageSpec) 
     )
 
 
-__all__ = ["Prepared", "loading_path", "prepare", "run_path"]
+__all__ = ["Prepared", "loading_path", "prepare", "run_path", "unit_again"]

@@ -95,13 +95,18 @@ def path_events(qm: QSModel, run: StageRun, status: str) -> tuple[PathEvent, ...
         if k >= len(segs):
             break
         prev, new = segs[k - 1], segs[k]
+        if prev.contact == new.contact and prev.detail == new.detail and prev.actuator == new.actuator:
+            continue  # the same labels: no event (speed only)
         load = run.states[k].t
         cause = "; ".join(trigger_text(qm, tr) for tr in run.triggers[k - 1])
-        for i in range(qm.nc):
+        pairs = zip(prev.contact, new.contact, prev.detail, new.detail)
+        for i, (c0, c1, f0, f1) in enumerate(pairs):
+            if c0 == c1 and f0 == f1:
+                continue
             a, b = contact_label(prev, i), contact_label(new, i)
             if a != b:
                 out.append(PathEvent(load, "contact", m.contact_names[i], i, a, b, cause, k))
-        for j in range(qm.na):
+        for j in range(qm.na if prev.actuator != new.actuator else 0):
             a, b = prev.actuator[j], new.actuator[j]
             if a != b:
                 out.append(PathEvent(load, "actuator", m.actuator_names[j], j, a, b, cause, k))

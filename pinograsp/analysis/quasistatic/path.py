@@ -30,6 +30,7 @@ from .rates import (
     classify,
     rates,
     rescaled,
+    stage_constants,
 )
 from .snap import no_continuation, unstable_segment
 
@@ -173,10 +174,9 @@ def _solve_segment(
         ]
         hints = (np.union1d(prev.active, new), prev.active) if new else (prev.active,)
     seg = _planned(qm, st, spec, cls, "load", plan, run, sc, hints)
-    if not np.any(spec.dw):
+    _, _, r0, size, loaded = stage_constants(qm, spec)
+    if not loaded:
         return seg
-    r0 = qm.w_scaled(spec.dw)
-    size = float(np.linalg.norm(r0))
     if seg.status == "ok":
         along = float(r0 @ seg.dvs[: qm.nx]) / size  # displacement along the load per unit load
         if along * SOFT_RTOL * qm.k_ref < size:
@@ -201,36 +201,38 @@ def next_event(
     """The step to the next event along ``seg`` (``inf``: none) and the inequalities reached."""
     d = qm.d
     tol = cls.tol
-    rscale = max(
-        float(np.abs(seg.dc).max(initial=0.0)),
-        float(np.abs(qm.w_scaled(spec.dw)).max(initial=0.0)),
-        float(np.abs(spec.dfc * qm.r_norm).max(initial=0.0)),
-        1e-300,
-    )
+    wd, fd = stage_constants(qm, spec)[:2]
+    rscale = max(float(np.abs(seg.dc).max(initial=0.0)), wd, fd, 1e-300)
     rtol = RATE_RTOL * rscale
     kinds, idx, steps = [], [], []
-    staying = np.array([s != "separated" for s in seg.contact], bool)
+    staying = (
+        ~seg.separated
+        if seg.separated is not None
+        else np.array([s != "separated" for s in seg.contact], bool)
+    )
     cn, dcn = st.c[::d], seg.dc[::d]
     sel = np.flatnonzero(staying & (cn > tol) & (dcn < -rtol))
     kinds += ["separates"] * len(sel)
     idx += sel.tolist()
     steps += (cn[sel] / -dcn[sel]).tolist()
     An = qm.A[:, ::d]
-    gap = An.T @ st.vs  # -delta
-    dgap = An.T @ seg.dvs
-    sel = np.flatnonzero(cls.open & (-dgap * qm.kn > rtol))
-    kinds += ["touches"] * len(sel)
-    idx += sel.tolist()
-    steps += (gap[sel] / -dgap[sel]).tolist()
+    same = cls.src is st  # what classify computed of this state
+    if cls.open.any():  # only open contacts touch
+        gap = cls.gap if same and cls.gap is not None else An.T @ st.vs  # -delta
+        dgap = An.T @ seg.dvs
+        sel = np.flatnonzero(cls.open & (-dgap * qm.kn > rtol))
+        kinds += ["touches"] * len(sel)
+        idx += sel.tolist()
+        steps += (gap[sel] / -dgap[sel]).tolist()
     if spec.friction and qm.nf:
-        slack = qm.Phi @ st.c
+        slack = cls.slack if same and cls.slack is not None else qm.Phi @ st.c
         rate = qm.Phi @ seg.dc
         sel = np.flatnonzero(staying[qm.face_contact] & (slack > tol) & (rate < -rtol))
         kinds += ["face"] * len(sel)
         idx += sel.tolist()
         steps += (slack[sel] / -rate[sel]).tolist()
     if qm.na:
-        phi = (st.f - spec.command(st.t)) * qm.r_norm
+        phi = cls.phi if same and cls.phi is not None else (st.f - spec.command(st.t)) * qm.r_norm
         dphi = (seg.df - spec.dfc) * qm.r_norm
         sel = np.flatnonzero(qm.nbd & ~cls.act_lcp & (dphi < -rtol))
         kinds += ["command"] * len(sel)
@@ -245,7 +247,7 @@ def next_event(
     arr = np.maximum(np.array(steps), 0.0)
     t = float(arr.min())
     near = arr <= t * (1.0 + 1e-9)
-    found = [Trigger(kinds[m], int(idx[m])) for m in np.flatnonzero(near)]
+    found = [Trigger(kinds[m], int(idx[m])) for m in np.flatnonzero(near).tolist()]
     # a contact that unloads reaches every face at once: keep only its unloading
     gone = {tr.index for tr in found if tr.kind == "separates"}
     trig = tuple(tr for tr in found if not (tr.kind == "face" and int(qm.face_contact[tr.index]) in gone))

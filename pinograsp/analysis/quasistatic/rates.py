@@ -76,6 +76,7 @@ class Segment:
     tie: bool = False
     active: np.ndarray = field(default_factory=lambda: np.zeros(0, int))
     add: np.ndarray | None = None
+    separated: np.ndarray | None = None  # (nc,) bool: contact == "separated" (speed only)
 
 
 @dataclass(frozen=True, eq=False)
@@ -89,18 +90,46 @@ class Classes:
     act_lcp: np.ndarray  # (na,) non-backdrivable at its command
     tol: float  # force tolerance [N]
     fscale: float
+    # of the state classified (its identity): gaps ``-delta`` (nc,), face slacks (nf,) and
+    # actuator over-forces (na,), read again by the event search (speed only)
+    src: object = None
+    gap: np.ndarray | None = None
+    slack: np.ndarray | None = None
+    phi: np.ndarray | None = None
+
+
+def stage_constants(qm: QSModel, spec: StageSpec) -> tuple[float, float, np.ndarray, float, bool]:
+    """What the segment loop reads of ``spec`` and never changes along it (kept with the spec,
+    speed only): the largest scaled load rate and command rate [N], the scaled load rate (nx,),
+    its norm [N], whether the stage loads the object."""
+    memo = spec.__dict__.get("_qs_constants")
+    if memo is None or memo[0] is not qm:
+        r0 = qm.w_scaled(spec.dw)
+        memo = (
+            qm,
+            (
+                float(np.abs(r0).max(initial=0.0)),
+                float(np.abs(spec.dfc * qm.r_norm).max(initial=0.0)),
+                r0,
+                float(np.linalg.norm(r0)),
+                bool(np.any(spec.dw)),
+            ),
+        )
+        spec.__dict__["_qs_constants"] = memo  # a frozen record: its own dict, not setattr
+    return memo[1]
 
 
 def force_scale(qm: QSModel, st: State, spec: StageSpec) -> float:
     """Force scale of a state [N]: contact forces, load and commands (as forces)."""
     w = spec.w0 + st.t * spec.dw
     fc = spec.command(st.t)
+    wd, fd = stage_constants(qm, spec)[:2]
     parts = [
         float(np.abs(st.c).max(initial=0.0)),
         float(np.abs(qm.w_scaled(w)).max(initial=0.0)),
-        float(np.abs(qm.w_scaled(spec.dw)).max(initial=0.0)),
+        wd,
         float(np.abs(fc * qm.r_norm).max(initial=0.0)),
-        float(np.abs(spec.dfc * qm.r_norm).max(initial=0.0)),
+        fd,
     ]
     return max(max(parts), 1e-300)
 
@@ -112,7 +141,8 @@ def classify(qm: QSModel, st: State, spec: StageSpec) -> Classes:
     tol = EVENT_RTOL * fscale
     d = qm.d
     cn = st.c[::d]
-    delta = -(qm.A[:, ::d].T @ st.vs)
+    gap = qm.A[:, ::d].T @ st.vs
+    delta = -gap
     low = cn <= tol
     opened = low & (delta * qm.kn < -tol)
     zero = low & ~opened
@@ -124,10 +154,10 @@ def classify(qm: QSModel, st: State, spec: StageSpec) -> Classes:
         fc = qm.face_contact
         faces = np.flatnonzero((zero[fc]) | (pressed[fc] & (slack <= tol)))
     else:
-        faces = np.zeros(0, int)
+        faces, slack = np.zeros(0, int), None
     phi = (st.f - spec.command(st.t)) * qm.r_norm
     act_lcp = qm.nbd & (phi <= tol)
-    return Classes(opened, zero, pressed, faces, act_lcp, tol, fscale)
+    return Classes(opened, zero, pressed, faces, act_lcp, tol, fscale, st, gap, slack, phi)
 
 
 #: Plans for a contact at zero force: both pairs in the LCP, pressed (touching, faces in the
@@ -171,10 +201,9 @@ def rates(
     nz = Mlcp.shape[0]
     # faces of a contact at zero force: opposite faces' flows cancel (a null direction of M);
     # a relative 1e-12 on their diagonal picks the least flow
-    at_apex = np.concatenate(
-        [np.zeros(len(zero), bool), cls.zero[qm.face_contact[faces]], np.zeros(len(acts), bool)]
-    )
-    if at_apex.any():
+    apex_faces = cls.zero[qm.face_contact[faces]]
+    if apex_faces.any():
+        at_apex = np.concatenate([np.zeros(len(zero), bool), apex_faces, np.zeros(len(acts), bool)])
         Mlcp[at_apex, at_apex] += APEX_REG * max(float(np.abs(Mlcp).max()), 1.0)
     # item codes: opening of contact i -> i, face f -> nc + f, actuator a -> nc + nf + a
     keys = np.concatenate([zero, qm.nc + faces, qm.nc + qm.nf + acts])
@@ -200,7 +229,7 @@ def _items(qm: QSModel, cls: Classes, plan: np.ndarray, sep: np.ndarray, apex: n
     their command (index arrays)."""
     zero = np.flatnonzero(cls.zero & (plan == FULL))
     faces = cls.faces
-    if len(faces):
+    if len(faces) and (sep.any() or (apex is not None and cls.zero.any())):  # else every face stays
         owner_f = qm.face_contact[faces]
         keep = ~sep[owner_f]
         if apex is not None:
@@ -219,7 +248,8 @@ def _linear(qm: QSModel, sc: StageCache, spec: StageSpec, ks: np.ndarray, items,
     n0, n1 = len(zero), len(zero) + len(faces)
     nz = n1 + len(acts)
     F = np.zeros((qm.ncd, 1 + nz))  # contact force rate per unit flow (column 0: the load)
-    F[zero * d, 1 + np.arange(n0)] = 1.0
+    if n0:
+        F[zero * d, 1 + np.arange(n0)] = 1.0
     if len(faces):
         F[:, 1 + n0 : 1 + n1] = qm.PhiT_t[:, faces]  # dc_t = -nu per unit flow
     cols = sc.col_arr[acts]
@@ -283,8 +313,10 @@ def _solve_lcp(M: np.ndarray, q: np.ndarray, keys: np.ndarray, hints: tuple[np.n
 def _check_guesses(qm, spec, cls, plan, sep, apex, seg, v, dc, sc) -> Segment:
     """Flag a contradicted zero-force guess (status ``"guess"``: a pressed one pulls, a
     separated one closes) or a left-out apex face that the rates cross (``"apex"``)."""
+    if not cls.zero.any():  # no zero-force contact: no guess (``sep`` is part of ``cls.zero``)
+        return seg
     d = qm.d
-    rtol = RATE_RTOL * max(float(np.abs(dc).max(initial=0.0)), float(np.abs(sc.r0).max()), 1e-300)
+    rtol = RATE_RTOL * max(float(np.abs(dc).max(initial=0.0)), sc.r0max, 1e-300)
     bad = cls.zero & (plan == PRESS) & (dc[::d] < -rtol)
     closing = -(qm.A[:, ::d].T @ v) * qm.kn
     bad |= sep & (closing > rtol)
@@ -293,7 +325,7 @@ def _check_guesses(qm, spec, cls, plan, sep, apex, seg, v, dc, sc) -> Segment:
         seg.flip = bad
         return seg
     if apex is not None and spec.friction and qm.nf:
-        on = cls.zero & ~sep & ~opening_of(seg)
+        on = cls.zero & ~sep & ~seg.separated
         rows = np.flatnonzero(on[qm.face_contact] & ~apex)
         if len(rows):
             out = rows[(qm.Phi[rows] @ dc) < -rtol]
@@ -305,6 +337,8 @@ def _check_guesses(qm, spec, cls, plan, sep, apex, seg, v, dc, sc) -> Segment:
 
 def opening_of(seg: Segment) -> np.ndarray:
     """Contacts separated on ``seg`` (nc,) bool."""
+    if seg.separated is not None:
+        return seg.separated
     return np.array([c == "separated" for c in seg.contact], bool)
 
 
@@ -324,26 +358,22 @@ def _segment(qm, spec, cls, sc, v, dc, rho, lam_rate, zeta, items, nz, res, cont
     nzero = len(zero)
     flows_f = zeta[nzero : nzero + len(faces)]
     dslip = flows_f @ qm.slip_rows[faces] if len(faces) else np.zeros(qm.ncd)
-    rscale = max(
-        float(np.abs(dc).max(initial=0.0)), float(np.abs(sc.r0).max(initial=0.0)) * abs(lam_rate), 1e-300
-    )
+    rscale = max(float(np.abs(dc).max(initial=0.0)), sc.r0max * abs(lam_rate), 1e-300)
     ftol = RATE_RTOL * rscale
     opening = sep.copy()
     opening[zero] = (zeta[:nzero] > ftol) | (dc[zero * d] <= ftol)
     sliding: list[list[int]] = [[] for _ in range(nc)]
-    for m in np.flatnonzero(flows_f > ftol):
-        fidx = faces[m]
-        sliding[qm.face_contact[fidx]].append(int(qm.face_index[fidx]))
+    flowing = faces[flows_f > ftol]
+    for i, f in zip(qm.face_contact[flowing].tolist(), qm.face_index[flowing].tolist()):
+        sliding[i].append(f)
     sep_all = cls.open | opening
-    contact = tuple(
-        "separated" if sep_all[i] else ("sliding" if sliding[i] else "sticking") for i in range(nc)
-    )
-    detail = tuple(() if sep_all[i] else tuple(sliding[i]) for i in range(nc))
+    sep_l = sep_all.tolist()
+    contact = tuple("separated" if sep_l[i] else ("sliding" if sliding[i] else "sticking") for i in range(nc))
+    detail = tuple(() if sep_l[i] else tuple(sliding[i]) for i in range(nc))
     moving = np.zeros(qm.na, bool)
     moving[acts] = zeta[nzero + len(faces) :] > ftol
-    actuator = tuple(
-        ("moving" if moving[a] else "holding") if qm.nbd[a] else qm.model.kinds[a] for a in range(qm.na)
-    )
+    mv, nbd, kinds = moving.tolist(), qm.nbd.tolist(), qm.model.kinds
+    actuator = tuple(("moving" if mv[a] else "holding") if nbd[a] else kinds[a] for a in range(qm.na))
     dc = dc.reshape(nc, d).copy()
     dc[sep_all] = 0.0
     return Segment(
@@ -361,6 +391,7 @@ def _segment(qm, spec, cls, sc, v, dc, rho, lam_rate, zeta, items, nz, res, cont
         pivots=res.pivots if res is not None else 0,
         control=control,
         lam_rate=lam_rate,
+        separated=sep_all,
     )
 
 

@@ -48,6 +48,7 @@ class StageCache:
     Bpr0: np.ndarray
     Ztr0: np.ndarray
     cz: np.ndarray | None
+    r0max: float = 0.0  # largest |r0| (speed only)
 
     @classmethod
     def of(cls, qm: QSModel, spec: StageSpec) -> StageCache:
@@ -82,6 +83,7 @@ class StageCache:
             Bpr0=B_pinv @ r0,
             Ztr0=Z.T @ r0,
             cz=None if crow is None else Z[:nx].T @ crow,
+            r0max=float(np.abs(r0).max(initial=0.0)),
         )
 
 
@@ -138,7 +140,7 @@ def affine_reduced(qm, sc, ks, Fm, Vp, control):
     if info != 0:
         return None
     diag = L.diagonal()
-    if diag.min() ** 2 <= CHOL_RTOL * diag.max() ** 2:
+    if float(diag.min()) ** 2 <= CHOL_RTOL * float(diag.max()) ** 2:
         return None
     rhs = AZ.T @ Fm
     rhs[:, 0] += sc.Ztr0
