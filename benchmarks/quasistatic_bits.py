@@ -25,18 +25,15 @@ import numpy as np
 
 import pinograsp as pg
 
+from .quasistatic_ratios import scene_directions
+
 
 def cases() -> list[tuple[str, object, np.ndarray, list[np.ndarray]]]:
     """``(name, model, command, directions)``."""
     out = []
     for name in ("pinch", "case1", "case2", "case3"):
         sc = pg.load_scene(name)
-        dirs = [np.asarray(d, float) for d in pg.plane_directions(sc.model, sc.analysis.plane, 24)]
-        for dn in sc.analysis.directions:
-            d = np.asarray(sc.direction(dn), float)
-            if not any(np.allclose(d, e) for e in dirs):
-                dirs.append(d)
-        out.append((name, sc.model, sc.model.command_vector(sc.preload(None)), dirs))
+        out.append((name, sc.model, sc.model.command_vector(sc.preload(None)), scene_directions(sc)))
     for n_pairs in (1, 2, 3, 4, 6, 10):
         for seed in range(3):
             m = pg.examples.random_grasp(seed, n_pairs, contacts_per_finger=2)

@@ -57,16 +57,22 @@ def _qs(model: Any, command: np.ndarray, d: np.ndarray, upper: float, session: A
     return pg.max_resistible_wrench(model, command, d, method="quasistatic", upper=upper, session=session)
 
 
+def scene_directions(sc: Any) -> list[np.ndarray]:
+    """A built-in scene's 24 directions in its plane and its named ones not among them."""
+    dirs = [np.asarray(d, float) for d in pg.plane_directions(sc.model, sc.analysis.plane, 24)]
+    for dn in sc.analysis.directions:
+        d = np.asarray(sc.direction(dn), float)
+        if not any(np.allclose(d, e) for e in dirs):
+            dirs.append(d)
+    return dirs
+
+
 def speed_cases(pairs: list[int]) -> list[tuple[str, Any, np.ndarray, list[np.ndarray], float]]:
     """``(name, model, command, directions, upper)`` of every case timed."""
     out = []
     for name in ("pinch", "case1", "case2", "case3"):
         sc = pg.load_scene(name)
-        dirs = [np.asarray(d, float) for d in pg.plane_directions(sc.model, sc.analysis.plane, 24)]
-        for dn in sc.analysis.directions:
-            d = np.asarray(sc.direction(dn), float)
-            if not any(np.allclose(d, e) for e in dirs):
-                dirs.append(d)
+        dirs = scene_directions(sc)
         out.append(
             (name, sc.model, sc.model.command_vector(sc.preload(None)), dirs, float(sc.analysis.upper))
         )
