@@ -254,6 +254,31 @@ def test_scip_gmp_line_is_dropped_and_other_output_kept(capfd):
     assert "verbatim" in capfd.readouterr().out
 
 
+def test_highs_banner_of_the_preload_fallback_is_dropped(capfd, monkeypatch):
+    """equilibrium_preload's HiGHS fallback (Clarabel failing) prints no banner: the lines
+    HiGHS writes at its first solve in a process are dropped by quiet_stdout."""
+    banner = (
+        b"Running HiGHS 1.16.0 (git hash: f3f113d): Copyright (c) 2026 under MIT licence terms\n"
+        b"Includes third-party software components, see THIRD_PARTY_NOTICES.md for full details\n"
+    )
+    with quiet_stdout():
+        os.write(1, banner)
+    assert capfd.readouterr().out == ""
+    import cvxpy as cp
+
+    solve = cp.Problem.solve
+
+    def clarabel_fails(self, *args, solver=None, **kwargs):
+        if solver == cp.CLARABEL:
+            raise cp.error.SolverError("Solver 'CLARABEL' failed.")
+        return solve(self, *args, solver=solver, **kwargs)
+
+    monkeypatch.setattr(cp.Problem, "solve", clarabel_fails)
+    bal = pg.equilibrium_preload(examples.pinch(), "iterative")
+    assert bal.found and bal.command == {"left": 1.0, "right": 1.0}  # the design is linear: HiGHS
+    assert "HiGHS" not in capfd.readouterr().out
+
+
 def test_solves_print_nothing(capfd):
     """The double pinch at offset 1e-4 and a mu = 1e-3 pinch made SCIP (SoPlex) print its GMP
     line on stderr during iterative solves."""

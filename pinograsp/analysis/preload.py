@@ -30,6 +30,7 @@ from ..core.results import PassiveResponse
 from ..core.settings import DEFAULT_METHOD, METHODS, Settings
 from ..core.validate import choice, force
 from ..errors import InvalidInputError, ModelError, PinograspError, SolverError, UnknownNameError
+from ..solvers.quiet import quiet_stdout
 from .registry import get_method
 from .response import passive_response
 from .staged import SETTLED_PRELOAD_METHOD
@@ -160,7 +161,8 @@ def _solved(problem: Any, what: str, required: bool = True) -> bool:  # noqa: AN
     tried = []
     for solver in (cp.CLARABEL, cp.HIGHS) if linear else (cp.CLARABEL,):
         try:
-            problem.solve(solver=solver)
+            with quiet_stdout(solver == cp.HIGHS):  # its banner, at the first solve of a process
+                problem.solve(solver=solver)
         except (cp.error.SolverError, ArithmeticError, ValueError) as exc:
             tried.append(f"{solver}: {' '.join(str(exc).split())[:200]}")
             continue

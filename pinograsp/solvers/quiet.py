@@ -1,7 +1,8 @@
 """Quiet backend calls: SCIP's LP solver prints ``Cannot set feasibility tolerance to small value
 ... without GMP`` straight to the process's stderr when it tightens its tolerance on hard
-problems. :func:`quiet_stdout` runs a call with file descriptors 1 and 2 redirected; that line
-is dropped and any other output is forwarded to ``sys.stdout`` / ``sys.stderr``.
+problems, and HiGHS prints a banner at its first solve. :func:`quiet_stdout` runs a call with
+file descriptors 1 and 2 redirected; those lines are dropped and any other output is forwarded
+to ``sys.stdout`` / ``sys.stderr``.
 """
 
 from __future__ import annotations
@@ -14,7 +15,11 @@ from contextlib import contextmanager
 from typing import IO, TextIO
 
 #: Lines of backend output that carry no information for pinograsp users (dropped when quiet).
-NOISE = ("without GMP - using",)
+NOISE = (
+    "without GMP - using",
+    "Running HiGHS",  # HiGHS's banner, printed once per process at its first solve
+    "Includes third-party software components, see THIRD_PARTY_NOTICES",
+)
 
 _FD_LOCK = threading.Lock()
 
