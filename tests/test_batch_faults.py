@@ -122,6 +122,31 @@ def busy_workers(proc, journal, rows=2):
     return children(proc.pid)
 
 
+def finish(proc, timeout, workers=()):
+    """``proc.communicate`` within ``timeout`` [s]; past it the test fails with what was still
+    running (the batch process's state, its children, the workers alive) and the stack of every
+    thread of the batch process (faulthandler on SIGUSR1, tests/support/batch_faults_cli.py):
+    a hang is reported with its cause, never as a bare timeout."""
+    try:
+        return proc.communicate(timeout=timeout)
+    except subprocess.TimeoutExpired:
+        running = proc.poll() is None
+        kids = children(proc.pid) if running else []
+        state = (
+            f"batch process {'running' if running else f'exited with {proc.returncode}'}; "
+            f"its children {kids}; workers alive {[w for w in workers if alive(w)]}"
+        )
+        if running:
+            os.kill(proc.pid, signal.SIGUSR1)  # the batch's stacks, to its stderr
+            time.sleep(1.0)
+        for pid in {*kids, *workers}:
+            if alive(pid):
+                os.kill(pid, signal.SIGKILL)
+        proc.kill()
+        _, err = proc.communicate(timeout=30)
+        pytest.fail(f"the batch did not end within {timeout} s of the test's signal: {state}\n{err[-6000:]}")
+
+
 @pytest.mark.parametrize("sig, code", [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
 def test_interrupt_then_resume_equals_uninterrupted(tmp_path, batch_file, reference, sig, code):
     (tmp_path / "grasps.yaml").write_text(batch_file.read_text())
@@ -129,7 +154,7 @@ def test_interrupt_then_resume_equals_uninterrupted(tmp_path, batch_file, refere
     proc = spawn(tmp_path, 0.4, hold_after=2)
     workers = busy_workers(proc, journal)
     proc.send_signal(sig)
-    _, err = proc.communicate(timeout=30)
+    _, err = finish(proc, 30, workers)
     assert proc.returncode == code, err
     assert "grasps finished; kept in out.csv.partial.jsonl" in err
     kept = journal_rows(journal)
@@ -150,7 +175,7 @@ def test_sigkill_of_a_worker_costs_one_retry(tmp_path, batch_file, reference):
     proc = spawn(tmp_path, 0.4)
     workers = busy_workers(proc, tmp_path / "out.csv.partial.jsonl", rows=1)
     os.kill(workers[0], signal.SIGKILL)  # mid-grasp: that grasp runs again on a fresh worker
-    _, err = proc.communicate(timeout=60)
+    _, err = finish(proc, 60, workers)
     assert proc.returncode == 0, err
     df = read(tmp_path / "out.csv")
     assert (df["status"] != "error").all()
@@ -164,7 +189,7 @@ def test_sigkill_of_the_batch_kills_its_workers_and_resume_finishes(tmp_path, ba
     proc = spawn(tmp_path, 0.4, hold_after=2)
     workers = busy_workers(proc, journal)
     proc.kill()
-    proc.communicate(timeout=30)
+    finish(proc, 30, workers)
     wait_until(lambda: not any(alive(w) for w in workers), "workers die with their parent")
     with journal.open("a") as f:
         f.write('{"index": 11, "id": "g1')  # a line cut by the kill: dropped on resume

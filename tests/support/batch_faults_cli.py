@@ -10,7 +10,9 @@ killed (at most 120 s, a hang guard): the batch is then certainly still running 
 interrupts it, however slow the machine — no race between the signal and the batch's end.
 """
 
+import faulthandler
 import os
+import signal
 import sys
 import time
 from pathlib import Path
@@ -36,6 +38,7 @@ def _slow_score(self, model, command):
 
 
 if __name__ == "__main__":
+    faulthandler.register(signal.SIGUSR1, all_threads=True)  # a hung test dumps the batch's stacks
     DELAY = float(sys.argv[1])
     evaluate.WorstAxisScore.__call__ = _slow_score
     sys.exit(main(sys.argv[2:]))
