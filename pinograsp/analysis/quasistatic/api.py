@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import time
 import weakref
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -225,11 +226,16 @@ def unbalanceable(model: GraspModel, d_red: np.ndarray) -> float:
 
 
 def _audit_failure(
-    audit: dict, loads: np.ndarray, arrays: dict[str, np.ndarray], rest: float = 0.0
+    audit: dict, loads: np.ndarray, arrays: dict[str, np.ndarray], rest: float | Callable[[], float] = 0.0
 ) -> int | None:
     """Index of the first breakpoint whose audit fails (None: all pass); ``rest``: the unit
     load's unbalanceable part (:func:`unbalanceable`), allowed in the equilibrium residual at
-    each load when it is rounding (at most :data:`UNBALANCED_RTOL`)."""
+    each load when it is rounding (at most :data:`UNBALANCED_RTOL`); a callable is evaluated
+    only when the audit fails without that allowance (which only ever loosens the bar)."""
+    if callable(rest):
+        if _audit_failure(audit, loads, arrays, 0.0) is None:
+            return None
+        rest = rest()
     c = arrays["contact_forces"]
     force = max(float(np.abs(c).max(initial=0.0)), float(np.abs(loads).max(initial=0.0)), 1e-300)
     bad = ~np.isfinite(arrays["object_displacements"]).all(axis=1) | ~np.isfinite(loads)
@@ -264,8 +270,11 @@ def _seg_rates(p: Prepared, seg, x0: np.ndarray | None) -> dict[str, np.ndarray]
     return {k: v[0] for k, v in arr.items()}
 
 
-def build_path(p: Prepared, d6: np.ndarray, run: StageRun, spec: StageSpec, wall: float) -> LoadingPath:
-    """The :class:`LoadingPath` record of a load stage."""
+def build_path(
+    p: Prepared, d6: np.ndarray, run: StageRun, spec: StageSpec, wall: float, lean: bool = False
+) -> LoadingPath:
+    """The :class:`LoadingPath` record of a load stage; ``lean``: without its events (for an
+    answer that reads only the limit and the states, as the max-wrench query; the audit stays)."""
     m, qm = p.model, p.qm
     status, limit, reason = _status(run, p, spec)
     states = run.states
@@ -290,7 +299,7 @@ def build_path(p: Prepared, d6: np.ndarray, run: StageRun, spec: StageSpec, wall
         stiff = np.append(stiff, 1.0 / along if along > 0 else np.inf)
     d_red = m.reduce_wrench(d6)
     audit = _audit(p, states, arrays, d_red, stacks)
-    first_bad = _audit_failure(audit, run_loads, arrays, unbalanceable(m, d_red))
+    first_bad = _audit_failure(audit, run_loads, arrays, lambda: unbalanceable(m, d_red))
     if first_bad is not None:  # no verdict from a path that is not an equilibrium path
         status, reason, ray = "no_solution", "audit", None
         limit = float(run_loads[max(first_bad - 1, 0)])
@@ -307,7 +316,7 @@ def build_path(p: Prepared, d6: np.ndarray, run: StageRun, spec: StageSpec, wall
         contact_states=tuple(cs),
         sliding_faces=tuple(sf),
         actuator_modes=tuple(am),
-        events=path_events(qm, run, status),
+        events=() if lean else path_events(qm, run, status),
         ray=ray,
         audit=audit,
         segments=len(states) - 1,
@@ -383,10 +392,17 @@ def unit_again(d6: np.ndarray) -> np.ndarray:
 
 
 def run_path(
-    p: Prepared, d6: np.ndarray, max_segments: int, up_to: float | None, continuation: bool, t0: float
+    p: Prepared,
+    d6: np.ndarray,
+    max_segments: int,
+    up_to: float | None,
+    continuation: bool,
+    t0: float,
+    lean: bool = False,
 ) -> LoadingPath:
     """The load stage of a prepared grasp along the unit direction ``d6`` (6,) as a
-    :class:`LoadingPath` (see :func:`loading_path`)."""
+    :class:`LoadingPath` (see :func:`loading_path`); ``lean``: without its events (see
+    :func:`build_path`)."""
     d_red = p.model.reduce_wrench(d6)
     t_end = float("inf") if up_to is None else float(up_to)
     spec = StageSpec(np.zeros(p.qm.nx), d_red, p.fc, np.zeros(p.qm.na), t_end, held=False, friction=True)
@@ -400,7 +416,7 @@ def run_path(
         more = continue_past_limit(p.qm, run, spec, max_segments)
         if more is not None:
             cont = _continuation(p, d6, more, spec)
-    lp = build_path(p, d6, run, spec, time.perf_counter() - t0)
+    lp = build_path(p, d6, run, spec, time.perf_counter() - t0, lean)
     return replace(lp, continuation=cont) if cont is not None else lp
 
 
