@@ -158,8 +158,10 @@ def _audit(
     arrays: dict[str, np.ndarray],
     d_red: np.ndarray,
     stacks: dict | None = None,
+    energy: bool = True,
 ) -> dict:
-    """Equilibrium, hand and friction residuals per breakpoint; energy balance per segment."""
+    """Equilibrium, hand and friction residuals per breakpoint; energy balance per segment
+    (without ``energy``: an empty array, for a lean record)."""
     qm, m = p.qm, p.model
     st = _stacks(states) if stacks is None else stacks
     ell = m.length_scale
@@ -178,6 +180,8 @@ def _audit(
     else:
         hand = np.zeros(len(states))
     fr = np.maximum(0.0, -(C @ qm.Phi.T).min(axis=1, initial=0.0)) if qm.nf else np.zeros(len(states))
+    if not energy:
+        return {"equilibrium": eq, "hand": hand, "friction": fr, "energy": np.zeros(0)}
     d = qm.d
     Cc = C.reshape(len(states), qm.nc, d)
     elastic = np.sum(Cc[:, :, 0] ** 2 / (2 * qm.kn), axis=1)
@@ -273,8 +277,10 @@ def _seg_rates(p: Prepared, seg, x0: np.ndarray | None) -> dict[str, np.ndarray]
 def build_path(
     p: Prepared, d6: np.ndarray, run: StageRun, spec: StageSpec, wall: float, lean: bool = False
 ) -> LoadingPath:
-    """The :class:`LoadingPath` record of a load stage; ``lean``: without its events (for an
-    answer that reads only the limit and the states, as the max-wrench query; the audit stays)."""
+    """The :class:`LoadingPath` record of a load stage; ``lean``: without its events and its
+    energy balance (for an answer that reads only the limit and the states, as the max-wrench
+    query; the equilibrium, hand and friction audit that turns a broken path into
+    ``no_solution`` stays)."""
     m, qm = p.model, p.qm
     status, limit, reason = _status(run, p, spec)
     states = run.states
@@ -298,7 +304,7 @@ def build_path(
         along = float(ray["object_displacements"] @ d6)
         stiff = np.append(stiff, 1.0 / along if along > 0 else np.inf)
     d_red = m.reduce_wrench(d6)
-    audit = _audit(p, states, arrays, d_red, stacks)
+    audit = _audit(p, states, arrays, d_red, stacks, energy=not lean)
     first_bad = _audit_failure(audit, run_loads, arrays, lambda: unbalanceable(m, d_red))
     if first_bad is not None:  # no verdict from a path that is not an equilibrium path
         status, reason, ray = "no_solution", "audit", None
@@ -401,8 +407,8 @@ def run_path(
     lean: bool = False,
 ) -> LoadingPath:
     """The load stage of a prepared grasp along the unit direction ``d6`` (6,) as a
-    :class:`LoadingPath` (see :func:`loading_path`); ``lean``: without its events (see
-    :func:`build_path`)."""
+    :class:`LoadingPath` (see :func:`loading_path`); ``lean``: without its events and energy
+    balance (see :func:`build_path`)."""
     d_red = p.model.reduce_wrench(d6)
     t_end = float("inf") if up_to is None else float(up_to)
     spec = StageSpec(np.zeros(p.qm.nx), d_red, p.fc, np.zeros(p.qm.na), t_end, held=False, friction=True)
