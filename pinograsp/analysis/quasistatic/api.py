@@ -277,8 +277,8 @@ def _seg_rates(p: Prepared, seg, x0: np.ndarray | None) -> dict[str, np.ndarray]
 def build_path(
     p: Prepared, d6: np.ndarray, run: StageRun, spec: StageSpec, wall: float, lean: bool = False
 ) -> LoadingPath:
-    """The :class:`LoadingPath` record of a load stage; ``lean``: without its events and its
-    energy balance (for an answer that reads only the limit and the states, as the max-wrench
+    """The :class:`LoadingPath` record of a load stage; ``lean``: without its events, its
+    stiffness per segment and its energy balance (for an answer that reads only the limit and the states, as the max-wrench
     query; the equilibrium, hand and friction audit that turns a broken path into
     ``no_solution`` stays)."""
     m, qm = p.model, p.qm
@@ -295,14 +295,16 @@ def build_path(
         sf.append(seg.detail if seg else ((),) * qm.nc)
         am.append(seg.actuator if seg else ("holding",) * qm.na)
     x = arrays["object_displacements"]
-    s = (x - x[0]) @ d6
-    dl, ds = np.diff(run_loads := np.array([st.t for st in states])), np.diff(s)
-    stiff = np.divide(dl, ds, out=np.full(len(dl), np.inf), where=np.abs(ds) > 0)
+    run_loads = np.array([st.t for st in states])
+    stiff = np.zeros(0)
+    if not lean:  # the stiffness along d per segment
+        dl, ds = np.diff(run_loads), np.diff((x - x[0]) @ d6)
+        stiff = np.divide(dl, ds, out=np.full(len(dl), np.inf), where=np.abs(ds) > 0)
     ray = None
     if status == "unbounded":
         ray = _seg_rates(p, run.segments[-1], x[0])
         along = float(ray["object_displacements"] @ d6)
-        stiff = np.append(stiff, 1.0 / along if along > 0 else np.inf)
+        stiff = stiff if lean else np.append(stiff, 1.0 / along if along > 0 else np.inf)
     d_red = m.reduce_wrench(d6)
     audit = _audit(p, states, arrays, d_red, stacks, energy=not lean)
     first_bad = _audit_failure(audit, run_loads, arrays, lambda: unbalanceable(m, d_red))
@@ -407,8 +409,8 @@ def run_path(
     lean: bool = False,
 ) -> LoadingPath:
     """The load stage of a prepared grasp along the unit direction ``d6`` (6,) as a
-    :class:`LoadingPath` (see :func:`loading_path`); ``lean``: without its events and energy
-    balance (see :func:`build_path`)."""
+    :class:`LoadingPath` (see :func:`loading_path`); ``lean``: without its events, stiffness
+    and energy balance (see :func:`build_path`)."""
     d_red = p.model.reduce_wrench(d6)
     t_end = float("inf") if up_to is None else float(up_to)
     spec = StageSpec(np.zeros(p.qm.nx), d_red, p.fc, np.zeros(p.qm.na), t_end, held=False, friction=True)
