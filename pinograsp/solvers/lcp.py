@@ -311,14 +311,10 @@ def _leaving_row_small(T: list[list[float]], col: int, rhs: list[float], n: int,
 def _verified(M: np.ndarray, q: np.ndarray, z: np.ndarray, rtol: float = 1e-8) -> bool:
     """``w = M z + q >= 0`` and ``z^T w = 0`` to ``rtol`` of the data's scale."""
     w = M @ z + q
-    scale = max(
-        float(np.abs(q).max(initial=0.0)),
-        float(np.abs(M).max(initial=0.0)) * float(z.max(initial=0.0)),
-        1e-300,
-    )
+    zmax = float(z.max(initial=0.0))
+    scale = max(float(np.abs(q).max(initial=0.0)), float(np.abs(M).max(initial=0.0)) * zmax, 1e-300)
     return bool(
-        w.min(initial=0.0) >= -rtol * scale
-        and np.abs(z * w).max(initial=0.0) <= rtol * scale * max(float(z.max(initial=0.0)), 1e-300)
+        w.min(initial=0.0) >= -rtol * scale and np.abs(z * w).max(initial=0.0) <= rtol * scale * max(zmax, 1e-300)
     )
 
 
