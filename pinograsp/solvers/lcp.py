@@ -220,7 +220,9 @@ def lemke(M: np.ndarray, q: np.ndarray, max_pivots: int | None = None) -> LCPRes
     return _basic_solution(M, q, basis, rhs, pivots)
 
 
-def _basic_solution(M: np.ndarray, q: np.ndarray, basis: np.ndarray, rhs: np.ndarray, pivots: int) -> LCPResult:
+def _basic_solution(
+    M: np.ndarray, q: np.ndarray, basis: np.ndarray, rhs: np.ndarray, pivots: int
+) -> LCPResult:
     """The solution of Lemke's final tableau (basic variables ``basis`` (n,), values ``rhs``)."""
     n = q.size
     x = np.zeros(2 * n + 1)
@@ -314,7 +316,8 @@ def _verified(M: np.ndarray, q: np.ndarray, z: np.ndarray, rtol: float = 1e-8) -
     zmax = float(z.max(initial=0.0))
     scale = max(float(np.abs(q).max(initial=0.0)), float(np.abs(M).max(initial=0.0)) * zmax, 1e-300)
     return bool(
-        w.min(initial=0.0) >= -rtol * scale and np.abs(z * w).max(initial=0.0) <= rtol * scale * max(zmax, 1e-300)
+        w.min(initial=0.0) >= -rtol * scale
+        and np.abs(z * w).max(initial=0.0) <= rtol * scale * max(zmax, 1e-300)
     )
 
 

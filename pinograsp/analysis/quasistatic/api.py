@@ -278,9 +278,9 @@ def build_path(
     p: Prepared, d6: np.ndarray, run: StageRun, spec: StageSpec, wall: float, lean: bool = False
 ) -> LoadingPath:
     """The :class:`LoadingPath` record of a load stage; ``lean``: without its events, its
-    stiffness per segment and its energy balance (for an answer that reads only the limit and the states, as the max-wrench
-    query; the equilibrium, hand and friction audit that turns a broken path into
-    ``no_solution`` stays)."""
+    stiffness per segment and its energy balance (for an answer that reads only the limit and
+    the states, as the max-wrench query; the equilibrium, hand and friction audit that turns a
+    broken path into ``no_solution`` stays)."""
     m, qm = p.model, p.qm
     status, limit, reason = _status(run, p, spec)
     states = run.states
