@@ -30,17 +30,9 @@ def _modes(states: tuple[str, ...]) -> tuple[str, ...]:
 
 
 def response_at(
-    p: Prepared,
-    lp: LoadingPath,
-    load: float,
-    w6: np.ndarray,
-    status: str,
-    settings: Settings,
-    t0: float,
-    label: str | None = None,
+    p: Prepared, lp: LoadingPath, load: float, w6: np.ndarray, status: str, settings: Settings, t0: float
 ) -> PassiveResponse:
-    """The :class:`PassiveResponse` of the path's state at ``load`` (on the path); ``label``:
-    its ``variant`` (default the preload path's name)."""
+    """The :class:`PassiveResponse` of the path's state at ``load`` (on the path)."""
     m = p.model
     st = lp.state_at(min(load, lp.loads[-1]) if lp.ray is None else load)
     assert st is not None
@@ -87,7 +79,7 @@ def response_at(
         resistible=status == "resisted",
         status=status,  # type: ignore[arg-type]
         method=METHOD,  # type: ignore[arg-type]
-        variant=p.variant if label is None else label,
+        variant=p.variant,
         wrench=w6,
         command=p.fc * p.signs,
         contact_forces=c,
@@ -216,8 +208,10 @@ def max_wrench_prepared(
     magnitude = float("inf") if unbounded else float(lp.limit)
     at = float(lp.loads[-1])
     resp_status = "resisted" if status in ("finite", "unbounded", "below_resolution") else "failed"
-    resp = response_at(p, lp, at, at * d6, resp_status, s, t0, label)  # label: the registry's name
+    resp = response_at(p, lp, at, at * d6, resp_status, s, t0)
     note = free_motion_note(p.model, d6) if status == "below_resolution" else ""
+    if label is not None:  # the registry's name of the variant
+        resp = replace(resp, variant=label)
     return MaxWrench(
         direction=d6,
         magnitude=magnitude,
