@@ -29,7 +29,7 @@ from .context import SolveContext
 from .limit_search import free_motion_note
 from .protocols import LimitQuery, SessionLike
 from .quasistatic.answers import max_wrench_prepared, quasistatic_response
-from .quasistatic.api import checked_settings, prepare, unit_again
+from .quasistatic.api import Prepared, checked_settings, prepare, unit_again
 from .stages import Stage
 
 #: The settings' variants that apply, and the preload path each names.
@@ -98,6 +98,23 @@ def no_preload_response(
     )
 
 
+def _prepared(session: SessionLike, fc: object) -> tuple[Variant, Settings, Prepared]:
+    """The variant, validated settings and prepared grasp of the commands ``fc`` on ``session``,
+    kept with the session per commands (a pure function of its model, settings and ``fc``;
+    speed only)."""
+    kept = getattr(session, "__dict__", None)
+    memo = kept.setdefault("_qs_prepared", {}) if kept is not None and isinstance(fc, np.ndarray) else {}
+    key = (id(session.settings), fc.tobytes() if isinstance(fc, np.ndarray) else None)
+    hit = memo.get(key)
+    if hit is None or hit[0] is not session.settings:
+        v, path = path_variant(session.settings)
+        s = checked_settings(session.settings)
+        if len(memo) >= 64:
+            memo.clear()
+        hit = memo[key] = (session.settings, v, s, prepare(session.model, fc, s, path))
+    return hit[1], hit[2], hit[3]
+
+
 class QuasistaticMethod:
     """Rules of ``method="quasistatic"`` (:class:`~pinograsp.analysis.protocols.AnalysisMethod`)."""
 
@@ -109,6 +126,7 @@ class QuasistaticMethod:
     refines = False  # follows the model's own polygon (refine the model's pyramids instead)
     exact = True
     limit_point = False
+    preload_kept = True  # the preload verdict: a pure function of model, settings and commands
     preload_method = Method.QUASISTATIC
     carries_residual = False
 
@@ -151,11 +169,9 @@ class QuasistaticMethod:
             SolverError: The path stopped without a verdict (status ``"no_solution"`` or
                 ``"segment_limit"``; the load reached is in the message).
         """
-        v, path = path_variant(session.settings)
         # quasistatic_max_wrench on the session's validated settings and direction, the
         # response labelled with the registry's variant
-        s = checked_settings(session.settings)
-        p = prepare(session.model, query.command, s, path)
+        v, s, p = _prepared(session, query.command)
         mw = max_wrench_prepared(p, unit_again(query.direction), s, time.perf_counter(), label=v.value)
         if mw.status in NO_VERDICT:
             raise SolverError(

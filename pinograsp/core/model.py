@@ -25,6 +25,9 @@ from .cones import edge_counts, with_normal_uncertainty
 from .contact import Contact
 from .validate import MAX_FORCE, finite_number
 
+#: Indices of the out-of-plane components ``(fz, mx, my)`` inside a 6-vector.
+_OUT_OF_PLANE = np.delete(np.arange(6), PLANAR_AXES)
+
 
 @dataclass(frozen=True, eq=False)
 class GraspModel:
@@ -151,7 +154,7 @@ class GraspModel:
         if not np.all(np.isfinite(w)):
             raise InvalidInputError(name, "contains NaN or inf", w)
         if self.planar:
-            out = np.delete(np.arange(6), PLANAR_AXES)
+            out = _OUT_OF_PLANE
             scale = max(np.abs(w).max(), 1e-300)
             if np.any(np.abs(w[out]) > 1e-12 * scale):
                 raise InvalidInputError(

@@ -17,6 +17,7 @@ rate problems. NumPy and SciPy's LAPACK wrappers only.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from enum import Enum
 
@@ -178,6 +179,12 @@ def lemke(M: np.ndarray, q: np.ndarray, max_pivots: int | None = None) -> LCPRes
     limit = 50 * (n + 1) if max_pivots is None else int(max_pivots)
     scale = max(float(np.abs(M).max(initial=0.0)), 1e-300)
     tol = PIVOT_RTOL * scale
+    small = _pivots_small(M, q, limit, tol) if n <= SMALL else None
+    if small is not None:
+        status, basis_l, rhs_l, pivots = small
+        if status is not LCPStatus.SOLVED:
+            return LCPResult(status, np.zeros(n), q.copy(), pivots)
+        return _basic_solution(M, q, np.array(basis_l), np.array(rhs_l, dtype=float), pivots)
     # tableau columns: w (0..n-1), z (n..2n-1), z0 (2n); basic variables are stored per row
     T = np.empty((n, 2 * n + 1))
     T[:, :n] = np.eye(n)
@@ -210,6 +217,14 @@ def lemke(M: np.ndarray, q: np.ndarray, max_pivots: int | None = None) -> LCPRes
         row = _leaving_row(T, col, rhs, n, tol)
         if row < 0:
             return LCPResult(LCPStatus.RAY, np.zeros(n), q.copy(), pivots)
+    return _basic_solution(M, q, basis, rhs, pivots)
+
+
+def _basic_solution(
+    M: np.ndarray, q: np.ndarray, basis: np.ndarray, rhs: np.ndarray, pivots: int
+) -> LCPResult:
+    """The solution of Lemke's final tableau (basic variables ``basis`` (n,), values ``rhs``)."""
+    n = q.size
     x = np.zeros(2 * n + 1)
     x[basis] = np.maximum(rhs, 0.0)  # basic values; -1e-16 rounding of a degenerate row is 0
     z, w = x[n : 2 * n].copy(), x[:n].copy()
@@ -218,17 +233,91 @@ def lemke(M: np.ndarray, q: np.ndarray, max_pivots: int | None = None) -> LCPRes
     return LCPResult(LCPStatus.SOLVED, z, w, pivots)
 
 
+#: Largest LCP whose Lemke pivots run on Python floats (:func:`_pivots_small`; speed only).
+SMALL = 4
+
+
+def _pivots_small(
+    M: np.ndarray, q: np.ndarray, limit: int, tol: float
+) -> tuple[LCPStatus, list[int], list[float], int] | None:
+    """:func:`lemke`'s pivoting loop on Python floats for a small LCP: the same IEEE operations,
+    element by element and in the same order, as the NumPy loop (so the same bits), without
+    NumPy's per-call overhead. Returns (status, basis, basic values, pivots), or None when a
+    value is not finite (the NumPy loop then runs, as it always did)."""
+    n = q.size
+    m = 2 * n + 1
+    rhs = q.tolist()
+    if not all(math.isfinite(v) for v in rhs):
+        return None
+    rows = M.tolist()
+    T = [[1.0 if j == i else 0.0 for j in range(n)] + [-v for v in rows[i]] + [-1.0] for i in range(n)]
+    basis = list(range(n))
+    low = min(rhs)
+    bar = low + TIE_RTOL * max(abs(low), 1.0)
+    row = [i for i in range(n) if rhs[i] <= bar][-1]
+    col = 2 * n
+    pivots = 0
+    while True:
+        piv = T[row][col]
+        Tr = [v / piv for v in T[row]]
+        T[row] = Tr
+        rhs[row] = rhs[row] / piv
+        f = [T[i][col] for i in range(n)]
+        f[row] = 0.0
+        T = [[Ti[j] - fi * Tr[j] for j in range(m)] for Ti, fi in zip(T, f)]
+        rr = rhs[row]
+        rhs = [r - fi * rr for r, fi in zip(rhs, f)]
+        leaving = basis[row]
+        basis[row] = col
+        pivots += 1
+        if leaving == 2 * n:
+            break
+        col = leaving + n if leaving < n else leaving - n  # the complement enters
+        if pivots >= limit:
+            return LCPStatus.PIVOT_LIMIT, basis, rhs, pivots
+        found = _leaving_row_small(T, col, rhs, n, tol)
+        if found is None:
+            return None
+        row = found
+        if row < 0:
+            return LCPStatus.RAY, basis, rhs, pivots
+    return LCPStatus.SOLVED, basis, rhs, pivots
+
+
+def _leaving_row_small(T: list[list[float]], col: int, rhs: list[float], n: int, tol: float) -> int | None:
+    """:func:`_leaving_row` on Python floats (None: a value is not a number; -1: ray)."""
+    a = [T[i][col] for i in range(n)]
+    pos = [v > tol for v in a]
+    if not any(pos):
+        return -1
+    ratios = [rhs[i] / a[i] if pos[i] else math.inf for i in range(n)]
+    if any(r != r for r in ratios):
+        return None
+    best = min(ratios)
+    bar = best + TIE_RTOL * max(abs(best), 1.0)
+    cand = [i for i in range(n) if ratios[i] <= bar]
+    if len(cand) == 1:
+        return cand[0]
+    for j in range(n):
+        vals = [T[i][j] / a[i] for i in cand]
+        if any(v != v for v in vals):
+            return None
+        low = min(vals)
+        bar = low + TIE_RTOL * max(abs(low), 1.0)
+        cand = [i for i, v in zip(cand, vals) if v <= bar]
+        if len(cand) == 1:
+            break
+    return cand[0]
+
+
 def _verified(M: np.ndarray, q: np.ndarray, z: np.ndarray, rtol: float = 1e-8) -> bool:
     """``w = M z + q >= 0`` and ``z^T w = 0`` to ``rtol`` of the data's scale."""
     w = M @ z + q
-    scale = max(
-        float(np.abs(q).max(initial=0.0)),
-        float(np.abs(M).max(initial=0.0)) * float(z.max(initial=0.0)),
-        1e-300,
-    )
+    zmax = float(z.max(initial=0.0))
+    scale = max(float(np.abs(q).max(initial=0.0)), float(np.abs(M).max(initial=0.0)) * zmax, 1e-300)
     return bool(
         w.min(initial=0.0) >= -rtol * scale
-        and np.abs(z * w).max(initial=0.0) <= rtol * scale * max(float(z.max(initial=0.0)), 1e-300)
+        and np.abs(z * w).max(initial=0.0) <= rtol * scale * max(zmax, 1e-300)
     )
 
 

@@ -201,7 +201,7 @@ def max_wrench_prepared(
     lp = (
         path
         if path is not None
-        else run_path(p, unit_again(d6), MAX_SEGMENTS, None, False, time.perf_counter())
+        else run_path(p, unit_again(d6), MAX_SEGMENTS, None, False, time.perf_counter(), lean=True)
     )
     status = lp.status
     unbounded = status == "unbounded"

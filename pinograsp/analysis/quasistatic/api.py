@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import time
 import weakref
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -157,8 +158,10 @@ def _audit(
     arrays: dict[str, np.ndarray],
     d_red: np.ndarray,
     stacks: dict | None = None,
+    energy: bool = True,
 ) -> dict:
-    """Equilibrium, hand and friction residuals per breakpoint; energy balance per segment."""
+    """Equilibrium, hand and friction residuals per breakpoint; energy balance per segment
+    (without ``energy``: an empty array, for a lean record)."""
     qm, m = p.qm, p.model
     st = _stacks(states) if stacks is None else stacks
     ell = m.length_scale
@@ -177,6 +180,8 @@ def _audit(
     else:
         hand = np.zeros(len(states))
     fr = np.maximum(0.0, -(C @ qm.Phi.T).min(axis=1, initial=0.0)) if qm.nf else np.zeros(len(states))
+    if not energy:
+        return {"equilibrium": eq, "hand": hand, "friction": fr, "energy": np.zeros(0)}
     d = qm.d
     Cc = C.reshape(len(states), qm.nc, d)
     elastic = np.sum(Cc[:, :, 0] ** 2 / (2 * qm.kn), axis=1)
@@ -225,11 +230,16 @@ def unbalanceable(model: GraspModel, d_red: np.ndarray) -> float:
 
 
 def _audit_failure(
-    audit: dict, loads: np.ndarray, arrays: dict[str, np.ndarray], rest: float = 0.0
+    audit: dict, loads: np.ndarray, arrays: dict[str, np.ndarray], rest: float | Callable[[], float] = 0.0
 ) -> int | None:
     """Index of the first breakpoint whose audit fails (None: all pass); ``rest``: the unit
     load's unbalanceable part (:func:`unbalanceable`), allowed in the equilibrium residual at
-    each load when it is rounding (at most :data:`UNBALANCED_RTOL`)."""
+    each load when it is rounding (at most :data:`UNBALANCED_RTOL`); a callable is evaluated
+    only when the audit fails without that allowance (which only ever loosens the bar)."""
+    if callable(rest):
+        if _audit_failure(audit, loads, arrays, 0.0) is None:
+            return None
+        rest = rest()
     c = arrays["contact_forces"]
     force = max(float(np.abs(c).max(initial=0.0)), float(np.abs(loads).max(initial=0.0)), 1e-300)
     bad = ~np.isfinite(arrays["object_displacements"]).all(axis=1) | ~np.isfinite(loads)
@@ -264,8 +274,13 @@ def _seg_rates(p: Prepared, seg, x0: np.ndarray | None) -> dict[str, np.ndarray]
     return {k: v[0] for k, v in arr.items()}
 
 
-def build_path(p: Prepared, d6: np.ndarray, run: StageRun, spec: StageSpec, wall: float) -> LoadingPath:
-    """The :class:`LoadingPath` record of a load stage."""
+def build_path(
+    p: Prepared, d6: np.ndarray, run: StageRun, spec: StageSpec, wall: float, lean: bool = False
+) -> LoadingPath:
+    """The :class:`LoadingPath` record of a load stage; ``lean``: without its events, its
+    stiffness per segment and its energy balance (for an answer that reads only the limit and
+    the states, as the max-wrench query; the equilibrium, hand and friction audit that turns a
+    broken path into ``no_solution`` stays)."""
     m, qm = p.model, p.qm
     status, limit, reason = _status(run, p, spec)
     states = run.states
@@ -280,17 +295,19 @@ def build_path(p: Prepared, d6: np.ndarray, run: StageRun, spec: StageSpec, wall
         sf.append(seg.detail if seg else ((),) * qm.nc)
         am.append(seg.actuator if seg else ("holding",) * qm.na)
     x = arrays["object_displacements"]
-    s = (x - x[0]) @ d6
-    dl, ds = np.diff(run_loads := np.array([st.t for st in states])), np.diff(s)
-    stiff = np.divide(dl, ds, out=np.full(len(dl), np.inf), where=np.abs(ds) > 0)
+    run_loads = np.array([st.t for st in states])
+    stiff = np.zeros(0)
+    if not lean:  # the stiffness along d per segment
+        dl, ds = np.diff(run_loads), np.diff((x - x[0]) @ d6)
+        stiff = np.divide(dl, ds, out=np.full(len(dl), np.inf), where=np.abs(ds) > 0)
     ray = None
     if status == "unbounded":
         ray = _seg_rates(p, run.segments[-1], x[0])
         along = float(ray["object_displacements"] @ d6)
-        stiff = np.append(stiff, 1.0 / along if along > 0 else np.inf)
+        stiff = stiff if lean else np.append(stiff, 1.0 / along if along > 0 else np.inf)
     d_red = m.reduce_wrench(d6)
-    audit = _audit(p, states, arrays, d_red, stacks)
-    first_bad = _audit_failure(audit, run_loads, arrays, unbalanceable(m, d_red))
+    audit = _audit(p, states, arrays, d_red, stacks, energy=not lean)
+    first_bad = _audit_failure(audit, run_loads, arrays, lambda: unbalanceable(m, d_red))
     if first_bad is not None:  # no verdict from a path that is not an equilibrium path
         status, reason, ray = "no_solution", "audit", None
         limit = float(run_loads[max(first_bad - 1, 0)])
@@ -307,7 +324,7 @@ def build_path(p: Prepared, d6: np.ndarray, run: StageRun, spec: StageSpec, wall
         contact_states=tuple(cs),
         sliding_faces=tuple(sf),
         actuator_modes=tuple(am),
-        events=path_events(qm, run, status),
+        events=() if lean else path_events(qm, run, status),
         ray=ray,
         audit=audit,
         segments=len(states) - 1,
@@ -383,10 +400,17 @@ def unit_again(d6: np.ndarray) -> np.ndarray:
 
 
 def run_path(
-    p: Prepared, d6: np.ndarray, max_segments: int, up_to: float | None, continuation: bool, t0: float
+    p: Prepared,
+    d6: np.ndarray,
+    max_segments: int,
+    up_to: float | None,
+    continuation: bool,
+    t0: float,
+    lean: bool = False,
 ) -> LoadingPath:
     """The load stage of a prepared grasp along the unit direction ``d6`` (6,) as a
-    :class:`LoadingPath` (see :func:`loading_path`)."""
+    :class:`LoadingPath` (see :func:`loading_path`); ``lean``: without its events, stiffness
+    and energy balance (see :func:`build_path`)."""
     d_red = p.model.reduce_wrench(d6)
     t_end = float("inf") if up_to is None else float(up_to)
     spec = StageSpec(np.zeros(p.qm.nx), d_red, p.fc, np.zeros(p.qm.na), t_end, held=False, friction=True)
@@ -400,7 +424,7 @@ def run_path(
         more = continue_past_limit(p.qm, run, spec, max_segments)
         if more is not None:
             cont = _continuation(p, d6, more, spec)
-    lp = build_path(p, d6, run, spec, time.perf_counter() - t0)
+    lp = build_path(p, d6, run, spec, time.perf_counter() - t0, lean)
     return replace(lp, continuation=cont) if cont is not None else lp
 
 

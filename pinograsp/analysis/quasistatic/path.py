@@ -148,7 +148,7 @@ def _plan(qm: QSModel, cls: Classes, prev: Segment | None) -> np.ndarray:
     (pressed), one that was touching has just unloaded (separated)."""
     plan = np.full(qm.nc, PRESS)
     if prev is not None and prev.contact:
-        for i in np.flatnonzero(cls.zero):
+        for i in cls.zero.nonzero()[0]:
             plan[i] = PRESS if prev.contact[i] == "separated" else SEPARATE
     return plan
 
@@ -211,7 +211,7 @@ def next_event(
         else np.array([s != "separated" for s in seg.contact], bool)
     )
     cn, dcn = st.c[::d], seg.dc[::d]
-    sel = np.flatnonzero(staying & (cn > tol) & (dcn < -rtol))
+    sel = (staying & (cn > tol) & (dcn < -rtol)).nonzero()[0]
     kinds += ["separates"] * len(sel)
     idx += sel.tolist()
     steps += (cn[sel] / -dcn[sel]).tolist()
@@ -220,21 +220,21 @@ def next_event(
     if cls.open.any():  # only open contacts touch
         gap = cls.gap if same and cls.gap is not None else An.T @ st.vs  # -delta
         dgap = An.T @ seg.dvs
-        sel = np.flatnonzero(cls.open & (-dgap * qm.kn > rtol))
+        sel = (cls.open & (-dgap * qm.kn > rtol)).nonzero()[0]
         kinds += ["touches"] * len(sel)
         idx += sel.tolist()
         steps += (gap[sel] / -dgap[sel]).tolist()
     if spec.friction and qm.nf:
         slack = cls.slack if same and cls.slack is not None else qm.Phi @ st.c
         rate = qm.Phi @ seg.dc
-        sel = np.flatnonzero(staying[qm.face_contact] & (slack > tol) & (rate < -rtol))
+        sel = (staying[qm.face_contact] & (slack > tol) & (rate < -rtol)).nonzero()[0]
         kinds += ["face"] * len(sel)
         idx += sel.tolist()
         steps += (slack[sel] / -rate[sel]).tolist()
     if qm.na:
         phi = cls.phi if same and cls.phi is not None else (st.f - spec.command(st.t)) * qm.r_norm
         dphi = (seg.df - spec.dfc) * qm.r_norm
-        sel = np.flatnonzero(qm.nbd & ~cls.act_lcp & (dphi < -rtol))
+        sel = (qm.nbd & ~cls.act_lcp & (dphi < -rtol)).nonzero()[0]
         kinds += ["command"] * len(sel)
         idx += sel.tolist()
         steps += (phi[sel] / -dphi[sel]).tolist()
@@ -247,7 +247,7 @@ def next_event(
     arr = np.maximum(np.array(steps), 0.0)
     t = float(arr.min())
     near = arr <= t * (1.0 + 1e-9)
-    found = [Trigger(kinds[m], int(idx[m])) for m in np.flatnonzero(near).tolist()]
+    found = [Trigger(kinds[m], int(idx[m])) for m in near.nonzero()[0].tolist()]
     # a contact that unloads reaches every face at once: keep only its unloading
     gone = {tr.index for tr in found if tr.kind == "separates"}
     trig = tuple(tr for tr in found if not (tr.kind == "face" and int(qm.face_contact[tr.index]) in gone))

@@ -152,7 +152,7 @@ def classify(qm: QSModel, st: State, spec: StageSpec) -> Classes:
     if spec.friction and qm.nf:
         slack = qm.Phi @ st.c
         fc = qm.face_contact
-        faces = np.flatnonzero((zero[fc]) | (pressed[fc] & (slack <= tol)))
+        faces = ((zero[fc]) | (pressed[fc] & (slack <= tol))).nonzero()[0]
     else:
         faces, slack = np.zeros(0, int), None
     phi = (st.f - spec.command(st.t)) * qm.r_norm
@@ -227,7 +227,7 @@ def rates(
 def _items(qm: QSModel, cls: Classes, plan: np.ndarray, sep: np.ndarray, apex: np.ndarray | None):
     """The LCP items: zero-force contacts with an opening pair, boundary faces, actuators at
     their command (index arrays)."""
-    zero = np.flatnonzero(cls.zero & (plan == FULL))
+    zero = (cls.zero & (plan == FULL)).nonzero()[0]
     faces = cls.faces
     if len(faces) and (sep.any() or (apex is not None and cls.zero.any())):  # else every face stays
         owner_f = qm.face_contact[faces]
@@ -235,7 +235,7 @@ def _items(qm: QSModel, cls: Classes, plan: np.ndarray, sep: np.ndarray, apex: n
         if apex is not None:
             keep &= ~cls.zero[owner_f] | apex[faces]
         faces = faces[keep]
-    return zero, faces, np.flatnonzero(cls.act_lcp)
+    return zero, faces, cls.act_lcp.nonzero()[0]
 
 
 def _linear(qm: QSModel, sc: StageCache, spec: StageSpec, ks: np.ndarray, items, control: str):
@@ -326,7 +326,7 @@ def _check_guesses(qm, spec, cls, plan, sep, apex, seg, v, dc, sc) -> Segment:
         return seg
     if apex is not None and spec.friction and qm.nf:
         on = cls.zero & ~sep & ~seg.separated
-        rows = np.flatnonzero(on[qm.face_contact] & ~apex)
+        rows = (on[qm.face_contact] & ~apex).nonzero()[0]
         if len(rows):
             out = rows[(qm.Phi[rows] @ dc) < -rtol]
             if len(out):
