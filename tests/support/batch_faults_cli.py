@@ -39,6 +39,10 @@ def _slow_score(self, model, command):
 
 if __name__ == "__main__":
     faulthandler.register(signal.SIGUSR1, all_threads=True)  # a hung test dumps the batch's stacks
+    # Ctrl-C as at a terminal: a test run started in the background by a non-interactive shell
+    # (a CI script's `cmd &`) inherits SIGINT ignored, which Python keeps, and the batch rightly
+    # ignores it then (a background job is not interrupted by Ctrl-C; docs/batch.md)
+    signal.signal(signal.SIGINT, signal.default_int_handler)
     DELAY = float(sys.argv[1])
     evaluate.WorstAxisScore.__call__ = _slow_score
     sys.exit(main(sys.argv[2:]))
