@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import argparse
 import itertools
-import math
 import os
 import time
 from collections.abc import Mapping
@@ -27,8 +26,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 import pinograsp as pg
-
-BOX = pg.ObjectSpec("box", size=(0.1462, 0.05, 0.10), xyz=(0.0, 0.0, 0.0678))
+from scripts.reproduce.batch_throughput import grasps  # case 1's box, the same sampled grasps
 
 
 def cube_directions() -> list[tuple[str, np.ndarray]]:
@@ -73,19 +71,6 @@ class CubeScore:
             "unbounded_fraction": unbounded / len(mags),
             "directions": float(len(mags)),
         }
-
-
-def grasps(n: int, seed: int) -> list[Any]:
-    """``n`` Barrett grasps of case 1's box (as ``scripts/reproduce/batch_throughput.py``)."""
-    return pg.sample_grasps(
-        "barrett_bh8_282",
-        BOX,
-        n,
-        seed,
-        translation=0.005,
-        rotation=math.radians(10),
-        q_open={"bh_j11": math.pi / 2},
-    )
 
 
 def main() -> None:

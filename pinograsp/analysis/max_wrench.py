@@ -68,30 +68,6 @@ def query_within(session: PassiveSolver, command: object, query: Query, *, eps: 
     return fc
 
 
-#: Commands per session whose preload check is kept (:func:`_preload_passed`).
-_KEPT_CHECKS = 64
-
-
-def _preload_passed(session: object, fc: np.ndarray, rules: object, *, passed: bool = False) -> bool:
-    """Whether the preload of ``fc`` already passed :func:`check_preload` on this session, for a
-    method whose preload verdict is a pure function of the session's model, settings and
-    commands (``rules.preload_kept``: the quasi-static path); with ``passed``, record that it did.
-    Speed only: the check is the same, made once per session and command."""
-    if not getattr(rules, "preload_kept", False):
-        return False
-    kept = getattr(session, "__dict__", None)
-    if kept is None:
-        return False
-    memo = kept.setdefault("_preload_passed", {})
-    key = (getattr(rules, "name", None), id(session.settings), fc.tobytes())  # type: ignore[attr-defined]
-    if passed:
-        if len(memo) >= _KEPT_CHECKS:
-            memo.clear()
-        memo[key] = session.settings  # type: ignore[attr-defined]
-        return True
-    return memo.get(key) is session.settings  # type: ignore[attr-defined]
-
-
 def max_wrench_on(
     session: PassiveSolver, fc: np.ndarray, d: np.ndarray, query: Query, *, check_preload_first: bool = True
 ) -> MaxWrench:
@@ -100,9 +76,9 @@ def max_wrench_on(
     t0 = time.perf_counter()
     rules = get_method(query.method)
     tally = Tally()
-    if check_preload_first and not _preload_passed(session, fc, rules):
+    if check_preload_first and not (rules.preload_kept and session.preload_checked(fc, rules.name)):
         tally.add(check_preload(session, fc, rules.name.value))
-        _preload_passed(session, fc, rules, passed=True)
+        session.preload_checked(fc, rules.name, passed=rules.preload_kept)
     kind = resolve_search(query.search, rules)
     floor = rules.floor(session, d, query.upper, query.steps)
     q = LimitQuery(session, fc, d, rules, query.upper, query.steps, kind, floor, t0, tally)

@@ -34,6 +34,7 @@ class EnergeticMethod:
     limit_point = True
     preload_method = Method.ITERATIVE
     carries_residual = True
+    preload_kept = False
 
     def stage(
         self, session: SolveContext, w: np.ndarray, fc: np.ndarray, p: np.ndarray, start: Mode | None

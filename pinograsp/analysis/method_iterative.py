@@ -33,6 +33,7 @@ class IterativeMethod:
     limit_point = False
     preload_method = Method.ITERATIVE
     carries_residual = False
+    preload_kept = False
 
     def stage(
         self, session: SolveContext, w: np.ndarray, fc: np.ndarray, p: np.ndarray, start: Mode | None

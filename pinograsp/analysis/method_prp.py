@@ -32,6 +32,7 @@ class PrpMethod:
     limit_point = False
     preload_method = Method.PRP
     carries_residual = False
+    preload_kept = False
 
     def stage(
         self, session: SolveContext, w: np.ndarray, fc: np.ndarray, p: np.ndarray, start: Mode | None

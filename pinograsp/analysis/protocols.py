@@ -101,6 +101,9 @@ class AnalysisMethod(Protocol):
         preload_method: Whose preload stage it loads on top of (preload-first variant).
         carries_residual: Its load stage balances the load plus the net wrench an inexact
             preload stage left (energetic on the iterative preload).
+        preload_kept: Its preload check (``max_resistible_wrench``'s verdict at ``w = 0``) is a
+            pure function of the session and the commands, so a session makes it once per
+            command (the quasi-static path).
     """
 
     name: Method
@@ -113,6 +116,7 @@ class AnalysisMethod(Protocol):
     limit_point: bool
     preload_method: Method
     carries_residual: bool
+    preload_kept: bool
 
     def stage(
         self, session: SolveContext, w: np.ndarray, fc: np.ndarray, p: np.ndarray, start: Mode | None

@@ -111,6 +111,8 @@ class PassiveSolver:
                 stacklevel=3,
             )
         self._preload: dict[tuple[Method, tuple[float, ...]], Stage] = {}
+        #: commands whose preload check passed, per method (``AnalysisMethod.preload_kept``)
+        self._preload_checked: set[tuple[Method, tuple[float, ...]]] = set()
         self._mirrors: dict[tuple[bool, ...], PassiveSolver] = {}
 
     # ------------------------------------------------------------ the solvers
@@ -146,6 +148,15 @@ class PassiveSolver:
     def has_preload(self, command: np.ndarray, method: object) -> bool:
         """Whether the preload stage of ``method`` under ``command`` is kept already."""
         return self._preload_key(command, method) in self._preload
+
+    def preload_checked(self, command: np.ndarray, method: object, *, passed: bool = False) -> bool:
+        """Whether the preload check of ``method`` under ``command`` passed on this session
+        already; ``passed=True`` records that it did (for methods whose check is a pure
+        function of the session and the commands, ``AnalysisMethod.preload_kept``)."""
+        key = self._preload_key(command, method)
+        if passed:
+            self._preload_checked.add(key)
+        return key in self._preload_checked
 
     def preload_stage(self, command: np.ndarray, method: object) -> Stage:
         """The preload alone (``w = 0``) solved by ``method``, kept per command (a pure function

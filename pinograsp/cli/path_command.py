@@ -7,6 +7,7 @@ import argparse
 import math
 from pathlib import Path
 
+from ..core.axes import wrench_unit
 from ..core.serialize import vector_text
 from ..errors import InvalidInputError
 from . import options as opt
@@ -65,13 +66,7 @@ def cmd_path(args: argparse.Namespace) -> int:
         settings=settings,
         max_segments=args.max_segments,
     )
-    unit = (
-        "N"
-        if sum(abs(v) for v in lp.direction[3:]) == 0
-        else "N·m"
-        if sum(abs(v) for v in lp.direction[:3]) == 0
-        else "N, N·m"
-    )
+    unit = wrench_unit(lp.direction)
     limit = "unbounded (no event ahead)" if lp.unbounded else f"{lp.limit:.6g} {unit}"
     lines = [
         scene_line(scene),

@@ -14,17 +14,12 @@ from typing import Any
 
 import numpy as np
 
-from ..core.axes import wrench_direction
+from ..core.axes import wrench_direction, wrench_unit
 from ..core.model import GraspModel
 from ..core.validate import force, load_within, number_in
 from ..errors import InvalidInputError
 from .integrator import FRICTIONS, PRELOADS, Engine, SimOptions, preload, ramp, refine
 from .result import SimulationResult, SimulationStatus
-
-
-def _unit(direction: np.ndarray) -> str:
-    force, torque = np.linalg.norm(direction[:3]) > 1e-12, np.linalg.norm(direction[3:]) > 1e-12
-    return "N" if not torque else ("N·m" if not force else "N, N·m")
 
 
 def _inputs(
@@ -197,7 +192,7 @@ def simulate_max_wrench(
         onset_load=onset,
         applied_load=found.applied,
         direction=d,
-        unit=_unit(d),
+        unit=wrench_unit(d),
         upper=opts.upper,
         start=opts.start,
         slip_threshold=opts.slip,

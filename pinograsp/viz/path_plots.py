@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ..core.axes import wrench_unit
 from ..errors import InvalidInputError
 from .figures import GID_UNBOUNDED, pyplot
 
@@ -78,13 +79,7 @@ def plot_loading_path(lp: Any, ax: Axes | None = None, *, bands: bool = True) ->
     if lp.status in ("finite", "below_resolution"):
         ax.axhline(lp.limit, color="C3", lw=0.8, ls=":")
         ax.annotate(f"limit {lp.limit:.4g}", (s[-1], lp.limit), fontsize=8, va="bottom", ha="right")
-    unit = (
-        "N"
-        if np.linalg.norm(lp.direction[3:]) < 1e-12
-        else "N·m"
-        if np.linalg.norm(lp.direction[:3]) < 1e-12
-        else "N, N·m"
-    )
+    unit = wrench_unit(lp.direction)
     ax.set_ylabel(f"load λ [{unit}]")
     ax.set_title(f"quasi-static loading path ({lp.status})", fontsize=10)
     ax.grid(True, alpha=0.3)

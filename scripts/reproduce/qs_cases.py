@@ -33,6 +33,8 @@ import numpy as np
 
 import pinograsp as pg
 
+from .validate_mujoco import _label  # the same direction labels as the scene validation
+
 #: Built-in scenes validated (all of them).
 SCENES = ("pinch", "wedge", "case1", "case2", "case3", "fig1")
 #: Directions per scene plane.
@@ -101,15 +103,6 @@ def fingerprint(case: Case) -> str:
         h.update(np.ascontiguousarray(np.asarray(a, dtype=float)).tobytes())
     h.update(repr((m.kinds, m.length_scale, case.upper)).encode())
     return h.hexdigest()[:16]
-
-
-def _label(d: np.ndarray, basis: tuple[np.ndarray, np.ndarray] | None) -> str:
-    nz = np.flatnonzero(np.abs(d) > 1e-9)
-    if nz.size == 1:
-        return f"{'+' if d[nz[0]] > 0 else '-'}{pg.WRENCH_AXES[nz[0]]}"
-    if basis is not None:
-        return f"{np.degrees(np.arctan2(d @ basis[1], d @ basis[0])) % 360.0:.0f}°"
-    return "(" + ", ".join(f"{x:.2f}" for x in d) + ")"
 
 
 def scene_cases(name: str, n: int = N_PLANE) -> list[Case]:

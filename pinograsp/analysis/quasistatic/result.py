@@ -12,7 +12,7 @@ from typing import Any, Literal
 
 import numpy as np
 
-from ...core.axes import WRENCH_AXES, direction_text
+from ...core.axes import WRENCH_AXES, direction_text, wrench_unit
 from ...core.serialize import jsonable
 from ...errors import InvalidInputError, MissingDependencyError
 from .events import PathEvent
@@ -238,13 +238,7 @@ class LoadingPath:
             "stop_reason": self.stop_reason,
             "loads": self.loads,
             "displacement_along": self.displacement_along,
-            "object_displacements": self.object_displacements,
-            "joint_displacements": self.joint_displacements,
-            "actuator_displacements": self.actuator_displacements,
-            "actuator_forces": self.actuator_forces,
-            "coupling_forces": self.coupling_forces,
-            "contact_forces": self.contact_forces,
-            "contact_slip": self.contact_slip,
+            **self._arrays(),
             "contact_states": self.contact_states,
             "sliding_faces": self.sliding_faces,
             "actuator_modes": self.actuator_modes,
@@ -310,13 +304,7 @@ class LoadingPath:
 
     def summary(self) -> str:
         """Status, limit, segments and events as text."""
-        unit = (
-            "N"
-            if np.linalg.norm(self.direction[3:]) < 1e-12
-            else "N·m"
-            if np.linalg.norm(self.direction[:3]) < 1e-12
-            else "N, N·m"
-        )
+        unit = wrench_unit(self.direction)
         lim = "unbounded" if self.unbounded else f"{self.limit:.6g} {unit}"
         lines = [
             f"quasi-static loading path along {direction_text(self.direction)}: {lim} ({self.status}, "
