@@ -259,7 +259,17 @@ def test_snap_past_a_softening_limit():
     assert c is not None and c.snaps and c.loads[c.snaps[0][1]] == pytest.approx(lp.limit, rel=1e-12)
     assert min(c.loads[: c.snaps[0][1]]) < lp.limit  # the load falls past the limit
     assert lp.load_at_displacement(1e-3) == pytest.approx(26.56, rel=1e-3)
-    assert pg.quasistatic_max_wrench(s.model, s.preload(None), "fz").magnitude == lp.limit
+    # the default answer is that give-way (the scene's upper, 50 N: the simulation's 1 mm
+    # threshold), with the first limit beside it
+    mw = pg.quasistatic_max_wrench(s.model, s.preload(None), "fz", upper=s.analysis.upper)
+    assert mw.magnitude == pytest.approx(lp.load_at_displacement(1e-3), rel=1e-12)
+    assert mw.giveway.first_limit == lp.limit and mw.giveway.reason in ("translation", "rotation")
+    assert len(mw.giveway.snaps) >= 1 and mw.giveway.snaps[0][0] == pytest.approx(lp.limit, rel=1e-12)
+    gw = mw.giveway  # at the threshold it reached: 1 mm, or 1 mm over the length scale
+    assert max(gw.translation / gw.slip, gw.turned / gw.rotation) == pytest.approx(1.0, rel=1e-9)
+    assert gw.slip == 1e-3 and gw.rotation == pytest.approx(1e-3 / s.model.length_scale, rel=1e-12)
+    first = pg.quasistatic_max_wrench(s.model, s.preload(None), "fz", pg.Settings(limit="first"))
+    assert first.magnitude == lp.limit and first.giveway is None
 
 
 def test_to_dict_and_rows():

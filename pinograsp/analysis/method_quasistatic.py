@@ -28,15 +28,12 @@ from ..solvers.problem import ProblemKind
 from .context import SolveContext
 from .limit_search import free_motion_note
 from .protocols import LimitQuery, SessionLike
-from .quasistatic.answers import max_wrench_prepared, quasistatic_response
+from .quasistatic.answers import NO_VERDICT, max_wrench_prepared, quasistatic_response
 from .quasistatic.api import Prepared, checked_settings, prepare, unit_again
 from .stages import Stage
 
 #: The settings' variants that apply, and the preload path each names.
 PATH_VARIANTS = {Variant.PRELOAD_FIRST: "held", Variant.SETTLED_PRELOAD: "settled"}
-#: Path statuses without a verdict: the path stopped (no or several continuations, or the
-#: segment-count limit); the load reached is a lower bound, never reported as the limit.
-NO_VERDICT = ("no_solution", "segment_limit")
 
 
 def path_variant(settings: Settings) -> tuple[Variant, str]:
@@ -172,7 +169,9 @@ class QuasistaticMethod:
         # quasistatic_max_wrench on the session's validated settings and direction, the
         # response labelled with the registry's variant
         v, s, p = _prepared(session, query.command)
-        mw = max_wrench_prepared(p, unit_again(query.direction), s, time.perf_counter(), label=v.value)
+        mw = max_wrench_prepared(
+            p, unit_again(query.direction), s, time.perf_counter(), label=v.value, upper=query.upper
+        )
         if mw.status in NO_VERDICT:
             raise SolverError(
                 f"the quasi-static loading path stopped at load {mw.magnitude:.6g} without a verdict "

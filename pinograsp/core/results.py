@@ -20,6 +20,7 @@ import numpy as np
 from ..errors import InvalidInputError
 from .audit import Audit, EnergyCheck
 from .axes import WRENCH_AXES, direction_text, wrench_unit
+from .giveway import GiveWay
 from .response_result import (
     ContactState,
     MethodName,
@@ -141,6 +142,10 @@ class MaxWrench:
         note: Why the answer is what it is when the model explains it (e.g. a
             ``below_resolution`` direction that loads a motion no contact resists:
             :meth:`GraspModel.free_motions`), else ``""``.
+        giveway: (``method="quasistatic"``) where and why the grasp gave way, with the path's
+            first limit λ*, the snaps survived, the contact stiffness and the thresholds
+            (:class:`~pinograsp.core.giveway.GiveWay`); None for the other methods and with
+            ``Settings(limit="first")``.
     """
 
     direction: np.ndarray
@@ -159,6 +164,13 @@ class MaxWrench:
     search: str = "bisection"
     audit_failures: tuple[float, ...] = ()
     note: str = ""
+    giveway: GiveWay | None = field(default=None, repr=False)
+
+    @property
+    def first_limit(self) -> float:
+        """The quasi-static path's first limit load λ* [N or N·m] (``inf`` when it has none);
+        for the other methods (and ``Settings(limit="first")``) the magnitude itself."""
+        return self.magnitude if self.giveway is None else self.giveway.first_limit
 
     @property
     def physically_audited(self) -> bool:
@@ -207,6 +219,7 @@ class MaxWrench:
             "monotone": self.monotone,
             "audit_failures": [None if np.isinf(m) else m for m in self.audit_failures],
             "note": self.note,
+            "giveway": None if self.giveway is None else self.giveway.to_dict(),
             "evidence": [[m, ok] for m, ok in self.evidence],
             "n_solves": self.n_solves,
             "solve_time": self.solve_time,
@@ -234,10 +247,13 @@ class MaxWrench:
             f"{'yes' if self.monotone else 'NO'}; {self.n_solves} solves, {self.wall_time:.3g} s",
         ]
         if self.response is not None and self.response.resistible:
-            at = "at the upper limit" if self.unbounded else "at the limit"
+            # the load the response was solved at (an unbounded search's is its last load)
+            at = f"at {float(np.linalg.norm(self.response.wrench)):.6g} {unit}"
             lines.append(f"normal contact forces {at}: {forces_text(self.response)}")
             if states := states_text(self.response):
                 lines.append(f"contact states {at}: {states}")
+        if self.giveway is not None:
+            lines.append(self.giveway.text(unit))
         if self.audit_failures:
             lines.append(f"audit failures at {', '.join(f'{m:.6g}' for m in self.audit_failures)}")
         if self.note:

@@ -14,6 +14,7 @@ import numpy as np
 
 from ..errors import InvalidInputError, SolverNotAvailableError, UnknownNameError
 from .cones import check_angle
+from .giveway import DEFAULT_CONTACT_STIFFNESS
 from .validate import choice, count, number_in, positive_number, whole_number
 
 
@@ -175,6 +176,20 @@ class Settings:
         tangential_ratio: ``"quasistatic"``: tangential contact stiffness as a multiple of the
             normal stiffness ``k`` (default 1, the simulation's; > 0; large values approach the
             paper's rigid friction).
+        contact_stiffness: ``"quasistatic"``: normal stiffness of the stiffest contact [N/m]
+            (default 1e6, the simulation's; the model's ``k`` give the other contacts in
+            proportion; in [1, 1e10]). It sets the physical displacements of the loading path
+            and so where the give-way thresholds are reached (docs/giveway.md).
+        giveway_slip: Give-way translation of the object [m] (``None``: the simulation's
+            default, ``max(1 mm, 20 x`` one contact spring's deflection at ``upper``)).
+        giveway_rotation: Give-way rotation of the object [rad] (``None``: ``giveway_slip``
+            over the model's length scale).
+        giveway_joint: Give-way rotation of any finger joint from the preloaded configuration
+            [rad] (``None``, the default: no joint criterion, as the simulation).
+        limit: What ``method="quasistatic"`` reports as the max resistible wrench:
+            ``"giveway"`` (default: the load at which the object gives way by the thresholds
+            above, snaps that land followed) or ``"first"`` (the path's first limit load λ*,
+            an idealised quantity; it is on every answer as ``giveway.first_limit``).
     """
 
     backend: str = "bnb"
@@ -196,6 +211,11 @@ class Settings:
     normal_uncertainty: float = 0.0
     cone_tolerance: float | None = None
     tangential_ratio: float = 1.0
+    contact_stiffness: float = DEFAULT_CONTACT_STIFFNESS
+    giveway_slip: float | None = None
+    giveway_rotation: float | None = None
+    giveway_joint: float | None = None
+    limit: str = "giveway"
 
     def validated(self) -> Settings:
         """Check every field; raise :class:`InvalidInputError` naming the bad one."""
@@ -234,12 +254,20 @@ class Settings:
             choice("variant", self.variant, VARIANTS)
         check_angle("normal_uncertainty", self.normal_uncertainty)
         positive_number("tangential_ratio", self.tangential_ratio)
+        number_in("contact_stiffness", self.contact_stiffness, 1.0, 1e10, "N/m")
+        for name in ("giveway_slip", "giveway_rotation", "giveway_joint"):
+            if getattr(self, name) is not None:
+                number_in(name, getattr(self, name), 1e-9, 1e3, "m" if name == "giveway_slip" else "rad")
+        choice("limit", self.limit, LIMITS)
         if self.cone_tolerance is not None:
             check_angle("cone_tolerance", self.cone_tolerance, np.pi / 4)
             if self.cone_tolerance <= 0:
                 raise InvalidInputError("cone_tolerance", "must be a positive angle [rad] or None")
         return self
 
+
+#: What the quasi-static method reports (:attr:`Settings.limit`).
+LIMITS = ("giveway", "first")
 
 #: Ranges of the numeric settings (docs/errors.md): the audit tolerance is relative (below 1e-12
 #: it is rounding, above 1e-2 no check), ``eps`` [N] is at most MAX_FORCE (and, in a search, 1e-2

@@ -26,7 +26,9 @@ from .schema import ANALYSIS_KEYS, ANGLE_SETTINGS_KEYS, SETTINGS_KEYS, Plane, Sc
 
 #: Settings written as text, as ``true``/``false`` and as counts (checked here for their YAML
 #: type; every other setting is a number); :func:`make_settings` checks their values.
-_TEXT_SETTINGS = ("solver", "variant", "backend", "complementarity")
+_TEXT_SETTINGS = ("solver", "variant", "backend", "complementarity", "limit")
+#: Numbers that may be ``null`` (the default rule).
+_OPTIONAL_SETTINGS = ("giveway_slip", "giveway_rotation", "giveway_joint")
 _FLAG_SETTINGS = ("accelerate", "verify_infeasible")
 _COUNT_SETTINGS = ("bigm_retries", "max_iterations", "max_nodes")
 
@@ -147,7 +149,7 @@ def _angle_settings(f: SceneFile, a: Mapping) -> dict[str, float | None]:
         if key not in a:
             continue
         v = a[key]
-        if v is None and name == "cone_tolerance":
+        if v is None and name in ("cone_tolerance", "giveway_rotation", "giveway_joint"):
             out[name] = None
         else:
             out[name] = float(np.radians(f.number(v, f"analysis.{key}")))
@@ -165,6 +167,8 @@ def _settings(f: SceneFile, a: Mapping) -> Settings:
             f.boolean(v, f"analysis.{k}")
         elif k in _COUNT_SETTINGS:
             f.integer(v, f"analysis.{k}", minimum=0)
+        elif k in _OPTIONAL_SETTINGS and v is None:
+            continue
         else:
             overrides[k] = f.number(v, f"analysis.{k}")
     overrides.update(_angle_settings(f, a))

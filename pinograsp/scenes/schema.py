@@ -46,10 +46,20 @@ SETTINGS_KEYS = (
     "complementarity",
     "verify_infeasible",
     "tangential_ratio",
+    "contact_stiffness",
+    "giveway_slip",
+    "giveway_rotation",
+    "giveway_joint",
+    "limit",
 )
 #: ``analysis`` keys written in [deg] -> the :class:`~pinograsp.core.settings.Settings` field
 #: they set in [rad] (``cone_tolerance_deg: null``: the model's pyramids).
-ANGLE_SETTINGS_KEYS = {"normal_uncertainty_deg": "normal_uncertainty", "cone_tolerance_deg": "cone_tolerance"}
+ANGLE_SETTINGS_KEYS = {
+    "normal_uncertainty_deg": "normal_uncertainty",
+    "cone_tolerance_deg": "cone_tolerance",
+    "giveway_rotation_deg": "giveway_rotation",
+    "giveway_joint_deg": "giveway_joint",
+}
 #: Keys of the ``analysis`` block.
 ANALYSIS_KEYS = (
     "method",

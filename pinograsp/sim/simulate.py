@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 
 from ..core.axes import wrench_direction, wrench_unit
+from ..core.giveway import DEFAULT_CONTACT_STIFFNESS, giveway_thresholds
 from ..core.model import GraspModel
 from ..core.validate import force, load_within, number_in
 from ..errors import InvalidInputError
@@ -42,6 +43,20 @@ def _inputs(
     return grasp, wrench_direction(grasp, direction), grasp.command_vector(command), upper
 
 
+def _scene_defaults(scene_or_model: Any) -> dict[str, Any]:
+    """A scene's contact stiffness and give-way thresholds (its analysis settings, the ones its
+    analysis uses: docs/giveway.md) as simulation options; nothing for a bare model."""
+    settings = getattr(scene_or_model, "settings", None)
+    if isinstance(scene_or_model, GraspModel) or settings is None:
+        return {}
+    out: dict[str, Any] = {"stiffness": settings.contact_stiffness}
+    if settings.giveway_slip is not None:
+        out["slip"] = settings.giveway_slip
+    if settings.giveway_rotation is not None:
+        out["rotation"] = settings.giveway_rotation
+    return out
+
+
 def _positive(name: str, value: object) -> float:
     try:
         v = float(value)  # type: ignore[arg-type]
@@ -55,14 +70,14 @@ def _positive(name: str, value: object) -> float:
 def _options(grasp: GraspModel, direction: np.ndarray, upper: float, kw: dict[str, Any]) -> SimOptions:
     """Defaults filled in and validated (docs/simulation.md, "Defaults")."""
     ell = float(grasp.length_scale)
-    stiffness = number_in("stiffness", kw.pop("stiffness", 1e6), *SIM_STIFFNESS, "N/m")
+    stiffness = number_in("stiffness", kw.pop("stiffness", DEFAULT_CONTACT_STIFFNESS), *SIM_STIFFNESS, "N/m")
     timestep = number_in("timestep", kw.pop("timestep", 1e-4), *SIM_TIMESTEP, "s")
     ramp = _positive("ramp_time", kw.pop("ramp_time", 0.02))
-    # elastic deflection of one contact spring at the upper load (torques as forces at ell)
-    elastic = upper * (np.linalg.norm(direction[:3]) + np.linalg.norm(direction[3:]) / ell) / stiffness
-    slip = kw.pop("slip", None)
-    slip = max(1e-3, 20.0 * elastic) if slip is None else _positive("slip", slip)
-    rotation = kw.pop("rotation", None)
+    # the give-way thresholds, shared with the analysis (core/giveway.py)
+    slip, rotation = kw.pop("slip", None), kw.pop("rotation", None)
+    slip = None if slip is None else _positive("slip", slip)
+    rotation = None if rotation is None else _positive("rotation", rotation)
+    slip, rotation = giveway_thresholds(ell, direction, upper, stiffness, slip, rotation)
     mass = kw.pop("mass", None)
     mass = 10.0 * grasp.nc * stiffness * timestep**2 if mass is None else _positive("mass", mass)
     preload = kw.pop("preload", "held")
@@ -79,7 +94,7 @@ def _options(grasp: GraspModel, direction: np.ndarray, upper: float, kw: dict[st
         start=_positive("start", kw.pop("start", 1e-6)),
         hold_time=_positive("hold_time", kw.pop("hold_time", 5.0 * ramp)),
         slip=slip,
-        rotation=slip / ell if rotation is None else _positive("rotation", rotation),
+        rotation=rotation,
         tolerance=number_in("tolerance", kw.pop("tolerance", 2e-3), *SIM_TOLERANCE, "(relative)"),
         mass=mass,
         damping=_positive("damping", kw.pop("damping", 0.7)),
@@ -175,7 +190,7 @@ def simulate_max_wrench(
     t0 = time.perf_counter()
     grasp, d, cmd, default_upper = _inputs(scene_or_model, direction, command)
     up = _upper(grasp, cmd, d, default_upper if upper is None else upper)
-    opts = _options(grasp, d, up, dict(options))
+    opts = _options(grasp, d, up, {**_scene_defaults(scene_or_model), **options})
     run = Engine(grasp, cmd, opts)
     preload(run)
     found = ramp(run, d)

@@ -6,18 +6,21 @@ the path at the load, or not resisted)."""
 from __future__ import annotations
 
 import time
-from dataclasses import replace
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from ...core.audit import energy_check, friction_use
 from ...core.axes import wrench_direction
+from ...core.giveway import GiveWay, giveway_thresholds
 from ...core.model import GraspModel
 from ...core.results import Audit, MaxWrench, PassiveResponse
 from ...core.settings import Settings
+from ...core.validate import force
 from ...solvers.threads import single_threaded
 from ..limit_search import free_motion_note
 from .api import Prepared, _variant, checked_settings, loading_path, prepare, run_path, unit_again
+from .giveway import Thresholds, Trace, walk
 from .path import MAX_SEGMENTS
 from .result import LoadingPath
 
@@ -30,11 +33,19 @@ def _modes(states: tuple[str, ...]) -> tuple[str, ...]:
 
 
 def response_at(
-    p: Prepared, lp: LoadingPath, load: float, w6: np.ndarray, status: str, settings: Settings, t0: float
+    p: Prepared,
+    lp: LoadingPath,
+    load: float,
+    w6: np.ndarray,
+    status: str,
+    settings: Settings,
+    t0: float,
+    state: dict | None = None,
 ) -> PassiveResponse:
-    """The :class:`PassiveResponse` of the path's state at ``load`` (on the path)."""
+    """The :class:`PassiveResponse` of the path's state at ``load`` (on the path), or of
+    ``state`` (:meth:`LoadingPath.state_on`, e.g. on the path's continuation) when given."""
     m = p.model
-    st = lp.state_at(min(load, lp.loads[-1]) if lp.ray is None else load)
+    st = state if state is not None else lp.state_at(min(load, lp.loads[-1]) if lp.ray is None else load)
     assert st is not None
     c = st["contact_forces"]
     cc = c[:, : m.d].reshape(-1)
@@ -172,19 +183,127 @@ def quasistatic_max_wrench(
     *,
     variant: str | None = None,
     path: LoadingPath | None = None,
+    upper: float = 1e3,
 ) -> MaxWrench:
-    """The limit load λ* of the loading path along ``direction`` as a :class:`MaxWrench`:
-    ``"finite"`` (magnitude λ*), ``"unbounded"`` (decided exactly: the last segment is a ray
-    with no event ahead; ``magnitude = inf``), ``"below_resolution"`` (λ* = 0, magnitude 0),
-    or — the path stopped without a verdict — ``"no_solution"`` / ``"segment_limit"`` with the
-    load reached as magnitude (a lower bound). No bisection: ``steps`` and ``upper`` do not
-    apply (``upper = inf``, ``resolution = 0``).
+    """The load at which the grasp gives way along ``direction`` (docs/giveway.md) as a
+    :class:`MaxWrench`: ``"finite"`` (magnitude: the give-way load), ``"unbounded"`` (held
+    within the thresholds to any load: the path ends in a ray that does not reach them below
+    ``upper``; ``magnitude = inf``), ``"below_resolution"`` (0), ``"above_limit"`` (the path
+    stopped without a verdict at or above ``upper``; magnitude ``upper``) or — stopped below
+    it — ``"no_solution"`` / ``"segment_limit"`` with the load reached as magnitude (a lower
+    bound). ``giveway`` records why, the path's first limit λ*, the snaps survived, the
+    stiffness and thresholds; with ``Settings(limit="first")`` the magnitude is λ* itself.
+    No bisection: ``resolution = 0``; ``upper`` [N or N·m] (default 1e3) scales the default
+    thresholds as in ``pg.simulate_max_wrench``.
     """
     t0 = time.perf_counter()
+    upper = force("upper", upper, "N or N·m")
     s = checked_settings(settings)
     v = _variant(variant, s)
     p = prepare(model, command, s, v)
-    return max_wrench_prepared(p, wrench_direction(model, direction), s, t0, path)
+    return max_wrench_prepared(p, wrench_direction(model, direction), s, t0, path, upper=upper)
+
+
+@dataclass(frozen=True)
+class Located:
+    """The give-way of a path: the answer's status and magnitude [N or N·m], its record, and
+    the state the response is built from (:meth:`LoadingPath.state_on`)."""
+
+    status: str
+    magnitude: float
+    giveway: GiveWay
+    state: dict
+
+
+def _thresholds(p: Prepared, d6: np.ndarray, s: Settings, upper: float) -> Thresholds:
+    """The settings' give-way thresholds along ``d6`` under the largest load ``upper``."""
+    m = p.model
+    ell = float(m.length_scale)
+    K = float(s.contact_stiffness)
+    slip, rot = giveway_thresholds(ell, d6, upper, K, s.giveway_slip, s.giveway_rotation)
+    return Thresholds(slip, rot, s.giveway_joint, float(np.max(m.k)) / K, ell)
+
+
+def _peak(cont: LoadingPath) -> dict:
+    """The state at the largest load after the last landing of ``cont`` (where it gives way)."""
+    start = cont.snaps[-1][1] if cont.snaps else 0
+    j = start + int(np.argmax(cont.loads[start:]))
+    return cont.state_on(j, 0.0)
+
+
+def locate_giveway(p: Prepared, lp: LoadingPath, d6: np.ndarray, s: Settings, upper: float) -> Located:
+    """Where the path ``lp`` (with its continuation) gives way under the settings' thresholds
+    (docs/giveway.md): the first threshold crossing, snaps that land within the thresholds
+    followed; a crossing above ``upper`` on a path that ends in a ray is ``"unbounded"`` (no
+    limit, and held within the thresholds up to ``upper``).
+    Status ``"no_solution"``/``"segment_limit"`` when the path stopped first (magnitude: the
+    load reached)."""
+    th = _thresholds(p, d6, s, upper)
+    stopped = lp.status in ("no_solution", "segment_limit")
+    cont = lp.continuation if lp.status in ("finite", "below_resolution") else None
+    follow = cont is not None and bool(cont.snaps)
+    main = lp.trace()
+    if stopped:  # only the breakpoints the audit passed
+        keep = int(np.searchsorted(lp.loads, lp.limit, side="right"))
+        main = Trace(lp.loads[:keep], lp.object_displacements[:keep], lp.joint_displacements[:keep])
+    point, survived = walk(main, cont.trace() if follow and cont else None, cont.snaps if cont else (), th)
+    tail = cont if follow and cont is not None else lp
+    note = ""
+    if point is not None and not (point.load > upper and tail.status == "unbounded"):
+        rec = lp if point.trace == 0 else tail
+        status, load, reason = "finite", point.load, point.reason
+        state = rec.state_on(point.index, point.step, point.on_ray)
+    elif tail.status == "unbounded":
+        status, load, reason, state = (
+            "unbounded",
+            float("inf"),
+            "held",
+            tail.state_on(len(tail.loads) - 1, 0.0),
+        )
+    elif stopped:
+        status, load, reason, state = (
+            lp.status,
+            float(lp.limit),
+            "held",
+            lp.state_on(len(main.loads) - 1, 0.0),
+        )
+    elif tail is cont and cont is not None and cont.status == "finite":
+        state = _peak(cont)
+        status, load, reason = "finite", float(cont.limit), "limit"
+    else:  # the first limit: nothing to land on, or the path past it stopped without a verdict
+        status, load, reason = lp.status, float(lp.limit), "limit"
+        state = lp.state_on(len(lp.loads) - 1, 0.0)
+        if tail is cont and cont is not None:
+            note = (
+                f"the path past the first limit stopped without a verdict ({cont.status}, "
+                f"{cont.stop_reason}): the first limit is reported, a lower bound of the give-way load"
+            )
+    if status == "finite" and load <= 0.0:
+        status = "below_resolution"
+    x = (np.asarray(state["object_displacements"]) - lp.object_displacements[0]) * th.scale
+    snaps = tuple((float(cont.loads[a]), float(cont.loads[b])) for a, b in survived) if cont else ()
+    first = float("inf") if lp.status == "unbounded" else float(lp.limit)
+    record = GiveWay(
+        load=load if status in ("finite", "below_resolution") else float("inf"),
+        reason=reason,  # type: ignore[arg-type]
+        first_limit=first,
+        first_status=lp.status,
+        snaps=snaps,
+        stiffness=float(s.contact_stiffness),
+        tangential_ratio=p.ratio,
+        slip=th.slip,
+        rotation=th.rotation,
+        joint=th.joint,
+        translation=float(np.linalg.norm(x[:3])),
+        turned=float(np.linalg.norm(x[3:])),
+        note=note,
+    )
+    return Located(status, load, record, state)
+
+
+#: Path statuses without a verdict: the path stopped (no or several continuations, or the
+#: segment-count limit); the load reached is a lower bound, never reported as the limit.
+NO_VERDICT = ("no_solution", "segment_limit")
 
 
 def max_wrench_prepared(
@@ -194,22 +313,35 @@ def max_wrench_prepared(
     t0: float,
     path: LoadingPath | None = None,
     label: str | None = None,
+    upper: float = 1e3,
 ) -> MaxWrench:
     """:func:`quasistatic_max_wrench` of a prepared grasp along a validated unit direction
-    ``d6`` (6,) with validated settings; ``label``: the response's ``variant``."""
+    ``d6`` (6,) with validated settings; ``label``: the response's ``variant``; ``upper``
+    [N or N·m]: the largest load of interest (it scales the default give-way thresholds; a
+    path stopped without a verdict at or above it is ``"above_limit"``)."""
+    giveway = s.limit == "giveway"
     # loading_path's validation done once (the direction normalised again as it would be)
     lp = (
         path
         if path is not None
-        else run_path(p, unit_again(d6), MAX_SEGMENTS, None, False, time.perf_counter(), lean=True)
+        else run_path(p, unit_again(d6), MAX_SEGMENTS, None, giveway, time.perf_counter(), lean=True)
     )
-    status = lp.status
+    record = None
+    if giveway:
+        loc = locate_giveway(p, lp, d6, s, upper)
+        status, magnitude, state, record = loc.status, loc.magnitude, loc.state, loc.giveway
+        at = float(state["load"])
+    else:
+        status, state = lp.status, None
+        magnitude = float("inf") if status == "unbounded" else float(lp.limit)
+        at = float(lp.loads[-1])
+    if status in NO_VERDICT and at >= upper:  # held up to upper before the path stopped
+        status, magnitude = "above_limit", float(upper)
     unbounded = status == "unbounded"
-    magnitude = float("inf") if unbounded else float(lp.limit)
-    at = float(lp.loads[-1])
-    resp_status = "resisted" if status in ("finite", "unbounded", "below_resolution") else "failed"
-    resp = response_at(p, lp, at, at * d6, resp_status, s, t0)
+    resp_status = "failed" if status in NO_VERDICT else "resisted"
+    resp = response_at(p, lp, at, at * d6, resp_status, s, t0, state)
     note = free_motion_note(p.model, d6) if status == "below_resolution" else ""
+    note = note or (record.note if record is not None else "")
     if label is not None:  # the registry's name of the variant
         resp = replace(resp, variant=label)
     return MaxWrench(
@@ -218,7 +350,7 @@ def max_wrench_prepared(
         unbounded=unbounded,
         status=status,  # type: ignore[arg-type]
         floor=0.0,
-        upper=float("inf"),
+        upper=float(upper),
         resolution=0.0,
         evidence=((at, True),) if status != "unbounded" else ((at, True), (float("inf"), True)),
         method=METHOD,  # type: ignore[arg-type]
@@ -228,6 +360,7 @@ def max_wrench_prepared(
         response=resp,
         search="path",
         note=note,
+        giveway=record,
     )
 
 

@@ -423,19 +423,23 @@ def run_path(
     if run.status == "limit" and up_to is None and continuation:
         more = continue_past_limit(p.qm, run, spec, max_segments)
         if more is not None:
-            cont = _continuation(p, d6, more, spec)
+            cont = _continuation(p, d6, more, spec, lean)
     lp = build_path(p, d6, run, spec, time.perf_counter() - t0, lean)
     return replace(lp, continuation=cont) if cont is not None else lp
 
 
-def _continuation(p: Prepared, d6: np.ndarray, more: StageRun, spec: StageSpec) -> LoadingPath:
-    """The :class:`LoadingPath` record of the path past a softening limit."""
+def _continuation(
+    p: Prepared, d6: np.ndarray, more: StageRun, spec: StageSpec, lean: bool = False
+) -> LoadingPath:
+    """The :class:`LoadingPath` record of the path past a softening limit (``lean``: as
+    :func:`build_path`)."""
     cont = build_path(
         p,
         d6,
         StageRun(states=more.states, segments=more.segments, triggers=more.triggers, status="end"),
         spec,
         0.0,
+        lean,
     )
     snaps = tuple(getattr(more, "snaps", ()))
     if cont.stop_reason == "audit":

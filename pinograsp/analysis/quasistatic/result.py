@@ -16,6 +16,7 @@ from ...core.axes import WRENCH_AXES, direction_text, wrench_unit
 from ...core.serialize import jsonable
 from ...errors import InvalidInputError, MissingDependencyError
 from .events import PathEvent
+from .giveway import Thresholds, Trace, walk
 
 #: How a loading path ended: at a limit load (``finite``; ``below_resolution`` when that is
 #: 0), with no event ahead (``unbounded``), or stopped without a verdict: the local rate
@@ -202,25 +203,49 @@ class LoadingPath:
         if not (np.isfinite(k) and k > 0):
             raise InvalidInputError("stiffness", f"expected a positive stiffness [N/m], got {stiffness!r}")
         rot = d / self.length_scale if rotation is None else float(rotation)
-        scale = self.model_stiffness / k  # physical displacement per model displacement
-        x0 = self.object_displacements[0]
-        hit = _crossing(self, x0, scale, d, rot, 0)
-        if hit is not None:
-            return hit
+        th = Thresholds(d, rot, None, self.model_stiffness / k, self.length_scale, linear=False)
         cont = self.continuation
-        if self.status != "finite" or cont is None or not cont.snaps:
-            return float(self.limit)
-        for n, (top, land) in enumerate(cont.snaps):
-            # the grasp snaps from the limit to the landing point: gave way if that jump is too far
-            landed = (cont.object_displacements[land] - x0) * scale
-            if np.linalg.norm(landed[:3]) >= d or np.linalg.norm(landed[3:]) >= rot:
-                return float(cont.loads[top])
-            end = cont.snaps[n + 1][0] if n + 1 < len(cont.snaps) else None
-            part = cont if end is None else _upto(cont, end)
-            hit = _crossing(part, x0, scale, d, rot, land)
-            if hit is not None:
-                return float(hit)
-        return float(cont.limit)
+        follow = self.status == "finite" and cont is not None and bool(cont.snaps)
+        point, _ = walk(
+            self.trace(), cont.trace() if follow and cont else None, cont.snaps if cont else (), th
+        )
+        if point is not None:
+            return point.load
+        return float(cont.limit) if follow and cont is not None else float(self.limit)
+
+    def trace(self) -> Trace:
+        """The record's loads and displacements as a :class:`~.giveway.Trace` (with its ray)."""
+        ray = self.ray
+        return Trace(
+            self.loads,
+            self.object_displacements,
+            self.joint_displacements,
+            None if ray is None else ray["object_displacements"],
+            None if ray is None else ray["joint_displacements"],
+        )
+
+    def state_on(self, index: int, step: float, on_ray: bool = False) -> dict[str, Any]:
+        """Every quantity at a point given by breakpoint ``index`` and ``step`` from it (a
+        fraction of the segment to the next breakpoint, or on the ray a load increment),
+        with the states of the segment leaving ``index`` (as :meth:`state_at`)."""
+        j, s = int(index), float(step)
+        out: dict[str, Any] = {}
+        for name, arr in self._arrays().items():
+            if on_ray:
+                assert self.ray is not None  # a point on the ray of an unbounded path
+                out[name] = arr[j] + s * self.ray[name]
+            elif j + 1 < len(self.loads) and s > 0.0:
+                out[name] = (1.0 - s) * arr[j] + s * arr[j + 1]
+            else:
+                out[name] = arr[j].copy()
+        load = self.loads[j] + s if on_ray else self.loads[j]
+        if not on_ray and j + 1 < len(self.loads) and s > 0.0:
+            load = (1.0 - s) * self.loads[j] + s * self.loads[j + 1]
+        out["load"] = float(load)
+        out["contact_states"] = self.contact_states[j]
+        out["sliding_faces"] = self.sliding_faces[j]
+        out["actuator_modes"] = self.actuator_modes[j]
+        return out
 
     # ------------------------------------------------------------- exports
     def to_dict(self) -> dict[str, Any]:
@@ -320,59 +345,6 @@ class LoadingPath:
             f"LoadingPath({direction_text(self.direction)}: {lim}, status={self.status!r}, "
             f"{len(self.loads)} breakpoints, {len(self.events)} events)"
         )
-
-
-def _upto(lp: LoadingPath, end: int) -> LoadingPath:
-    """``lp`` cut after breakpoint ``end`` (no ray)."""
-    from dataclasses import replace
-
-    return replace(
-        lp,
-        loads=lp.loads[: end + 1],
-        object_displacements=lp.object_displacements[: end + 1],
-        ray=None,
-    )
-
-
-def _crossing(
-    lp: LoadingPath, x0: np.ndarray, scale: float, delta: float, rot: float, start: int
-) -> float | None:
-    """The first load from breakpoint ``start`` on (and along the ray of an unbounded path)
-    where the object's displacement from ``x0`` (times ``scale``) reaches ``delta`` or turns
-    ``rot``; None if it does not before the path ends."""
-    x = (lp.object_displacements - x0) * scale
-    pts = list(x[start:])
-    loads = list(lp.loads[start:])
-    if lp.ray is not None:
-        big = max(loads[-1], 1.0) * 1e12
-        pts.append(x[-1] + (big - loads[-1]) * lp.ray["object_displacements"] * scale)
-        loads.append(big)
-    if start == 0 and len(pts) and (np.linalg.norm(pts[0][:3]) >= delta or np.linalg.norm(pts[0][3:]) >= rot):
-        return float(loads[0])
-    for j in range(len(pts) - 1):
-        hit = _first_crossing(pts[j], pts[j + 1], delta, rot)
-        if hit is not None:
-            return float(loads[j] + hit * (loads[j + 1] - loads[j]))
-    return None
-
-
-def _first_crossing(p0: np.ndarray, p1: np.ndarray, delta: float, rot: float) -> float | None:
-    """Fraction in [0, 1] of the segment ``p0 -> p1`` (object displacements (6,)) where the
-    translation norm first reaches ``delta`` or the rotation norm ``rot``; None if neither."""
-    best = None
-    for sl, lim in ((slice(0, 3), delta), (slice(3, 6), rot)):
-        a, b = p0[sl], p1[sl] - p0[sl]
-        # |a + s b|^2 = lim^2, smallest s in [0, 1]
-        A, B, C = float(b @ b), float(2 * a @ b), float(a @ a - lim * lim)
-        if C >= 0:
-            return 0.0
-        if A == 0.0:
-            continue
-        disc = B * B - 4 * A * C
-        s = (-B + np.sqrt(disc)) / (2 * A)  # C < 0: one positive root
-        if 0.0 <= s <= 1.0:
-            best = s if best is None else min(best, s)
-    return best
 
 
 __all__ = ["SIM_STIFFNESS", "LoadingPath", "PathStatus"]
