@@ -77,10 +77,14 @@ def search_resolution(method: object, upper: float, steps: int) -> float:
 
 def search_text(method: object, upper: float, steps: int, unit: str = "") -> str:
     """How ``method`` finds a largest load, in words: ``"upper 1000 N, 20 steps (resolution
-    0.00095 N)"``, or for a path method ``"the loading path's limit (exact; upper and steps do
-    not apply)"``."""
+    0.00095 N)"``, or for a path method ``"the load at which the loading path gives way
+    (exact; thresholds scaled by upper 1000 N; steps do not apply)"``."""
     if not limits_apply(method):
-        return "the loading path's limit (exact; upper and steps do not apply)"
+        u = f" {unit}" if unit else ""
+        return (
+            f"the load at which the loading path gives way (exact; thresholds scaled by upper "
+            f"{upper:g}{u}; steps do not apply)"
+        )
     u = f" {unit}" if unit else ""
     return f"upper {upper:g}{u}, {steps} steps (resolution {upper / 2**steps:.2g}{u})"
 

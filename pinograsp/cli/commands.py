@@ -142,15 +142,21 @@ def cmd_analyze(args: argparse.Namespace) -> int:
 def _verdict(mw: Any, upper: float) -> str:
     """The max resistible magnitude in words, by the search's status."""
     unit = wrench_unit(mw.direction)
-    if mw.search == "path":  # the loading path's limit: exact, no upper limit, no resolution
+    if mw.search == "path":  # the loading path's give-way (or first limit): exact, no resolution
+        gw = mw.giveway
         if mw.status == "unbounded":
             return (
-                "UNBOUNDED: the loading path's last segment has no event ahead (decided exactly), "
-                "i.e. passively resisted without bound under this model"
+                "UNBOUNDED: the loading path has no limit and stays within the give-way thresholds "
+                f"up to {upper:g} {unit} (decided exactly), i.e. passively resisted without bound"
+                " under this model"
             )
         if mw.status == "below_resolution":
             return f"0 {unit}: the loading path ends at zero load (the grasp gives way at once)"
-        return f"{format_max_wrench(mw)} {unit} (the loading path's limit, exact)"
+        if gw is None:
+            return f"{format_max_wrench(mw)} {unit} (the loading path's first limit, exact)"
+        if mw.status == "above_limit":
+            return f">= {upper:g} {unit}: held up to the upper limit before the path stopped"
+        return f"{format_max_wrench(mw)} {unit} (the load at which it gives way: {gw.reason}, exact)"
     if mw.status == "unbounded":
         return (
             f"UNBOUNDED: resisted at the upper limit {upper:g} {unit} and without preload, i.e. "
@@ -204,6 +210,8 @@ def cmd_max_wrench(args: argparse.Namespace) -> int:
             f"{'yes' if mw.monotone else 'NO'}; {mw.n_solves} solves, {mw.wall_time:.2f} s"
         ),
     ]
+    if mw.giveway is not None:
+        lines.append(mw.giveway.text(wrench_unit(mw.direction)))
     if mw.response is not None:
         at = "at the limit"
         if mw.unbounded:

@@ -65,7 +65,7 @@ ANGLE_OPTIONS = {"normal_uncertainty": "--normal-uncertainty", "cone_tolerance":
 
 def settings(args: argparse.Namespace, scene: Any) -> Settings:
     """The scene's settings with ``--solver``, ``--time-limit``, ``--variant``,
-    ``--tangential-ratio`` and the angles
+    ``--tangential-ratio``, ``--contact-stiffness``, ``--limit`` and the angles
     ``--normal-uncertainty`` / ``--cone-tolerance`` (given in [deg], stored in [rad]) applied.
 
     A bad angle raises :class:`InvalidInputError` naming the option, with the value in degrees.
@@ -79,13 +79,18 @@ def settings(args: argparse.Namespace, scene: Any) -> Settings:
         over["variant"] = args.variant
     if getattr(args, "tangential_ratio", None) is not None:
         over["tangential_ratio"] = args.tangential_ratio
+    if getattr(args, "contact_stiffness", None) is not None:
+        over["contact_stiffness"] = args.contact_stiffness
+    if getattr(args, "limit", None):
+        over["limit"] = args.limit
     degrees = {k: getattr(args, k, None) for k in ANGLE_OPTIONS}
     over.update({k: math.radians(v) for k, v in degrees.items() if v is not None})
     try:
         return make_settings(scene.settings, **over)
     except InvalidInputError as exc:
-        if exc.name == "tangential_ratio" and getattr(args, "tangential_ratio", None) is not None:
-            raise InvalidInputError("--tangential-ratio", str(exc).removeprefix(f"{exc.name}: ")) from None
+        flag = {"tangential_ratio": "--tangential-ratio", "contact_stiffness": "--contact-stiffness"}
+        if exc.name in flag and getattr(args, exc.name, None) is not None:
+            raise InvalidInputError(flag[exc.name], str(exc).removeprefix(f"{exc.name}: ")) from None
         deg = degrees.get(exc.name) if exc.name in ANGLE_OPTIONS else None
         if deg is None:
             raise

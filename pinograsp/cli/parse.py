@@ -101,6 +101,19 @@ def _common(p: argparse.ArgumentParser, *, out_default: str | None = None) -> No
         metavar="R",
         help="quasistatic: tangential / normal contact stiffness (default: the scene's, normally 1)",
     )
+    g.add_argument(
+        "--contact-stiffness",
+        type=float,
+        metavar="N_PER_M",
+        help="quasistatic: normal stiffness of the stiffest contact [N/m] (default: the scene's, "
+        "normally 1e6, the simulation's)",
+    )
+    g.add_argument(
+        "--limit",
+        choices=("giveway", "first"),
+        help="quasistatic: report the load at which the grasp gives way (default) or the path's "
+        "first limit load",
+    )
     g.add_argument("--json", action="store_true", help="print the result as JSON on stdout (nothing else)")
     g.add_argument(
         "--out",
