@@ -16,8 +16,11 @@ patch. The default tolerance :data:`DEFAULT_TOLERANCE` is **1 mm**; distances be
 :class:`~pinograsp.errors.PenetrationError`. All positions are in the hand base frame [m].
 
 Non-convex meshes (object or hand) are Coal BVH *surfaces*: a shape entirely inside one is not
-detected, and Coal may return a zero normal for deep overlaps; such a pair is reported as
-penetrating.
+detected. For a mesh-mesh pair Coal gives no normal (and 0 when the surfaces cross): the normal
+is the nearest points' direction, found after backing the hand off when crossing
+(:func:`_mesh_pair`, docs/hands.md "Mesh objects"). A touching pair without a unit normal raises
+:class:`~pinograsp.errors.ContactDetectionError`; an overlapping one without a normal is
+reported as penetrating.
 
 The public functions take ``(hand, q, obj)``; their ``*_at`` versions take a
 :class:`~pinograsp.robots.kinematics.HandConfiguration` whose kinematics is already computed.
