@@ -300,3 +300,43 @@ class UnknownChoiceError(InvalidInputError, UnknownNameError):  # type: ignore[m
 
     def __str__(self) -> str:
         return str(self.args[0])
+
+
+class ContactDetectionError(PinograspError):
+    """Contact detection found a hand–object pair it cannot turn into a contact (no usable
+    normal or a non-finite point), named by object, hand link, geometry and pose.
+
+    Attributes:
+        object: The object's name.
+        link: The hand link.
+        geometry: The hand collision geometry.
+        position: The object's position in the hand base frame [m], (3,) list.
+        q: The hand configuration (URDF coordinates [rad or m]), list.
+        detail: What is wrong with the pair.
+    """
+
+    def __init__(
+        self,
+        object_name: str,
+        link: str,
+        geometry: str,
+        position: Iterable[float],
+        q: Iterable[float],
+        detail: str,
+    ) -> None:
+        self.object = str(object_name)
+        self.link = str(link)
+        self.geometry = str(geometry)
+        self.position = [float(v) for v in position]
+        self.q = [float(v) for v in q]
+        self.detail = detail
+        where = ", ".join(f"{v * 1e3:.3g}" for v in self.position)
+        super().__init__(
+            f"contact detection between object {self.object!r} at ({where}) mm and hand link "
+            f"{self.link!r} (geometry {self.geometry!r}) at q = {[round(v, 6) for v in self.q]}: "
+            f"{detail}; move the object or the hand, or load a mesh object with convex=True "
+            "(docs/hands.md, mesh objects)"
+        )
+
+    def __reduce__(self) -> tuple:  # picklable (batch workers) with its attributes
+        return (type(self), (self.object, self.link, self.geometry, self.position, self.q, self.detail))

@@ -16,8 +16,11 @@ patch. The default tolerance :data:`DEFAULT_TOLERANCE` is **1 mm**; distances be
 :class:`~pinograsp.errors.PenetrationError`. All positions are in the hand base frame [m].
 
 Non-convex meshes (object or hand) are Coal BVH *surfaces*: a shape entirely inside one is not
-detected, and Coal may return a zero normal for deep overlaps; such a pair is reported as
-penetrating.
+detected. For a mesh-mesh pair Coal gives no normal (and 0 when the surfaces cross): the normal
+is the nearest points' direction, found after backing the hand off when crossing
+(:func:`_mesh_pair`, docs/hands.md "Mesh objects"). A touching pair without a unit normal raises
+:class:`~pinograsp.errors.ContactDetectionError`; an overlapping one without a normal is
+reported as penetrating.
 
 The public functions take ``(hand, q, obj)``; their ``*_at`` versions take a
 :class:`~pinograsp.robots.kinematics.HandConfiguration` whose kinematics is already computed.
@@ -34,7 +37,13 @@ import numpy as np
 
 from ..core.serialize import jsonable
 from ..core.validate import contact_tolerance, finite_number
-from ..errors import InvalidInputError, NoContactError, PenetrationError, UnknownNameError
+from ..errors import (
+    ContactDetectionError,
+    InvalidInputError,
+    NoContactError,
+    PenetrationError,
+    UnknownNameError,
+)
 from .hand_protocol import HandLike
 from .kinematics import HandConfiguration
 
@@ -45,6 +54,10 @@ if TYPE_CHECKING:
 DEFAULT_TOLERANCE = 1e-3
 #: Default deepest accepted penetration [m]; deeper overlaps raise PenetrationError.
 DEFAULT_MAX_PENETRATION = 5e-3
+#: Mesh-mesh pairs: nearest points closer than this [m] give no reliable direction.
+MESH_WITNESS_MIN = 1e-9
+#: Mesh-mesh overlap back-off: first shift [m], largest shift [m], bisection steps.
+MESH_BACKOFF = (1e-5, 0.05, 6)
 
 
 @dataclass(frozen=True)
@@ -136,22 +149,97 @@ class ContactReport:
         return "\n".join(lines)
 
 
-def _signed_distance(
+def is_surface(geometry: coal.CollisionGeometry) -> bool:
+    """Whether a Coal geometry is a BVH mesh (a surface, not a solid)."""
+    return type(geometry).__name__.startswith("BVH")
+
+
+def _coal_distance(
     g1: coal.CollisionGeometry, T1: coal.Transform3s, g2: coal.CollisionGeometry, T2: coal.Transform3s
-) -> tuple[float, np.ndarray, np.ndarray, np.ndarray]:
+) -> tuple[float, np.ndarray, np.ndarray, coal.DistanceResult]:
+    """Coal's signed distance [m], nearest points (3,) [m] and its raw result."""
     req = coal.DistanceRequest()
     req.enable_signed_distance = True
     res = coal.DistanceResult()
     d = coal.distance(g1, T1, g2, T2, req, res)
-    n = np.array(res.normal, dtype=float)
-    nn = np.linalg.norm(n)
-    n = n / nn if nn > 1e-12 else np.zeros(3)
     return (
         float(d),
         np.array(res.getNearestPoint1(), dtype=float),
         np.array(res.getNearestPoint2(), dtype=float),
-        n,
+        res,
     )
+
+
+def _face_normal(g: coal.CollisionGeometry, T: coal.Transform3s, face: int) -> np.ndarray:
+    """Unit normal (by the triangle's winding: outward for a consistently wound closed mesh) of
+    triangle ``face`` of a BVH, in the frame of ``T``, (3,)."""
+    tri = g.tri_indices(face)
+    a, b, c = (np.asarray(g.vertex(tri[i]), dtype=float) for i in range(3))
+    n = np.cross(b - a, c - a)
+    return np.asarray(T.getRotation()) @ (n / np.linalg.norm(n))
+
+
+def _mesh_pair(
+    g1: coal.CollisionGeometry,
+    T1: coal.Transform3s,
+    g2: coal.CollisionGeometry,
+    T2: coal.Transform3s,
+    d: float,
+    p1: np.ndarray,
+    p2: np.ndarray,
+    face: int,
+) -> tuple[float, np.ndarray, np.ndarray, np.ndarray]:
+    """Signed distance, nearest points and normal of two BVH meshes, for which Coal gives no
+    normal and a distance of 0 whenever the surfaces cross (docs/hands.md, "Mesh objects").
+
+    Apart: the normal is the direction from the nearest point on ``g1`` to the nearest point on
+    ``g2``. Crossing: ``g1`` is moved back along the normal of the ``g2`` triangle ``face`` that
+    Coal found (doubling shifts, then bisection, then the opposite sense in case the triangle is
+    wound inwards) until the two are apart; the normal is the direction of the nearest points
+    there, the distance ``d_apart - shift * (normal . n_face)`` (negative) and the nearest point
+    on ``g1`` is moved back with it. No separation within the largest shift: distance
+    ``-shift``, zero normal (reported as a deep penetration).
+    """
+    gap = p2 - p1
+    size = float(np.linalg.norm(gap))
+    if d > 0 and size > MESH_WITNESS_MIN:
+        return d, p1, p2, gap / size
+    first, cap, steps = MESH_BACKOFF
+    n_face = -_face_normal(g2, T2, face)  # into g2
+    R, t = np.asarray(T1.getRotation()), np.asarray(T1.getTranslation())
+
+    def apart(shift: float, u: np.ndarray) -> tuple[float, np.ndarray, np.ndarray] | None:
+        ds, q1, q2, _ = _coal_distance(g1, coal.Transform3s(R, t - shift * u), g2, T2)
+        return (ds, q1, q2) if ds > 0 and np.linalg.norm(q2 - q1) > MESH_WITNESS_MIN else None
+
+    for u in (n_face, -n_face):
+        inside, shift = 0.0, first
+        while shift <= cap:
+            found = apart(shift, u)
+            if found is not None:
+                for _ in range(steps):  # bisection between the last crossing and the first apart shift
+                    mid = 0.5 * (inside + shift)
+                    trial = apart(mid, u)
+                    inside, shift, found = (inside, mid, trial) if trial is not None else (mid, shift, found)
+                ds, q1, q2 = found
+                n = (q2 - q1) / np.linalg.norm(q2 - q1)
+                return ds - shift * float(n @ u), q1 + shift * u, q2, n
+            inside, shift = shift, 2.0 * shift
+    return -cap, p1, p2, np.zeros(3)
+
+
+def _signed_distance(
+    g1: coal.CollisionGeometry, T1: coal.Transform3s, g2: coal.CollisionGeometry, T2: coal.Transform3s
+) -> tuple[float, np.ndarray, np.ndarray, np.ndarray]:
+    """Signed distance [m], nearest points on ``g1`` and ``g2`` (3,) [m], unit normal from ``g1``
+    into ``g2`` (3,) (zeros when none could be found)."""
+    d, p1, p2, res = _coal_distance(g1, T1, g2, T2)
+    if is_surface(g1) and is_surface(g2):  # Coal 3 leaves the normal of a BVH-BVH pair unset
+        return _mesh_pair(g1, T1, g2, T2, d, p1, p2, int(res.b2))
+    n = np.array(res.normal, dtype=float)
+    nn = np.linalg.norm(n)
+    n = n / nn if nn > 1e-12 else np.zeros(3)
+    return d, p1, p2, n
 
 
 def pair_distances_at(config: HandConfiguration, obj: RigidObject) -> tuple[PairDistance, ...]:
@@ -255,9 +343,29 @@ def detect_contacts_at(
     if deep:
         raise PenetrationError(deep, max_penetration, dist)
     contacts = tuple(p for p in pairs if p.distance <= tolerance)
+    for p in contacts:
+        _check_contact(config, obj, p)
     if require and not contacts:
         raise NoContactError(dist, tolerance, inside_surfaces(config, obj))
     return ContactReport(contacts, pairs, float(tolerance), dist)
+
+
+def _check_contact(config: HandConfiguration, obj: RigidObject, p: PairDistance) -> None:
+    """Raise :class:`ContactDetectionError` (naming object, link, geometry and pose) unless the
+    pair has a finite point and a unit normal."""
+    norm = float(np.linalg.norm(p.normal))
+    if np.all(np.isfinite(p.point)) and abs(norm - 1.0) <= 1e-9:
+        return
+    raise ContactDetectionError(
+        obj.name,
+        p.link,
+        p.geometry,
+        obj.pose[:3, 3],
+        config.q,
+        f"no usable contact normal (|n| = {norm:.3g}) at signed distance {p.distance * 1e3:+.3f} mm "
+        f"(nearest points {np.round(p.point_hand * 1e3, 3).tolist()} mm on the hand, "
+        f"{np.round(p.point_object * 1e3, 3).tolist()} mm on the object)",
+    )
 
 
 def inside_surfaces(config: HandConfiguration, obj: RigidObject) -> tuple[str, ...]:
@@ -269,7 +377,7 @@ def inside_surfaces(config: HandConfiguration, obj: RigidObject) -> tuple[str, .
     out: list[str] = []
     for k, g in enumerate(hand.geometry.geometryObjects):
         geo = g.geometry
-        if not type(geo).__name__.startswith("BVH"):
+        if not is_surface(geo):
             continue
         geo.computeLocalAABB()
         local = config.geometry_data.oMg[k].actInv(centre)

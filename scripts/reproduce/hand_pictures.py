@@ -29,6 +29,7 @@ VIEWS = {
     "ability": (15, -40),
     "dex3": (30, -120),
     "talos_gripper": (5, 5),
+    "talos_torus": (35, 20),
 }
 
 
