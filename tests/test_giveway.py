@@ -1,0 +1,138 @@
+"""The give-way answer of the default method (docs/giveway.md): closed forms on the pinch, the
+paper's case 2 snap, the thresholds shared with the simulation, stiffness as a physical input,
+the linearisation bound, paths stopped above ``upper``, and the settings' domains."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+import pinograsp as pg
+from pinograsp.core.giveway import LINEAR_TRANSLATION, giveway_thresholds
+from pinograsp.sim.simulate import _options
+
+
+@pytest.fixture(scope="module")
+def pinch():
+    return pg.examples.pinch()
+
+
+@pytest.fixture(scope="module")
+def case2():
+    return pg.load_scene("case2")
+
+
+def _dir(deg: float) -> list[float]:
+    return [float(np.cos(np.radians(deg))), float(np.sin(np.radians(deg))), 0.0]
+
+
+@pytest.mark.parametrize("deg, expected", [(90, 10.0), (30, 20.0), (150, 20.0), (45, 10 * np.sqrt(2))])
+def test_pinch_sharp_limits_unchanged(pinch, deg, expected):
+    """DESIGN §6: F_max = 2 mu tau0 / (L |sin θ|): a sharp give-way at the first limit."""
+    mw = pg.max_resistible_wrench(pinch, 1.0, _dir(deg))
+    assert mw.status == "finite" and mw.magnitude == pytest.approx(expected, rel=1e-12)
+    assert mw.giveway.reason == "limit" and mw.giveway.first_limit == mw.magnitude
+
+
+def test_pinch_push_gives_way_at_stiffness_times_slip(pinch):
+    """Along +x the pushed finger's ratchet holds and the other finger follows at its command:
+    the object moves ``F / K`` — the give-way load is ``K * slip`` (closed form), and with the
+    default thresholds at 1e6 N/m the push is held (unbounded) up to ``upper``."""
+    for K in (1e3, 1e4, 1e5):
+        s = pg.Settings(contact_stiffness=K, giveway_slip=1e-3)
+        mw = pg.max_resistible_wrench(pinch, 1.0, "fx", upper=1e3, settings=s)
+        assert mw.status == "finite" and mw.magnitude == pytest.approx(K * 1e-3, rel=1e-12)
+        assert mw.giveway.reason == "translation" and mw.giveway.stiffness == K
+        assert mw.giveway.translation == pytest.approx(1e-3, rel=1e-12)
+        assert mw.giveway.first_limit == np.inf and mw.first_limit == np.inf
+    held = pg.max_resistible_wrench(pinch, 1.0, "fx", upper=100)
+    assert held.status == "unbounded" and held.giveway.reason == "held" and held.upper == 100
+
+
+def test_linearisation_bound_ends_the_path(pinch):
+    """A threshold beyond the linearisation's range (a quarter of the length scale) is not
+    reached: the path ends there with reason "linearisation", at ``K * ell / 4``."""
+    s = pg.Settings(contact_stiffness=100.0, giveway_slip=10.0)
+    mw = pg.max_resistible_wrench(pinch, 1.0, "fx", upper=100, settings=s)
+    bound = LINEAR_TRANSLATION * pinch.length_scale
+    assert mw.giveway.reason == "linearisation" and mw.magnitude == pytest.approx(100.0 * bound, rel=1e-12)
+    assert mw.giveway.translation == pytest.approx(bound, rel=1e-12)
+
+
+def test_case2_finger2_survives_its_snaps(case2):
+    """The paper's case 2: the finger-2 preload's first limit (2.83 N) is a µm snap that lands;
+    the grasp holds to 18.98 N (simulation, model's pyramid: 18.22 N). Finger 1: 35.74 N at a
+    limit with nothing to land on. The ratio moves from 12.6 (first limits) to 1.88."""
+    m = case2.model
+    f1 = pg.max_resistible_wrench(m, case2.preload("finger1_only"), "fx", upper=50)
+    f2 = pg.max_resistible_wrench(m, case2.preload("finger2_only"), "fx", upper=50)
+    assert f2.first_limit == pytest.approx(2.8332, rel=1e-4)
+    assert f2.magnitude == pytest.approx(18.98165, rel=1e-5) and f2.giveway.reason == "limit"
+    assert len(f2.giveway.snaps) == 2 and f2.giveway.snaps[0][0] == pytest.approx(f2.first_limit, rel=1e-12)
+    assert f1.magnitude == pytest.approx(35.7359, rel=1e-5) and f1.first_limit == f1.magnitude
+    assert f1.magnitude / f2.magnitude == pytest.approx(1.8827, rel=1e-3)
+    assert f1.first_limit / f2.first_limit == pytest.approx(12.613, rel=1e-3)
+    first = pg.max_resistible_wrench(m, case2.preload("finger2_only"), "fx", upper=50, limit="first")
+    assert first.magnitude == f2.first_limit and first.giveway is None
+
+
+def test_thresholds_are_the_simulations(case2):
+    """One definition: the analysis' thresholds equal the simulation's options for the same
+    direction, upper and stiffness (and follow the sim's rule: max(1 mm, 20 x deflection))."""
+    m = case2.model
+    for d, upper, K in (("fx", 50.0, 1e6), ("mz", 5.0, 1e5), ("-fy", 1e3, 1e6)):
+        d6 = pg.core.axes.wrench_direction(m, d)
+        o = _options(m, d6, upper, {"stiffness": K})
+        mw = pg.max_resistible_wrench(m, case2.preload(None), d, upper=upper, contact_stiffness=K)
+        assert (mw.giveway.slip, mw.giveway.rotation) == (o.slip, o.rotation)
+        assert (o.slip, o.rotation) == giveway_thresholds(m.length_scale, d6, upper, K)
+    assert giveway_thresholds(0.1, np.array([1.0, 0, 0, 0, 0, 0]), 1e3, 1e6)[0] == pytest.approx(0.02)
+    assert giveway_thresholds(0.1, np.array([1.0, 0, 0, 0, 0, 0]), 10.0, 1e6) == (1e-3, pytest.approx(1e-2))
+
+
+def test_path_stopped_above_upper_is_above_limit(case2):
+    """A path that stops without a verdict (here the segment-count limit) is ``above_limit``
+    when it held up to ``upper`` first, and a lower bound without verdict below it."""
+    m, cmd = case2.model, case2.preload(None)
+    lp = pg.loading_path(m, cmd, "fz", max_segments=3)
+    assert lp.status == "segment_limit" and lp.limit > 0
+    above = pg.quasistatic_max_wrench(m, cmd, "fz", path=lp, upper=0.5 * lp.limit)
+    assert above.status == "above_limit" and above.magnitude == 0.5 * lp.limit and not above.unbounded
+    below = pg.quasistatic_max_wrench(m, cmd, "fz", path=lp, upper=2.0 * lp.limit)
+    assert below.status == "segment_limit" and below.magnitude == lp.limit
+
+
+def test_record_is_json_and_in_the_summary(case2):
+    mw = pg.max_resistible_wrench(case2.model, case2.preload("finger2_only"), "fx", upper=50)
+    data = json.loads(json.dumps(mw.to_dict()))
+    assert data["giveway"]["reason"] == "limit" and data["giveway"]["stiffness"] == 1e6
+    assert data["giveway"]["first_limit"] == pytest.approx(2.8332, rel=1e-4)
+    assert "first limit 2.8332 N; 2 snap(s) survived" in mw.summary()
+
+
+@pytest.mark.parametrize(
+    "field, value",
+    [("contact_stiffness", 0.0), ("contact_stiffness", 1e11), ("giveway_slip", -1e-3), ("limit", "last")],
+)
+def test_settings_domains(field, value):
+    with pytest.raises(pg.InvalidInputError) as e:
+        pg.Settings(**{field: value}).validated()
+    assert e.value.name == field
+
+
+def test_scene_file_keys(tmp_path):
+    """``contact_stiffness``, ``giveway_slip``, ``giveway_rotation_deg`` and ``limit`` in a
+    scene's analysis block become its settings (and the simulation's defaults)."""
+    src = tmp_path / "s.yaml"
+    src.write_text(
+        "extends: pinch\nanalysis:\n  contact_stiffness: 2.0e5\n  giveway_slip: 0.002\n"
+        "  giveway_rotation_deg: 3\n  limit: first\n"
+    )
+    s = pg.load_scene(str(src))
+    assert s.settings.contact_stiffness == 2e5 and s.settings.giveway_slip == 0.002
+    assert s.settings.giveway_rotation == pytest.approx(np.radians(3)) and s.settings.limit == "first"
+    from pinograsp.sim.simulate import _scene_defaults
+
+    assert _scene_defaults(s) == {"stiffness": 2e5, "slip": 0.002, "rotation": pytest.approx(np.radians(3))}
