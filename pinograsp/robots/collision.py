@@ -27,7 +27,7 @@ The public functions take ``(hand, q, obj)``; their ``*_at`` versions take a
 from __future__ import annotations
 
 from collections.abc import Iterable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any
 
 import coal
@@ -38,7 +38,7 @@ from ..core.validate import contact_tolerance, finite_number
 from ..errors import InvalidInputError, NoContactError, PenetrationError, UnknownNameError
 from .hand_protocol import HandLike
 from .kinematics import HandConfiguration
-from .patches import DEFAULT_PATCH_POINTS, ContactPatch, with_patches
+from .patches import DEFAULT_PATCH_POINTS, ContactPatch, contact_patches, patch_points_option, single_points
 
 if TYPE_CHECKING:
     from .objects import RigidObject
@@ -273,6 +273,25 @@ def detect_contacts_at(
     if require and not contacts:
         raise NoContactError(dist, tolerance, inside_surfaces(config, obj))
     return ContactReport(contacts, pairs, float(tolerance), dist)
+
+
+def with_patches(
+    report: ContactReport,
+    config: HandConfiguration,
+    obj: RigidObject,
+    enabled: bool = True,
+    max_points: int = DEFAULT_PATCH_POINTS,
+) -> ContactReport:
+    """``report`` with its :attr:`~ContactReport.patches` filled: the contact patches
+    (:func:`~pinograsp.robots.patches.contact_patches`) when ``enabled``, else one point per contact."""
+    if not isinstance(enabled, (bool, np.bool_)):
+        raise InvalidInputError("patches", f"expected true or false, got {enabled!r}")
+    max_points = patch_points_option(max_points)
+    if enabled:
+        patches = contact_patches(config, obj, report.contacts, report.tolerance, max_points)
+    else:
+        patches = single_points(report.contacts)
+    return replace(report, patches=patches)
 
 
 def inside_surfaces(config: HandConfiguration, obj: RigidObject) -> tuple[str, ...]:

@@ -32,9 +32,10 @@ from .collision import (
     ContactReport,
     contact_options,
     detect_contacts_at,
+    with_patches,
 )
 from .kinematics import HandConfiguration
-from .patches import DEFAULT_PATCH_POINTS, patch_points_option, with_patches
+from .patches import DEFAULT_PATCH_POINTS, patch_points_option
 
 if TYPE_CHECKING:
     from .hand import Hand

@@ -27,18 +27,17 @@ geometries get a one-point patch from Coal, so they stay single points too.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
-from typing import TYPE_CHECKING, Any, Literal
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any, Literal, Protocol
 
 import coal
 import numpy as np
 
 from ..core.serialize import jsonable
 from ..core.validate import count
-from ..errors import InvalidInputError
 
 if TYPE_CHECKING:
-    from .collision import ContactReport, PairDistance
     from .kinematics import HandConfiguration
     from .objects import RigidObject
 
@@ -56,6 +55,19 @@ CAP_ANGLE = float(np.arccos(0.99))
 
 #: Points Coal samples on a curved edge (a cylinder cap's rim) before the reduction.
 CURVED_SAMPLES = 12
+
+
+class TouchingPair(Protocol):
+    """What a patch needs of a detected contact (:class:`~pinograsp.robots.collision.PairDistance`)."""
+
+    link: str
+    geometry: str
+    index: int
+    normal: np.ndarray
+
+    @property
+    def point(self) -> np.ndarray: ...
+
 
 PatchKind = Literal["point", "line", "face"]
 _ROUND = ("Sphere", "Ellipsoid", "Capsule")
@@ -239,7 +251,7 @@ def pair_patch(
 def contact_patches(
     config: HandConfiguration,
     obj: RigidObject,
-    contacts: tuple[PairDistance, ...],
+    contacts: Sequence[TouchingPair],
     tolerance: float,
     max_points: int = DEFAULT_PATCH_POINTS,
 ) -> tuple[ContactPatch, ...]:
@@ -273,27 +285,8 @@ def contact_patches(
     return tuple(out)
 
 
-def single_points(contacts: tuple[PairDistance, ...]) -> tuple[ContactPatch, ...]:
+def single_points(contacts: Sequence[TouchingPair]) -> tuple[ContactPatch, ...]:
     """One-point patches of the detected contacts (patches off): each closest-point contact."""
     return tuple(
         ContactPatch(c.link, c.geometry, "point", c.point[None, :], c.normal, (c.link,)) for c in contacts
     )
-
-
-def with_patches(
-    report: ContactReport,
-    config: HandConfiguration,
-    obj: RigidObject,
-    enabled: bool = True,
-    max_points: int = DEFAULT_PATCH_POINTS,
-) -> ContactReport:
-    """``report`` with its :attr:`~ContactReport.patches` filled: :func:`contact_patches` when
-    ``enabled``, else one point per contact (:func:`single_points`)."""
-    if not isinstance(enabled, (bool, np.bool_)):
-        raise InvalidInputError("patches", f"expected true or false, got {enabled!r}")
-    max_points = patch_points_option(max_points)
-    if enabled:
-        patches = contact_patches(config, obj, report.contacts, report.tolerance, max_points)
-    else:
-        patches = single_points(report.contacts)
-    return replace(report, patches=patches)
