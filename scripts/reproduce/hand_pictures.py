@@ -29,6 +29,8 @@ VIEWS = {
     "ability": (15, -40),
     "dex3": (30, -120),
     "talos_gripper": (5, 5),
+    "parallel_jaw_bar": (25, -60),
+    "parallel_jaw_box": (25, -60),
 }
 
 
