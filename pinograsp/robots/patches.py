@@ -60,11 +60,14 @@ CURVED_SAMPLES = 12
 class TouchingPair(Protocol):
     """What a patch needs of a detected contact (:class:`~pinograsp.robots.collision.PairDistance`)."""
 
-    link: str
-    geometry: str
-    index: int
-    normal: np.ndarray
-
+    @property
+    def link(self) -> str: ...
+    @property
+    def geometry(self) -> str: ...
+    @property
+    def index(self) -> int: ...
+    @property
+    def normal(self) -> np.ndarray: ...
     @property
     def point(self) -> np.ndarray: ...
 
