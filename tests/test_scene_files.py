@@ -43,6 +43,7 @@ URDF_SCENE = textwrap.dedent(
       size: [0.076, 0.08, 0.04]
       pose: {xyz: [0.0, 0.055, 0.0]}
     preload: {proximal_tendon: 10.0, distal_tendon: 10.0}
+    patches: false    # one point per touching link, as case3
     """
 )
 

@@ -118,7 +118,7 @@ def test_scene_model_couplings_reference_point_and_per_link_mu():
     hand = pg.Hand.builtin("panda_hand")
     box = pg.RigidObject.box((0.03, 0.03, 0.03), pose=[0.002, 0.0, 0.105])
     q = hand.close_on(box)
-    gm = pg.grasp_model_from_scene(hand, q, box, mu={"panda_leftfinger": 0.3})
+    gm = pg.grasp_model_from_scene(hand, q, box, mu={"panda_leftfinger": 0.3}, patches=False)
     np.testing.assert_allclose(gm.reference_point, [0.002, 0, 0.105])
     np.testing.assert_allclose(gm.mu, [0.3, 0.5])
     assert gm.contact_names == ("panda_leftfinger", "panda_rightfinger")
@@ -133,11 +133,11 @@ def test_barrett_scene_prunes_and_keeps_couplings():
     hand = pg.Hand.builtin("barrett_bh8_282")
     obj = pg.RigidObject.box((0.05, 0.06, 0.08), pose=[0.0, 0.0, 0.045])
     q = hand.close_on(obj)
-    contacts, report = scene_contacts(hand, q, obj)
+    contacts, report = scene_contacts(hand, q, obj, patches=False)  # one point per link
     assert [c.name for c in contacts] == ["bh_finger_13_link", "bh_finger_23_link", "bh_finger_33_link"]
     for c in contacts:  # the normal points from the finger into the object: towards the object's centre
         assert np.dot(c.normal, obj.center_of_mass - c.point) > 0
-    gm = pg.grasp_model_from_scene(hand, q, obj)
+    gm = pg.grasp_model_from_scene(hand, q, obj, patches=False)
     assert gm.actuator_names == ("spread", "f1", "f2", "f3")
     assert set(gm.coupling_names) == {"mimic:bh_j21", "f1_distal", "f2_distal", "f3_distal"}
 

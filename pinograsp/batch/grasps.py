@@ -387,7 +387,10 @@ def build_grasp(spec: GraspSpec) -> tuple[Any, dict[str, float], dict[str, float
             _with_mimics(hand, spec.q) if spec.q and isinstance(spec.q[0], tuple) else list(spec.q)
         )
     try:
-        model = grasp_model_from_scene(hand, q, obj, mu=spec.mu, stiffness=spec.stiffness, **contact)
+        # one point per touching geometry (contact patches are not a GraspSpec option yet)
+        model = grasp_model_from_scene(
+            hand, q, obj, mu=spec.mu, stiffness=spec.stiffness, patches=False, **contact
+        )
     except ModelError as exc:
         if exc.argument != "contacts":
             raise

@@ -10,8 +10,9 @@ every hand collision geometry and the object (``coal.distance`` with
 
 A geometry whose signed distance is ``<= tolerance`` gives one contact: the point midway
 between the two nearest points, the Coal normal, and the link name. Each collision geometry
-gives at most one contact (the closest point pair): a face-on-face touch is one point, not a
-patch. The default tolerance :data:`DEFAULT_TOLERANCE` is **1 mm**; distances below
+gives at most one contact (the closest point pair); where it touches along a face or an edge,
+:mod:`pinograsp.robots.patches` turns that contact into a patch of several points
+(:attr:`ContactReport.patches`). The default tolerance :data:`DEFAULT_TOLERANCE` is **1 mm**; distances below
 ``-max_penetration`` (default :data:`DEFAULT_MAX_PENETRATION`, **5 mm**) raise
 :class:`~pinograsp.errors.PenetrationError`. All positions are in the hand base frame [m].
 
@@ -29,7 +30,7 @@ The public functions take ``(hand, q, obj)``; their ``*_at`` versions take a
 from __future__ import annotations
 
 from collections.abc import Iterable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any
 
 import coal
@@ -46,6 +47,7 @@ from ..errors import (
 )
 from .hand_protocol import HandLike
 from .kinematics import HandConfiguration
+from .patches import DEFAULT_PATCH_POINTS, ContactPatch, contact_patches, patch_points_option, single_points
 
 if TYPE_CHECKING:
     from .objects import RigidObject
@@ -112,12 +114,20 @@ class ContactReport:
         pairs: Every hand geometry's distance to the object.
         tolerance: Contact tolerance used [m].
         link_distances: Closest signed distance [m] per link (over ``pairs``).
+        patches: The contact points of each contact (same order as ``contacts``,
+            :mod:`pinograsp.robots.patches`); empty until patches are computed.
     """
 
     contacts: tuple[PairDistance, ...]
     pairs: tuple[PairDistance, ...]
     tolerance: float
     link_distances: dict[str, float] = field(default_factory=dict)
+    patches: tuple[ContactPatch, ...] = ()
+
+    @property
+    def points_per_patch(self) -> tuple[int, ...]:
+        """Number of contact points of each contact (1 each until patches are computed)."""
+        return tuple(p.size for p in self.patches) if self.patches else (1,) * len(self.contacts)
 
     @property
     def links(self) -> tuple[str, ...]:
@@ -134,13 +144,18 @@ class ContactReport:
                 "contacts": [c.to_dict() for c in self.contacts],
                 "pairs": [c.to_dict() for c in self.pairs],
                 "link_distances": dict(self.link_distances),
+                "patches": [p.to_dict() for p in self.patches],
             }
         )
 
     def summary(self) -> str:
         """The contacts (link, signed distance [mm]) and the closest links without contact."""
         lines = [f"{len(self.contacts)} contact(s) within {self.tolerance * 1e3:g} mm:"]
-        lines += [f"  {c.link} ({c.geometry}): {c.distance * 1e3:+.3f} mm" for c in self.contacts]
+        shapes = [f", {p.size} point(s) ({p.kind})" for p in self.patches] or [""] * len(self.contacts)
+        lines += [
+            f"  {c.link} ({c.geometry}): {c.distance * 1e3:+.3f} mm{shape}"
+            for c, shape in zip(self.contacts, shapes)
+        ]
         touching = set(self.links)
         others = sorted((d, k) for k, d in self.link_distances.items() if k not in touching)
         if others:
@@ -350,6 +365,7 @@ def detect_contacts_at(
     return ContactReport(contacts, pairs, float(tolerance), dist)
 
 
+<<<<<<< HEAD
 def _check_contact(config: HandConfiguration, obj: RigidObject, p: PairDistance) -> None:
     """Raise :class:`ContactDetectionError` (naming object, link, geometry and pose) unless the
     pair has a finite point and a unit normal."""
@@ -366,6 +382,25 @@ def _check_contact(config: HandConfiguration, obj: RigidObject, p: PairDistance)
         f"(nearest points {np.round(p.point_hand * 1e3, 3).tolist()} mm on the hand, "
         f"{np.round(p.point_object * 1e3, 3).tolist()} mm on the object)",
     )
+=======
+def with_patches(
+    report: ContactReport,
+    config: HandConfiguration,
+    obj: RigidObject,
+    enabled: bool = True,
+    max_points: int = DEFAULT_PATCH_POINTS,
+) -> ContactReport:
+    """``report`` with its :attr:`~ContactReport.patches` filled: the contact patches
+    (:func:`~pinograsp.robots.patches.contact_patches`) when ``enabled``, else one point per contact."""
+    if not isinstance(enabled, (bool, np.bool_)):
+        raise InvalidInputError("patches", f"expected true or false, got {enabled!r}")
+    max_points = patch_points_option(max_points)
+    if enabled:
+        patches = contact_patches(config, obj, report.contacts, report.tolerance, max_points)
+    else:
+        patches = single_points(report.contacts)
+    return replace(report, patches=patches)
+>>>>>>> patches
 
 
 def inside_surfaces(config: HandConfiguration, obj: RigidObject) -> tuple[str, ...]:
@@ -398,6 +433,8 @@ def detect_contacts(
     max_penetration: float = DEFAULT_MAX_PENETRATION,
     links: list[str] | tuple[str, ...] | None = None,
     require: bool = True,
+    patches: bool = True,
+    patch_points: int = DEFAULT_PATCH_POINTS,
 ) -> ContactReport:
     """Find the hand–object contacts at configuration ``q``.
 
@@ -410,9 +447,13 @@ def detect_contacts(
         max_penetration: Deepest accepted overlap [m] (default 5 mm).
         links: Only these links may touch (default: every contact link of the hand).
         require: Raise :class:`NoContactError` when nothing touches.
+        patches: Represent a face or edge touch by several points (``report.patches``,
+            :mod:`pinograsp.robots.patches`); ``False``: one point per contact.
+        patch_points: Largest number of points of a face patch (2 to 16, default 4).
 
     Returns:
-        The contacts (normals from the hand into the object) and every pair's distance.
+        The contacts (normals from the hand into the object), every pair's distance and the
+        contact points of each contact.
 
     Raises:
         NoContactError: No geometry within tolerance (lists the closest distance per link).
@@ -421,4 +462,6 @@ def detect_contacts(
         UnknownNameError: ``links`` names a link without contact geometry.
     """
     options = contact_options(hand, tolerance, max_penetration, links)
-    return detect_contacts_at(HandConfiguration.at(hand, q), obj, *options, require=require)
+    config = HandConfiguration.at(hand, q)
+    report = detect_contacts_at(config, obj, *options, require=require)
+    return with_patches(report, config, obj, patches, patch_points)

@@ -1,8 +1,10 @@
 """URDF scene → :class:`~pinograsp.core.model.GraspModel` (docs/design.md).
 
 ``grasp_model_from_scene(hand, q, obj)`` detects the contacts with Coal
-(:mod:`pinograsp.robots.collision`), builds one :class:`~pinograsp.core.contact.Contact` per touching
-geometry with the hand Jacobian from Pinocchio, and hands them with the description's
+(:mod:`pinograsp.robots.collision`), builds one :class:`~pinograsp.core.contact.Contact` per point of
+each touching geometry's patch (:mod:`pinograsp.robots.patches`: one point for a curved touch, the
+two ends of a line, up to ``patch_points`` vertices of a face; the geometry's stiffness split
+evenly among them) with the hand Jacobian from Pinocchio, and hands them with the description's
 actuators and couplings to :meth:`GraspModel.from_contacts`, which prunes what the grasp does
 not need (joints beyond the last contact of their chain, actuators reaching no contact).
 
@@ -30,8 +32,10 @@ from .collision import (
     ContactReport,
     contact_options,
     detect_contacts_at,
+    with_patches,
 )
 from .kinematics import HandConfiguration
+from .patches import DEFAULT_PATCH_POINTS, patch_points_option
 
 if TYPE_CHECKING:
     from .hand import Hand
@@ -112,26 +116,33 @@ def scene_contacts(
     tolerance: float = DEFAULT_TOLERANCE,
     max_penetration: float = DEFAULT_MAX_PENETRATION,
     links: Sequence[str] | None = None,
+    patches: bool = True,
+    patch_points: int = DEFAULT_PATCH_POINTS,
 ) -> tuple[list[Contact], ContactReport]:
     """The :class:`Contact` objects of a scene (with Jacobians) and the detection report.
 
     The hand's kinematics at ``q`` is computed once (:class:`HandConfiguration`) and serves both
     the contact detection and the Jacobians. ``mu`` and ``stiffness`` are a scalar, one value per
-    detected contact, or a mapping ``{link: value}`` (links not named get the defaults 0.5 and 1).
+    detected contact (touching geometry), or a mapping ``{link: value}`` (links not named get the
+    defaults 0.5 and 1). With ``patches`` a touching geometry gives one contact per point of its
+    patch (``report.patches``), each with the geometry's ``mu`` and ``stiffness / points``: a
+    patch has the same total normal stiffness as a single point.
     """
     config = HandConfiguration.at(hand, q)
     options = contact_options(hand, tolerance, max_penetration, links)
-    report = detect_contacts_at(config, obj, *options)
+    patch_points = patch_points_option(patch_points)
+    report = with_patches(detect_contacts_at(config, obj, *options), config, obj, patches, patch_points)
     mus = _per_contact(hand, report, "mu", mu, 0.5)
     ks = _per_contact(hand, report, "stiffness", stiffness, 1.0)
     contacts = []
-    for i, pc in enumerate(report.contacts):
+    for i, (pc, patch) in enumerate(zip(report.contacts, report.patches)):
         joint_id = hand.geometry.geometryObjects[pc.index].parentJoint
-        p = pc.point
-        jac = closing_jacobian(config, joint_id, p)
-        contacts.append(
-            Contact(point=p, normal=pc.normal, mu=mus[i], jacobian=jac, stiffness=ks[i], name=pc.link)
-        )
+        for p, name in zip(patch.points, patch.names):
+            jac = closing_jacobian(config, joint_id, p)
+            k = ks[i] / patch.size
+            contacts.append(
+                Contact(point=p, normal=patch.normal, mu=mus[i], jacobian=jac, stiffness=k, name=name)
+            )
     return contacts, report
 
 
@@ -145,6 +156,8 @@ def grasp_model_from_scene(
     tolerance: float = DEFAULT_TOLERANCE,
     max_penetration: float = DEFAULT_MAX_PENETRATION,
     links: Sequence[str] | None = None,
+    patches: bool = True,
+    patch_points: int = DEFAULT_PATCH_POINTS,
     actuators: Sequence[Actuator] | None = None,
     couplings: Sequence[Coupling] | None = None,
     reference_point: object = None,
@@ -165,6 +178,10 @@ def grasp_model_from_scene(
         tolerance: Contact tolerance on the signed distance [m] (default 1 mm).
         max_penetration: Deepest accepted overlap [m] (default 5 mm).
         links: Only these links may touch (default: all contact links).
+        patches: A geometry touching along a face or an edge gives several contact points
+            (docs/hands.md, "Contact patches"); ``False``: one point per touching geometry.
+        patch_points: Largest number of points of a face patch (2 to 16, default 4; a line
+            gives 2, a curved touch 1). The geometry's stiffness is split evenly among them.
         actuators: Override the description's actuators (closing coordinates, joints by name).
         couplings: Override the hand's couplings (mimics and description couplings).
         reference_point: Wrench reference point [m] (default: the object's centre of mass).
@@ -185,6 +202,8 @@ def grasp_model_from_scene(
         tolerance=tolerance,
         max_penetration=max_penetration,
         links=links,
+        patches=patches,
+        patch_points=patch_points,
     )
     o = obj.center_of_mass if reference_point is None else reference_point
     return GraspModel.from_contacts(

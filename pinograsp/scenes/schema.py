@@ -88,6 +88,8 @@ URDF_KEYS = COMMON_KEYS + (
     "tolerance",
     "max_penetration",
     "expect_contacts",
+    "patches",
+    "patch_points",
 )
 #: Top-level keys of an explicit-contact scene (``contacts:``).
 EXPLICIT_KEYS = COMMON_KEYS + (

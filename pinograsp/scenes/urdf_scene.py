@@ -239,6 +239,7 @@ def build_urdf(f: SceneFile, d: Mapping) -> GraspParts:
     """The parts of a URDF scene's grasp (``d``: the scene's top-level keys)."""
     from ..robots.collision import DEFAULT_MAX_PENETRATION, DEFAULT_TOLERANCE
     from ..robots.grasp import scene_contacts
+    from ..robots.patches import DEFAULT_PATCH_POINTS, MAX_PATCH_POINTS
 
     f.keys(d, URDF_KEYS, "")
     hand, lock = _load_hand(f, d["hand"])
@@ -249,17 +250,31 @@ def build_urdf(f: SceneFile, d: Mapping) -> GraspParts:
     links = list(hand.contact_link_names)
     mu = f.per_name(d.get("friction"), "friction", links, 0.5, nonneg=True)
     k = f.per_name(d.get("stiffness"), "stiffness", links, 1.0, positive=True)
+    patches = f.boolean(d.get("patches", True), "patches")
+    npts = f.integer(d.get("patch_points", DEFAULT_PATCH_POINTS), "patch_points", minimum=2)
+    if npts > MAX_PATCH_POINTS:
+        raise f.error("patch_points", f"must be an integer in [2, {MAX_PATCH_POINTS}], got {npts}")
     try:
         contacts, report = scene_contacts(
-            hand, q, obj, mu=mu, stiffness=k, tolerance=tol, max_penetration=pen
+            hand,
+            q,
+            obj,
+            mu=mu,
+            stiffness=k,
+            tolerance=tol,
+            max_penetration=pen,
+            patches=patches,
+            patch_points=npts,
         )
     except PinograspError as exc:
         raise f.error("configuration", f"{type(exc).__name__}: {exc}") from exc
     if d.get("expect_contacts") is not None:
         want = f.integer(d["expect_contacts"], "expect_contacts")
-        if len(contacts) != want:
+        if len(report.contacts) != want:  # touching geometries (a patch counts once)
             got = ", ".join(c.link for c in report.contacts)
-            raise f.error("expect_contacts", f"expected {want} contacts, detected {len(contacts)}: {got}")
+            raise f.error(
+                "expect_contacts", f"expected {want} contacts, detected {len(report.contacts)}: {got}"
+            )
     T = f.pose(d.get("frame"), "frame")
     o = T[:3, :3].T @ (obj.center_of_mass - T[:3, 3])
     names, cs, acts, cps = _lock_joints(

@@ -30,6 +30,8 @@ VIEWS = {
     "dex3": (30, -120),
     "talos_gripper": (5, 5),
     "talos_torus": (35, 20),
+    "parallel_jaw_bar": (25, -60),
+    "parallel_jaw_box": (25, -60),
 }
 
 

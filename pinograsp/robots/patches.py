@@ -1,0 +1,295 @@
+"""Contact patches: a face or edge touch as a few contact points (docs/hands.md, "Contact patches").
+
+:mod:`pinograsp.robots.collision` finds, per hand collision geometry, the closest point pair
+with the object. When a flat feature of the geometry (a box face or edge, a cylinder cap, a
+convex-mesh face) lies on a flat feature of the object, that one point is arbitrary: a pad on a
+face would resist neither torsion nor tilt. This module turns such a touch into a **patch**:
+
+1. Coal's contact patch of the pair (``coal.collide`` with a security margin equal to the
+   contact tolerance, so contacts at a small positive distance count, then
+   ``coal.computeContactPatch`` with the same tolerance as its patch tolerance): the polygon of
+   the two shapes' features within tolerance of the contact plane, in that plane (midway between
+   the surfaces), with one normal from the hand into the object.
+2. Points closer than :data:`MERGE_DISTANCE` are merged. One point left -> a **point** contact;
+   all points on one line (within :data:`MERGE_DISTANCE`) -> a **line**, its two end points;
+   otherwise a **face**, reduced to at most ``patch_points`` vertices by farthest-point
+   selection (start: the vertex farthest from the centroid; each next vertex: the one farthest
+   from those chosen).
+3. Ties and the order of the points are decided in the **hand geometry's own frame** (points
+   rounded to :data:`ORDER_RESOLUTION`, compared lexicographically), so the points and their
+   order do not change under a rigid motion of the whole scene nor with the geometries' order.
+
+**Curved** touches stay single points (the closest pair, as with patches off): a sphere,
+ellipsoid or capsule; the side of a cylinder or cone (the normal more than
+:data:`CAP_ANGLE` from its axis) — on either the hand or the object. Triangle-mesh (BVH)
+geometries get a one-point patch from Coal, so they stay single points too.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any, Literal, Protocol
+
+import coal
+import numpy as np
+
+from ..core.serialize import jsonable
+from ..core.validate import count
+
+if TYPE_CHECKING:
+    from .kinematics import HandConfiguration
+    from .objects import RigidObject
+
+#: Default largest number of points of a face patch (a line always gives 2, a point 1).
+DEFAULT_PATCH_POINTS = 4
+#: Largest accepted ``patch_points`` (each point is a contact with its own friction cone).
+MAX_PATCH_POINTS = 16
+#: Patch points closer than this [m] are one point; a patch this thin is a line.
+MERGE_DISTANCE = 1e-6
+#: Resolution [m] of the coordinates (hand geometry frame) that break ties and order the points.
+ORDER_RESOLUTION = 1e-9
+#: A cylinder or cone touches with its flat cap when the normal is within this angle [rad] of
+#: its axis (cos 0.99, about 8.1 deg); otherwise it touches with its curved side.
+CAP_ANGLE = float(np.arccos(0.99))
+
+#: Points Coal samples on a curved edge (a cylinder cap's rim) before the reduction.
+CURVED_SAMPLES = 12
+
+
+class TouchingPair(Protocol):
+    """What a patch needs of a detected contact (:class:`~pinograsp.robots.collision.PairDistance`)."""
+
+    @property
+    def link(self) -> str: ...
+    @property
+    def geometry(self) -> str: ...
+    @property
+    def index(self) -> int: ...
+    @property
+    def normal(self) -> np.ndarray: ...
+    @property
+    def point(self) -> np.ndarray: ...
+
+
+PatchKind = Literal["point", "line", "face"]
+_ROUND = ("Sphere", "Ellipsoid", "Capsule")
+_AXIAL = ("Cylinder", "Cone")
+
+
+@dataclass(frozen=True)
+class ContactPatch:
+    """The contact points of one touching hand geometry.
+
+    Attributes:
+        link: Hand link carrying the geometry.
+        geometry: Name of the collision geometry.
+        kind: ``"point"`` (one point), ``"line"`` (two end points) or ``"face"`` (polygon vertices).
+        points: Contact points, base frame [m], (k, 3), in canonical order.
+        normal: Unit normal from the hand into the object, shared by the points, (3,).
+        names: Contact name of each point, (k,): the link name for a single point,
+            ``<link>#<i>`` for a patch (``<geometry>#<i>`` when the link has several touching
+            geometries).
+    """
+
+    link: str
+    geometry: str
+    kind: PatchKind
+    points: np.ndarray
+    normal: np.ndarray
+    names: tuple[str, ...]
+
+    @property
+    def size(self) -> int:
+        """Number of contact points of the patch."""
+        return len(self.points)
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain JSON-ready data: names, ``kind``, ``points`` (k × 3 lists) [m], ``normal``."""
+        return jsonable(
+            {
+                "link": self.link,
+                "geometry": self.geometry,
+                "kind": self.kind,
+                "points": self.points,
+                "normal": self.normal,
+                "names": list(self.names),
+            }
+        )
+
+
+def patch_points_option(value: object) -> int:
+    """Validated ``patch_points``: an integer in ``[2, MAX_PATCH_POINTS]``."""
+    return count("patch_points", value, MAX_PATCH_POINTS, minimum=2, what="points per face patch")
+
+
+def _to_matrix(T: coal.Transform3s) -> tuple[np.ndarray, np.ndarray]:
+    return np.array(T.getRotation(), dtype=float), np.array(T.getTranslation(), dtype=float)
+
+
+def is_curved(geometry: coal.CollisionGeometry, T: coal.Transform3s, normal: np.ndarray) -> bool:
+    """Whether ``geometry`` at pose ``T`` touches along ``normal`` with a curved surface
+    (sphere, ellipsoid, capsule; the side of a cylinder or cone)."""
+    kind = type(geometry).__name__
+    if kind in _ROUND:
+        return True
+    if kind in _AXIAL:
+        axis = _to_matrix(T)[0][:, 2]
+        return bool(abs(float(axis @ normal)) < np.cos(CAP_ANGLE))
+    return False
+
+
+def coal_patch(
+    g1: coal.CollisionGeometry,
+    T1: coal.Transform3s,
+    g2: coal.CollisionGeometry,
+    T2: coal.Transform3s,
+    tolerance: float,
+) -> tuple[np.ndarray, np.ndarray] | None:
+    """Coal's contact patch of two shapes within ``tolerance`` [m]: points (k, 3) [m] in the
+    contact plane and the normal from ``g1`` into ``g2`` (3,); ``None`` if Coal finds none."""
+    tol = max(float(tolerance), MERGE_DISTANCE)
+    req = coal.CollisionRequest()
+    req.security_margin = tol
+    req.num_max_contacts = 1
+    res = coal.CollisionResult()
+    coal.collide(g1, T1, g2, T2, req, res)
+    if res.numContacts() == 0:
+        return None
+    preq = coal.ContactPatchRequest(1, CURVED_SAMPLES, tol)
+    pres = coal.ContactPatchResult(preq)
+    coal.computeContactPatch(g1, T1, g2, T2, res, preq, pres)
+    if pres.numContactPatches() == 0:
+        return None
+    patch = pres.getContactPatch(0)
+    if patch.size() == 0:
+        return None
+    points = np.array([patch.getPoint(i) for i in range(patch.size())], dtype=float).reshape(-1, 3)
+    normal = np.array(patch.getNormal(), dtype=float)
+    norm = np.linalg.norm(normal)
+    if not np.all(np.isfinite(points)) or not norm > 0.5:
+        return None
+    return points, normal / norm
+
+
+def _keys(local: np.ndarray) -> list[tuple[int, ...]]:
+    """Rounded local coordinates (hand geometry frame) of each point: the canonical tie-breaks."""
+    return [tuple(int(v) for v in np.round(p / ORDER_RESOLUTION)) for p in local]
+
+
+def select_points(points: np.ndarray, local: np.ndarray, max_points: int) -> tuple[PatchKind, np.ndarray]:
+    """Reduce a patch polygon to its representative points.
+
+    Args:
+        points: Patch vertices, base frame [m], (m, 3).
+        local: The same vertices in the hand geometry's frame [m], (m, 3) (canonical order).
+        max_points: Largest number of points of a face (>= 2).
+
+    Returns:
+        The kind and the indices of the chosen vertices, in canonical order (sorted by ``local``).
+    """
+    keys = _keys(local)
+    order = sorted(range(len(points)), key=lambda i: keys[i])
+    kept: list[int] = []
+    for i in order:  # merge duplicates, keeping the canonically first one
+        if all(np.linalg.norm(points[i] - points[j]) > MERGE_DISTANCE for j in kept):
+            kept.append(i)
+    if len(kept) == 1:
+        return "point", np.array(kept)
+    centroid = points[kept].mean(axis=0)
+
+    def farthest(score: dict[int, float]) -> int:
+        best = max(round(s / ORDER_RESOLUTION) for s in score.values())
+        return min(
+            (i for i, s in score.items() if round(s / ORDER_RESOLUTION) == best), key=lambda i: keys[i]
+        )
+
+    first = farthest({i: float(np.linalg.norm(points[i] - centroid)) for i in kept})
+    second = farthest({i: float(np.linalg.norm(points[i] - points[first])) for i in kept})
+    chosen = [first, second]
+    axis = (points[second] - points[first]) / np.linalg.norm(points[second] - points[first])
+    off = points[kept] - points[first]
+    off_line = off - np.outer(off @ axis, axis)
+    if np.max(np.linalg.norm(off_line, axis=1)) <= MERGE_DISTANCE:
+        # a line: the vertex farthest from the centroid is an end, the one farthest from it the other
+        return "line", np.array(sorted(chosen, key=lambda i: keys[i]))
+    while len(chosen) < min(max_points, len(kept)):
+        rest = {
+            i: min(float(np.linalg.norm(points[i] - points[j])) for j in chosen)
+            for i in kept
+            if i not in chosen
+        }
+        chosen.append(farthest(rest))
+    return "face", np.array(sorted(chosen, key=lambda i: keys[i]))
+
+
+def pair_patch(
+    g1: coal.CollisionGeometry,
+    T1: coal.Transform3s,
+    g2: coal.CollisionGeometry,
+    T2: coal.Transform3s,
+    tolerance: float,
+    max_points: int,
+) -> tuple[PatchKind, np.ndarray, np.ndarray] | None:
+    """The patch of hand geometry ``g1`` at ``T1`` on object ``g2`` at ``T2`` (world frame).
+
+    Returns:
+        ``(kind, points (k, 3) [m], normal (3,))`` with the points in canonical order, or
+        ``None`` when the touch is a single point (curved, a corner, a mesh, or no Coal patch):
+        the caller keeps its closest-point contact.
+    """
+    found = coal_patch(g1, T1, g2, T2, tolerance)
+    if found is None:
+        return None
+    points, normal = found
+    if is_curved(g1, T1, normal) or is_curved(g2, T2, normal):
+        return None
+    R, t = _to_matrix(T1)
+    kind, idx = select_points(points, (points - t) @ R, max_points)
+    if kind == "point":
+        return None
+    return kind, points[idx], normal
+
+
+def contact_patches(
+    config: HandConfiguration,
+    obj: RigidObject,
+    contacts: Sequence[TouchingPair],
+    tolerance: float,
+    max_points: int = DEFAULT_PATCH_POINTS,
+) -> tuple[ContactPatch, ...]:
+    """The patch of each detected contact (same order as ``contacts``).
+
+    Args:
+        config: The hand at its configuration.
+        obj: The object.
+        contacts: The touching geometry pairs (:attr:`ContactReport.contacts`).
+        tolerance: Contact tolerance [m]: Coal's security margin and patch tolerance.
+        max_points: Largest number of points of a face patch.
+    """
+    geometries = config.hand.geometry.geometryObjects
+    per_link: dict[str, int] = {}
+    for c in contacts:
+        per_link[c.link] = per_link.get(c.link, 0) + 1
+    out = []
+    for c in contacts:
+        oMg = config.geometry_data.oMg[c.index]
+        T1 = coal.Transform3s(oMg.rotation, oMg.translation)
+        found = pair_patch(
+            geometries[c.index].geometry, T1, obj.geometry, obj.transform, tolerance, max_points
+        )
+        if found is None:
+            out.append(ContactPatch(c.link, c.geometry, "point", c.point[None, :], c.normal, (c.link,)))
+            continue
+        kind, points, normal = found
+        stem = c.link if per_link[c.link] == 1 else c.geometry
+        names = tuple(f"{stem}#{i}" for i in range(len(points)))
+        out.append(ContactPatch(c.link, c.geometry, kind, points, normal, names))
+    return tuple(out)
+
+
+def single_points(contacts: Sequence[TouchingPair]) -> tuple[ContactPatch, ...]:
+    """One-point patches of the detected contacts (patches off): each closest-point contact."""
+    return tuple(
+        ContactPatch(c.link, c.geometry, "point", c.point[None, :], c.normal, (c.link,)) for c in contacts
+    )

@@ -1,0 +1,214 @@
+"""Contact patches (pinograsp.robots.patches): a flat pad on a flat face is several points.
+
+Closed forms on the built-in parallel jaw squeezing a 30 mm square bar (scene parallel_jaw_bar):
+each jaw face touches the bar on a 30 x 20 mm rectangle, its 4 corners the patch points, each
+pressing F/8 (F = 20 N motor force, 10 N per jaw, the stiffness split evenly). Along the pads
+the friction limit is mu F; about the squeeze axis (x) a rigid twist slides every corner across
+its radius r_i, so the torque limit is sum_i mu (F/8) r_i h_i, h_i the friction polygon's reach
+in the direction perpendicular to the radius (1 on the polygon's vertices). With patches off the
+two single points leave the twist unresisted (0).
+"""
+
+import coal
+import numpy as np
+import pytest
+
+import pinograsp as pg
+from pinograsp.core.cones import edge_angles
+from pinograsp.errors import InvalidInputError, SceneError
+from pinograsp.robots.kinematics import HandConfiguration
+from pinograsp.robots.patches import contact_patches, pair_patch
+
+MU, F = 0.5, 20.0
+TOL = 1e-3
+
+
+def T(p, R=None) -> coal.Transform3s:
+    return coal.Transform3s(np.eye(3) if R is None else np.asarray(R, float), np.asarray(p, float))
+
+
+def rot(axis, angle) -> np.ndarray:
+    a = np.asarray(axis, float) / np.linalg.norm(axis)
+    K = np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
+    return np.eye(3) + np.sin(angle) * K + (1 - np.cos(angle)) * K @ K
+
+
+PAD = coal.Box(0.010, 0.060, 0.020)  # the parallel jaw's jaw
+BAR = coal.Box(0.030, 0.030, 0.150)
+PAD_POSE = ([-0.0205, 0.0, 0.0], np.eye(3))  # face 0.5 mm from the bar's face x = -15 mm
+
+
+# ---------------------------------------------------------------------------- geometry
+def test_face_patch_is_the_overlap_rectangle():
+    kind, pts, n = pair_patch(PAD, T(*PAD_POSE), BAR, T([0, 0, 0]), TOL, 4)
+    assert kind == "face" and pts.shape == (4, 3)
+    np.testing.assert_allclose(n, [1, 0, 0], atol=1e-9)
+    # midway between the faces (x = -15.25 mm), corners of the 30 (y) x 20 (z) mm overlap
+    want = {(y, z) for y in (-0.015, 0.015) for z in (-0.01, 0.01)}
+    assert {(round(p[1], 9), round(p[2], 9)) for p in pts} == want
+    np.testing.assert_allclose(pts[:, 0], -0.01525, atol=1e-9)
+
+
+def test_patch_points_invariant_under_a_rigid_motion_of_the_scene():
+    rng = np.random.default_rng(7)
+    base = pair_patch(PAD, T(*PAD_POSE), BAR, T([0, 0, 0]), TOL, 4)
+    for _ in range(5):
+        R = rot(rng.normal(size=3), rng.uniform(0, 2 * np.pi))
+        t = rng.uniform(-0.5, 0.5, 3)
+        moved = pair_patch(PAD, T(R @ PAD_POSE[0] + t, R), BAR, T(t, R), TOL, 4)
+        assert moved[0] == base[0]
+        np.testing.assert_allclose(moved[1], base[1] @ R.T + t, atol=1e-9)  # same points, same order
+        np.testing.assert_allclose(moved[2], R @ base[2], atol=1e-9)
+
+
+def test_a_face_reduces_to_patch_points_by_farthest_point_selection():
+    # a cylinder cap (flat) on the bar face: Coal samples the rim; 4 points, then 3
+    cyl = coal.Cylinder(0.01, 0.04)
+    cap = T([-0.0352, 0, 0], rot([0, 1, 0], np.pi / 2))
+    kind, pts, _ = pair_patch(cyl, cap, BAR, T([0, 0, 0]), TOL, 4)
+    assert kind == "face" and len(pts) == 4
+    np.testing.assert_allclose(np.linalg.norm(pts[:, 1:], axis=1), 0.01, atol=1e-9)  # on the rim
+    kind3, pts3, _ = pair_patch(cyl, cap, BAR, T([0, 0, 0]), TOL, 3)
+    assert kind3 == "face" and len(pts3) == 3
+    # farthest-point selection: a diameter, then the rim point a quarter turn from both ends
+    d = sorted(np.linalg.norm(pts3[i] - pts3[j]) for i, j in ((0, 1), (1, 2), (0, 2)))
+    np.testing.assert_allclose(d, [0.01 * np.sqrt(2), 0.01 * np.sqrt(2), 0.02], atol=1e-9)
+
+
+def test_a_line_contact_gives_its_two_end_points():
+    # a 20 mm cube turned 45 deg about z: its vertical edge (z +-10 mm) on the bar face
+    h = 0.01 * np.sqrt(2)
+    kind, pts, n = pair_patch(
+        coal.Box(0.02, 0.02, 0.02),
+        T([-0.015 - h - 2e-4, 0, 0], rot([0, 0, 1], np.pi / 4)),
+        BAR,
+        T([0, 0, 0]),
+        TOL,
+        4,
+    )
+    assert kind == "line" and pts.shape == (2, 3)
+    np.testing.assert_allclose(sorted(pts[:, 2]), [-0.01, 0.01], atol=1e-9)
+    np.testing.assert_allclose(pts[:, :2], [[-0.0151, 0.0], [-0.0151, 0.0]], atol=1e-9)
+
+
+@pytest.mark.parametrize(
+    "shape, pose",
+    [
+        (coal.Sphere(0.01), T([-0.0252, 0, 0])),
+        (coal.Cylinder(0.01, 0.04), T([-0.0252, 0, 0])),  # its side (curved) along the face
+        (coal.Capsule(0.01, 0.04), T([-0.0252, 0, 0])),
+    ],
+)
+def test_curved_touches_stay_single_points(shape, pose):
+    assert pair_patch(shape, pose, BAR, T([0, 0, 0]), TOL, 4) is None
+
+
+def test_a_pad_on_a_curved_object_stays_a_single_point():
+    assert pair_patch(PAD, T(*PAD_POSE), coal.Cylinder(0.015, 0.2), T([0, 0, 0]), TOL, 4) is None
+
+
+# ---------------------------------------------------------------------------- the hand
+@pytest.fixture(scope="module")
+def bar():
+    hand = pg.Hand.builtin("parallel_jaw")
+    obj = pg.RigidObject.box([0.030, 0.030, 0.150], pose=[0.0, 0.040, 0.0])
+    return hand, hand.close_on(obj), obj
+
+
+def test_detect_contacts_reports_points_per_patch(bar):
+    hand, q, obj = bar
+    on = pg.detect_contacts(hand, q, obj)
+    off = pg.detect_contacts(hand, q, obj, patches=False)
+    assert on.points_per_patch == (4, 4) and [p.kind for p in on.patches] == ["face", "face"]
+    assert off.points_per_patch == (1, 1) and len(on.contacts) == len(off.contacts) == 2
+    assert "4 point(s) (face)" in on.summary() and on.to_dict()["patches"][0]["kind"] == "face"
+    for p in on.patches:  # the corners of the 30 x 20 mm overlap, centred on the bar
+        np.testing.assert_allclose(np.sort(np.abs(p.points[:, 1] - 0.04)), [0.015] * 4, atol=1e-9)
+        np.testing.assert_allclose(np.abs(p.points[:, 2]), 0.01, atol=1e-9)
+    with pytest.raises(InvalidInputError, match="patch_points"):
+        pg.detect_contacts(hand, q, obj, patch_points=1)
+
+
+def test_patch_stiffness_is_split_evenly(bar):
+    hand, q, obj = bar
+    m_on = pg.grasp_model_from_scene(hand, q, obj, stiffness=2.0)
+    m_off = pg.grasp_model_from_scene(hand, q, obj, stiffness=2.0, patches=False)
+    assert m_on.nc == 8 and m_off.nc == 2
+    assert m_on.contact_names[:4] == tuple(f"pj_left_jaw#{i}" for i in range(4))
+    np.testing.assert_allclose(m_on.k, 0.5)
+    np.testing.assert_allclose(m_on.k.sum(), m_off.k.sum())
+    # the preload: every corner presses F/8 (to 1e-4: Coal's normal at a touching pose is off the
+    # face normal by ~1e-5 rad, which tilts the pad and shares the load unevenly at that order)
+    r = pg.passive_response(m_on, F, np.zeros(6))
+    np.testing.assert_allclose(r.normal_forces, F / 8, rtol=1e-4)
+
+
+def test_patches_do_not_depend_on_the_geometry_order(bar):
+    """The contacts listed in reverse order give the same patches (points, order, names) reversed."""
+    hand, q, obj = bar
+    config = HandConfiguration.at(hand, q)
+    report = pg.detect_contacts(hand, q, obj)
+    back = contact_patches(config, obj, tuple(reversed(report.contacts)), report.tolerance)
+    for p, r in zip(report.patches, reversed(back)):
+        assert p.names == r.names and p.kind == r.kind
+        np.testing.assert_array_equal(p.points, r.points)
+
+
+# ---------------------------------------------------------------------------- resistance
+def _twist_limit(m, F_point: float, centre: np.ndarray) -> float:
+    """sum_i mu F_point r_i h_i about x through ``centre`` (h_i: the polygon's reach across r_i)."""
+    total = 0.0
+    for i in range(m.nc):
+        r = (m.points[i] - centre) * [0.0, 1.0, 1.0]  # the radius about the x axis
+        t = np.cross([1.0, 0, 0], r)  # the corner's velocity in a twist about +x
+        frame = m.frames[i]
+        phi = np.arctan2(frame[:, 2] @ t, frame[:, 1] @ t)
+        h = np.max(np.cos(edge_angles(m, i) - phi))
+        total += m.mu[i] * F_point * np.linalg.norm(r) * h
+    return float(total)
+
+
+def test_flat_pads_resist_twist_and_forces_along_the_pads(bar):
+    hand, q, obj = bar
+    m_on = pg.grasp_model_from_scene(hand, q, obj, mu=MU)
+    m_off = pg.grasp_model_from_scene(hand, q, obj, mu=MU, patches=False)
+    upper, steps = 50.0, 14
+    res = upper / 2**steps
+    twist = _twist_limit(m_on, F / 8, obj.center_of_mass)
+    assert twist == pytest.approx(8 * MU * (F / 8) * 0.025 / np.sqrt(2), rel=1e-9)  # 0.1768 N m
+    for d, limit in (("fy", MU * F), ("fz", MU * F), ("mx", twist), ("-mx", twist)):
+        mw = pg.max_resistible_wrench(m_on, F, d, upper=upper, steps=steps)
+        assert mw.status == "finite" and mw.magnitude == pytest.approx(limit, abs=res + 1e-4 * limit), d
+    off = pg.max_resistible_wrench(m_off, F, "mx", upper=upper, steps=steps)
+    assert off.status == "below_resolution" and off.magnitude == 0.0
+    for d in ("fy", "fz"):  # along the pads: the same friction limit with one point per jaw
+        assert pg.max_resistible_wrench(m_off, F, d, upper=upper, steps=steps).magnitude == pytest.approx(
+            MU * F, abs=res + 1e-3
+        )
+
+
+def test_builtin_scenes_and_their_options():
+    bar = pg.load_scene("parallel_jaw_bar")
+    assert bar.model.nc == 8 and "twist" in bar.analysis.directions
+    assert pg.load_scene("parallel_jaw_bar", patches=False).model.nc == 2
+    assert pg.load_scene("parallel_jaw_bar", patch_points=3).model.nc == 6
+    box = pg.load_scene("parallel_jaw_box")
+    assert box.model.nc == 8
+    # the box face overlaps the jaw on y 20..70 mm, z +-10 mm: corners 25 mm and 10 mm from its centre
+    np.testing.assert_allclose(sorted(set(np.round(box.model.points[:, 1], 9))), [0.02, 0.07], atol=1e-9)
+    for bad in (1, 17, 2.5, "yes"):
+        with pytest.raises(SceneError, match="patch_points"):
+            pg.load_scene("parallel_jaw_bar", patch_points=bad)
+    with pytest.raises(SceneError, match="patches"):
+        pg.load_scene("parallel_jaw_bar", patches="no")
+
+
+@pytest.mark.slow
+def test_twist_limit_matches_the_simulation():
+    """MuJoCo (the model's own 8-edge pyramid) against the quasi-static twist limit: the
+    simulation calls the give-way once the object has turned its rotation threshold, with finite
+    tangential springs and a ramped load; 1 % covers that (measured 0.04 %)."""
+    scene = pg.load_scene("parallel_jaw_bar")
+    qs = pg.max_resistible_wrench(scene.model, scene.command, "mx", upper=50.0, steps=14)
+    sim = pg.simulate_max_wrench(scene, "mx", upper=50.0, friction="pyramid")
+    assert sim.status == "gave_way" and sim.load == pytest.approx(qs.magnitude, rel=1e-2)
