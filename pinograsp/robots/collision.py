@@ -365,7 +365,6 @@ def detect_contacts_at(
     return ContactReport(contacts, pairs, float(tolerance), dist)
 
 
-<<<<<<< HEAD
 def _check_contact(config: HandConfiguration, obj: RigidObject, p: PairDistance) -> None:
     """Raise :class:`ContactDetectionError` (naming object, link, geometry and pose) unless the
     pair has a finite point and a unit normal."""
@@ -382,7 +381,8 @@ def _check_contact(config: HandConfiguration, obj: RigidObject, p: PairDistance)
         f"(nearest points {np.round(p.point_hand * 1e3, 3).tolist()} mm on the hand, "
         f"{np.round(p.point_object * 1e3, 3).tolist()} mm on the object)",
     )
-=======
+
+
 def with_patches(
     report: ContactReport,
     config: HandConfiguration,
@@ -400,7 +400,6 @@ def with_patches(
     else:
         patches = single_points(report.contacts)
     return replace(report, patches=patches)
->>>>>>> patches
 
 
 def inside_surfaces(config: HandConfiguration, obj: RigidObject) -> tuple[str, ...]:
