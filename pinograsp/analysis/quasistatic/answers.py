@@ -32,29 +32,19 @@ def _modes(states: tuple[str, ...]) -> tuple[str, ...]:
     return tuple("separated" if s == "separated" else "touching" for s in states)
 
 
-def response_at(
-    p: Prepared,
-    lp: LoadingPath,
-    load: float,
-    w6: np.ndarray,
-    status: str,
-    settings: Settings,
-    t0: float,
-    state: dict | None = None,
-) -> PassiveResponse:
-    """The :class:`PassiveResponse` of the path's state at ``load`` (on the path), or of
-    ``state`` (:meth:`LoadingPath.state_on`, e.g. on the path's continuation) when given."""
+def _state_audit(
+    p: Prepared, lp: LoadingPath, st: dict, w6: np.ndarray, status: str, settings: Settings
+) -> tuple[Audit, float, np.ndarray]:
+    """The :class:`Audit` of a path state (with its energy check when ``resisted``), its
+    tolerance [N] and the net wrench left on the object (nw,)."""
     m = p.model
-    st = state if state is not None else lp.state_at(min(load, lp.loads[-1]) if lp.ray is None else load)
-    assert st is not None
     c = st["contact_forces"]
     cc = c[:, : m.d].reshape(-1)
     f = st["actuator_forces"]
     q = st["joint_displacements"]
-    x6 = st["object_displacement"] if "object_displacement" in st else st["object_displacements"]
+    x6 = st["object_displacements"]
     net = m.G @ cc + m.reduce_wrench(w6)
     tol = settings.tolerance * max(float(np.abs(c).max(initial=0.0)), float(np.abs(w6).max()), 1e-300)
-    touching = tuple(s != "separated" for s in st["contact_states"])
     ell = m.length_scale
     wscale = np.ones(m.nw)
     wscale[(2 if m.planar else 3) :] = 1.0 / ell
@@ -86,6 +76,31 @@ def response_at(
         tolerance=tol,
         energy=energy,
     )
+    return audit, tol, net
+
+
+def response_at(
+    p: Prepared,
+    lp: LoadingPath,
+    load: float,
+    w6: np.ndarray,
+    status: str,
+    settings: Settings,
+    t0: float,
+    state: dict | None = None,
+) -> PassiveResponse:
+    """The :class:`PassiveResponse` of the path's state at ``load`` (on the path), or of
+    ``state`` (:meth:`LoadingPath.state_on`, e.g. on the path's continuation) when given."""
+    m = p.model
+    st = state if state is not None else lp.state_at(min(load, lp.loads[-1]) if lp.ray is None else load)
+    assert st is not None
+    c = st["contact_forces"]
+    cc = c[:, : m.d].reshape(-1)
+    f = st["actuator_forces"]
+    q = st["joint_displacements"]
+    x6 = st["object_displacement"] if "object_displacement" in st else st["object_displacements"]
+    audit, tol, net = _state_audit(p, lp, st, w6, status, settings)
+    touching = tuple(s != "separated" for s in st["contact_states"])
     return PassiveResponse(
         resistible=status == "resisted",
         status=status,  # type: ignore[arg-type]
