@@ -34,8 +34,9 @@ from ..core.validate import steps as n_steps
 from ..errors import InvalidInputError, MissingDependencyError
 from .executors import check_executor, run_chunks
 from .grasps import GraspSpec, build_grasp, rpy_of
-from .journal import Journal, check_output, fingerprint, output_format, read_table, write_table
+from .journal import Journal, check_output, output_format, write_table
 from .pool import Interrupted, TaskFailure, interruptible
+from .resume import check_stamp, fingerprint, table_rows, write_stamp
 from .rows import POOL_REASONS, Status, classify
 
 __all__ = ["Status", "output_format"]  # re-exported: pg.batch.evaluate.output_format
@@ -368,12 +369,14 @@ def evaluate_grasps(
     check_executor(executor, address, timeout)
     journal = _journal(out, resume)
     where = {"executor": executor, "workers": workers, "address": address, "timeout": timeout}
+    digest = "" if journal is None else fingerprint(tasks, score)
     try:  # the journal is closed (and unlocked) whatever happens
-        done = {} if journal is None else _finished(journal, tasks, score, resume)
+        done = {} if journal is None else _finished(journal, tasks, score, resume, digest)
         rows = _run(tasks, done, score, size, journal, progress, where)
         table = results_frame(rows, score)
-        if journal is not None:
+        if journal is not None:  # the table, then its stamp, then the journal goes
             write_table(table, journal.table, name="out")
+            write_stamp(journal.table, digest)
             journal.finish()
     finally:
         if journal is not None:
@@ -391,44 +394,23 @@ def _journal(out: object, resume: object) -> Journal | None:
 
 
 def _finished(
-    journal: Journal, tasks: list[tuple], score: Score, resume: bool
+    journal: Journal, tasks: list[tuple], score: Score, resume: bool, digest: str
 ) -> dict[tuple[int, str], dict]:
     """Start the journal; the finished rows ``{(index, id): row}`` of a resume (from the journal,
-    or from the table of a batch that finished)."""
+    or from the stamped table of a batch that finished: :mod:`.resume`)."""
     finished = resume and not journal.path.is_file() and journal.table.is_file()
-    done = journal.start(fingerprint(tasks, score), len(tasks), resume)
-    return _table_rows(journal.table, tasks, score) if finished else done
+    if finished:
+        check_stamp(journal.table, digest)
+    done = journal.start(digest, len(tasks), resume, (*BASE_COLUMNS, *TAIL_COLUMNS, "scores"))
+    return (
+        table_rows(journal.table, tasks, score, (BASE_COLUMNS, TAIL_COLUMNS, TEXT_COLUMNS))
+        if finished
+        else done
+    )
 
 
 #: Text columns of a table.
 TEXT_COLUMNS = ("id", "source", "status", "reason", "command", "error_type", "error_message", "warnings")
-
-
-def _table_rows(path: Path, tasks: list[tuple], score: Score) -> dict[tuple[int, str], dict]:
-    """The rows of a finished table ``{(index, id): row}`` for ``resume`` (its grasps must be this
-    batch's, its columns this score's)."""
-    df = read_table(path, TEXT_COLUMNS)
-    columns = list(df.columns)
-    names = columns[len(BASE_COLUMNS) : len(columns) - len(TAIL_COLUMNS)]
-    declared = getattr(score, "columns", None)
-    keys = {(t[0], t[1]) for t in tasks}
-    ends = (columns[: len(BASE_COLUMNS)], columns[len(columns) - len(TAIL_COLUMNS) :])
-    ok = ends == (list(BASE_COLUMNS), list(TAIL_COLUMNS))
-    if not ok or (isinstance(declared, (tuple, list)) and names[: len(declared)] != list(declared)):
-        raise InvalidInputError("resume", f"{str(path)!r} is not a table of this score: run without resume")
-    rows: dict[tuple[int, str], dict] = {}
-    for rec in df.to_dict("records"):
-        key = (int(rec["index"]), str(rec["id"]))
-        if key not in keys:
-            raise InvalidInputError(
-                "resume",
-                f"{str(path)!r} holds grasp {key[1]!r} (index {key[0]}) of another batch: run without resume",
-            )
-        row = {c: rec[c] for c in (*BASE_COLUMNS, *TAIL_COLUMNS)}
-        row.update(index=key[0], id=key[1], n_contacts=int(rec["n_contacts"]))
-        row["scores"] = {k: float(rec[k]) for k in names}
-        rows[key] = row
-    return rows
 
 
 def _run(
