@@ -85,9 +85,10 @@ def write_table(table: Any, path: object, name: str = "path") -> Path:
     """
     p = check_output(path, name)
     fmt = output_format(p)
-    fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", suffix=".tmp", dir=p.parent)
-    os.close(fd)
+    tmp = ""
     try:
+        fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", suffix=".tmp", dir=p.parent)
+        os.close(fd)
         if fmt == "csv":
             table.to_csv(tmp, index=False)
         else:
@@ -98,8 +99,9 @@ def write_table(table: Any, path: object, name: str = "path") -> Path:
     except OSError as exc:
         raise InvalidInputError(name, f"cannot write {str(p)!r}: {exc.strerror or exc}") from None
     finally:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
+        if tmp:
+            with contextlib.suppress(OSError):
+                os.unlink(tmp)
     return p
 
 
