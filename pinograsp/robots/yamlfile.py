@@ -14,6 +14,11 @@ from typing import Any
 
 #: Largest YAML file read [bytes] (a scene or a batch of 10^4 grasps is well below 1 MB).
 MAX_BYTES = 16 * 2**20
+#: Deepest nesting of mappings and lists (a scene nests 5 deep; Python's recursion ends near 300).
+MAX_DEPTH = 64
+#: Most values (nodes) in one file (a batch of 5000 written-out grasps has about 1e5; sample blocks
+#: are one entry each). Reading 2.5e5 values takes about 3 s, the 16 MiB cap alone about 250 s.
+MAX_NODES = 250_000
 
 
 def _loader() -> type:
@@ -22,8 +27,24 @@ def _loader() -> type:
     class NoAliasLoader(yaml.SafeLoader):
         """A safe loader that refuses anchors and aliases (no expansion, no bomb)."""
 
+        depth = 0
+        nodes = 0
+
         def compose_node(self, parent: Any, index: Any) -> Any:  # noqa: ANN401
             event = self.peek_event()
+            self.nodes += 1
+            if self.depth >= MAX_DEPTH or self.nodes > MAX_NODES:
+                what = (
+                    f"nested deeper than {MAX_DEPTH}"
+                    if self.depth >= MAX_DEPTH
+                    else f"more than {MAX_NODES} values"
+                )
+                raise yaml.composer.ComposerError(
+                    None,
+                    None,
+                    f"{what} (the limit of pinograsp files: MAX_DEPTH, MAX_NODES)",
+                    event.start_mark,
+                )
             if isinstance(event, yaml.AliasEvent) or getattr(event, "anchor", None) is not None:
                 raise yaml.composer.ComposerError(
                     None,
@@ -32,7 +53,11 @@ def _loader() -> type:
                     "write the values out",
                     event.start_mark,
                 )
-            return super().compose_node(parent, index)
+            self.depth += 1
+            try:
+                return super().compose_node(parent, index)
+            finally:
+                self.depth -= 1
 
     return NoAliasLoader
 
@@ -53,3 +78,12 @@ def load_file(path: Path) -> Any:  # noqa: ANN401
             f"the file has {size} bytes, more than the {MAX_BYTES} bytes a pinograsp file may have"
         )
     return load_text(path.read_text())
+
+
+def yaml_problem(exc: Exception) -> str:
+    """What is wrong with a malformed YAML file, and where: never the file's text (a file that
+    is not what it claims to be, e.g. ``extends: /etc/shadow``, is not quoted; docs/errors.md)."""
+    mark = getattr(exc, "problem_mark", None) or getattr(exc, "context_mark", None)
+    where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark is not None else ""
+    problem = getattr(exc, "problem", None) or getattr(exc, "reason", None) or type(exc).__name__
+    return f"malformed YAML{where}: {' '.join(str(problem).split())[:200]}"
