@@ -17,9 +17,11 @@ interruptions and resumes.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import os
+import threading
 import time
 import warnings
 from collections.abc import Callable, Mapping, Sequence
@@ -219,6 +221,10 @@ def _no_grasp_values(score: Score) -> dict[str, float]:
     return _score_values(values) if isinstance(values, Mapping) else {"score": 0.0}
 
 
+#: Held by a grasp evaluated outside the main thread (a thread-pool executor), see evaluate_one.
+_WARNINGS_LOCK = threading.Lock()
+
+
 def evaluate_one(task: tuple[int, str, str, Any], score: Score) -> dict[str, Any]:
     """One grasp's row (never raises on a bad grasp: its status, reason and error are in the row)."""
     from ..solvers.threads import single_threaded_blas
@@ -226,7 +232,14 @@ def evaluate_one(task: tuple[int, str, str, Any], score: Score) -> dict[str, Any
     kind, payload = task[2], task[3]
     row = _empty_row(task)
     t0 = time.perf_counter()
-    with warnings.catch_warnings(record=True) as caught, single_threaded_blas():
+    # warnings are caught process-wide: grasps of a thread pool run one at a time, so that each
+    # row gets its own grasp's warnings (processes, Ray and Dask workers are unaffected)
+    threaded = threading.current_thread() is not threading.main_thread()
+    with (
+        _WARNINGS_LOCK if threaded else contextlib.nullcontext(),
+        warnings.catch_warnings(record=True) as caught,
+        single_threaded_blas(),
+    ):
         warnings.simplefilter("always")
         try:
             model, command = _model_of(kind, payload, row)

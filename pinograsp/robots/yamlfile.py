@@ -26,7 +26,8 @@ def _loader() -> type:
     import yaml
 
     class NoAliasLoader(yaml.SafeLoader):
-        """A safe loader that refuses anchors and aliases (no expansion, no bomb)."""
+        """A safe loader that refuses anchors and aliases (no expansion, no bomb), nesting deeper
+        than :data:`MAX_DEPTH`, more than :data:`MAX_NODES` values and duplicated keys."""
 
         depth = 0
         nodes = 0
@@ -59,6 +60,21 @@ def _loader() -> type:
                 return super().compose_node(parent, index)
             finally:
                 self.depth -= 1
+
+        def construct_mapping(self, node: Any, deep: bool = False) -> Any:  # noqa: ANN401, FBT001, FBT002
+            seen: set[Any] = set()
+            for key_node, _ in node.value:
+                key = self.construct_object(key_node, deep=True)
+                if isinstance(key, (str, int, float, bool)) or key is None:
+                    if key in seen:
+                        raise yaml.constructor.ConstructorError(
+                            None,
+                            None,
+                            f"duplicated key {str(key)[:60]!r} (each key once)",
+                            key_node.start_mark,
+                        )
+                    seen.add(key)
+            return super().construct_mapping(node, deep=deep)
 
     return NoAliasLoader
 
