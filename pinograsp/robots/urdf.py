@@ -149,7 +149,7 @@ def check_mesh_paths(path: Path, xml: UrdfXml, dirs: Sequence[str]) -> None:
     """
     roots = allowed_roots(path.parent, *dirs)
     for ref in xml.meshes:
-        rest = ref[len("package://") :] if ref.startswith("package://") else None
+        rest = ref[len("package://") :].lstrip("/") if ref.startswith("package://") else None  # package:///x
         if rest is None and ref.startswith("file://"):
             ok = inside(ref[len("file://") :], roots)
         elif rest is None and Path(ref).is_absolute():
