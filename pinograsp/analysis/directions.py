@@ -16,6 +16,7 @@ import numpy as np
 
 from ..core.axes import wrench_direction
 from ..core.model import GraspModel
+from ..core.processes import die_with_parent
 from ..core.query import Query
 from ..core.results import MaxWrench
 from ..core.settings import Settings
@@ -84,7 +85,7 @@ def _parallel_directions(
     ctx = mp.get_context("fork" if "fork" in mp.get_all_start_methods() else "spawn")
     out: list[Outcome | None] = [None] * len(dirs)
     done = 0
-    with ProcessPoolExecutor(max_workers=workers, mp_context=ctx) as pool:
+    with ProcessPoolExecutor(workers, ctx, die_with_parent, (os.getpid(),)) as pool:  # no orphans
         futures = {pool.submit(_directions_block, job, dirs[b]): b for b in blocks}
         for fut in as_completed(futures):
             b = futures[fut]

@@ -17,9 +17,11 @@ interruptions and resumes.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import os
+import threading
 import time
 import warnings
 from collections.abc import Callable, Mapping, Sequence
@@ -34,8 +36,9 @@ from ..core.validate import steps as n_steps
 from ..errors import InvalidInputError, MissingDependencyError
 from .executors import check_executor, run_chunks
 from .grasps import GraspSpec, build_grasp, rpy_of
-from .journal import Journal, check_output, fingerprint, output_format, read_table, write_table
+from .journal import Journal, check_output, output_format, write_table
 from .pool import Interrupted, TaskFailure, interruptible
+from .resume import check_stamp, fingerprint, table_rows, write_stamp
 from .rows import POOL_REASONS, Status, classify
 
 __all__ = ["Status", "output_format"]  # re-exported: pg.batch.evaluate.output_format
@@ -218,6 +221,10 @@ def _no_grasp_values(score: Score) -> dict[str, float]:
     return _score_values(values) if isinstance(values, Mapping) else {"score": 0.0}
 
 
+#: Held by a grasp evaluated outside the main thread (a thread-pool executor), see evaluate_one.
+_WARNINGS_LOCK = threading.Lock()
+
+
 def evaluate_one(task: tuple[int, str, str, Any], score: Score) -> dict[str, Any]:
     """One grasp's row (never raises on a bad grasp: its status, reason and error are in the row)."""
     from ..solvers.threads import single_threaded_blas
@@ -225,7 +232,14 @@ def evaluate_one(task: tuple[int, str, str, Any], score: Score) -> dict[str, Any
     kind, payload = task[2], task[3]
     row = _empty_row(task)
     t0 = time.perf_counter()
-    with warnings.catch_warnings(record=True) as caught, single_threaded_blas():
+    # warnings are caught process-wide: grasps of a thread pool run one at a time, so that each
+    # row gets its own grasp's warnings (processes, Ray and Dask workers are unaffected)
+    threaded = threading.current_thread() is not threading.main_thread()
+    with (
+        _WARNINGS_LOCK if threaded else contextlib.nullcontext(),
+        warnings.catch_warnings(record=True) as caught,
+        single_threaded_blas(),
+    ):
         warnings.simplefilter("always")
         try:
             model, command = _model_of(kind, payload, row)
@@ -368,12 +382,14 @@ def evaluate_grasps(
     check_executor(executor, address, timeout)
     journal = _journal(out, resume)
     where = {"executor": executor, "workers": workers, "address": address, "timeout": timeout}
+    digest = "" if journal is None else fingerprint(tasks, score)
     try:  # the journal is closed (and unlocked) whatever happens
-        done = {} if journal is None else _finished(journal, tasks, score, resume)
+        done = {} if journal is None else _finished(journal, tasks, score, resume, digest)
         rows = _run(tasks, done, score, size, journal, progress, where)
         table = results_frame(rows, score)
-        if journal is not None:
+        if journal is not None:  # the table, then its stamp, then the journal goes
             write_table(table, journal.table, name="out")
+            write_stamp(journal.table, digest)
             journal.finish()
     finally:
         if journal is not None:
@@ -391,44 +407,23 @@ def _journal(out: object, resume: object) -> Journal | None:
 
 
 def _finished(
-    journal: Journal, tasks: list[tuple], score: Score, resume: bool
+    journal: Journal, tasks: list[tuple], score: Score, resume: bool, digest: str
 ) -> dict[tuple[int, str], dict]:
     """Start the journal; the finished rows ``{(index, id): row}`` of a resume (from the journal,
-    or from the table of a batch that finished)."""
+    or from the stamped table of a batch that finished: :mod:`.resume`)."""
     finished = resume and not journal.path.is_file() and journal.table.is_file()
-    done = journal.start(fingerprint(tasks, score), len(tasks), resume)
-    return _table_rows(journal.table, tasks, score) if finished else done
+    if finished:
+        check_stamp(journal.table, digest)
+    done = journal.start(digest, len(tasks), resume, (*BASE_COLUMNS, *TAIL_COLUMNS, "scores"))
+    return (
+        table_rows(journal.table, tasks, score, (BASE_COLUMNS, TAIL_COLUMNS, TEXT_COLUMNS))
+        if finished
+        else done
+    )
 
 
 #: Text columns of a table.
 TEXT_COLUMNS = ("id", "source", "status", "reason", "command", "error_type", "error_message", "warnings")
-
-
-def _table_rows(path: Path, tasks: list[tuple], score: Score) -> dict[tuple[int, str], dict]:
-    """The rows of a finished table ``{(index, id): row}`` for ``resume`` (its grasps must be this
-    batch's, its columns this score's)."""
-    df = read_table(path, TEXT_COLUMNS)
-    columns = list(df.columns)
-    names = columns[len(BASE_COLUMNS) : len(columns) - len(TAIL_COLUMNS)]
-    declared = getattr(score, "columns", None)
-    keys = {(t[0], t[1]) for t in tasks}
-    ends = (columns[: len(BASE_COLUMNS)], columns[len(columns) - len(TAIL_COLUMNS) :])
-    ok = ends == (list(BASE_COLUMNS), list(TAIL_COLUMNS))
-    if not ok or (isinstance(declared, (tuple, list)) and names[: len(declared)] != list(declared)):
-        raise InvalidInputError("resume", f"{str(path)!r} is not a table of this score: run without resume")
-    rows: dict[tuple[int, str], dict] = {}
-    for rec in df.to_dict("records"):
-        key = (int(rec["index"]), str(rec["id"]))
-        if key not in keys:
-            raise InvalidInputError(
-                "resume",
-                f"{str(path)!r} holds grasp {key[1]!r} (index {key[0]}) of another batch: run without resume",
-            )
-        row = {c: rec[c] for c in (*BASE_COLUMNS, *TAIL_COLUMNS)}
-        row.update(index=key[0], id=key[1], n_contacts=int(rec["n_contacts"]))
-        row["scores"] = {k: float(rec[k]) for k in names}
-        rows[key] = row
-    return rows
 
 
 def _run(

@@ -28,6 +28,42 @@ EXECUTORS = ("local", "ray", "dask")
 ExecutorName = Literal["local", "ray", "dask"]
 Progress = Callable[[int, int], None] | None
 Arrived = Callable[[int, Any], None]
+#: Seconds to reach an existing Ray or Dask cluster at ``address`` before the named error.
+CONNECT_TIMEOUT = 30.0
+
+
+def connect(
+    what: str, address: str, open_connection: Callable[[], Any], seconds: float = CONNECT_TIMEOUT
+) -> Any:
+    """``open_connection()`` (e.g. ``ray.init(address=...)``), refused with a named error when it
+    fails or has not returned within ``seconds`` (it then goes on in a daemon thread, abandoned).
+
+    Raises:
+        InvalidInputError: ``address``: the cluster cannot be reached (the address and what to check).
+    """
+    import threading
+
+    box: dict[str, Any] = {}
+
+    def run() -> None:
+        try:
+            box["value"] = open_connection()
+        except Exception as exc:  # the cluster library's own types (OSError, ConnectionError, ...)
+            box["error"] = exc
+
+    thread = threading.Thread(target=run, name=f"pinograsp-{what}-connect", daemon=True)
+    thread.start()
+    thread.join(seconds)
+    hint = f"check that a {what} cluster runs there and is reachable from this machine"
+    if thread.is_alive():
+        raise InvalidInputError(
+            "address", f"no {what} cluster answered at {address!r} within {seconds:g} s: {hint}"
+        )
+    if "error" in box:
+        exc = box["error"]
+        text = " ".join(f"{type(exc).__name__}: {exc}".split())[:300]
+        raise InvalidInputError("address", f"cannot reach the {what} cluster at {address!r} ({text}): {hint}")
+    return box.get("value")
 
 
 def _call(fn: Callable, chunk: Any, args: tuple) -> Any:
@@ -174,7 +210,7 @@ def _run_ray(
     owned = not ray.is_initialized()
     if owned:
         if address is not None:
-            ray.init(address=address, log_to_driver=False)
+            connect("Ray", address, lambda: ray.init(address=address, log_to_driver=False))
         else:
             ray.init(num_cpus=nw or os.cpu_count() or 1, include_dashboard=False, log_to_driver=False)
     pending: dict[Any, int] = {}
@@ -222,7 +258,7 @@ def _run_dask(
     owned: list[Any] = []
     if client is None:
         if address is not None:
-            client = distributed.Client(address)
+            client = connect("Dask", address, lambda: distributed.Client(address, timeout=CONNECT_TIMEOUT))
         else:
             nw = worker_count(workers, os.cpu_count() or 1)
             cluster = distributed.LocalCluster(

@@ -13,8 +13,6 @@
 from __future__ import annotations
 
 import contextlib
-import dataclasses
-import hashlib
 import json
 import os
 import tempfile
@@ -87,9 +85,10 @@ def write_table(table: Any, path: object, name: str = "path") -> Path:
     """
     p = check_output(path, name)
     fmt = output_format(p)
-    fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", suffix=".tmp", dir=p.parent)
-    os.close(fd)
+    tmp = ""
     try:
+        fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", suffix=".tmp", dir=p.parent)
+        os.close(fd)
         if fmt == "csv":
             table.to_csv(tmp, index=False)
         else:
@@ -100,8 +99,9 @@ def write_table(table: Any, path: object, name: str = "path") -> Path:
     except OSError as exc:
         raise InvalidInputError(name, f"cannot write {str(p)!r}: {exc.strerror or exc}") from None
     finally:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
+        if tmp:
+            with contextlib.suppress(OSError):
+                os.unlink(tmp)
     return p
 
 
@@ -118,17 +118,16 @@ def read_table(path: Path, text_columns: Sequence[str]) -> Any:
     return df.fillna(dict.fromkeys([c for c in text_columns if c in df], ""))
 
 
-def fingerprint(tasks: Sequence[tuple], score: object) -> str:
-    """A digest of the grasp records and the score: a journal resumes only the same batch."""
-    h = hashlib.sha256()
-    for index, gid, kind, payload in tasks:
-        text = payload[0] if kind == "model" else repr(payload)
-        h.update(json.dumps([index, gid, kind, text]).encode())
-    if dataclasses.is_dataclass(score) and not isinstance(score, type):
-        h.update(repr(score).encode())
-    else:
-        h.update(str(getattr(score, "__qualname__", type(score).__qualname__)).encode())
-    return h.hexdigest()[:32]
+def _row_key(record: object, row_keys: tuple[str, ...]) -> tuple[int, str] | None:
+    """``(index, id)`` of a journal row with every key, or None."""
+    if not isinstance(record, dict) or any(k not in record for k in row_keys):
+        return None
+    index, gid, scores = record.get("index"), record.get("id"), record.get("scores", {})
+    if isinstance(index, bool) or not isinstance(index, int) or not isinstance(gid, str):
+        return None
+    if not isinstance(scores, dict) or not all(isinstance(v, (int, float)) for v in scores.values()):
+        return None
+    return index, gid
 
 
 class Journal:
@@ -144,13 +143,16 @@ class Journal:
         self.path = table.with_name(table.name + JOURNAL_SUFFIX)
         self._file: Any = None
 
-    def start(self, digest: str, total: int, resume: bool) -> dict[tuple[int, str], dict]:
+    def start(
+        self, digest: str, total: int, resume: bool, row_keys: Sequence[str] = ("index", "id", "scores")
+    ) -> dict[tuple[int, str], dict]:
         """Open the journal; with ``resume``, the finished rows it holds ``{(index, id): row}``
-        (a missing journal: none); without, a fresh journal.
+        (a missing journal: none); without, a fresh journal. ``row_keys``: the keys every row has.
 
         Raises:
             InvalidInputError: ``resume``: the journal belongs to another batch (another
-                fingerprint) or is not a journal.
+                fingerprint), is not a journal, or has a damaged line before its last (the file
+                is left as it is).
         """
         try:
             self._file = open(self.path, "a+", encoding="utf-8")  # noqa: SIM115 - kept open
@@ -163,7 +165,7 @@ class Journal:
         good = 0
         if resume:
             try:
-                rows, good = self._read(digest)
+                rows, good = self._read(digest, tuple(row_keys))
             except BaseException:
                 self.close()
                 raise
@@ -188,32 +190,50 @@ class Journal:
                 f"another pinograsp batch is writing {str(self.path)!r}: wait for it, or choose another path",
             ) from None
 
-    def _read(self, digest: str) -> tuple[dict[tuple[int, str], dict], int]:
+    def _read(self, digest: str, row_keys: tuple[str, ...]) -> tuple[dict[tuple[int, str], dict], int]:
         rows: dict[tuple[int, str], dict] = {}
-        data = self.path.read_bytes()
+        try:
+            lines = self.path.read_bytes().splitlines(keepends=True)
+        except OSError as exc:
+            raise InvalidInputError(
+                "resume", f"cannot read {str(self.path)!r}: {exc.strerror or exc}"
+            ) from None
         good = 0
-        if not data:
-            return rows, 0
-        for k, line in enumerate(data.splitlines(keepends=True)):
+        for k, line in enumerate(lines):
             try:
                 record = json.loads(line)
-            except ValueError:
-                break  # a line cut by a kill: everything after it is dropped
-            if not line.endswith(b"\n"):
-                break
+            except ValueError:  # also UnicodeDecodeError
+                record = None
+            if record is None or not line.endswith(b"\n"):
+                if k == len(lines) - 1:
+                    break  # the last line, cut by a kill: dropped
+                raise self._damaged(k, "is not a JSON line")
             if k == 0:
-                if not isinstance(record, dict) or record.get("journal") != _MAGIC:
-                    raise InvalidInputError("resume", f"{str(self.path)!r} is not a pinograsp batch journal")
-                if record.get("fingerprint") != digest:
-                    raise InvalidInputError(
-                        "resume",
-                        f"{str(self.path)!r} holds rows of another batch (other grasps or score): "
-                        "run without resume to start afresh, or use another output path",
-                    )
+                self._check_header(record, digest)
             else:
-                rows.setdefault((int(record["index"]), str(record["id"])), record)
+                key = _row_key(record, row_keys)
+                if key is None:
+                    raise self._damaged(k, f"is not a row (a mapping with {', '.join(row_keys)})")
+                rows.setdefault(key, record)
             good += len(line)
         return rows, good
+
+    def _damaged(self, k: int, what: str) -> InvalidInputError:
+        return InvalidInputError(
+            "resume",
+            f"{str(self.path)!r} line {k + 1} {what}: the journal is damaged (left as it is); "
+            "run without resume to start afresh, or use another output path",
+        )
+
+    def _check_header(self, record: object, digest: str) -> None:
+        if not isinstance(record, dict) or record.get("journal") != _MAGIC:
+            raise InvalidInputError("resume", f"{str(self.path)!r} is not a pinograsp batch journal")
+        if record.get("fingerprint") != digest:
+            raise InvalidInputError(
+                "resume",
+                f"{str(self.path)!r} holds rows of another batch (other grasps, referenced files or "
+                "score): run without resume to start afresh, or use another output path",
+            )
 
     def _write(self, records: Iterable[dict]) -> None:
         try:
@@ -232,10 +252,12 @@ class Journal:
             self._write(rows)
 
     def close(self) -> None:
-        """Close the file (kept on disk for a resume)."""
+        """Close the file (kept on disk for a resume). A failed flush was reported by the append
+        that met it (a full disk): closing does not raise it again."""
         if self._file is not None:
-            self._file.close()
-            self._file = None
+            f, self._file = self._file, None
+            with contextlib.suppress(OSError):
+                f.close()
 
     def finish(self) -> None:
         """Close and remove the journal (the final table is written)."""

@@ -9,8 +9,8 @@
 - an opt-in per-task wall-clock limit (``timeout`` [s]) kills the worker and makes the result a
   :class:`TaskFailure` (``"timeout"``); it is the only wall-clock limit of pinograsp and the
   row says so;
-- workers die with their parent: ``prctl(PR_SET_PDEATHSIG, SIGKILL)`` on Linux plus a watchdog
-  thread that checks ``os.getppid()`` (other systems); they ignore SIGINT (the parent decides);
+- workers die with their parent (:func:`pinograsp.core.processes.die_with_parent`: prctl on
+  Linux plus a watchdog thread); they ignore SIGINT (the parent decides);
 - Ctrl-C (SIGINT) or SIGTERM in the parent kills every worker at once and raises
   :class:`Interrupted`; a second signal during the clean-up exits the process at once.
 
@@ -22,7 +22,6 @@ from __future__ import annotations
 import contextlib
 import os
 import signal
-import sys
 import threading
 import time
 import traceback
@@ -31,9 +30,7 @@ from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from typing import Any, Literal
 
-#: Seconds between two checks of a worker's parent (the watchdog thread).
-WATCHDOG_PERIOD = 0.5
-_PR_SET_PDEATHSIG = 1
+from ..core.processes import die_with_parent
 
 
 @dataclass(frozen=True)
@@ -116,30 +113,11 @@ def hard_exit_on_signal() -> Iterator[None]:
 
 
 # ------------------------------------------------------------------------------------ worker side
-def _die_with_parent(parent: int) -> None:
-    """Make this process die when ``parent`` does (prctl on Linux, and a watchdog thread)."""
-    if sys.platform.startswith("linux"):
-        with contextlib.suppress(Exception):
-            import ctypes
-
-            ctypes.CDLL(None, use_errno=True).prctl(_PR_SET_PDEATHSIG, int(signal.SIGKILL))
-    if os.getppid() != parent:  # the parent died before prctl took effect
-        os._exit(1)
-
-    def watch() -> None:
-        while True:
-            time.sleep(WATCHDOG_PERIOD)
-            if os.getppid() != parent:
-                os._exit(1)
-
-    threading.Thread(target=watch, name="pinograsp-parent-watchdog", daemon=True).start()
-
-
 def _worker_main(conn: Any, parent: int, fn: Callable, args: tuple) -> None:
     """A worker: ``(key, task)`` in, ``(key, fn(task, *args))`` out, until ``None`` or EOF."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
-    _die_with_parent(parent)
+    die_with_parent(parent)
     while True:
         try:
             msg = conn.recv()

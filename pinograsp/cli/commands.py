@@ -71,8 +71,8 @@ def cmd_scenes(args: argparse.Namespace) -> int:
     """``pinograsp scenes [SCENE]``: the built-in scenes, or one scene's settings."""
     if args.scene is None:
         scenes = pg.builtin_scenes()
-        if args.json:
-            print(json.dumps(scenes, indent=2))
+        if args.json:  # printed by main() once stdout is restored (docs/cli.md)
+            args.json_text = json.dumps(scenes, indent=2) + "\n"
             return 0
         width = max((len(k) for k in scenes), default=4)
         for name, desc in scenes.items():
@@ -80,7 +80,7 @@ def cmd_scenes(args: argparse.Namespace) -> int:
         return 0
     scene = opt.load_scene(args.scene)
     if args.json:
-        print(json.dumps(jsonable(_scene_data(scene)), indent=2))
+        args.json_text = json.dumps(jsonable(_scene_data(scene)), indent=2) + "\n"
         return 0
     an = scene.analysis
     print(scene.summary())

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import argparse
 import math
-from pathlib import Path
 
 from ..core.axes import wrench_unit
 from ..core.serialize import vector_text
@@ -45,6 +44,7 @@ def cmd_path(args: argparse.Namespace) -> int:
     """Run ``pinograsp path``."""
     import pinograsp as pg
 
+    png, csv = Output.target(args.png, "--png"), Output.target(args.csv, "--csv")  # before the work
     scene = opt.load_scene(args.scene)
     out = Output(args)
     command, preload_name = opt.preload(args, scene)
@@ -81,13 +81,13 @@ def cmd_path(args: argparse.Namespace) -> int:
         "events:",
         *("  " + e.text() for e in lp.events),
     ]
-    if args.png:
+    if png is not None:
         ax = pg.plot_loading_path(lp)
-        pg.save_figure(ax, Path(args.png), close=True)
-        out.written.append(Path(args.png))
-    if args.csv:
-        lp.to_csv(args.csv)
-        out.written.append(Path(args.csv))
+        pg.save_figure(ax, png, close=True)
+        out.written.append(png)
+    if csv is not None:
+        lp.to_csv(csv)
+        out.written.append(csv)
     out.print(*lines)
     out.finish({**scene_header(scene), "preload_name": preload_name, "label": label, **lp.to_dict()})
     return 0

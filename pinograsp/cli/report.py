@@ -8,6 +8,7 @@ import json
 import math
 import os
 import sys
+import tempfile
 import time
 from collections.abc import Callable
 from pathlib import Path
@@ -41,6 +42,31 @@ class Output:
         if not self.json:
             for line in lines:
                 print(line)
+
+    @staticmethod
+    def target(value: str | None, option: str) -> Path | None:
+        """The file of ``option`` (``--csv``, ``--png``), checked before any work like ``--out``:
+        not a folder, its folder created if missing and writable (a probe file is created and
+        removed there). ``None`` when not given.
+
+        Raises:
+            InvalidInputError: Naming ``option``.
+        """
+        if value is None:
+            return None
+        p = Path(value)
+        if p.is_dir() or not p.name:
+            raise pg.InvalidInputError(option, f"{value!r} is a folder, not a file")
+        try:
+            p.parent.mkdir(parents=True, exist_ok=True)
+            fd, probe = tempfile.mkstemp(prefix=f".{p.name}.", suffix=".probe", dir=p.parent)
+            os.close(fd)
+            os.unlink(probe)
+        except OSError as exc:
+            raise pg.InvalidInputError(
+                option, f"cannot write {value!r}: {exc.strerror or exc}; choose a writable folder"
+            ) from None
+        return p
 
     def path(self, name: str) -> Path | None:
         """``--out``/``name`` (the folder created), or ``None`` without ``--out``."""

@@ -185,6 +185,7 @@ def _profile_report(args: argparse.Namespace, sweep: _Sweep, plane: Any, n: int,
     """Run the profile; print its table, write ``--csv``, ``profile.json`` and ``profile.png``."""
     if n < 1:
         raise InvalidInputError("-n", f"must be >= 1, got {n}")
+    Output.target(getattr(args, "csv", None), "--csv")  # before the work
     out = Output(args)
     upper, steps = sweep.upper, sweep.steps
     model_data, note = model_settings(opt.settings(args, sweep.scene))
@@ -347,6 +348,7 @@ def cmd_resistance_set(args: argparse.Namespace) -> int:
     scene = opt.load_scene(args.scene)
     if args.n < 1:
         raise InvalidInputError("-n", f"must be >= 1, got {args.n}")
+    Output.target(args.csv, "--csv")  # before the work
     out = Output(args)
     command, preload_name = opt.preload(args, scene)
     method = opt.method(args, scene)

@@ -50,7 +50,10 @@ def wrench_direction(model: WrenchSpace, direction: object, name: str = "directi
     if isinstance(direction, str):
         sign = -1.0 if direction.startswith("-") else 1.0
         d = np.zeros(6)
-        d[axis_index(direction.lstrip("+-"))] = sign
+        body = direction[1:] if direction[:1] in ("+", "-") else direction  # one sign at most
+        if body[:1] in ("+", "-"):
+            raise UnknownNameError("wrench axis", direction, WRENCH_AXES)  # '+-fy', '--fy'
+        d[axis_index(body)] = sign
     else:
         d = model.wrench_vector(direction, name)
     big = float(np.abs(d).max())

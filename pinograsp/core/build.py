@@ -29,7 +29,7 @@ import numpy as np
 from ..errors import InvalidInputError, ModelError, UnknownNameError
 from .actuation import Actuator, Coupling
 from .contact import Contact, friction_edges
-from .validate import finite_number, flag, sequence
+from .validate import MAX_CONTACTS, finite_number, flag, sequence
 
 #: The model being built (:class:`~pinograsp.core.model.GraspModel`, whose constructor
 #: ``build_model`` is given: model.py imports this module).
@@ -95,6 +95,12 @@ def _checked_contacts(contacts: object) -> list[Contact]:
     contacts = sequence("contacts", contacts)
     if not contacts:
         raise ModelError("a grasp needs at least one contact", argument="contacts")
+    if len(contacts) > MAX_CONTACTS:
+        raise InvalidInputError(
+            "contacts",
+            f"{len(contacts)} contacts, more than the {MAX_CONTACTS} a grasp may have (MAX_CONTACTS: "
+            "400 took 113 s per direction); merge nearby contacts or use coarser contact geometry",
+        )
     for i, c in enumerate(contacts):
         if not isinstance(c, Contact):
             raise InvalidInputError(f"contacts[{i}]", f"expected pinograsp.Contact, got {type(c).__name__}")

@@ -151,6 +151,9 @@ MAX_PATH_SEGMENTS = 1_000_000
 MAX_SAMPLES = 1_000_000
 #: Largest number of joints of a contact Jacobian (``Contact.revolute(nq=...)``, a hand has ~30).
 MAX_JOINTS = 10_000
+#: Most contacts of one grasp model (a count limit: each contact adds LCP/MIQP variables; 400
+#: random contacts took 113 s per direction, 800 no answer in 300 s; hands make at most tens).
+MAX_CONTACTS = 256
 #: Largest friction coefficient: rubber on rubber is ~2; beyond 100 the friction pyramid's edges
 #: are 1e-2 from the contact plane and the normal force a rounding of the tangential ones.
 MAX_MU = 100.0

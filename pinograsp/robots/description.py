@@ -30,7 +30,7 @@ import numpy as np
 from ..core.actuation import Actuator, Coupling
 from ..core.validate import finite_number
 from ..errors import InvalidInputError, ModelFileError, UnknownNameError
-from .yamlfile import load_file
+from .yamlfile import load_file, yaml_problem
 
 #: Folder of the URDF files and hand descriptions shipped with pinograsp.
 DATA_DIR = Path(__file__).resolve().parents[1] / "data"
@@ -233,7 +233,7 @@ class HandDescription:
         try:
             data = load_file(p)  # no aliases, bounded size (docs/errors.md)
         except yaml.YAMLError as exc:
-            raise ModelFileError(p, f"malformed YAML: {' '.join(str(exc).split())[:500]}") from exc
+            raise ModelFileError(p, yaml_problem(exc)) from exc
         except (OSError, UnicodeDecodeError, ValueError) as exc:
             raise ModelFileError(p, f"cannot read the file: {exc}") from exc
         try:

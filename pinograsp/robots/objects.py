@@ -99,6 +99,12 @@ def _vertices(points: np.ndarray) -> coal.StdVec_Vec3s:
     return out
 
 
+#: Largest object mesh file [bytes] and its most triangles (a BVH of 1e6 triangles builds in
+#: seconds; each distance query walks it).
+MAX_MESH_BYTES = 256 * 2**20
+MAX_MESH_TRIANGLES = 1_000_000
+
+
 @dataclass(frozen=True, eq=False)
 class RigidObject:
     """A rigid object placed in the hand base frame.
@@ -209,12 +215,19 @@ class RigidObject:
         p = Path(path)
         if not p.is_file():
             raise ModelFileError(p, "mesh file not found")
+        if p.stat().st_size > MAX_MESH_BYTES:
+            raise ModelFileError(p, f"{p.stat().st_size} bytes, more than a mesh may have (MAX_MESH_BYTES)")
         try:
             mesh = trimesh.load(str(p), force="mesh")
-        except Exception as exc:  # trimesh raises many exception types for bad files
-            raise ModelFileError(p, f"cannot read mesh: {exc}") from exc
+        except Exception as exc:  # trimesh raises many exception types for bad files (not quoted)
+            raise ModelFileError(p, f"cannot read mesh ({type(exc).__name__})") from exc
         if not isinstance(mesh, trimesh.Trimesh) or len(mesh.faces) == 0:
             raise ModelFileError(p, "the file contains no triangle mesh")
+        if len(mesh.faces) > MAX_MESH_TRIANGLES:
+            raise ModelFileError(
+                p,
+                f"{len(mesh.faces)} triangles, more than {MAX_MESH_TRIANGLES}: decimate it",
+            )
         s = positive_number("scale", scale)
         if s != 1.0:
             mesh.apply_scale(s)

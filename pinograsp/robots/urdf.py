@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 
+from ..core.paths import ALLOWED_PATHS_ENV, allowed_roots, escapes, inside
 from ..errors import InvalidInputError, ModelError, ModelFileError, UnknownNameError, UrdfError
 from .description import HandDescription, example_robot_data_dir
 
@@ -36,6 +37,10 @@ class Mimic:
     offset: float = 0.0
 
 
+#: Most links of a hand URDF (a whole humanoid has ~100; each link is loaded by Pinocchio).
+MAX_LINKS = 2000
+
+
 @dataclass(frozen=True)
 class UrdfXml:
     """What pinograsp reads from the URDF's XML itself.
@@ -46,6 +51,7 @@ class UrdfXml:
         mimics: The ``<mimic>`` tags.
         collisions: Number of ``<collision>`` elements per link.
         parents: Parent link of each child link, over every joint (fixed ones included).
+        meshes: The ``filename`` of every collision ``<mesh>``, as written.
     """
 
     robot_name: str | None
@@ -53,6 +59,7 @@ class UrdfXml:
     mimics: tuple[Mimic, ...]
     collisions: dict[str, int]
     parents: dict[str, str] = field(default_factory=dict)
+    meshes: tuple[str, ...] = ()
 
     def at_or_below(self, base: str) -> set[str]:
         """The link ``base`` and every link below it in the URDF tree, through every joint
@@ -119,13 +126,42 @@ def parse_urdf_xml(path: Path) -> UrdfXml:
         except ValueError as exc:
             raise UrdfError(path, f"<mimic> of joint {name!r}: {exc}") from exc
     links = root.findall("link")
+    if len(links) > MAX_LINKS:
+        raise UrdfError(path, f"{len(links)} links, more than the {MAX_LINKS} a hand may have (MAX_LINKS)")
+    meshes = tuple(str(m.get("filename", "")) for m in root.iterfind("link/collision/geometry/mesh"))
     return UrdfXml(
         root.get("name"),
         tuple(ln.get("name", "") for ln in links),
         tuple(mimics),
         {ln.get("name", ""): len(ln.findall("collision")) for ln in links},
         parents,
+        meshes,
     )
+
+
+def check_mesh_paths(path: Path, xml: UrdfXml, dirs: Sequence[str]) -> None:
+    """Every collision mesh stays inside the URDF's folder, its ``package_dirs`` or the allowed
+    roots (:mod:`pinograsp.core.paths`): ``package://`` and relative paths without ``..``
+    leaving their base, absolute ones inside an allowed root.
+
+    Raises:
+        UrdfError: A mesh outside them (the reference is named, nothing is read).
+    """
+    roots = allowed_roots(path.parent, *dirs)
+    for ref in xml.meshes:
+        rest = ref[len("package://") :].lstrip("/") if ref.startswith("package://") else None  # package:///x
+        if rest is None and ref.startswith("file://"):
+            ok = inside(ref[len("file://") :], roots)
+        elif rest is None and Path(ref).is_absolute():
+            ok = inside(ref, roots)
+        else:
+            ok = not escapes(rest if rest is not None else ref)
+        if not ok:
+            raise UrdfError(
+                path,
+                f"collision mesh {ref[:200]!r} is outside the URDF's folder and its package_dirs "
+                f"(docs/scenes.md, 'Paths'; list other folders in {ALLOWED_PATHS_ENV})",
+            )
 
 
 def package_folders(path: Path, package_dirs: Sequence[str | Path] | str | Path | None) -> list[str]:
@@ -283,6 +319,7 @@ def load_urdf_hand(
     """
     xml = parse_urdf_xml(path)
     dirs = package_folders(path, package_dirs)
+    check_mesh_paths(path, xml, dirs)
     model, geom = _build_models(path, dirs, xml)
     model, geom, mimics = _reduce(path, model, geom, desc, xml.mimics)
     base_id = _move_base(path, model, geom, desc.base_link)

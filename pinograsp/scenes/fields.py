@@ -15,6 +15,7 @@ from typing import Any
 
 import numpy as np
 
+from ..core.paths import ALLOWED_PATHS_ENV, allowed_roots, inside
 from ..core.poses import rotation_rpy
 from ..errors import InvalidInputError, SceneError
 
@@ -144,9 +145,18 @@ class SceneFile:
         return [self.string(v, f"{key}[{i}]") for i, v in enumerate(value)]
 
     def relpath(self, value: object, key: str) -> Path:
-        """A path, relative to the file's folder unless absolute (``~`` expanded)."""
-        p = Path(self.string(value, key)).expanduser()
-        return p if p.is_absolute() else (self.path.parent / p)
+        """A path, relative to the file's folder unless absolute (``~`` expanded), confined to
+        that folder or the allowed roots (:mod:`pinograsp.core.paths`)."""
+        text = self.string(value, key)
+        p = Path(text).expanduser()
+        p = p if p.is_absolute() else (self.path.parent / p)
+        if not inside(p, allowed_roots(self.path.parent)):
+            raise self.error(
+                key,
+                f"{text!r} is outside the folder of {self.path.name} ({self.path.parent}): references "
+                f"stay inside it (docs/scenes.md, 'Paths'); list other folders in {ALLOWED_PATHS_ENV}",
+            )
+        return p
 
     def pose(self, value: object, key: str) -> np.ndarray:
         """``{xyz: [m], rpy: [rad or 'N deg']}`` (URDF convention; each optional) -> 4×4."""

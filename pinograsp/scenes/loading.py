@@ -26,13 +26,14 @@ Every error is a :class:`~pinograsp.errors.SceneError` naming the file and the k
 
 from __future__ import annotations
 
+import re
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
 from ..core.model import GraspModel
 from ..errors import PinograspError, UnknownNameError
-from ..robots.yamlfile import load_file
+from ..robots.yamlfile import load_file, yaml_problem
 from .analysis_block import analysis, command
 from .explicit_scene import build_explicit
 from .fields import SceneFile, mtime, show
@@ -43,6 +44,8 @@ from .urdf_scene import build_urdf
 SCENE_DIR = Path(__file__).resolve().parents[1] / "data" / "scenes"
 
 _BUILTIN_CACHE: dict[str, tuple[float, str]] = {}
+#: A built-in scene name: letters, digits, ``_``, ``-``, ``.`` (never a folder).
+_NAME = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_.-]*")
 
 
 def read_yaml(path: Path) -> dict[str, Any]:
@@ -55,11 +58,11 @@ def read_yaml(path: Path) -> dict[str, Any]:
     try:
         data = load_file(path)  # no aliases, bounded size (docs/errors.md)
     except yaml.YAMLError as exc:
-        raise f.error("", f"malformed YAML: {' '.join(str(exc).split())[:500]}") from exc
+        raise f.error("", yaml_problem(exc)) from exc
     except (OSError, UnicodeDecodeError, ValueError) as exc:
         raise f.error("", f"cannot read the file: {exc}") from exc
     if not isinstance(data, Mapping):
-        raise f.error("", f"expected a mapping of scene keys, got {show(data)}")
+        raise f.error("", f"expected a mapping of keys, got {type(data).__name__} (the file is not quoted)")
     return dict(data)
 
 
@@ -69,8 +72,9 @@ def _extended(f: SceneFile, data: dict[str, Any], seen: list[Path]) -> dict[str,
         data.pop("extends", None)
         return data
     ref = f.string(data.pop("extends"), "extends")
-    local = f.relpath(ref, "extends")
-    base = local if local.is_file() else SCENE_DIR / f"{ref}.yaml"
+    local = f.relpath(ref, "extends")  # confined to the file's folder (core.paths)
+    builtin = _builtin_file(ref)
+    base = local if local.is_file() or builtin is None else builtin
     if not base.is_file():
         raise f.error("extends", f"no scene file {local} and no built-in scene {ref!r}")
     if base.resolve() in seen:
@@ -80,14 +84,22 @@ def _extended(f: SceneFile, data: dict[str, Any], seen: list[Path]) -> dict[str,
     return merged
 
 
+def _builtin_file(name: str) -> Path | None:
+    """The file of a built-in scene name (a plain name: no folder, no ``..``), or None."""
+    if not _NAME.fullmatch(name) or name.startswith("."):
+        return None
+    p = SCENE_DIR / f"{name}.yaml"
+    return p if p.is_file() else None
+
+
 def _resolve(name_or_path: str | Path) -> Path:
     """The file of a built-in scene name, or the path as given."""
     if isinstance(name_or_path, Path):
         return name_or_path
     s = str(name_or_path)
-    builtin = SCENE_DIR / f"{s}.yaml"
+    builtin = _builtin_file(s)
     if "/" not in s and "\\" not in s and not s.endswith((".yaml", ".yml")):
-        if builtin.is_file():
+        if builtin is not None:
             return builtin
         if not Path(s).is_file():
             raise UnknownNameError("scene", s, list(builtin_scenes()))

@@ -400,3 +400,227 @@ case("sim-stiffness-1e-300", "sim", sim(stiffness=1e-300), match="stiffness")
 case("sim-start-tiny-budget", "sim", sim(start=1e-300, timestep=1e-6), match="integration steps")
 case("sim-ramp-time-1e6", "sim", sim(ramp_time=1e6), match="integration steps")
 case("sim-unknown-option", "sim", sim(bogus=1), match="unknown simulation option")
+
+# ------------------------------------------------------------------------------ issue 33: reliability
+#: A line of a private file: never quoted by an error message.
+SECRET = "root:x:0:0:SECRET-TOKEN"
+NEST = "a: " + "[" * 500 + "]" * 500 + "\n"
+
+
+def in_folder(text: str, name: str = "scene.yaml", loader: Callable[[Path], Any] = pg.load_scene,
+              outside: str | None = None) -> Callable[[Path], Any]:  # fmt: skip
+    """``text`` as ``tmp/upload/name`` (``{outside}``: a private file ``tmp/private/secret``)."""
+
+    def run(tmp: Path) -> Any:
+        (tmp / "private").mkdir(exist_ok=True)
+        (tmp / "private" / "secret").write_text(outside or SECRET + "\n")
+        (tmp / "upload").mkdir(exist_ok=True)
+        p = tmp / "upload" / name
+        p.write_text(text.replace("{tmp}", str(tmp)))
+        try:
+            return loader(p)
+        except pg.PinograspError as exc:
+            assert "SECRET" not in str(exc), str(exc)
+            raise
+
+    return run
+
+
+case("scene-extends-absolute-file", "scene", in_folder("extends: {tmp}/private/secret\n"), pg.SceneError,
+     "outside the folder of scene.yaml")  # fmt: skip
+case("scene-extends-dotdot-file", "scene", in_folder("extends: ../private/secret\n"), pg.SceneError,
+     "outside the folder")  # fmt: skip
+case("scene-extends-secret-mapping", "scene",
+     in_folder("extends: ../private/secret\n", outside=SECRET + ": 1\n"), pg.SceneError,
+     "outside the folder")  # fmt: skip
+case("scene-extends-builtin-dotdot", "scene", in_folder("extends: ../scenes/pinch\n"), pg.SceneError,
+     "extends")  # fmt: skip
+case("scene-extends-builtin-hidden", "scene", in_folder("extends: .pinch\n"), pg.SceneError, "extends")
+case("scene-not-a-mapping-not-quoted", "scene", in_folder(SECRET + "\n"), pg.SceneError,
+     "got str (the file is not quoted)")  # fmt: skip
+case("scene-malformed-not-quoted", "scene", in_folder("key: [" + SECRET + "\n"), pg.SceneError,
+     "malformed YAML at line")  # fmt: skip
+case("scene-urdf-outside", "scene", in_folder("hand: {urdf: ../private/hand.urdf}\n"), pg.SceneError,
+     "hand.urdf: '../private/hand.urdf' is outside")  # fmt: skip
+case("scene-mesh-outside", "scene",
+     in_folder("hand: underactuated_2f\nobject: {shape: mesh, file: ../private/secret}\n"), pg.SceneError,
+     "object.file: '../private/secret' is outside")  # fmt: skip
+case("scene-nested-500", "scene", in_folder(NEST), pg.SceneError, "nested deeper than 64")
+case("scene-nested-65", "scene", in_folder("a: " + "[" * 65 + "]" * 65 + "\n"), pg.SceneError,
+     "nested deeper")  # fmt: skip
+case("scene-nested-62-read", "scene",
+     lambda t: __import__("pinograsp.robots.yamlfile").robots.yamlfile.load_text("a: " + "[" * 62 + "]" * 62),
+     None, verdict=lambda d: isinstance(d, dict))  # fmt: skip
+case("scene-duplicated-key", "scene", in_folder(PINCH + "friction: 0.9\n"), pg.SceneError,
+     "duplicated key 'friction'")  # fmt: skip
+case("scene-duplicated-nested-key", "scene", in_folder(pinch_with("upper: 1000", "upper: 1000\n  upper: 5")),
+     pg.SceneError, "duplicated key 'upper'")  # fmt: skip
+case("hand-nested-500", "hand", hand_file(NEST), pg.ModelFileError, "nested deeper than 64")
+case("hand-duplicated-key", "hand", hand_file("name: a\nname: b\n"), pg.ModelFileError,
+     "duplicated key 'name'")  # fmt: skip
+URDF = (
+    '<robot name="r"><link name="b"><collision><geometry><mesh filename="{}"/></geometry></collision>'
+    "</link></robot>"
+)
+
+
+def urdf(text: str) -> Callable[[Path], Any]:
+    def run(tmp: Path) -> Any:
+        (tmp / "hand.urdf").write_text(text)
+        return pg.Hand.from_urdf(tmp / "hand.urdf")
+
+    return run
+
+
+case("urdf-package-dotdot", "hand", urdf(URDF.format("package://../../etc/x.stl")), pg.UrdfError,
+     "outside the URDF's folder")  # fmt: skip
+case("urdf-relative-dotdot", "hand", urdf(URDF.format("../x.stl")), pg.UrdfError, "outside the URDF's folder")
+case("urdf-absolute-mesh", "hand", urdf(URDF.format("/etc/x.stl")), pg.UrdfError, "outside the URDF's folder")
+case("urdf-file-url-mesh", "hand", urdf(URDF.format("file:///etc/x.stl")), pg.UrdfError, "outside")
+case("urdf-20000-links", "hand", urdf('<robot name="r">' + '<link name="l"/>' * 20000 + "</robot>"),
+     pg.UrdfError, "20000 links, more than the 2000")  # fmt: skip
+case("mesh-text-not-quoted", "hand",
+     lambda t: (t / "m.stl").write_text(SECRET) and pg.RigidObject.from_mesh(t / "m.stl"), pg.ModelFileError,
+     "m.stl")  # fmt: skip
+case("batch-nested-500", "batch", batch(NEST), pg.SceneError, "nested deeper than 64")
+case("batch-duplicated-key", "batch", batch(BATCH + "score: {upper: 5}\n"), pg.SceneError,
+     "duplicated key 'score'")  # fmt: skip
+case("batch-scene-outside", "batch",
+     in_folder("grasps:\n  - {scene: ../private/secret}\n", "g.yaml", pg.load_grasps), pg.SceneError,
+     "grasps[0].scene: '../private/secret' is outside")  # fmt: skip
+case("batch-hand-outside", "batch",
+     in_folder("grasps:\n  - {hand: /etc/hand.urdf, object: {shape: sphere, radius: 0.02}}\n", "g.yaml",
+               pg.load_grasps), pg.SceneError, "outside")  # fmt: skip
+FAST = pg.WorstAxisScore(upper=20, steps=4)
+
+
+def resumed(records: list, *, score: Any = FAST, then: list | None = None, damage: Callable | None = None,
+            interrupt: bool = False) -> Callable[[Path], Any]:  # fmt: skip
+    """A finished (or interrupted) batch of ``records`` on ``tmp/r.csv``, ``damage(tmp)``, then
+    ``resume=True`` with ``then`` (default the same records) and ``score``."""
+
+    def stop(model: Any, command: Any) -> Any:
+        raise KeyboardInterrupt
+
+    def run(tmp: Path) -> Any:
+        out = tmp / "r.csv"
+        if interrupt:
+            with contextlib.suppress(KeyboardInterrupt):
+                pg.evaluate_grasps([*records, "wedge"], score=_first_only(), workers=1, out=out)
+        else:
+            pg.evaluate_grasps(records, score=FAST, workers=1, out=out)
+        if damage is not None:
+            damage(tmp)
+        again = _first_only() if interrupt else score  # the interrupted batch's own score
+        return pg.evaluate_grasps(then or records, score=again, workers=1, out=out, resume=True)
+
+    return run
+
+
+class _first_only:  # noqa: N801 - a score: the first call scores, the second interrupts
+    calls = 0
+
+    def __call__(self, model: Any, command: Any) -> Any:
+        type(self).calls += 1
+        if type(self).calls % 2 == 0:
+            raise KeyboardInterrupt
+        return FAST(model, command)
+
+
+def _cut(tmp: Path) -> None:
+    data = (tmp / "r.csv").read_bytes()
+    (tmp / "r.csv").write_bytes(data[: len(data) - 25])
+
+
+def _journal_line(line: bytes) -> Callable[[Path], None]:
+    def damage(tmp: Path) -> None:
+        j = tmp / "r.csv.partial.jsonl"
+        lines = j.read_bytes().splitlines(keepends=True)
+        j.write_bytes(b"".join([lines[0], line, *lines[1:]]))
+
+    return damage
+
+
+case("batch-resume-other-method", "batch", resumed(["pinch"], score=pg.WorstAxisScore(20, 4, "iterative")),
+     match="another batch")  # fmt: skip
+case("batch-resume-other-upper", "batch", resumed(["pinch"], score=pg.WorstAxisScore(21, 4)),
+     match="another batch")  # fmt: skip
+case("batch-resume-same-ok", "batch", resumed(["pinch", "wedge"]), None,
+     verdict=lambda df: df["score"].tolist()[0] == 10.0 and len(df) == 2)  # fmt: skip
+case("batch-resume-scene-other-preload", "batch",
+     resumed([pg.load_scene("pinch")], then=[pg.load_scene("pinch", preload=5.0)]),
+     match="another batch")  # fmt: skip
+case("batch-resume-table-cut", "batch", resumed(["pinch", "wedge"], damage=_cut),
+     match="edited, cut or damaged")  # fmt: skip
+case("batch-resume-no-stamp", "batch",
+     resumed(["pinch"], damage=lambda t: (t / "r.csv.batch.json").unlink()),
+     match="no readable stamp")  # fmt: skip
+case("batch-resume-stamp-garbage", "batch",
+     resumed(["pinch"], damage=lambda t: (t / "r.csv.batch.json").write_bytes(b"\xff{")),
+     match="no readable stamp")  # fmt: skip
+case("batch-resume-journal-list-line", "batch",
+     resumed(["pinch"], interrupt=True, then=["pinch", "wedge"], damage=_journal_line(b'["x"]\n')),
+     match="line 2 is not a row")  # fmt: skip
+case("batch-resume-journal-missing-keys", "batch",
+     resumed(["pinch"], interrupt=True, then=["pinch", "wedge"], damage=_journal_line(b'{"index": 0}\n')),
+     match="line 2 is not a row")  # fmt: skip
+case("batch-resume-journal-not-utf8", "batch",
+     resumed(["pinch"], interrupt=True, then=["pinch", "wedge"], damage=_journal_line(b"\xff\xfe\n")),
+     match="line 2 is not a JSON line")  # fmt: skip
+case("api-direction-plus-minus", "api", mw(direction="+-fy"), pg.UnknownNameError, "'+-fy'")
+case("api-direction-minus-minus", "api", mw(direction="--fy"), pg.UnknownNameError, "'--fy'")
+case("api-direction-one-sign-ok", "api", mw(direction="-fy"), None, verdict=lambda r: r.magnitude == 10.0)
+
+
+def _contacts(n: int) -> Callable[[Path], Any]:
+    def run(tmp: Path) -> Any:
+        cs = [pg.Contact.revolute([0.0, 0.01 * i, 0.0], [1.0, 0.0, 0.0], {0: ([0, -0.1, 0], [0, 0, 1])}, nq=1)
+              for i in range(n)]  # fmt: skip
+        return pg.GraspModel.from_contacts(cs, actuators=[pg.Actuator({0: 1.0}, name="m")], planar=True)
+
+    return run
+
+
+case("api-contacts-257", "api", _contacts(257), match="257 contacts, more than the 256")
+case("api-contacts-256-built", "api", _contacts(256), None, verdict=lambda m: m.nc == 256)
+case("api-cluster-unreachable", "api",
+     lambda t: __import__("pinograsp.batch.executors").batch.executors.connect(
+         "Ray", "10.0.0.1:6379", lambda: __import__("threading").Event().wait(), seconds=0.01),
+     match="no Ray cluster answered")  # fmt: skip
+case("cli-scenes-json-on-stdout", "cli", cli_json("scenes"), None, verdict=lambda d: "pinch" in d)
+case("cli-scene-json-on-stdout", "cli", cli_json("scenes", "pinch"), None,
+     verdict=lambda d: set(d["actuators"]) == {"left", "right"})  # fmt: skip
+case("cli-direction-plus-minus", "cli", cli("max-wrench", "pinch", "-d", "+-fy"), None,
+     verdict=lambda r: r[0] == 2 and "'+-fy'" in r[1])  # fmt: skip
+
+
+def _under_a_file(*argv: str) -> Callable[[Path], Any]:
+    def run(tmp: Path) -> Any:
+        (tmp / "file").write_text("x")
+        return cli(*argv)(tmp)
+
+    return run
+
+
+case("cli-path-csv-under-a-file", "cli",
+     _under_a_file("path", "pinch", "-d", "fy", "--csv", "{tmp}/file/p.csv"), None,
+     verdict=lambda r: r[0] == 2 and "--csv: cannot write" in r[1])  # fmt: skip
+case("cli-path-png-a-folder", "cli", cli("path", "pinch", "-d", "fy", "--png", "{tmp}"), None,
+     verdict=lambda r: r[0] == 2 and "--png" in r[1] and "folder" in r[1])  # fmt: skip
+case("cli-profile-csv-under-a-file", "cli",
+     _under_a_file("profile", "pinch", "-n", "4", "--csv", "{tmp}/file/a.csv"), None,
+     verdict=lambda r: r[0] == 2 and "--csv" in r[1])  # fmt: skip
+case("cli-set-csv-under-a-file", "cli",
+     _under_a_file("resistance-set", "pinch", "-n", "4", "--csv", "{tmp}/file/a.csv"), None,
+     verdict=lambda r: r[0] == 2 and "--csv" in r[1])  # fmt: skip
+
+
+def _batch_resume_method(tmp: Path) -> Any:
+    (tmp / "g.yaml").write_text("score: {upper: 20, steps: 4}\ngrasps:\n  - {scene: pinch}\n")
+    argv = ("batch", "{tmp}/g.yaml", "--out", "{tmp}/r.csv", "--workers", "1", "--no-progress")
+    assert cli(*argv)(tmp)[0] == 0
+    return cli(*argv, "--resume", "--method", "iterative")(tmp)
+
+
+case("cli-batch-resume-other-method", "cli", _batch_resume_method, None,
+     verdict=lambda r: r[0] == 2 and "another batch" in r[1])  # fmt: skip
