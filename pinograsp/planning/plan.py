@@ -108,9 +108,10 @@ def _finish(
         T = spec.object.pose
         values = dict(c.values)
         plan = GraspPlan(
-            rank=i + 1, id=str(spec.id), origin=c.origin, spec=spec, object_pose=T, hand_pose=np.linalg.inv(T),
-            q=dict(cast(Any, spec.q)), command=command, contact_names=model.contact_names,
-            points=np.array(model.points), normals=np.array(model.frames[:, :, 0]), score=c.score, values=values,
+            rank=i + 1, id=str(spec.id), origin=c.origin, spec=spec, object_pose=T,
+            hand_pose=np.linalg.inv(T), q=dict(cast(Any, spec.q)), command=command,
+            contact_names=model.contact_names, points=np.array(model.points),
+            normals=np.array(model.frames[:, :, 0]), score=c.score, values=values,
             worst=min(values, key=lambda k: values[k]), epsilon=c.epsilon, epsilon_rank=eps_rank[i],
             sampled_score=c.sampled_score,
         )  # fmt: skip
@@ -239,7 +240,8 @@ def plan_grasps(
     t4 = time.perf_counter()
     timing = PlanTiming(t1 - t0, t2 - t1, t3 - t2, t4 - t3 - t_verify, t_verify, t4 - t0)
     return GraspPlans(
-        hand=hand, object=base.object, labels=score.labels, wrenches=score.wrenches, rank_by=rank_by, seed=seed,
+        hand=hand, object=base.object, labels=score.labels, wrenches=score.wrenches, rank_by=rank_by,
+        seed=seed,
         plans=tuple(plans), sampled=n, counts=_counts(cands), refined=len(refined),
         best_sampled=primary(first) if first.ok else 0.0, best=primary(order[0]) if order[0].ok else 0.0,
         spearman=_spearman(cands), score_options=_options(score), timing=timing,
