@@ -106,6 +106,7 @@ if TYPE_CHECKING:
     from .viz.comparison_plots import plot_preload_comparison as plot_preload_comparison
     from .viz.figures import save_figure as save_figure
     from .viz.path_plots import plot_loading_path as plot_loading_path
+    from .viz.plan_plots import plot_plan as plot_plan
     from .viz.profile_plots import plot_profile as plot_profile
     from .viz.scene_inputs import SceneStyle as SceneStyle
     from .viz.set_plots import plot_resistance_set as plot_resistance_set
@@ -180,6 +181,7 @@ _LAZY = {
     "PlanCheck": "planning.records",
     # plots and the 3D scene view
     "plot_profile": "viz.profile_plots",
+    "plot_plan": "viz.plan_plots",
     "plot_preload_comparison": "viz.comparison_plots",
     "plot_force_comparison": "viz.comparison_plots",
     "plot_resistance_set": "viz.set_plots",

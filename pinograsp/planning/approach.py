@@ -4,11 +4,12 @@ A hand is reduced to its **approach frame** (:class:`ApproachFrame`): the grasp 
 (mean of the moving contact geometries' centres at the open configuration, hand base frame [m]),
 the approach axis ``a`` (unit, from the palm — the mean of the fixed contact geometries' centres,
 or the base origin — to ``c``) and a reference axis ``b`` perpendicular to it (the closing
-direction at roll 0). A sampled approach (:func:`surface_samples`) is a point ``p`` on the
-object's surface with its outward normal ``n`` (object frame), a roll and a depth: the hand is
-placed so that ``a`` points along ``-n``, ``b`` is turned by the roll about ``n``, and ``c`` sits
-at ``p - depth * h(n) * n``, ``h(n)`` the object's half-extent along ``n`` (so depth 0 puts the
-grasp centre on the surface, 1 about the middle of a convex object). The pose returned is the
+direction at roll 0), and the reach ``r = |c - palm|`` [m]. A sampled approach
+(:func:`surface_samples`) is a point ``p`` on the object's surface with its outward normal ``n``
+(object frame), a roll and a standoff ``s`` in ``[0, 1]``: the hand is placed so that ``a``
+points along ``-n``, ``b`` is turned by the roll about ``n``, and the palm point sits at
+``p + s r n`` (``s = 0``: the palm on the surface; ``s = 1``: the grasp centre on it), i.e. ``c``
+at the depth ``(1 - s) r`` below ``p``. The pose returned is the
 object's in the hand base frame (what :class:`~pinograsp.batch.grasps.ObjectSpec` holds).
 Everything is a pure function of its inputs and of a ``numpy`` PCG64 stream: the same seed gives
 the same poses on every machine.
@@ -28,12 +29,14 @@ from ..errors import InvalidInputError
 
 @dataclass(frozen=True)
 class ApproachFrame:
-    """How a hand approaches: grasp centre ``centre`` [m] (3,), unit approach axis ``axis`` (3,)
-    and unit reference axis ``reference`` (3,) perpendicular to it, all in the hand base frame."""
+    """How a hand approaches: grasp centre ``centre`` [m] (3,), unit approach axis ``axis`` (3,),
+    unit reference axis ``reference`` (3,) perpendicular to it, all in the hand base frame, and
+    the reach ``reach`` [m] from the palm point to the grasp centre."""
 
     centre: np.ndarray
     axis: np.ndarray
     reference: np.ndarray
+    reach: float
 
     @classmethod
     def of_hand(cls, hand: Any, q_open: object = None) -> ApproachFrame:
@@ -53,8 +56,8 @@ class ApproachFrame:
         axis = centre - palm
         if not np.linalg.norm(axis) > 1e-9:
             raise InvalidInputError("hand", f"{hand.name}: grasp centre at the palm; no approach axis")
-        axis = axis / np.linalg.norm(axis)
-        return cls(centre, axis, _perpendicular(axis))
+        reach = float(np.linalg.norm(axis))
+        return cls(centre, axis / reach, _perpendicular(axis / reach), reach)
 
 
 def _perpendicular(v: np.ndarray) -> np.ndarray:
@@ -125,22 +128,6 @@ def surface_samples(obj: ObjectSpec, n: int, rng: np.random.Generator) -> tuple[
     if obj.shape == "cylinder":
         return _cylinder_points(float(cast(float, obj.radius)), float(cast(float, obj.length)), rng, n)
     return _mesh_points(obj, rng, n)
-
-
-def half_extents(obj: ObjectSpec) -> np.ndarray:
-    """Half the object's axis-aligned bounding box in its frame, (3,) [m] (``h(n)`` is
-    ``|n| . half_extents``)."""
-    if obj.shape == "box":
-        return 0.5 * np.asarray(obj.size, dtype=float)
-    if obj.shape == "sphere":
-        return np.full(3, float(cast(float, obj.radius)))
-    if obj.shape == "cylinder":
-        r = float(cast(float, obj.radius))
-        return np.array([r, r, 0.5 * float(cast(float, obj.length))])
-    import trimesh
-
-    v = np.asarray(trimesh.load(str(obj.file), force="mesh").vertices, dtype=float) * obj.scale
-    return 0.5 * (v.max(axis=0) - v.min(axis=0))
 
 
 def approach_pose(

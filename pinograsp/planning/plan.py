@@ -28,7 +28,7 @@ from ..batch.grasps import GraspSpec, ObjectSpec, build_grasp, grasp_configurati
 from ..core.settings import DEFAULT_METHOD
 from ..core.validate import MAX_SAMPLES, choice, count, finite_number, positive_number, whole_number
 from ..errors import InvalidInputError
-from .approach import ApproachFrame, approach_pose, half_extents, surface_samples
+from .approach import ApproachFrame, approach_pose, surface_samples
 from .records import GraspPlan, GraspPlans, PlanTiming, RankBy
 from .search import Candidate, Steps, distinct, local_search, neighbours, placed, ranked, score_batch
 from .verify import verify_plan
@@ -65,13 +65,13 @@ def _preload(preload: object, actuators: Sequence[str]) -> tuple[Any, float | No
 
 
 def sample_specs(
-    base: GraspSpec, frame: ApproachFrame, n: int, seed: int, depth: tuple[float, float]
+    base: GraspSpec, frame: ApproachFrame, n: int, seed: int, standoff: tuple[float, float]
 ) -> list[GraspSpec]:
     """``n`` records of ``base`` at sampled approach poses (ids ``c0``, ``c1``, ...)."""
     rng = np.random.default_rng(seed)
     points, normals = surface_samples(base.object, n, rng)
     rolls = rng.uniform(0.0, 2 * math.pi, n)
-    depths = rng.uniform(depth[0], depth[1], n) * (np.abs(normals) @ half_extents(base.object))
+    depths = (1.0 - rng.uniform(standoff[0], standoff[1], n)) * frame.reach
     return [
         placed(
             base, approach_pose(frame, points[i], normals[i], float(rolls[i]), float(depths[i])), id=f"c{i}"
@@ -159,7 +159,7 @@ def plan_grasps(
     refine: int = 4,
     rounds: int = 3,
     step: Sequence[float] = (0.004, math.radians(8.0)),
-    depth: Sequence[float] = (0.0, 1.0),
+    standoff: Sequence[float] = (0.0, 1.0),
     duplicate: Sequence[float] = (0.005, math.radians(15.0)),
     executor: object = "local",
     progress: Callable[[int, int], None] | None = None,
@@ -186,8 +186,8 @@ def plan_grasps(
         rounds: Rounds of the local search.
         step: First translation [m] and rotation [rad] steps of the local search (halved when
             a round does not improve); the preload transfer starts at a quarter of the budget.
-        depth: Range of the sampled depth of the grasp centre below the surface, in units of
-            the object's half-extent along the normal.
+        standoff: Range of the sampled distance of the palm from the surface, in units of the
+            hand's reach (palm to grasp centre): 0 the palm on the surface, 1 the grasp centre.
         duplicate: Two grasps closer than ``(translation [m], rotation [rad])`` are one.
         progress: ``progress(done, total)`` over all the batches.
         **fields: Other ``pg.GraspSpec`` fields shared by every candidate (``mu``, ``q_open``,
@@ -205,7 +205,7 @@ def plan_grasps(
     refine, rounds = whole_number("refine", refine, 0), whole_number("rounds", rounds, 0)
     rank_by = cast(RankBy, choice("rank_by", rank_by, ("passive", "epsilon")))
     step_t, step_r = _pair("step", step)
-    depth_range, dup = _pair("depth", depth, lo_ok=True), _pair("duplicate", duplicate, lo_ok=True)
+    standoff_range, dup = _pair("standoff", standoff, lo_ok=True), _pair("duplicate", duplicate, lo_ok=True)
     score = DisturbanceScore(cast(Any, disturbances), method, upper, steps)
     if {"object", "command", "id", "q"} & set(fields):
         raise InvalidInputError("fields", "'object', 'command', 'id' and 'q' are set by plan_grasps")
@@ -219,7 +219,7 @@ def plan_grasps(
     moves = 12 + (2 * len(drivers) * (len(drivers) - 1) // 2 if budget else 0)
     batch = _progress(progress, n + rounds * refine * moves)
 
-    specs = sample_specs(base, frame, n, seed, depth_range)
+    specs = sample_specs(base, frame, n, seed, standoff_range)
     t1 = time.perf_counter()
     cands = score_batch(specs, score, "sampled", None, run, batch(n))
     t2 = time.perf_counter()

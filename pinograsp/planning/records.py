@@ -5,6 +5,8 @@ simulation along one disturbance), :class:`PlanTiming` and :class:`GraspPlans` (
 from __future__ import annotations
 
 import math
+import os
+from pathlib import Path
 from dataclasses import dataclass
 from typing import Any, Literal
 
@@ -181,6 +183,13 @@ class GraspPlans:
         out["plans"] = [p.to_dict() for p in self.plans]
         out["timing"] = self.timing.to_dict() if timing else None
         return jsonable(out)
+
+    def write_grasps(self, path: str | os.PathLike[str]) -> Path:
+        """Write the plans as a GRASPS.yaml that ``pinograsp batch`` re-scores to the same numbers
+        (:func:`pinograsp.planning.files.write_grasps`); returns the path."""
+        from .files import write_grasps
+
+        return write_grasps(self, path)
 
     def summary(self) -> str:
         """A few lines: what was searched, the gain of the refinement, each plan."""
