@@ -99,7 +99,8 @@ def cmd_plan(args: argparse.Namespace) -> int:
     )
     for p in plans.plans:
         lines.append(
-            f"{p.rank:>4}  {p.id:<24} {p.origin:<8} {p.score:>9.4g}  {p.worst:<10} {p.epsilon:>8.4g} {p.epsilon_rank:>8}"
+            f"{p.rank:>4}  {p.id:<24} {p.origin:<8} {p.score:>9.4g}  {p.worst:<10} "
+            f"{p.epsilon:>8.4g} {p.epsilon_rank:>8}"
         )
         for c in p.checks:
             lines.append(
