@@ -141,6 +141,33 @@ def _progress(progress: Callable[[int, int], None] | None, total: int) -> Callab
     return batch
 
 
+def _whole(*values: object) -> list[int]:
+    """The counts of ``plan_grasps`` checked: ``n, top, seed, verify, refine, rounds`` (``n``,
+    ``top`` >= 1; ``verify`` in ``[0, top]``; the others >= 0)."""
+    n = count("n", values[0], MAX_SAMPLES, what="approaches, checked before sampling")
+    top = count("top", values[1], MAX_SAMPLES)
+    verify = count("verify", values[3], top, minimum=0, what="at most top")
+    seed, refine, rounds = (
+        whole_number(k, values[i], 0) for k, i in (("seed", 2), ("refine", 4), ("rounds", 5))
+    )
+    return [n, top, seed, verify, refine, rounds]
+
+
+def _setup(
+    hand: str, obj: object, preload: object, method: str, fields: dict[str, Any]
+) -> tuple[GraspSpec, ApproachFrame, list[str], float | None]:
+    """The base record (object in its own frame, preload), the hand's approach frame, its
+    driving actuators and the preload budget (``None`` without one)."""
+    if {"object", "command", "id", "q"} & set(fields):
+        raise InvalidInputError("fields", "'object', 'command', 'id' and 'q' are set by plan_grasps")
+    probe = GraspSpec(hand, _object(obj), preload_method=method, **fields)
+    hand_model = load_hand(probe)
+    drivers = [a.name for a in hand_model.actuators if a.kind != "locked"]
+    command, budget = _preload(preload, drivers)
+    base = replace(probe, command=command)
+    return base, ApproachFrame.of_hand(hand_model, base.q_open), drivers, budget
+
+
 def plan_grasps(
     hand: str,
     obj: object,
@@ -178,71 +205,58 @@ def plan_grasps(
             every actuator, ``{actuator: value}`` [N·m or N], or ``{"budget": B}``: B split over
             the driving actuators, equally to start, the split refined with the pose.
         seed: Seed of the sampling: the same seed gives the same plans, bit for bit.
-        workers, executor: Where the batches run (as ``pg.evaluate_grasps``).
+        workers, executor, progress: Where the batches run and ``progress(done, total)`` over
+            all of them (as ``pg.evaluate_grasps``).
         rank_by: ``"passive"`` (worst-case value, then leximin) or ``"epsilon"`` (Ferrari–Canny).
         verify: Simulate the first ``verify`` plans along every disturbance.
-        method, upper, steps: The analysis of each disturbance (``pg.max_resistible_wrench``).
-        refine: Distinct best candidates refined by the local search (0: none).
-        rounds: Rounds of the local search.
+        method, upper, steps: Of each disturbance's ``pg.max_resistible_wrench``.
+        refine, rounds: Distinct best candidates refined by the local search (0: none), its rounds.
         step: First translation [m] and rotation [rad] steps of the local search (halved when
             a round does not improve); the preload transfer starts at a quarter of the budget.
         standoff: Range of the sampled distance of the palm from the surface, in units of the
             hand's reach (palm to grasp centre): 0 the palm on the surface, 1 the grasp centre.
         duplicate: Two grasps closer than ``(translation [m], rotation [rad])`` are one.
-        progress: ``progress(done, total)`` over all the batches.
         **fields: Other ``pg.GraspSpec`` fields shared by every candidate (``mu``, ``q_open``,
             ``max_command``, ``tolerance``, ...).
 
     Raises:
-        InvalidInputError, UnknownNameError: A bad argument, named.
-        MissingDependencyError: pandas (the batch table), or MuJoCo with ``verify``.
+        InvalidInputError, UnknownNameError, MissingDependencyError (pandas; MuJoCo with ``verify``).
     """
     t0 = time.perf_counter()
-    n = count("n", n, MAX_SAMPLES, what="approaches, checked before sampling")
-    top = count("top", top, MAX_SAMPLES)
-    seed = whole_number("seed", seed, minimum=0)
-    verify = count("verify", verify, top, minimum=0, what="at most top")
-    refine, rounds = whole_number("refine", refine, 0), whole_number("rounds", rounds, 0)
+    n, top, seed, verify, refine, rounds = _whole(n, top, seed, verify, refine, rounds)
     rank_by = cast(RankBy, choice("rank_by", rank_by, ("passive", "epsilon")))
     step_t, step_r = _pair("step", step)
     standoff_range, dup = _pair("standoff", standoff, lo_ok=True), _pair("duplicate", duplicate, lo_ok=True)
     score = DisturbanceScore(cast(Any, disturbances), method, upper, steps)
-    if {"object", "command", "id", "q"} & set(fields):
-        raise InvalidInputError("fields", "'object', 'command', 'id' and 'q' are set by plan_grasps")
-    probe = GraspSpec(hand, _object(obj), preload_method=method, **fields)
-    hand_model = load_hand(probe)
-    drivers = [a.name for a in hand_model.actuators if a.kind != "locked"]
-    command, budget = _preload(preload, drivers)
-    base = replace(probe, command=command)
-    frame = ApproachFrame.of_hand(hand_model, base.q_open)
+    base, frame, drivers, budget = _setup(hand, obj, preload, method, fields)
     run = {"executor": executor, "workers": workers}
-    moves = 12 + (2 * len(drivers) * (len(drivers) - 1) // 2 if budget else 0)
-    batch = _progress(progress, n + rounds * refine * moves)
-
+    batch = _progress(progress, n + rounds * refine * (12 + len(drivers) * (len(drivers) - 1) * bool(budget)))
     specs = sample_specs(base, frame, n, seed, standoff_range)
     t1 = time.perf_counter()
     cands = score_batch(specs, score, "sampled", None, run, batch(n))
     t2 = time.perf_counter()
     seeds = distinct(ranked(cands, rank_by), refine, frame.centre, *dup)
-    refined = local_search(
-        seeds,
-        lambda s, parents: score_batch(s, score, "refined", parents, run, batch(len(s))),
-        Steps(step_t, step_r, 0.25),
-        rounds,
-        rank_by,
-        lambda c, s: neighbours(c, s, frame.centre, budget, drivers),
-    )
+    rescore = lambda s, parents: score_batch(s, score, "refined", parents, run, batch(len(s)))  # noqa: E731
+    moves_of = lambda c, s: neighbours(c, s, frame.centre, budget, drivers)  # noqa: E731
+    refined = local_search(seeds, rescore, Steps(step_t, step_r, 0.25), rounds, rank_by, moves_of)
     t3 = time.perf_counter()
     order = ranked([*cands, *refined], rank_by)
     plans, t_verify = _finish(distinct(order, top, frame.centre, *dup), score, verify)
-    first = ranked(cands, rank_by)[0]
-    primary = (lambda c: c.score) if rank_by == "passive" else (lambda c: c.epsilon)
     t4 = time.perf_counter()
     timing = PlanTiming(t1 - t0, t2 - t1, t3 - t2, t4 - t3 - t_verify, t_verify, t4 - t0)
+    return _answer(base, score, rank_by, seed, plans, cands, order, len(refined), timing)
+
+
+def _answer(
+    base: GraspSpec, score: DisturbanceScore, rank_by: RankBy, seed: int, plans: list[GraspPlan],
+    cands: list[Candidate], order: list[Candidate], refined: int, timing: PlanTiming,
+) -> GraspPlans:  # fmt: skip
+    """The record of a plan: its plans, counts, best values before and after the refinement."""
+    first = ranked(cands, rank_by)[0]
+    primary = (lambda c: c.score) if rank_by == "passive" else (lambda c: c.epsilon)
     return GraspPlans(
-        hand=hand, object=base.object, labels=score.labels, wrenches=score.wrenches, rank_by=rank_by,
-        seed=seed,
-        plans=tuple(plans), sampled=n, counts=_counts(cands), refined=len(refined),
+        hand=base.hand, object=base.object, labels=score.labels, wrenches=score.wrenches, rank_by=rank_by,
+        seed=seed, plans=tuple(plans), sampled=len(cands), counts=_counts(cands), refined=refined,
         best_sampled=primary(first) if first.ok else 0.0, best=primary(order[0]) if order[0].ok else 0.0,
         spearman=_spearman(cands), score_options=_options(score), timing=timing,
     )  # fmt: skip
