@@ -215,7 +215,8 @@ class GraspSpec:
         object.__setattr__(self, "package_dirs", tuple(dirs))
         if self.q is not None:  # a mapping, its pairs (dataclasses.replace keeps them) or values
             named = isinstance(self.q, tuple) and bool(self.q) and isinstance(self.q[0], tuple)
-            object.__setattr__(self, "q", _pairs("q", dict(self.q) if named else self.q))
+            q = dict(cast(tuple[tuple[str, float], ...], self.q)) if named else self.q
+            object.__setattr__(self, "q", _pairs("q", q))
         if self.q_open is not None:
             if not isinstance(self.q_open, Mapping) and not all(isinstance(p, tuple) for p in self.q_open):
                 raise InvalidInputError("q_open", f"expected a mapping joint -> value, got {self.q_open!r}")

@@ -45,7 +45,8 @@ class ApproachFrame:
         from ..robots.kinematics import HandConfiguration
 
         cfg = HandConfiguration.at(hand, None if q_open is None else dict(cast(Any, q_open)))
-        moving, fixed = [], []
+        moving: list[np.ndarray] = []
+        fixed: list[np.ndarray] = []
         for i, g in enumerate(hand.geometry.geometryObjects):
             centre = np.array(cfg.geometry_data.oMg[i].translation)
             (moving if g.parentJoint > 0 else fixed).append(centre)
@@ -92,14 +93,14 @@ def _cylinder_points(r: float, h: float, rng: np.random.Generator, n: int) -> tu
         on_side[:, None], np.c_[r * c, r * s, z], np.c_[rho * c, rho * s, np.where(top, h, -h) / 2]
     )
     normals = np.where(on_side[:, None], np.c_[c, s, 0 * z], np.c_[0 * z, 0 * z, np.where(top, 1.0, -1.0)])
-    return points, normals
+    return np.asarray(points, dtype=float), np.asarray(normals, dtype=float)
 
 
 def _mesh_points(obj: ObjectSpec, rng: np.random.Generator, n: int) -> tuple[np.ndarray, np.ndarray]:
     import trimesh
 
-    mesh = trimesh.load(str(obj.file), force="mesh")
-    v = np.asarray(mesh.vertices, dtype=float) * obj.scale
+    mesh: Any = trimesh.load(str(obj.file), force="mesh")
+    v = np.array(mesh.vertices, dtype=np.float64) * obj.scale
     f = np.asarray(mesh.faces)
     tri = v[f]  # (nf, 3, 3)
     cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])

@@ -103,7 +103,7 @@ def score_batch(
 
 def placed(spec: GraspSpec, T: np.ndarray, **fields: Any) -> GraspSpec:
     """``spec`` with the object at pose ``T`` (hand base frame, 4×4) and other fields changed."""
-    obj = spec.object.with_pose(T[:3, 3], rpy_of(T[:3, :3]))
+    obj = spec.object.with_pose(T[:3, 3].tolist(), rpy_of(T[:3, :3]))
     return replace(spec, object=obj, **fields)
 
 
