@@ -71,6 +71,7 @@ if TYPE_CHECKING:
     from .analysis.response import Session as Session
     from .analysis.response import passive_response as passive_response
     from .analysis.response import solver_for as solver_for
+    from .batch.disturbances import DisturbanceScore as DisturbanceScore
     from .batch.evaluate import WorstAxisScore as WorstAxisScore
     from .batch.evaluate import evaluate_grasps as evaluate_grasps
     from .batch.evaluate import save_results as save_results
@@ -81,6 +82,10 @@ if TYPE_CHECKING:
     from .batch.grasps import sample_grasps as sample_grasps
     from .batch.rows import reason_counts as reason_counts
     from .core import examples as examples
+    from .planning.plan import plan_grasps as plan_grasps
+    from .planning.records import GraspPlan as GraspPlan
+    from .planning.records import GraspPlans as GraspPlans
+    from .planning.records import PlanCheck as PlanCheck
     from .robots.autoclose import close_on as close_on
     from .robots.closing import ClosingCheck as ClosingCheck
     from .robots.closing import JointClosing as JointClosing
@@ -102,6 +107,7 @@ if TYPE_CHECKING:
     from .viz.comparison_plots import plot_preload_comparison as plot_preload_comparison
     from .viz.figures import save_figure as save_figure
     from .viz.path_plots import plot_loading_path as plot_loading_path
+    from .viz.plan_plots import plot_plan as plot_plan
     from .viz.profile_plots import plot_profile as plot_profile
     from .viz.scene_inputs import SceneStyle as SceneStyle
     from .viz.set_plots import plot_resistance_set as plot_resistance_set
@@ -161,6 +167,7 @@ _LAZY = {
     # batches of grasps
     "evaluate_grasps": "batch.evaluate",
     "WorstAxisScore": "batch.evaluate",
+    "DisturbanceScore": "batch.disturbances",
     "save_results": "batch.evaluate",
     "reason_counts": "batch.rows",
     "GraspSpec": "batch.grasps",
@@ -168,8 +175,14 @@ _LAZY = {
     "sample_grasps": "batch.grasps",
     "load_grasps": "batch.files",
     "GraspBatch": "batch.files",
+    # grasp planning
+    "plan_grasps": "planning.plan",
+    "GraspPlan": "planning.records",
+    "GraspPlans": "planning.records",
+    "PlanCheck": "planning.records",
     # plots and the 3D scene view
     "plot_profile": "viz.profile_plots",
+    "plot_plan": "viz.plan_plots",
     "plot_preload_comparison": "viz.comparison_plots",
     "plot_force_comparison": "viz.comparison_plots",
     "plot_resistance_set": "viz.set_plots",

@@ -22,6 +22,7 @@ RANKS = {
     "scenes": 4,
     "sim": 4.5,
     "batch": 5,
+    "planning": 5.5,
     "viz": 6,
     "cli": 7,
     "__init__": 8,

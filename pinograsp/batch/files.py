@@ -18,6 +18,7 @@ from ..core.validate import force
 from ..core.validate import steps as n_steps
 from ..errors import PinograspError
 from ..scenes.loading import SceneFile, read_yaml
+from .disturbances import disturbance_set
 from .grasps import SHAPES, GraspSpec, ObjectSpec, sample_grasps
 
 #: Keys of one grasp (and of ``defaults``).
@@ -41,8 +42,9 @@ GRASP_KEYS = (
 )
 #: Extra keys of a ``sample`` entry.
 SAMPLE_KEYS = ("n", "seed", "translation", "rotation", "include_nominal")
-#: Keys of the ``score`` block (options of :class:`~pinograsp.batch.evaluate.WorstAxisScore`).
-SCORE_KEYS = ("upper", "steps", "method")
+#: Keys of the ``score`` block (options of :class:`~pinograsp.batch.evaluate.WorstAxisScore`;
+#: with ``disturbances``, of :class:`~pinograsp.batch.disturbances.DisturbanceScore`).
+SCORE_KEYS = ("upper", "steps", "method", "disturbances")
 _TOP_KEYS = ("defaults", "grasps", "sample", "score")
 
 
@@ -243,4 +245,8 @@ def _score(f: SceneFile, data: dict[str, Any]) -> dict[str, Any]:
     if "steps" in s:  # domains checked before any grasp runs (docs/errors.md); a path ignores steps
         bounded = score.get("method", DEFAULT_METHOD) not in PATH_METHODS
         score["steps"] = f.domain(lambda k, v: n_steps(v, k, bounded=bounded), s["steps"], "score.steps")
+    if "disturbances" in s:  # "cube26" or a list of wrenches (k, 6)
+        _, w = f.domain(lambda k, v: disturbance_set(v, k), s["disturbances"], "score.disturbances")
+        d = s["disturbances"]
+        score["disturbances"] = d if isinstance(d, str) else tuple(tuple(float(v) for v in row) for row in w)
     return score

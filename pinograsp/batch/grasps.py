@@ -213,8 +213,10 @@ class GraspSpec:
         if isinstance(dirs, str) or not all(isinstance(d, str) for d in dirs):
             raise InvalidInputError("package_dirs", f"expected a list of folder paths, got {dirs!r}")
         object.__setattr__(self, "package_dirs", tuple(dirs))
-        if self.q is not None:
-            object.__setattr__(self, "q", _pairs("q", self.q))
+        if self.q is not None:  # a mapping, its pairs (dataclasses.replace keeps them) or values
+            named = isinstance(self.q, tuple) and bool(self.q) and isinstance(self.q[0], tuple)
+            q = dict(cast(tuple[tuple[str, float], ...], self.q)) if named else self.q
+            object.__setattr__(self, "q", _pairs("q", q))
         if self.q_open is not None:
             if not isinstance(self.q_open, Mapping) and not all(isinstance(p, tuple) for p in self.q_open):
                 raise InvalidInputError("q_open", f"expected a mapping joint -> value, got {self.q_open!r}")
@@ -375,17 +377,8 @@ def build_grasp(spec: GraspSpec) -> tuple[Any, dict[str, float], dict[str, float
     from ..robots.grasp import grasp_model_from_scene
 
     t0 = time.perf_counter()
-    hand = load_hand(spec)
-    obj = spec.object.to_object()
-    contact: dict[str, Any] = {} if spec.tolerance is None else {"tolerance": spec.tolerance}
-    if spec.max_penetration is not None:
-        contact["max_penetration"] = spec.max_penetration
-    if spec.q is None:
-        q = _close(hand, obj, spec, contact)
-    else:
-        q = hand.configuration(
-            _with_mimics(hand, spec.q) if spec.q and isinstance(spec.q[0], tuple) else list(spec.q)
-        )
+    hand, obj, q = grasp_configuration(spec)
+    contact = _contact_options(spec)
     try:
         # one point per touching geometry (contact patches are not a GraspSpec option yet)
         model = grasp_model_from_scene(
@@ -416,6 +409,31 @@ def build_grasp(spec: GraspSpec) -> tuple[Any, dict[str, float], dict[str, float
         command = dict.fromkeys(model.all_actuator_names, float(spec.command))
     model.command_vector(command)  # validated here: a bad command is this grasp's error
     return model, command, {"build": t1 - t0, "preload": time.perf_counter() - t1}
+
+
+def _contact_options(spec: GraspSpec) -> dict[str, Any]:
+    """The spec's contact detection options (``tolerance``, ``max_penetration``) where given."""
+    contact: dict[str, Any] = {} if spec.tolerance is None else {"tolerance": spec.tolerance}
+    if spec.max_penetration is not None:
+        contact["max_penetration"] = spec.max_penetration
+    return contact
+
+
+def grasp_configuration(spec: GraspSpec) -> tuple[Any, Any, np.ndarray]:
+    """The spec's hand (cached per process), object and configuration: ``spec.q``, or the
+    auto-close from ``q_open`` (URDF coordinates, (nq,) [rad or m]).
+
+    Raises:
+        NoContactError, PenetrationError: From the auto-close.
+    """
+    hand = load_hand(spec)
+    obj = spec.object.to_object()
+    if spec.q is None:
+        return hand, obj, _close(hand, obj, spec, _contact_options(spec))
+    q = hand.configuration(
+        _with_mimics(hand, spec.q) if spec.q and isinstance(spec.q[0], tuple) else list(spec.q)
+    )
+    return hand, obj, q
 
 
 def _close(hand: Any, obj: Any, spec: GraspSpec, contact: dict[str, Any]) -> Any:

@@ -295,6 +295,13 @@ def signal_name(signum: int) -> str:
         return f"signal {signum}"
 
 
+def _worst_of(score: object) -> str:
+    """What a batch score's ``score`` column is the worst of."""
+    if isinstance(score, pg.DisturbanceScore):
+        return f"worst of {len(score.labels)} disturbances"
+    return "worst axis"
+
+
 def cmd_batch(args: argparse.Namespace) -> int:
     """``pinograsp batch GRASPS.yaml``: score every grasp of the file; a summary, ``--out`` table.
 
@@ -314,7 +321,7 @@ def cmd_batch(args: argparse.Namespace) -> int:
     for key in ("upper", "steps", "method"):
         if getattr(args, key) is not None:
             options[key] = getattr(args, key)
-    score = pg.WorstAxisScore(**options)
+    score = pg.DisturbanceScore(**options) if "disturbances" in options else pg.WorstAxisScore(**options)
     bar = progress_bar(args, f"batch {args.executor}")
     t0 = time.perf_counter()
     try:
@@ -342,7 +349,7 @@ def cmd_batch(args: argparse.Namespace) -> int:
     ok = table[table["status"] == "ok"]
     if len(ok):
         q = ok["score"].quantile([0.0, 0.5, 1.0], interpolation="lower").tolist()  # inf-safe: no inf - inf
-        lines.append(f"score [N] of the ok rows (worst axis, {score.method}, upper {score.upper:g}, "
+        lines.append(f"score [N] of the ok rows ({_worst_of(score)}, {score.method}, upper {score.upper:g}, "
                      f"steps {score.steps}): min {q[0]:.4g}, median {q[1]:.4g}, max {q[2]:.4g}")  # fmt: skip
     if args.out:
         lines.append(f"wrote {args.out}")

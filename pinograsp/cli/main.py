@@ -37,7 +37,7 @@ import warnings
 from collections.abc import Callable, Iterator, Sequence
 
 from ..errors import PinograspError
-from . import commands, path_command, sim_commands, sweep_commands
+from . import commands, path_command, plan_command, sim_commands, sweep_commands
 from .parse import UsageError, build_parser, join_dash_values
 
 #: Sub-command -> its function (parsed arguments -> exit code).
@@ -54,6 +54,7 @@ COMMANDS: dict[str, Callable[..., int]] = {
     "batch": commands.cmd_batch,
     "simulate": sim_commands.cmd_simulate,
     "path": path_command.cmd_path,
+    "plan": plan_command.cmd_plan,
 }
 
 

@@ -12,6 +12,7 @@ from collections.abc import Sequence
 from ..core.settings import Method, Variant
 from .arguments import PRELOAD_HELP, add_direction
 from .path_command import add_path
+from .plan_command import add_plan
 
 #: Defaults of ``pinograsp demo``: small enough to finish in well under a minute on 2 cores.
 DEMO_SCENE = "case1"
@@ -401,6 +402,7 @@ _SUBCOMMANDS = (
     _add_batch,
     _add_simulate,
     add_path,
+    add_plan,
 )
 
 

@@ -123,3 +123,22 @@ def plane_directions(model: WrenchSpace, plane: Sequence[object] = ("fx", "fy"),
     n = whole_number("n", n)
     basis, _ = plane_basis(model, plane)
     return circle_directions(basis, n)[1]
+
+
+def cube_directions() -> tuple[tuple[str, ...], np.ndarray]:
+    """The 26 unit force directions of a cube's faces, edges and corners, ``(i, j, k) / |(i, j,
+    k)|`` with ``i, j, k`` in ``{-1, 0, 1}`` not all 0, in ``itertools.product`` order.
+
+    Returns:
+        ``(labels, directions)``: labels such as ``"+fx"``, ``"+fx-fy"``, ``"-fx+fy+fz"``
+        (26,) and the unit wrenches (26, 6) (zero torque).
+    """
+    labels, rows = [], []
+    for ijk in ((i, j, k) for i in (-1, 0, 1) for j in (-1, 0, 1) for k in (-1, 0, 1)):
+        if not any(ijk):
+            continue
+        v = np.zeros(6)
+        v[:3] = ijk
+        rows.append(v / np.linalg.norm(v))
+        labels.append("".join(f"{'+' if s > 0 else '-'}f{a}" for s, a in zip(ijk, "xyz") if s))
+    return tuple(labels), np.array(rows)

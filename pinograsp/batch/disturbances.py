@@ -1,0 +1,146 @@
+"""A score over a set of disturbances: the worst case of the passive answers along each.
+
+:class:`DisturbanceScore` is a batch score (``score(model, command) -> {name: float}``) like
+:class:`~pinograsp.batch.evaluate.WorstAxisScore`, over any set of disturbance wrenches: the 26
+directions of a cube (faces, edges, corners; :func:`~pinograsp.core.axes.cube_directions`) by
+default, or the user's wrenches. Each is answered by :func:`pinograsp.max_resistible_wrench`
+with the chosen method (the package's default one unless told), so the score follows whatever
+that method reports. It also returns the Ferrari–Canny epsilon of the same contacts
+(:func:`pinograsp.ferrari_canny`), so that a table ranks by either. ``pg.plan_grasps`` scores its
+candidates with it; a GRASPS.yaml ``score: {disturbances: cube26}`` block selects it in
+``pinograsp batch`` (docs/batch.md, docs/planning.md).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ..core.axes import cube_directions
+from ..core.query import Query
+from ..core.settings import DEFAULT_METHOD, METHODS, PATH_METHODS, Method
+from ..core.validate import choice, finite_array, force
+from ..core.validate import steps as n_steps
+from ..errors import InvalidInputError
+
+#: Named disturbance sets.
+DISTURBANCE_SETS = ("cube26",)
+
+
+def disturbance_set(disturbances: object, name: str = "disturbances") -> tuple[tuple[str, ...], np.ndarray]:
+    """The labels (k,) and wrenches (k, 6) [N, N·m] of a disturbance set.
+
+    Args:
+        disturbances: ``"cube26"`` (the 26 unit force directions of a cube: labels ``"+fx"``,
+            ``"+fx-fy"``, ...) or wrenches, (k, 6), none zero (labels ``"w0"``, ``"w1"``, ...).
+        name: Argument name in error messages.
+
+    Raises:
+        InvalidInputError: An unknown name, a malformed array or a zero wrench.
+    """
+    if isinstance(disturbances, str):
+        choice(name, disturbances, DISTURBANCE_SETS)
+        return cube_directions()
+    try:
+        raw = np.asarray(disturbances, dtype=float)
+    except (TypeError, ValueError):
+        raise InvalidInputError(
+            name, f"expected 'cube26' or wrenches of shape (k, 6), got {disturbances!r}"
+        ) from None
+    if raw.ndim != 2 or raw.shape[1] != 6 or len(raw) == 0:
+        raise InvalidInputError(name, f"expected 'cube26' or wrenches of shape (k, 6), got shape {raw.shape}")
+    w = finite_array(name, raw, raw.shape)
+    zero = [i for i, row in enumerate(w) if not np.any(row)]
+    if zero:
+        raise InvalidInputError(name, f"row(s) {zero} are zero wrenches; give a nonzero wrench per row")
+    return tuple(f"w{i}" for i in range(len(w))), w
+
+
+@dataclass(frozen=True)
+class DisturbanceScore:
+    """Worst case over a disturbance set of the largest multiple of each disturbance resisted.
+
+    For each disturbance ``w_i`` (a unit force direction of the cube, or a user wrench),
+    ``pg.max_resistible_wrench(model, command, w_i, method, upper, steps)`` gives the largest
+    magnitude along ``w_i / |w_i|``; the value of the disturbance is that magnitude divided by
+    ``|w_i|`` (Euclidean norm of ``(f [N], tau [N·m])``): the largest multiple of ``w_i`` resisted
+    — for the cube's unit forces the largest force [N]. ``inf`` when unbounded, ``upper / |w_i|``
+    above the search limit, 0 below its resolution (as :class:`WorstAxisScore`). On a planar
+    model a disturbance with no planar part (``fx, fy, mz``) has no value (NaN) and is skipped.
+
+    Returns ``score`` (the smallest value), ``unbounded_fraction`` (of the disturbances),
+    ``epsilon`` (Ferrari–Canny of the contacts, :func:`pinograsp.ferrari_canny`) and one
+    ``max_<label>`` column per disturbance (labels of :func:`disturbance_set`).
+
+    Attributes:
+        disturbances: ``"cube26"`` or wrenches (k, 6) (kept as a tuple of 6-tuples).
+        method: The analysis method (default: the package's default method).
+        upper: Search limit [N or N·m along the unit direction].
+        steps: Search steps (a loading-path method ignores it).
+    """
+
+    disturbances: str | tuple[tuple[float, ...], ...] = "cube26"
+    method: Method | str = Method(DEFAULT_METHOD)
+    upper: float = 50.0
+    steps: int = 6
+
+    def __post_init__(self) -> None:
+        _, w = disturbance_set(self.disturbances)
+        if not isinstance(self.disturbances, str):
+            object.__setattr__(self, "disturbances", tuple(tuple(float(v) for v in row) for row in w))
+        object.__setattr__(self, "method", Method(choice("method", self.method, METHODS)))
+        object.__setattr__(self, "upper", force("upper", self.upper, "N or N·m"))
+        bounded = self.method not in PATH_METHODS
+        object.__setattr__(self, "steps", n_steps(self.steps, bounded=bounded))
+
+    @property
+    def labels(self) -> tuple[str, ...]:
+        """The disturbances' labels, (k,)."""
+        return disturbance_set(self.disturbances)[0]
+
+    @property
+    def wrenches(self) -> np.ndarray:
+        """The disturbances, (k, 6) [N, N·m]."""
+        return disturbance_set(self.disturbances)[1]
+
+    @property
+    def columns(self) -> tuple[str, ...]:
+        """The table's score columns."""
+        return ("score", "unbounded_fraction", "epsilon", *(f"max_{a}" for a in self.labels))
+
+    @property
+    def no_grasp(self) -> dict[str, float]:
+        """The values of a record that is not a grasp: it resists nothing."""
+        return dict.fromkeys(self.columns, 0.0)
+
+    def __call__(self, model: Any, command: Mapping[str, float]) -> dict[str, float]:
+        from ..analysis.max_wrench import max_resistible_wrench
+        from ..analysis.metrics import ferrari_canny
+        from ..analysis.response import PassiveSolver
+
+        query = Query(Method(self.method), self.upper, self.steps)
+        session = PassiveSolver(model)  # one per grasp: its preload stage is solved once
+        values: dict[str, float] = {}
+        first = True
+        for label, w in zip(self.labels, self.wrenches):
+            if model.planar and not np.any(w[[0, 1, 5]]):
+                values[f"max_{label}"] = math.nan
+                continue
+            mw = max_resistible_wrench(
+                model, command, w, session=session, query=query, check_preload_first=first
+            )
+            first = False
+            scale = float(np.linalg.norm(w[[0, 1, 5]] if model.planar else w))
+            values[f"max_{label}"] = 0.0 if mw.status == "below_resolution" else float(mw.magnitude) / scale
+        known = [v for v in values.values() if not math.isnan(v)]
+        unbounded = sum(v == math.inf for v in known)
+        return {
+            "score": min(known),
+            "unbounded_fraction": unbounded / len(known),
+            "epsilon": ferrari_canny(model),
+            **values,
+        }

@@ -1,0 +1,124 @@
+"""``pinograsp plan HAND OBJECT``: grasp plans that resist a disturbance set passively
+(``pg.plan_grasps``; docs/planning.md, docs/cli.md)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+import pinograsp as pg
+
+from ..errors import InvalidInputError
+from .report import Output, progress_bar
+
+_SHAPES = {"box": 3, "sphere": 1, "cylinder": 2}
+
+
+def add_plan(sub: argparse._SubParsersAction) -> None:
+    """The ``plan`` sub-command's options."""
+    p = sub.add_parser(
+        "plan",
+        help="plan grasps of an object that resist 26 disturbance directions passively",
+        description="Sample approach poses on the object's surface, close the hand, preload, score the "
+        "worst-case passive resistance over the 26 directions of a cube, refine the best by a local "
+        "search and print the ranked plans (pg.plan_grasps; docs/planning.md). With --out: the plans as "
+        "a GRASPS.yaml that 'pinograsp batch' re-scores, their JSON and one picture each.",
+    )
+    p.add_argument("hand", metavar="HAND", help="built-in hand name or URDF path")
+    p.add_argument(
+        "object",
+        metavar="OBJECT",
+        help="box:SX,SY,SZ | sphere:R | cylinder:R,LENGTH [m], or a mesh file (STL/OBJ/PLY, metres)",
+    )
+    p.add_argument("--n", type=int, default=200, help="approaches sampled (default 200)")
+    p.add_argument("--top", type=int, default=5, help="plans returned (default 5)")
+    p.add_argument("--verify", type=int, default=0, help="simulate the first K plans (pinograsp[mujoco])")
+    p.add_argument("--seed", type=int, default=0, help="seed of the sampling (default 0)")
+    p.add_argument("--workers", type=int, default=1, help="local worker processes (0: one per CPU)")
+    p.add_argument(
+        "--preload", default="auto", help="auto (default), a command for every actuator, or budget=B"
+    )
+    p.add_argument("--rank-by", choices=("passive", "epsilon"), default="passive")
+    p.add_argument("--mu", type=float, default=0.5, help="friction coefficient (default 0.5)")
+    p.add_argument("--out", metavar="DIR", help="write plans.yaml (GRASPS), plans.json and plan_K.png")
+    p.add_argument("--json", action="store_true", help="print the plans as JSON on stdout (nothing else)")
+    p.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None, help="progress bar")
+    p.add_argument("--debug", action="store_true", default=argparse.SUPPRESS, help="show full tracebacks")
+
+
+def parse_object(text: str) -> pg.ObjectSpec:
+    """``box:SX,SY,SZ``, ``sphere:R``, ``cylinder:R,LENGTH`` [m] or a mesh file path."""
+    shape, _, dims = text.partition(":")
+    if shape not in _SHAPES:
+        if not Path(text).is_file():
+            raise InvalidInputError(
+                "OBJECT", f"{text!r}: expected box:SX,SY,SZ, sphere:R, cylinder:R,L or a mesh file"
+            )
+        return pg.ObjectSpec("mesh", file=str(Path(text).resolve()))
+    try:
+        values = [float(v) for v in dims.split(",")]
+    except ValueError:
+        values = []
+    if len(values) != _SHAPES[shape]:
+        raise InvalidInputError(
+            "OBJECT", f"{text!r}: a {shape} takes {_SHAPES[shape]} comma-separated sizes [m]"
+        )
+    if shape == "box":
+        return pg.ObjectSpec("box", size=tuple(values))  # type: ignore[arg-type]
+    if shape == "sphere":
+        return pg.ObjectSpec("sphere", radius=values[0])
+    return pg.ObjectSpec("cylinder", radius=values[0], length=values[1])
+
+
+def _preload(text: str) -> object:
+    if text == "auto":
+        return "auto"
+    key, _, value = text.partition("=")
+    try:
+        return {"budget": float(value)} if key == "budget" else float(text)
+    except ValueError:
+        raise InvalidInputError("--preload", f"expected auto, a number or budget=B, got {text!r}") from None
+
+
+def cmd_plan(args: argparse.Namespace) -> int:
+    """Run ``pinograsp plan``."""
+    out = Output(args)
+    obj = parse_object(args.object)
+    bar = progress_bar(args, f"plan {args.hand}")
+    try:
+        plans = pg.plan_grasps(
+            args.hand, obj, n=args.n, top=args.top, preload=_preload(args.preload), seed=args.seed,
+            workers=args.workers, rank_by=args.rank_by, verify=args.verify, mu=args.mu, progress=bar,
+        )  # fmt: skip
+    finally:
+        bar.close()
+    lines = [plans.summary().splitlines()[0], plans.summary().splitlines()[1], ""]
+    lines.append(
+        f"{'rank':>4}  {'id':<24} {'origin':<8} {'score':>9}  {'worst':<10} {'epsilon':>8} {'eps rank':>8}"
+    )
+    for p in plans.plans:
+        lines.append(
+            f"{p.rank:>4}  {p.id:<24} {p.origin:<8} {p.score:>9.4g}  {p.worst:<10} "
+            f"{p.epsilon:>8.4g} {p.epsilon_rank:>8}"
+        )
+        for c in p.checks:
+            lines.append(
+                f"        {c.label:<10} predicted {c.predicted:.4g}, simulated {c.simulated:.4g} ({c.status})"
+            )
+    grasps = out.path("plans.yaml")
+    if grasps is not None:
+        out.written.append(plans.write_grasps(grasps))
+        doc = out.path("plans.json")
+        assert doc is not None
+        doc.write_text(json.dumps(plans.to_dict(), indent=2) + "\n")
+        out.written.append(doc)
+        for p in plans.plans:
+            png = out.path(f"plan_{p.rank}.png")
+            assert png is not None
+            pg.plot_plan(p, png)
+            out.written.append(png)
+        lines.append(f"re-score: pinograsp batch {grasps}")
+    out.print(*lines)
+    out.finish(plans.to_dict())
+    return 0

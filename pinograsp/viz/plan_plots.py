@@ -1,0 +1,51 @@
+"""A grasp plan as a picture: the hand closed on the object with its contacts (left) and the
+passive resistance along each disturbance (right; docs/planning.md)."""
+
+from __future__ import annotations
+
+import math
+import os
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..planning.records import GraspPlan
+from .figures import save_figure
+
+
+def plot_plan(plan: GraspPlan, path: str | os.PathLike[str] | None = None, *, dpi: int = 110) -> Any:
+    """Draw one plan: the scene (hand at ``plan.q``, object at ``plan.object_pose``, contacts)
+    and a bar per disturbance of its value (unbounded bars drawn to 1.2 × the largest finite
+    value, hatched; the worst one in red). Returns the matplotlib ``Figure``; with ``path``
+    (``.png``, ``.pdf``, ...) also writes it.
+    """
+    from matplotlib.figure import Figure
+
+    from ..batch.grasps import build_grasp, grasp_configuration
+    from .scene_mpl import scene_axes
+
+    fig = Figure(figsize=(11.0, 4.6))
+    hand, obj, q = grasp_configuration(plan.spec)
+    model, _, _ = build_grasp(plan.spec)
+    ax3 = fig.add_subplot(1, 2, 1, projection="3d")
+    scene_axes(model, ax=ax3, hand=hand, q=q, obj=obj, title=f"plan #{plan.rank} ({plan.id})")
+    ax = fig.add_subplot(1, 2, 2)
+    labels = list(plan.values)
+    v = np.array([plan.values[k] for k in labels])
+    finite = v[np.isfinite(v)]
+    cap = 1.2 * float(finite.max()) if finite.size and finite.max() > 0 else 1.0
+    shown = np.where(np.isfinite(v), v, cap)
+    colours = ["tab:red" if k == plan.worst else "tab:blue" for k in labels]
+    bars = ax.bar(range(len(v)), shown, color=colours)
+    for b, x in zip(bars, v):
+        if not math.isfinite(x):
+            b.set_hatch("//")
+            b.set_alpha(0.5)
+    ax.set_xticks(range(len(v)), labels, rotation=90, fontsize=7)
+    ax.set_ylabel("largest resisted multiple of the disturbance [N for unit forces]")
+    ax.set_title(f"score {plan.score:.3g} (worst {plan.worst}), epsilon {plan.epsilon:.3g}", fontsize=9)
+    fig.tight_layout()
+    if path is not None:
+        save_figure(fig, Path(path), dpi=dpi)
+    return fig
