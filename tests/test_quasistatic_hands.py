@@ -83,13 +83,21 @@ def test_allegro_every_direction_gets_a_verdict(allegro):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         prof = pg.resistance_profile(
-            allegro.model, allegro.command, plane=allegro.analysis.plane, n=24, method=QS
+            allegro.model, allegro.command, plane=allegro.analysis.plane, n=24, method=QS, upper=20.0
         )
-    assert not prof.failures
+        wide = pg.resistance_profile(allegro.model, allegro.command, plane=allegro.analysis.plane, n=24)
+    assert not prof.failures and not wide.failures
     statuses = [r.status for r in prof.results]
     assert statuses.count("finite") == 12 and statuses.count("unbounded") == 12
+    # at upper 1e3 the give-way thresholds are 20x the elastic deflection there (20 mm): six
+    # directions that hold to 20 N within 1 mm sway 20 mm below 1e3 N (gradual give-ways)
+    wide_st = [r.status for r in wide.results]
+    assert wide_st.count("finite") == 18 and wide_st.count("unbounded") == 6
+    assert all(
+        r.giveway.reason in ("translation", "rotation", "limit") for r in wide.results if r.status == "finite"
+    )
     side = pg.max_resistible_wrench(
-        allegro.model, allegro.command, allegro.analysis.directions["sideways"], method=QS
+        allegro.model, allegro.command, allegro.analysis.directions["sideways"], method=QS, upper=20.0
     )
     sim = _sim("allegro_left", "+fy")
     assert sim["status"] == "gradual" and side.status == "finite"
