@@ -98,3 +98,28 @@ def test_released_to_the_friction_limit_is_sliding_at_zero_load():
     assert pg.loading_path(m, SLIPPING_COMMAND, "fy").contact_states[0][0] == "sliding"
     resp = pg.passive_response(m, SLIPPING_COMMAND, np.zeros(6))
     assert scene_elements(m, resp).title == "3 contacts — resisted: 2 sticking, 1 sliding"
+
+
+def test_designed_preload_that_slides_is_not_found():
+    """``equilibrium_preload`` designs :data:`SLIPPING_COMMAND` (the design is feasible: the
+    bottom contact's friction 0.8 can carry the right contact's tilt), but the release, which
+    shares the tangential load by stiffness, slides the top contact to its limit: "slides"."""
+    m = slipping_grasp()
+    r = pg.equilibrium_preload(m)
+    assert r.status == "slides" and not r.found
+    assert r.command == pytest.approx(SLIPPING_COMMAND, abs=1e-6)
+    zero = pg.loading_path(m, r.command, "fx", up_to=0.0)
+    assert r.released_states == zero.contact_states[0] == ("sliding", "sticking", "sticking")
+    assert r.sliding_at_zero == ("top",) and r.separated_at_zero == ()
+    assert "['top'] slide on their friction limit" in r.reason
+    assert 0.0 < r.released_motion < 1.0  # sliding, not a large motion
+    d = r.to_dict()
+    assert d["status"] == "slides" and d["sliding_at_zero"] == ["top"]
+    assert d["released_states"] == ["sliding", "sticking", "sticking"]
+
+
+def test_pinch_preload_is_found_all_sticking_without_motion():
+    r = pg.equilibrium_preload(examples.pinch())
+    assert r.found and r.released_states == ("sticking", "sticking")
+    assert r.released_motion == pytest.approx(0.0, abs=1e-12)  # symmetric: nothing to release
+    assert r.sliding_at_zero == r.separated_at_zero == ()
