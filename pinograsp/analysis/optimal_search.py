@@ -332,7 +332,7 @@ def _evaluate(solver, method, loads, needs, spec, u, upper, steps, count) -> dic
 
 def _candidates(solver: PassiveSolver, method: str, free: np.ndarray, grid: int) -> list[np.ndarray]:
     """Grid points on the simplex of the chosen actuators, then the balanced equilibrium preload."""
-    from .preload import GIVES, equilibrium_preload
+    from .preload import equilibrium_preload
 
     idx = np.flatnonzero(free)
     pts = []
@@ -344,7 +344,7 @@ def _candidates(solver: PassiveSolver, method: str, free: np.ndarray, grid: int)
         design = equilibrium_preload(solver.model, method, settings=solver.settings)
     except PinograspError:
         design = None
-    if design is not None and (design.found or design.status in GIVES):  # a preload, a start point
+    if design is not None and design.in_equilibrium:  # a preload: one more start point
         f = solver.model.command_vector(design.command)
         if not np.any(f[~free] > 0) and f.sum() > 0:
             pts.append(np.round(f / f.sum(), 12))

@@ -37,7 +37,8 @@ from ..core.settings import DEFAULT_METHOD, METHODS, Settings
 from ..core.validate import choice, force
 from ..errors import InvalidInputError, ModelError, PinograspError, SolverError, UnknownNameError
 from ..solvers.quiet import quiet_stdout
-from .preload_release import gives_way, released
+from .preload_release import GIVES, gives_way, released
+from .preload_release import MOVED_RATIO as MOVED_RATIO  # re-exported: the verdict's bar
 from .registry import get_method
 from .response import passive_response
 from .staged import SETTLED_PRELOAD_METHOD
@@ -99,6 +100,12 @@ class PreloadChoice:
     def found(self) -> bool:
         """Commands found and verified (their released state holds)."""
         return self.status == "found"
+
+    @property
+    def in_equilibrium(self) -> bool:
+        """The commands are a preload in equilibrium (``"found"``, or :data:`GIVES`: its
+        released state slides or separates somewhere, but it balances)."""
+        return self.status == "found" or self.status in GIVES
 
     def _at_zero(self, state: str) -> tuple[str, ...]:
         names = () if self.response is None else self.response.contact_names

@@ -399,7 +399,7 @@ def build_grasp(spec: GraspSpec) -> tuple[Any, dict[str, float], dict[str, float
         ) from exc
     t1 = time.perf_counter()
     if spec.command == "auto":
-        from ..analysis.preload import GIVES, equilibrium_preload
+        from ..analysis.preload import equilibrium_preload
 
         if not any(kind != "locked" for kind in model.kinds):
             raise NoPreloadError(
@@ -407,9 +407,9 @@ def build_grasp(spec: GraspSpec) -> tuple[Any, dict[str, float], dict[str, float
                 "carried by locked or undriven joints only)"
             )
         pre = equilibrium_preload(model, spec.preload_method, max_command=spec.max_command)
-        if pre.status not in ("found", *GIVES) or pre.command is None:
+        if not pre.in_equilibrium or pre.command is None:
             raise NoPreloadError(pre.reason, pre.status, pre.unloadable_contacts, pre.unbalanced_actuators)
-        if pre.status in GIVES:  # a preload, analysed as it is; the row's warnings say so
+        if not pre.found:  # it balances, but gives at zero load: analysed as it is, and said
             warnings.warn(f"equilibrium_preload: {pre.status}: {pre.reason}", PinograspWarning, stacklevel=2)
         command = dict(pre.command)
     elif isinstance(spec.command, tuple):
