@@ -78,7 +78,10 @@ class PreloadChoice:
             contacts that slide or separate at zero load).
         released_states: State of each contact at zero load (nc,), ``"sticking"``,
             ``"sliding"`` or ``"separated"`` (the verification's ``contact_states``; ``()``
-            without a verification or when the method reports no states).
+            without a verification or when the method reports no states). Only the
+            quasi-static method's ``"sliding"`` means "on its friction limit" and makes the
+            verdict ``"slides"``; the other methods' means "slipped since the touch"
+            (``preload_release.LIMIT_STATES``).
         released_motion: Largest motion of the object at a contact at zero load (from the
             touching configuration: what the release moved it), over the largest contact
             compression ``c_n / k`` [-] (None without a verification).
@@ -383,7 +386,7 @@ def _verified_design(
         resp, failure = _verify(model, command, method, settings)
         if failure is None and resp is not None:
             states, motion = released(model, resp)
-            gives = gives_way(model, states, motion)
+            gives = gives_way(model, states, motion, method)
             if gives is None:
                 how = "without friction" if normal_only else "with friction"
                 return PreloadChoice(

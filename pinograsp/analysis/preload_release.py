@@ -22,6 +22,11 @@ GIVES: tuple[str, ...] = ("slides", "separates")
 #: 0.03 on case 1, 0.2 on the wedge, 0.3 on the EZGripper's design); more means the grasp gave
 #: way while it was let go.
 MOVED_RATIO = 1.0
+#: Methods whose ``"sliding"`` at ``w = 0`` reads the state itself (a contact on its friction
+#: limit): the quasi-static one (its preloaded state's forces). The others report a contact
+#: ``"sliding"`` when it has slipped since the touch (the held-still closing drags fingers along
+#: the object): history, not a limit, so their verdict reads separation and motion only.
+LIMIT_STATES = ("quasistatic",)
 
 
 def released(model: GraspModel, resp: PassiveResponse) -> tuple[tuple[str, ...], float]:
@@ -36,9 +41,13 @@ def released(model: GraspModel, resp: PassiveResponse) -> tuple[tuple[str, ...],
     return tuple(resp.contact_states), (moved / largest if largest > 0 else float("inf"))
 
 
-def gives_way(model: GraspModel, states: tuple[str, ...], motion: float) -> tuple[str, str] | None:
+def gives_way(
+    model: GraspModel, states: tuple[str, ...], motion: float, method: str = "quasistatic"
+) -> tuple[str, str] | None:
     """The verdict (:data:`GIVES`) of a released state that does not hold, and what gives (one
-    phrase); None when it holds."""
+    phrase); None when it holds. ``"sliding"`` counts for the methods of :data:`LIMIT_STATES`."""
+    if method not in LIMIT_STATES:
+        states = tuple("sticking" if s == "sliding" else s for s in states)
     parts = []
     for word, state in (("slide on their friction limit", "sliding"), ("separate", "separated")):
         names = [n for n, s in zip(model.contact_names, states) if s == state]
@@ -52,4 +61,4 @@ def gives_way(model: GraspModel, states: tuple[str, ...], motion: float) -> tupl
     return ("slides" if slides else "separates"), "; ".join(parts)
 
 
-__all__ = ["GIVES", "MOVED_RATIO", "gives_way", "released"]
+__all__ = ["GIVES", "LIMIT_STATES", "MOVED_RATIO", "gives_way", "released"]

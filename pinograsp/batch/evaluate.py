@@ -313,8 +313,10 @@ def evaluate_grasps(
 
     Returns:
         A ``pandas.DataFrame``, one row per grasp in input order: :data:`BASE_COLUMNS`, the
-        score's columns, :data:`TAIL_COLUMNS`. ``status`` is ``"ok"``, ``"no_grasp"`` (an
-        answer: score 0), ``"timeout"`` or ``"error"``, ``reason`` the typed cause
+        score's columns, its status columns (``status_<direction>``, text), :data:`TAIL_COLUMNS`.
+        ``status`` is ``"ok"``, ``"partial"`` (some directions did not answer: the others kept,
+        :mod:`pinograsp.batch.scores`), ``"no_grasp"`` (an answer: score 0), ``"timeout"`` or
+        ``"error"``, ``reason`` the typed cause
         (:mod:`pinograsp.batch.rows`); ``command`` the preload as JSON ``{actuator: value}``
         [N·m or N]; ``obj_*`` the object pose (hand base frame, [m] and roll-pitch-yaw [rad]).
 

@@ -83,7 +83,7 @@ def reason_counts(table: Any) -> Any:
     Returns:
         A ``pandas.DataFrame`` with columns ``status``, ``reason``, ``rows``, ``fraction``
         (of the batch) and ``example`` (the first row's ``error_message``), ordered by status
-        (ok, no_grasp, timeout, error) then by count.
+        (ok, partial, no_grasp, timeout, error) then by count.
     """
     import pandas as pd
 
