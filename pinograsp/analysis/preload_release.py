@@ -17,11 +17,12 @@ from ..core.results import PassiveResponse
 #: The verdicts of commands that balance but whose released state does not hold everywhere.
 GIVES: tuple[str, ...] = ("slides", "separates")
 #: Largest motion of the object at a contact on release (``PreloadChoice.released_motion``),
-#: relative to the largest contact compression ``c_n / k``, of a preload that holds: an elastic
-#: release moves the object by a fraction of the springs' compression (0 on the symmetric pinch,
-#: 0.03 on case 1, 0.2 on the wedge, 0.3 on the EZGripper's design); more means the grasp gave
-#: way while it was let go.
-MOVED_RATIO = 1.0
+#: relative to the largest contact compression ``c_n / k``, of a preload that holds. An elastic
+#: release moves the object by about the springs' compression: 0 on the symmetric pinch, 0.03 on
+#: case 1, 0.2 on the wedge, 0.3 on the EZGripper, 1.25 on the SO-101 (a fixed jaw: the object
+#: settles into it by its whole compression, and turns); ten times that is a grasp that gave way
+#: while it was let go.
+MOVED_RATIO = 10.0
 #: Methods whose ``"sliding"`` at ``w = 0`` reads the state itself (a contact on its friction
 #: limit): the quasi-static one (its preloaded state's forces). The others report a contact
 #: ``"sliding"`` when it has slipped since the touch (the held-still closing drags fingers along
