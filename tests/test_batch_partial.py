@@ -109,3 +109,34 @@ def test_direct_call_reports_failures(monkeypatch):
     assert math.isnan(values["score"]) and math.isnan(values["max_+fy"])
     assert values["max_-fy"] == pytest.approx(10.0, abs=20 / 2**4)  # 2 mu tau / L, to the resolution
     assert np.isinf(values["max_+fx"])
+
+
+def test_auto_preload_that_slides_is_kept_with_a_warning(monkeypatch):
+    """``command="auto"``: a design in equilibrium whose released state slides is analysed as it
+    is (the same commands as when it is "found"), and the row's warnings say so; an unverified
+    one is still a ``no_preload`` row."""
+    import dataclasses
+
+    from pinograsp.analysis import preload
+
+    box = pg.ObjectSpec("box", size=(0.1462, 0.05, 0.10), xyz=(0.0, 0.0, 0.0678))
+    q = {"bh_j11": math.pi / 2, "bh_j12": math.pi / 3, "bh_j13": math.pi / 9}
+    q.update({"bh_j22": math.pi / 3, "bh_j23": math.pi / 9})
+    spec = pg.GraspSpec("barrett_bh8_282", box, q=q, command="auto", id="auto")
+    found = pg.evaluate_grasps([spec], score=SCORE, workers=1)
+    assert found.loc[0, "status"] == "ok" and "equilibrium_preload" not in found.loc[0, "warnings"]
+    real = preload.equilibrium_preload
+    for status, row in (("slides", "ok"), ("unverified", "no_grasp")):
+
+        def fake(*args, _status=status, **kwargs):
+            return dataclasses.replace(real(*args, **kwargs), status=_status, reason="(injected)")
+
+        monkeypatch.setattr(preload, "equilibrium_preload", fake)
+        df = pg.evaluate_grasps([spec], score=SCORE, workers=1)
+        assert df.loc[0, "status"] == row
+        if row == "ok":
+            assert "PinograspWarning: equilibrium_preload: slides: (injected)" in df.loc[0, "warnings"]
+            assert df.loc[0, "command"] == found.loc[0, "command"]
+            assert df.loc[0, "score"] == found.loc[0, "score"]
+        else:
+            assert df.loc[0, "reason"] == "no_preload"
