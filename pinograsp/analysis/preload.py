@@ -345,7 +345,7 @@ def _verify(
     return resp, None
 
 
-def _gave(method: str, design: tuple, choice_args: tuple) -> PreloadChoice:
+def _gave(method: str, objective: str, design: tuple) -> PreloadChoice:
     """The verdict (:data:`GIVES`) of a design that balances but whose released state gives."""
     command, cn, resp, (status, gives), states, motion = design
     consequence = (
@@ -354,7 +354,7 @@ def _gave(method: str, design: tuple, choice_args: tuple) -> PreloadChoice:
         else "the preload holds on fewer contacts than designed"
     )
     return PreloadChoice(
-        status, command, cn, *choice_args, resp, (), (),
+        status, command, cn, method, objective, resp, (), (),
         f"the {method} preload stage is in equilibrium, but its released state already gives at "
         f"zero load: {gives}; {consequence}: try the other objective, other command bounds, or "
         "move the contacts",
@@ -399,7 +399,7 @@ def _verified_design(
             continue
         last = (command, cn, resp, failure)
     if slid is not None:
-        return _gave(method, slid, (method, objective))
+        return _gave(method, objective, slid)
     if last is not None:
         command, cn, resp, failure = last
         return PreloadChoice(
