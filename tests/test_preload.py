@@ -79,7 +79,9 @@ def test_a_finger_that_would_have_to_pull_is_named_and_bidirectional_solves_it()
 def test_allegro_without_and_with_its_description():
     """The README's Allegro grasp: with every joint a closing motor (no description) the
     abduction joint 4 and the thumb's joint 13 would have to pull; with the shipped description
-    (abduction and thumb rotation locked) a balanced preload exists and analyses run on it."""
+    (abduction and thumb rotation locked) a balanced preload exists and analyses run on it, but
+    its released state already slides: ``"slides"``, the contacts named, the states those of the
+    quasi-static path at zero load."""
     share = pg.example_robot_data_dir()
     urdf = share / "example-robot-data/robots/allegro_hand_description/urdf/allegro_right_hand.urdf"
     ball = pg.RigidObject.sphere(0.04, pose=[0.07, 0.0, 0.03])
@@ -90,7 +92,12 @@ def test_allegro_without_and_with_its_description():
     hand = pg.Hand.builtin("allegro_right")
     m = pg.grasp_model_from_scene(hand, hand.close_on(ball, {"joint_12.0": 1.2}), ball, mu=0.5)
     r = pg.equilibrium_preload(m)
-    assert r.found and max(r.command.values()) == 1.0 and r.normal_forces.min() > 1.0
+    assert r.status == "slides" and not r.found
+    assert max(r.command.values()) == 1.0 and r.normal_forces.min() > 1.0
+    zero = pg.loading_path(m, r.command, "fx", up_to=0.0)
+    assert r.released_states == zero.contact_states[0] == r.response.contact_states
+    assert r.sliding_at_zero == tuple(n for n, s in zip(m.contact_names, r.released_states) if s == "sliding")
+    assert r.sliding_at_zero and all(n in r.reason for n in r.sliding_at_zero)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", pg.AuditWarning)
         mw = pg.max_resistible_wrench(m, r.command, "-fz", upper=20, steps=6)

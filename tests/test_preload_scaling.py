@@ -20,6 +20,11 @@ BOUNDS = (0.1, 0.2, 0.5, 0.6, 1, 1.5, 2, 10, 100, 1e3)
 #: is in equilibrium at bounds <= 2 N·m and ends 'not_resisted' from 10 N·m on (residual 3.0e-3 N
 #: > eps + eps_rel F after 3 steps): reported 'unverified' there, never 'infeasible'.
 VERIFIED_UP_TO: dict[str, float] = {}
+#: Scenes whose balanced preload's released state (the quasi-static preload path: the object
+#: held while the hand closes, then let go) does not hold everywhere: contacts of the Ability
+#: and Allegro hands slide on their friction limits at zero load; the proximal links of case 2
+#: and case 3 carry no force there (``"separates"``). The others are "found": all sticking.
+RELEASED = {"ability": "slides", "allegro_left": "slides", "case2": "separates", "case3": "separates"}
 
 
 def _scenes() -> list:
@@ -30,7 +35,9 @@ def _scenes() -> list:
 def test_preload_verdict_and_commands_scale_with_the_bound(capsys, scene):
     runs = {b: run_json(capsys, "preload", scene, "--max-command", repr(b)) for b in BOUNDS}
     ref = runs[1]
-    assert ref["status"] == "found", ref["reason"]  # every built-in scene has a preload
+    # every built-in scene has a preload in equilibrium; on some its released state gives
+    assert ref["status"] == RELEASED.get(scene, "found"), ref["reason"]
+    assert (ref["status"] == "found") == (set(ref["released_states"]) == {"sticking"})
     for b, r in runs.items():
         want_status = "unverified" if b > VERIFIED_UP_TO.get(scene, np.inf) else ref["status"]
         assert r["status"] == want_status, (b, r["reason"])

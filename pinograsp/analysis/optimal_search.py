@@ -344,7 +344,7 @@ def _candidates(solver: PassiveSolver, method: str, free: np.ndarray, grid: int)
         design = equilibrium_preload(solver.model, method, settings=solver.settings)
     except PinograspError:
         design = None
-    if design is not None and design.found:
+    if design is not None and design.in_equilibrium:  # a preload: one more start point
         f = solver.model.command_vector(design.command)
         if not np.any(f[~free] > 0) and f.sum() > 0:
             pts.append(np.round(f / f.sum(), 12))

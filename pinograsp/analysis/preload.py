@@ -13,7 +13,13 @@ verification does (``method``: whose preload stage to run; docs/hands.md, "Choos
 Objectives: ``"balanced"`` maximises the smallest normal force with every command within its
 bound (then the least-norm commands at that force); ``"least_norm"`` gives the smallest
 commands for which every contact presses with at least ``grip`` [N]. The commands found are
-verified by :func:`pinograsp.passive_response` at ``w = 0`` with the method; where no preload
+verified by :func:`pinograsp.passive_response` at ``w = 0`` with the method: its preload stage
+(for the quasi-static method the preload path: the object held while the hand closes, then
+released) must end in equilibrium, and the released state must hold: every contact sticking
+(none on its friction limit, none separated) and the object moved on release by at most
+:data:`MOVED_RATIO` times the largest contact compression. A design that balances but whose
+released state slides or moves is ``"slides"``, one where a contact the design pressed carries
+no force at zero load is ``"separates"``: never ``"found"``. Where no preload
 exists, the result names the contacts that no preload can load and the actuators that no
 preload can balance.
 """
@@ -31,12 +37,16 @@ from ..core.settings import DEFAULT_METHOD, METHODS, Settings
 from ..core.validate import choice, force
 from ..errors import InvalidInputError, ModelError, PinograspError, SolverError, UnknownNameError
 from ..solvers.quiet import quiet_stdout
+from .preload_release import GIVES, gives_way, released
+from .preload_release import MOVED_RATIO as MOVED_RATIO  # re-exported: the verdict's bar
 from .registry import get_method
 from .response import passive_response
 from .staged import SETTLED_PRELOAD_METHOD
 
 Objective = Literal["balanced", "least_norm"]
 OBJECTIVES: tuple[str, ...] = ("balanced", "least_norm")
+#: Verdict of :func:`equilibrium_preload` (see :class:`PreloadChoice`).
+PreloadStatus = Literal["found", "slides", "separates", "unverified", "infeasible"]
 #: Smallest normal force, relative to the largest, for a contact to count as loaded.
 LOADED = 1e-6
 
@@ -46,9 +56,17 @@ class PreloadChoice:
     """Result of :func:`equilibrium_preload`.
 
     Attributes:
-        status: ``"found"`` (commands found and verified), ``"unverified"`` (found by the
-            design problem, but the method's own preload stage does not settle in equilibrium
-            with them) or ``"infeasible"`` (no preload loads every contact).
+        status: ``"found"`` (commands found and verified: the method's preload stage settles
+            in equilibrium and its released state holds, every contact sticking and the object
+            moved by at most :data:`MOVED_RATIO` compressions), ``"slides"`` (the preload stage
+            settles in equilibrium, but in its released state a contact already slides on its
+            friction limit, or the object moved more: the commands are a preload, but a small
+            load makes the grasp give way; ``reason`` says which), ``"separates"`` (the same,
+            no contact slides, but a contact the design pressed carries no force at zero load:
+            the preload holds on fewer contacts than designed),
+            ``"unverified"`` (found by the design problem, but the method's own preload stage
+            does not settle in equilibrium with them) or ``"infeasible"`` (no preload loads
+            every contact).
         command: ``{actuator: command}`` [N·m or N] (None when infeasible).
         normal_forces: Normal forces of the design solution (nc,) [N] (None when infeasible).
         method: The method whose preload stage was modelled.
@@ -56,10 +74,20 @@ class PreloadChoice:
         response: The verification at ``w = 0`` (None when infeasible).
         unloadable_contacts: Contacts that no preload can press (infeasible results).
         unbalanced_actuators: Actuators whose command no preload can balance (infeasible results).
-        reason: One sentence on the outcome.
+        reason: One sentence on the outcome (for ``"slides"``: the warning, naming the
+            contacts that slide or separate at zero load).
+        released_states: State of each contact at zero load (nc,), ``"sticking"``,
+            ``"sliding"`` or ``"separated"`` (the verification's ``contact_states``; ``()``
+            without a verification or when the method reports no states). Only the
+            quasi-static method's ``"sliding"`` means "on its friction limit" and makes the
+            verdict ``"slides"``; the other methods' means "slipped since the touch"
+            (``preload_release.LIMIT_STATES``).
+        released_motion: Largest motion of the object at a contact at zero load (from the
+            touching configuration: what the release moved it), over the largest contact
+            compression ``c_n / k`` [-] (None without a verification).
     """
 
-    status: Literal["found", "unverified", "infeasible"]
+    status: PreloadStatus
     command: dict[str, float] | None
     normal_forces: np.ndarray | None
     method: str
@@ -68,11 +96,33 @@ class PreloadChoice:
     unloadable_contacts: tuple[str, ...]
     unbalanced_actuators: tuple[str, ...]
     reason: str
+    released_states: tuple[str, ...] = ()
+    released_motion: float | None = None
 
     @property
     def found(self) -> bool:
-        """Commands found and verified."""
+        """Commands found and verified (their released state holds)."""
         return self.status == "found"
+
+    @property
+    def in_equilibrium(self) -> bool:
+        """The commands are a preload in equilibrium (``"found"``, or :data:`GIVES`: its
+        released state slides or separates somewhere, but it balances)."""
+        return self.status == "found" or self.status in GIVES
+
+    def _at_zero(self, state: str) -> tuple[str, ...]:
+        names = () if self.response is None else self.response.contact_names
+        return tuple(n for n, s in zip(names, self.released_states) if s == state)
+
+    @property
+    def sliding_at_zero(self) -> tuple[str, ...]:
+        """Contacts sliding (on their friction limit) in the released state, at zero load."""
+        return self._at_zero("sliding")
+
+    @property
+    def separated_at_zero(self) -> tuple[str, ...]:
+        """Contacts without normal force in the released state, at zero load."""
+        return self._at_zero("separated")
 
     def to_dict(self) -> dict:
         """Plain JSON-able dictionary."""
@@ -86,6 +136,12 @@ class PreloadChoice:
             "unloadable_contacts": list(self.unloadable_contacts),
             "unbalanced_actuators": list(self.unbalanced_actuators),
             "reason": self.reason,
+            "released_states": list(self.released_states),
+            "released_motion": None
+            if self.released_motion is None or not np.isfinite(self.released_motion)
+            else self.released_motion,
+            "sliding_at_zero": list(self.sliding_at_zero),
+            "separated_at_zero": list(self.separated_at_zero),
         }
 
 
@@ -289,6 +345,71 @@ def _verify(
     return resp, None
 
 
+def _gave(method: str, objective: str, design: tuple) -> PreloadChoice:
+    """The verdict (:data:`GIVES`) of a design that balances but whose released state gives."""
+    command, cn, resp, (status, gives), states, motion = design
+    consequence = (
+        "a small load makes the grasp give way (pinograsp.loading_path from this preload shows where)"
+        if status == "slides"
+        else "the preload holds on fewer contacts than designed"
+    )
+    return PreloadChoice(
+        status, command, cn, method, objective, resp, (), (),
+        f"the {method} preload stage is in equilibrium, but its released state already gives at "
+        f"zero load: {gives}; {consequence}: try the other objective, other command bounds, or "
+        "move the contacts",
+        states, motion,
+    )  # fmt: skip
+
+
+def _verified_design(
+    model: GraspModel,
+    unit: np.ndarray,
+    scale: float,
+    objective: str,
+    grip: float,
+    method: str,
+    settings: Settings | None,
+) -> PreloadChoice | None:
+    """The design with friction, then without, each verified by ``method`` at ``w = 0``: the
+    first whose released state holds (``"found"``), else the first that balances but gives
+    (:data:`GIVES`), else the last that the preload stage does not settle (``"unverified"``);
+    None when no design presses every contact."""
+    last, slid = None, None
+    for normal_only in (False, True):  # friction allowed first; then pressing without friction
+        design = _design(model, unit, objective, grip / scale, normal_only)
+        if design is None:
+            continue
+        f, cn = design[0] * scale, design[1] * scale
+        command = {n: 0.0 for n in model.all_actuator_names}
+        command.update({n: float(v) for n, v in zip(model.actuator_names, f)})
+        resp, failure = _verify(model, command, method, settings)
+        if failure is None and resp is not None:
+            states, motion = released(model, resp)
+            gives = gives_way(model, states, motion, method)
+            if gives is None:
+                how = "without friction" if normal_only else "with friction"
+                return PreloadChoice(
+                    "found", command, cn, method, objective, resp, (), (),
+                    f"every contact presses (smallest normal force {cn.min():.4g} N, {how}) and the "
+                    f"{method} preload stage is in equilibrium, every contact sticking",
+                    states, motion,
+                )  # fmt: skip
+            slid = slid or (command, cn, resp, gives, states, motion)  # the next design may hold
+            continue
+        last = (command, cn, resp, failure)
+    if slid is not None:
+        return _gave(method, objective, slid)
+    if last is not None:
+        command, cn, resp, failure = last
+        return PreloadChoice(
+            "unverified", command, cn, method, objective, resp, (), (),
+            f"the design balances, but the {method} preload stage {failure}"
+            + ("; method='prp' lets the object settle" if _held_still(method) else ""),
+        )  # fmt: skip
+    return None
+
+
 def equilibrium_preload(
     model: GraspModel,
     method: str = DEFAULT_METHOD,
@@ -315,6 +436,10 @@ def equilibrium_preload(
 
     Returns:
         A :class:`PreloadChoice`; ``choice.command`` goes straight into every analysis.
+        ``"found"`` only when the released state holds (every contact sticking at zero load:
+        ``choice.released_states``); ``"slides"`` (``"separates"``) when the commands balance
+        but a contact already slides (separates) at zero load (``choice.sliding_at_zero``,
+        ``choice.separated_at_zero``), or the object moved on release.
 
     Raises:
         ModelError: No driving actuator ("no actuator reaches a contact").
@@ -330,30 +455,9 @@ def equilibrium_preload(
     _require_actuators(model)
     scale = float(fmax.max())  # homogeneous: one solve with the largest bound 1, then scaled
     unit = fmax / scale
-    design, last = None, None
-    for normal_only in (False, True):  # friction allowed first; then pressing without friction
-        design = _design(model, unit, objective, grip / scale, normal_only)
-        if design is None:
-            continue
-        f, cn = design[0] * scale, design[1] * scale
-        command = {n: 0.0 for n in model.all_actuator_names}
-        command.update({n: float(v) for n, v in zip(model.actuator_names, f)})
-        resp, failure = _verify(model, command, method, settings)
-        if failure is None:
-            how = "without friction" if normal_only else "with friction"
-            return PreloadChoice(
-                "found", command, cn, method, objective, resp, (), (),
-                f"every contact presses (smallest normal force {cn.min():.4g} N, {how}) and the "
-                f"{method} preload stage is in equilibrium",
-            )  # fmt: skip
-        last = (command, cn, resp, failure)
-    if last is not None:
-        command, cn, resp, failure = last
-        return PreloadChoice(
-            "unverified", command, cn, method, objective, resp, (), (),
-            f"the design balances, but the {method} preload stage {failure}"
-            + ("; method='prp' lets the object settle" if _held_still(method) else ""),
-        )  # fmt: skip
+    verdict = _verified_design(model, unit, scale, objective, grip, method, settings)
+    if verdict is not None:
+        return verdict
     if objective == "least_norm":  # bounded by max_command?
         best = _design(model, unit, "balanced", 1.0, False)
         if best is not None:

@@ -25,14 +25,10 @@ import threading
 import time
 import warnings
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, ClassVar
+from typing import Any
 
-from ..core.query import Query
-from ..core.settings import DEFAULT_METHOD, METHODS, PATH_METHODS, Method
-from ..core.validate import choice, force, positive_number, whole_number
-from ..core.validate import steps as n_steps
+from ..core.validate import positive_number, whole_number
 from ..errors import InvalidInputError, MissingDependencyError
 from .executors import check_executor, run_chunks
 from .grasps import GraspSpec, build_grasp, rpy_of
@@ -40,8 +36,9 @@ from .journal import Journal, check_output, output_format, write_table
 from .pool import Interrupted, TaskFailure, interruptible
 from .resume import check_stamp, fingerprint, table_rows, write_stamp
 from .rows import POOL_REASONS, Status, classify
+from .scores import WorstAxisScore
 
-__all__ = ["Status", "output_format"]  # re-exported: pg.batch.evaluate.output_format
+__all__ = ["Status", "WorstAxisScore", "output_format"]  # re-exported: pg.batch.evaluate.output_format
 #: Score callable: ``score(model, command) -> {name: value}`` (floats; ``inf`` allowed).
 Score = Callable[[Any, dict[str, float]], Mapping[str, float]]
 
@@ -65,62 +62,6 @@ BASE_COLUMNS = (
 TIMING_COLUMNS = ("time_build", "time_preload", "time_score", "time_total")
 #: Columns after the score's.
 TAIL_COLUMNS = ("error_type", "error_message", "warnings", *TIMING_COLUMNS)
-
-
-@dataclass(frozen=True)
-class WorstAxisScore:
-    """Default score: the worst-case max resistible force over the signed force axes.
-
-    For each of ``±fx, ±fy, ±fz`` (``±fx, ±fy`` for planar models), the max resistible wrench
-    magnitude [N] (:func:`pinograsp.max_resistible_wrench` with ``upper``, ``steps``, ``method``;
-    ``inf`` when unbounded, ``upper`` when above the limit, 0 below the resolution). Returns
-    ``score`` (the smallest, [N]), ``unbounded_fraction`` (of the axes, in [0, 1]) and each
-    axis as ``max_+fx``, ``max_-fx``, ... [N].
-
-    Attributes:
-        upper: Search limit [N].
-        steps: Search steps (resolution ``upper / 2**steps``; small for speed).
-        method: ``"quasistatic"`` (default: the loading path's limit per axis; ``upper`` is
-            then only the cap of the score and ``steps`` does not apply), ``"iterative"``,
-            ``"prp"`` or ``"energetic"`` (maximum dissipation: one load-factor solve per axis,
-            ``search="direct"``), kept as a :class:`~pinograsp.core.settings.Method`.
-    """
-
-    upper: float = 50.0
-    steps: int = 6
-    method: Method | str = Method(DEFAULT_METHOD)
-
-    #: The columns of every table scored with it (planar models leave ``max_±fz`` NaN).
-    columns: ClassVar[tuple[str, ...]] = (
-        "score", "unbounded_fraction", "max_+fx", "max_-fx", "max_+fy", "max_-fy", "max_+fz", "max_-fz",
-    )  # fmt: skip
-    #: The values of a record that is not a grasp (no contact, no preload, ...): it resists nothing.
-    no_grasp: ClassVar[dict[str, float]] = dict.fromkeys(columns, 0.0)
-
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "method", Method(choice("method", self.method, METHODS)))
-        object.__setattr__(self, "upper", force("upper", self.upper, "N or N·m"))  # docs/errors.md
-        bounded = self.method not in PATH_METHODS  # the loading path does not bisect
-        object.__setattr__(self, "steps", n_steps(self.steps, bounded=bounded))
-
-    def __call__(self, model: Any, command: Mapping[str, float]) -> dict[str, float]:
-        from ..analysis.max_wrench import max_resistible_wrench
-        from ..analysis.response import PassiveSolver
-
-        axes = ("fx", "fy") if model.planar else ("fx", "fy", "fz")
-        mags: dict[str, float] = {}
-        unbounded = 0
-        query = Query(Method(self.method), self.upper, self.steps)
-        session = PassiveSolver(model)  # one per grasp: its preload stage is solved once
-        for k, direction in enumerate(s + a for a in axes for s in ("+", "-")):
-            first = k == 0
-            d = direction.lstrip("+")
-            mw = max_resistible_wrench(
-                model, command, d, session=session, query=query, check_preload_first=first
-            )
-            unbounded += bool(mw.unbounded)
-            mags[f"max_{direction}"] = 0.0 if mw.status == "below_resolution" else float(mw.magnitude)
-        return {"score": min(mags.values()), "unbounded_fraction": unbounded / len(mags), **mags}
 
 
 def _task(i: int, item: object) -> tuple[int, str, str, Any]:
@@ -203,7 +144,7 @@ def _empty_row(task: tuple[int, str, str, Any]) -> dict[str, Any]:
     index, gid, kind, payload = task
     row: dict[str, Any] = {"index": index, "id": gid, "source": "", "status": "error", "reason": ""}
     row.update({"n_contacts": 0, "command": "", **_pose_columns(None), "error_type": "", "error_message": ""})
-    row.update({"warnings": "", **dict.fromkeys(TIMING_COLUMNS, 0.0), "scores": {}})
+    row.update({"warnings": "", **dict.fromkeys(TIMING_COLUMNS, 0.0), "scores": {}, "statuses": {}})
     if kind == "spec":
         row["source"] = payload.hand
         row.update(_pose_columns(payload.object))
@@ -246,9 +187,10 @@ def evaluate_one(task: tuple[int, str, str, Any], score: Score) -> dict[str, Any
             row["n_contacts"] = int(model.nc)
             row["command"] = json.dumps({k: float(v) for k, v in command.items()})
             t1 = time.perf_counter()
-            row["scores"] = _score_values(score(model, command))
+            values = score(model, command)
+            row["scores"] = _score_values(values)
             row["time_score"] = time.perf_counter() - t1
-            row["status"] = "ok"
+            _answered(row, values)
         except Exception as exc:  # one bad grasp never stops the batch
             row["status"], row["reason"] = classify(exc)
             row["error_type"] = type(exc).__name__
@@ -259,6 +201,19 @@ def evaluate_one(task: tuple[int, str, str, Any], score: Score) -> dict[str, Any
     row["warnings"] = "; ".join(seen)
     row["time_total"] = time.perf_counter() - t0
     return row
+
+
+def _answered(row: dict[str, Any], values: object) -> None:
+    """Status of a scored row: ``"ok"``, or ``"partial"`` when some directions of the score did
+    not answer (its ``failures``: the first one's reason, every one's error in the row), and the
+    score's per-direction ``statuses``."""
+    statuses = getattr(values, "statuses", None) or {}
+    row["statuses"] = {str(k): str(v) for k, v in statuses.items()}
+    failures = tuple(getattr(values, "failures", ()) or ())
+    row["status"] = "partial" if failures else "ok"
+    if failures:
+        row["reason"], row["error_type"] = failures[0].reason, failures[0].error_type
+        row["error_message"] = "; ".join(f"{f.direction}: {f.error_type}: {f.message}" for f in failures)
 
 
 def _evaluate_chunk(chunk: Sequence[tuple], score: Score) -> list[dict[str, Any]]:
@@ -296,16 +251,28 @@ def score_columns(score: Score, rows: Sequence[dict[str, Any]]) -> list[str]:
     return list(names)
 
 
+def status_columns(score: Score, rows: Sequence[dict[str, Any]] = ()) -> list[str]:
+    """The score's per-direction status columns: its ``status_columns`` attribute if it has one,
+    then the ones the rows returned (text: ``"ok"``, a reason, or ``""``)."""
+    declared = getattr(score, "status_columns", None)
+    names: dict[str, None] = dict.fromkeys(declared if isinstance(declared, (tuple, list)) else ())
+    for r in rows:
+        names.update(dict.fromkeys(r.get("statuses") or {}))
+    return list(names)
+
+
 def results_frame(rows: Sequence[dict[str, Any]], score: Score) -> Any:
     """The table of rows (any order): sorted by ``index``, every column present, fixed dtypes."""
     pd = _pandas()
     rows = sorted(rows, key=lambda r: r["index"])
     names = score_columns(score, rows)
+    labels = status_columns(score, rows)
     table = []
     for r in rows:
-        table.append({k: v for k, v in r.items() if k != "scores"})
+        table.append({k: v for k, v in r.items() if k not in ("scores", "statuses")})
         table[-1].update({k: r["scores"].get(k, math.nan) for k in names})
-    columns = [*BASE_COLUMNS, *names, *TAIL_COLUMNS]
+        table[-1].update({k: (r.get("statuses") or {}).get(k, "") for k in labels})
+    columns = [*BASE_COLUMNS, *names, *labels, *TAIL_COLUMNS]
     df = pd.DataFrame(table, columns=columns)
     return df.astype({"index": "int64", "n_contacts": "int64", **dict.fromkeys(names, "float64")})
 
@@ -360,8 +327,10 @@ def evaluate_grasps(
 
     Returns:
         A ``pandas.DataFrame``, one row per grasp in input order: :data:`BASE_COLUMNS`, the
-        score's columns, :data:`TAIL_COLUMNS`. ``status`` is ``"ok"``, ``"no_grasp"`` (an
-        answer: score 0), ``"timeout"`` or ``"error"``, ``reason`` the typed cause
+        score's columns, its status columns (``status_<direction>``, text), :data:`TAIL_COLUMNS`.
+        ``status`` is ``"ok"``, ``"partial"`` (some directions did not answer: the others kept,
+        :mod:`pinograsp.batch.scores`), ``"no_grasp"`` (an answer: score 0), ``"timeout"`` or
+        ``"error"``, ``reason`` the typed cause
         (:mod:`pinograsp.batch.rows`); ``command`` the preload as JSON ``{actuator: value}``
         [N·m or N]; ``obj_*`` the object pose (hand base frame, [m] and roll-pitch-yaw [rad]).
 
@@ -416,7 +385,13 @@ def _finished(
         check_stamp(journal.table, digest)
     done = journal.start(digest, len(tasks), resume, (*BASE_COLUMNS, *TAIL_COLUMNS, "scores"))
     return (
-        table_rows(journal.table, tasks, score, (BASE_COLUMNS, TAIL_COLUMNS, TEXT_COLUMNS))
+        table_rows(
+            journal.table,
+            tasks,
+            score,
+            (BASE_COLUMNS, TAIL_COLUMNS, TEXT_COLUMNS),
+            tuple(status_columns(score)),
+        )
         if finished
         else done
     )

@@ -12,6 +12,7 @@ This module imports neither the solvers nor the URDF side until a grasp is built
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 from typing import Any, Literal, cast
@@ -166,7 +167,9 @@ class GraspSpec:
         max_steps: Step limit of the auto-close (a count).
         mu: Friction coefficient of every contact.
         stiffness: Normal stiffness of every contact [N/m].
-        command: ``"auto"`` (``pg.equilibrium_preload``), a number (every actuator) or
+        command: ``"auto"`` (``pg.equilibrium_preload``: its commands when ``"found"``, and
+            also when ``"slides"`` or ``"separates"``, with a :class:`~pinograsp.errors.PinograspWarning`
+            in the row's ``warnings``; else a ``no_preload`` row), a number (every actuator) or
             ``{actuator: value}`` [N·m or N].
         max_command: Bound of every command of the ``"auto"`` preload [N·m or N].
         preload_method: Whose preload stage ``"auto"`` verifies (:func:`pinograsp.equilibrium_preload`
@@ -373,7 +376,7 @@ def build_grasp(spec: GraspSpec) -> tuple[Any, dict[str, float], dict[str, float
     """
     import time
 
-    from ..errors import ModelError, NoPreloadError
+    from ..errors import ModelError, NoPreloadError, PinograspWarning
     from ..robots.grasp import grasp_model_from_scene
 
     t0 = time.perf_counter()
@@ -400,8 +403,10 @@ def build_grasp(spec: GraspSpec) -> tuple[Any, dict[str, float], dict[str, float
                 "carried by locked or undriven joints only)"
             )
         pre = equilibrium_preload(model, spec.preload_method, max_command=spec.max_command)
-        if pre.status != "found" or pre.command is None:
+        if not pre.in_equilibrium or pre.command is None:
             raise NoPreloadError(pre.reason, pre.status, pre.unloadable_contacts, pre.unbalanced_actuators)
+        if not pre.found:  # it balances, but gives at zero load: analysed as it is, and said
+            warnings.warn(f"equilibrium_preload: {pre.status}: {pre.reason}", PinograspWarning, stacklevel=2)
         command = dict(pre.command)
     elif isinstance(spec.command, tuple):
         command = {a: 0.0 for a in model.all_actuator_names} | dict(spec.command)

@@ -287,21 +287,23 @@ def table_rows(
     tasks: list[tuple],
     score: object,
     columns: tuple[tuple[str, ...], tuple[str, ...], tuple[str, ...]],
+    labels: tuple[str, ...] = (),
 ) -> dict[tuple[int, str], dict]:
     """The rows of a finished, stamped table ``{(index, id): row}`` for ``resume``
-    (``columns``: the base, tail and text columns of a batch table).
+    (``columns``: the base, tail and text columns of a batch table; ``labels``: the score's
+    per-direction status columns, text kept as ``row["statuses"]``).
 
     Raises:
         InvalidInputError: ``resume``: the table is not this batch's, or not readable as one.
     """
     base, tail, text = columns
     try:
-        df = read_table(path, text)
+        df = read_table(path, (*text, *labels))
     except Exception as exc:  # a damaged file: pandas/pyarrow raise their own types
         raise InvalidInputError(
             "resume", f"cannot read {str(path)!r} ({type(exc).__name__}): {_AFRESH}"
         ) from None
-    names = list(df.columns)[len(base) : len(df.columns) - len(tail)]
+    names = [c for c in list(df.columns)[len(base) : len(df.columns) - len(tail)] if c not in labels]
     declared = getattr(score, "columns", None)
     ends = (list(df.columns[: len(base)]), list(df.columns[len(df.columns) - len(tail) :]))
     ok = ends == (list(base), list(tail))
@@ -315,6 +317,7 @@ def table_rows(
             row = {c: rec[c] for c in (*base, *tail)}
             row.update(index=key[0], id=key[1], n_contacts=int(rec["n_contacts"]))
             row["scores"] = {k: float(rec[k]) for k in names}
+            row["statuses"] = {k: str(rec[k]) for k in labels if k in rec}
         except (TypeError, ValueError, KeyError):
             raise InvalidInputError("resume", f"{str(path)!r} has a damaged row: {_AFRESH}") from None
         if key not in keys:

@@ -3,6 +3,9 @@
 Every grasp of a batch ends as one row with a ``status``:
 
 - ``"ok"``: scored;
+- ``"partial"``: scored in some directions only: a direction raised an ``error`` (a solver
+  failure, ...), the others answered (the score's ``status_<direction>`` columns say which;
+  ``reason`` is the first failing direction's, ``error_message`` lists each);
 - ``"no_grasp"``: the record is not a grasp — nothing touches, a link is deep inside the
   object, no preload exists, the given preload does not balance — an answer about the grasp,
   scored as such (the score's ``no_grasp`` values: 0 for the default score);
@@ -35,9 +38,10 @@ from ..errors import (
     UnknownNameError,
 )
 
-#: Row status, coarse: scored, not a grasp (an answer), the opt-in time limit, a real error.
-Status = Literal["ok", "no_grasp", "timeout", "error"]
-STATUSES: tuple[str, ...] = ("ok", "no_grasp", "timeout", "error")
+#: Row status, coarse: scored, scored in some directions, not a grasp (an answer), the opt-in
+#: time limit, a real error.
+Status = Literal["ok", "partial", "no_grasp", "timeout", "error"]
+STATUSES: tuple[str, ...] = ("ok", "partial", "no_grasp", "timeout", "error")
 
 #: ``(exception class, status, reason)``: the first class the exception is an instance of wins.
 REASONS: tuple[tuple[type[BaseException], str, str], ...] = (
@@ -79,7 +83,7 @@ def reason_counts(table: Any) -> Any:
     Returns:
         A ``pandas.DataFrame`` with columns ``status``, ``reason``, ``rows``, ``fraction``
         (of the batch) and ``example`` (the first row's ``error_message``), ordered by status
-        (ok, no_grasp, timeout, error) then by count.
+        (ok, partial, no_grasp, timeout, error) then by count.
     """
     import pandas as pd
 

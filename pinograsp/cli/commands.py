@@ -248,6 +248,9 @@ def cmd_preload(args: argparse.Namespace) -> int:
         lines += ["", "normal forces of the design [N]:"]
         forces = () if choice.normal_forces is None else choice.normal_forces
         lines += [f"  {n:<24s} {f:12.6g}" for n, f in zip(scene.model.contact_names, forces)]
+    if choice.released_states:
+        lines += ["", "released state at zero load (the preload stage's end):"]
+        lines += [f"  {n:<24s} {s}" for n, s in zip(scene.model.contact_names, choice.released_states)]
     out.print(*lines)
     out.write_json("preload.json", data)
     out.finish(data)

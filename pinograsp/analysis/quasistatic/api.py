@@ -21,7 +21,7 @@ from .continuation import continue_past_limit
 from .events import path_events
 from .model import QSModel, build_qs_model
 from .path import MAX_SEGMENTS, StageRun, follow
-from .preload import PRELOAD_VARIANTS, preload_path
+from .preload import PRELOAD_VARIANTS, preload_path, released_states
 from .rates import EVENT_RTOL, StageSpec, State, force_scale
 from .result import LoadingPath, PathStatus
 
@@ -289,11 +289,13 @@ def build_path(
     segs = [s for s in run.segments if s.contact]
     k = len(states)
     cs, sf, am = [], [], []
+    if not segs:  # no load segment (up_to=0): the states of the state itself, not "separated"
+        cs0, sf0, am0 = released_states(qm, states[0], spec)
     for j in range(k):
         seg = segs[min(j, len(segs) - 1)] if segs else None
-        cs.append(seg.contact if seg else ("separated",) * qm.nc)
-        sf.append(seg.detail if seg else ((),) * qm.nc)
-        am.append(seg.actuator if seg else ("holding",) * qm.na)
+        cs.append(seg.contact if seg else cs0)
+        sf.append(seg.detail if seg else sf0)
+        am.append(seg.actuator if seg else am0)
     x = arrays["object_displacements"]
     run_loads = np.array([st.t for st in states])
     stiff = np.zeros(0)

@@ -27,7 +27,7 @@ from ...core.axes import WRENCH_AXES
 from ...errors import PreloadNotInEquilibriumError
 from .model import QSModel, finger_groups, with_friction_on
 from .path import StageRun, follow
-from .rates import EVENT_RTOL, StageSpec, State, force_scale
+from .rates import EVENT_RTOL, StageSpec, State, classify, force_scale
 
 #: The preload variants.
 PRELOAD_VARIANTS = ("held", "settled")
@@ -155,6 +155,32 @@ def _held_closing(qm: QSModel, fc: np.ndarray, max_segments: int) -> tuple[Stage
             f"frictionless nor with friction at {names}",
         )
     return closing, on
+
+
+def released_states(
+    qm: QSModel, start: State, spec: StageSpec
+) -> tuple[tuple[str, ...], tuple[tuple[int, ...], ...], tuple[str, ...]]:
+    """The states of the preloaded state ``start`` at zero load, read off its forces (the load
+    stage ``spec``'s force tolerance, :data:`~.rates.EVENT_RTOL` of its force scale): per
+    contact ``"separated"`` (no normal force: open, or touching without force),
+    ``"sliding"`` (pressed, on a face of its friction polygon: it reached its friction limit,
+    typically by sliding during the release; a load that pushes it on slides it) or
+    ``"sticking"`` (pressed, strictly inside its polygon); the faces it is on (nc,); per
+    actuator ``"holding"`` (non-backdrivable) or its kind. The states a path reports at its
+    zero-load breakpoint when it has no load segment (``up_to=0``)."""
+    cls = classify(qm, start.copy(), spec)  # classify zeroes low forces: of a copy
+    faces: list[list[int]] = [[] for _ in range(qm.nc)]
+    for f in cls.faces.tolist():
+        i = int(qm.face_contact[f])
+        if cls.pressed[i]:
+            faces[i].append(int(qm.face_index[f]))
+    contact = tuple(
+        "separated" if not cls.pressed[i] else ("sliding" if faces[i] else "sticking") for i in range(qm.nc)
+    )
+    detail = tuple(tuple(f) for f in faces)
+    kinds = qm.model.kinds
+    actuator = tuple("holding" if qm.nbd[a] else kinds[a] for a in range(qm.na))
+    return contact, detail, actuator
 
 
 def preload_path(
