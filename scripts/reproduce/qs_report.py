@@ -202,6 +202,16 @@ def disagreements(rows: list[dict], methods: list[str]) -> list[str]:
                     text += f" at {fp['upper']:g}: {fp['status']} {fp['load']})"
                 gw = giveway_text(p)
                 text += f"; {gw}" if gw else ""
+                g = p.get("giveway")
+                if g and r["sim"]["status"] != "held":
+                    from .validate_quasistatic import path_bounds, trace_load
+
+                    t_, r_ = path_bounds(g)
+                    at = trace_load(r["sim"], t_, r_)
+                    text += (
+                        f"; the simulated ramp moved {1e3 * t_:.3g} mm / {np.degrees(r_):.3g}° at"
+                        f" {'—' if at is None else f'{at:.4g}'}"
+                    )
                 facts = _qs_facts(p)
                 text += f"; path: {facts}" if facts else ""
             items.append(text)

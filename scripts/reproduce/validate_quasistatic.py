@@ -79,6 +79,34 @@ def _path_facts(lp: Any) -> dict[str, Any]:
     return out
 
 
+def trace_load(sim: dict[str, Any], slip: float, rotation: float) -> float | None:
+    """Applied load of the simulated ramp where the object first moved ``slip`` [m] or turned
+    ``rotation`` [rad], interpolated in log-load between the cached trace samples; None when
+    the trace never gets there."""
+    tr = sim.get("trace") or {}
+    a, t, r = (np.array([np.nan if v is None else v for v in tr.get(k, [])], dtype=float)
+               for k in ("applied", "translation", "rotation"))  # fmt: skip
+    if a.size < 2:
+        return None
+    u = np.fmax(t / slip, r / rotation)
+    hit = np.flatnonzero(u >= 1.0)
+    if not hit.size or hit[0] == 0 or not (a[hit[0] - 1] > 0):
+        return None
+    j = hit[0]
+    s = (1.0 - u[j - 1]) / (u[j] - u[j - 1])
+    return float(np.exp(np.log(a[j - 1]) + s * (np.log(a[j]) - np.log(a[j - 1]))))
+
+
+def path_bounds(g: dict[str, Any]) -> tuple[float, float]:
+    """The translation [m] and rotation [rad] at which the default answer's path gives way at
+    the latest: the thresholds, or the linearisation's range where that is tighter
+    (docs/giveway.md; the length scale is ``slip / rotation`` for the default thresholds)."""
+    from pinograsp.core.giveway import LINEAR_ROTATION, LINEAR_TRANSLATION
+
+    ell = g["slip"] / g["rotation"]
+    return min(g["slip"], LINEAR_TRANSLATION * ell), min(g["rotation"], LINEAR_ROTATION)
+
+
 def _answer(model: Any, command: Any, d: np.ndarray, upper: float) -> dict[str, Any]:
     """The default answer ``pg.max_resistible_wrench(model, command, d, upper=upper)`` (the
     give-way load, docs/giveway.md) and its record: reason, first limit λ*, snaps survived,
