@@ -122,7 +122,7 @@ def _answer(model: Any, command: Any, d: np.ndarray, upper: float) -> dict[str, 
         "magnitude": float(mw.magnitude),
         "time": time.perf_counter() - t0,
         "method": str(mw.method),
-        "limit": "giveway" if mw.giveway is not None else "first",
+        "answer": "giveway" if mw.giveway is not None else "first",
     }
     g = mw.giveway
     if g is not None:
