@@ -55,7 +55,8 @@ def answer(scene: pg.Scene, d: np.ndarray, preload: str | None, k: float) -> tup
         return "unbounded", lam
     if mw.status == "above_limit":
         return f"≥ {mw.upper:g}", lam
-    why = "" if g is None else f" ({SHORT.get(g.reason, g.reason)}{', %d snaps' % len(g.snaps) if g.snaps else ''})"
+    snaps = f", {len(g.snaps)} snaps" if g is not None and g.snaps else ""
+    why = "" if g is None else f" ({SHORT.get(g.reason, g.reason)}{snaps})"
     return f"{mw.magnitude:.4g}{why}", lam
 
 

@@ -80,7 +80,8 @@ def _cell(rs: list[dict], m: str) -> tuple[str, str]:
 
 def summary_table(rows: list[dict], methods: list[str], friction: str) -> list[str]:
     head = "| set | group | dirs | sim: gave way / gradual / held | " + " | ".join(
-        f"{title(m)}: same / wrong / no verdict | {title(m)}: within 10 % / finite · \\|diff\\| median / max %"
+        f"{title(m)}: same / wrong / no verdict"
+        f" | {title(m)}: within 10 % / finite · \\|diff\\| median / max %"
         for m in methods
     )
     lines = [head + " |", "|---|---|---:|---|" + "---:|---:|" * len(methods)]
@@ -113,7 +114,7 @@ def headline_lines(heads: list[dict]) -> list[str]:
             if f
             else "no finite pairs"
         )
-        out.append(f"- **{title(h['method'])}**, `friction=\"{h['friction']}\"`: {same}; {fin}")
+        out.append(f'- **{title(h["method"])}**, `friction="{h["friction"]}"`: {same}; {fin}')
     return out
 
 

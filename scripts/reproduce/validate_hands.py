@@ -289,7 +289,9 @@ def qs_counts(rows: list[dict], m: str) -> dict:
     """Same class, finite pairs (both give way, not both ≈ 0), those within :data:`WITHIN`,
     median |rel| of one column over ``rows``."""
     same = ("both hold", "both give way", "both ≈ 0")
-    rel = np.abs([r[m]["rel"] for r in rows if r[m]["verdict"] == "both give way" and r[m]["rel"] is not None])
+    rel = np.abs(
+        [r[m]["rel"] for r in rows if r[m]["verdict"] == "both give way" and r[m]["rel"] is not None]
+    )
     return {
         "directions": len(rows),
         "same": sum(r[m]["verdict"] in same for r in rows),
@@ -302,7 +304,8 @@ def qs_counts(rows: list[dict], m: str) -> dict:
 def qs_table(results: dict[str, list[dict]]) -> list[str]:
     """Per hand and over all: the default answer and λ* side by side."""
     lines = [
-        "| hand | directions | default: same class | default: within 10 % / finite | default: median \\|diff\\|"
+        "| hand | directions | default: same class | default: within 10 % / finite"
+        " | default: median \\|diff\\|"
         " | λ*: same class | λ*: within 10 % / finite | λ*: median \\|diff\\| |",
         "|---|---:|---:|---:|---:|---:|---:|---:|",
     ]
