@@ -28,7 +28,9 @@ method"): ``python -m benchmarks.quasistatic_ratios`` (speed per grasp size agai
 iterative and energetic methods, the case-2 resistance set, where the time goes),
 ``python -m benchmarks.quasistatic_batch`` (``evaluate_grasps`` on sampled Barrett grasps, 26
 directions each), ``python -m benchmarks.quasistatic_bits`` (answers bit for bit: the guard of
-speed work) and ``python benchmarks/quasistatic_speed.py``.
+speed work) and ``python benchmarks/quasistatic_speed.py``. The give-way answer (issue 31):
+``python -m benchmarks.giveway_stiffness`` (the default answer at contact stiffness 1e4-1e7 N/m
+on the built-in scenes and hands, λ* beside it; docs/validation_quasistatic.md, "Stiffness").
 
 No benchmark asserts a time (tests never do either, docs/design.md); the tables go into the
 docs by hand. The scripts that regenerate the documented numbers (docs/results.md,

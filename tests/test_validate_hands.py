@@ -78,3 +78,37 @@ def test_report_counts_each_method_over_the_directions_it_ran_on(monkeypatch):
     table = "\n".join(vh._scene_table("hand", rows))
     assert table.count("not run") == 36 and table.count("(class differs)") == 1
     assert vh._pred_text(rows[1]["iterative"]) == "not run"
+
+
+def test_the_live_column_is_the_default_answer_itself():
+    """The quasi-static column is ``scene.max_resistible_wrench(d)`` at its defaults (the give-way
+    answer), its verdict the plain comparison with the cached simulation (no threshold rescue),
+    and λ* (``giveway.first_limit``) is a column of its own."""
+    rows = vh.add_live("ezgripper", _cache("ezgripper")["rows"], 24)
+    scene = pg.load_scene("ezgripper")
+    label, d = vh.VM._directions(scene, 24)[1]  # 15°: λ* unbounded, gives way gradually in rotation
+    mw = scene.max_resistible_wrench(d)
+    live, first = rows[1][vh.LIVE], rows[1][vh.FIRST]
+    assert label == "15°" and mw.method == "quasistatic" and mw.giveway is not None
+    assert (live["status"], live["magnitude"]) == ("finite", pytest.approx(float(mw.magnitude)))
+    assert live["giveway"]["reason"] == "rotation" and first["status"] == "unbounded"
+    assert (live["verdict"], first["verdict"]) == ("both give way", "predicted holds")
+    assert live["rel"] == pytest.approx(rows[1]["sim"]["load"] / mw.magnitude - 1.0)
+    assert "via" not in live
+
+
+@pytest.mark.parametrize(
+    ("name", "default", "first"),
+    [  # (same class, finite pairs, within 10 %) of the default answer and of λ*, 24 directions
+        ("ezgripper", (24, 23, 5), (13, 12, 5)),
+        ("talos_gripper", (7, 0, 0), (7, 0, 0)),
+        ("hey5", (24, 15, 10), (24, 15, 10)),
+    ],
+)
+def test_measured_counts_of_the_default_and_of_lambda_star(name, default, first):
+    """The counts documented in docs/validation.md ("Built-in hands") and
+    docs/validation_quasistatic.md."""
+    rows = vh.add_live(name, _cache(name)["rows"], 24)
+    for m, want in ((vh.LIVE, default), (vh.FIRST, first)):
+        c = vh.qs_counts(rows, m)
+        assert (c["same"], c["finite"], c["within"]) == want, m

@@ -106,8 +106,10 @@ def section(qs_cases: list[Case], seconds: float, only: bool) -> list[str]:
     lines = [
         SECTION,
         "",
-        'The column "quasi-static" answers each question with `method="quasistatic"` (the limit λ* of '
-        "the loading path, [`methods.md`](methods.md)): the same scenes, preloads, directions and "
+        'The column "quasi-static" answers each question with `method="quasistatic"`, the default: the '
+        "load at which the object gives way along the loading path, snaps that land followed "
+        "([`giveway.md`](giveway.md); the path's first limit λ* is `MaxWrench.first_limit`): the same "
+        "scenes, preloads, directions and "
         "`upper`, no bisection (the scene's `steps` do not apply), the held preload as the scene's "
         "(`preload-first`) and the settled one (`settled-preload`) where the row compares them. A "
         "finite λ* above `upper` is reported as it is (the paper's methods stop at `upper`). "

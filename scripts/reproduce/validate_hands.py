@@ -77,48 +77,44 @@ def _predict(scene: object, d: np.ndarray, method: str) -> dict:
 LIVE = "quasistatic"
 
 
+#: The old answer λ* (the path's first limit) beside the default, as a column of its own.
+FIRST = "first_limit"
+#: A finite pair agrees when |simulated / predicted − 1| is at most this.
+WITHIN = 0.10
+
+
 def _predict_live(scene: object, d: np.ndarray) -> dict:
-    """The quasi-static prediction of one direction, as a cached method's: a limit above the
-    scene's ``upper`` is ``"above_limit"`` (the simulation is not asked beyond ``upper``)."""
-    pred = _predict(scene, d, LIVE)
+    """The default answer itself, ``scene.max_resistible_wrench(d)`` (the give-way load at the
+    scene's ``upper``, docs/giveway.md), as a cached method's record with its give-way record; a
+    finite load above ``upper`` is ``"above_limit"`` (the simulation is not asked beyond it)."""
+    t0 = time.perf_counter()
     upper = float(scene.analysis.upper)  # type: ignore[attr-defined]
-    pred["upper"] = upper
+    try:
+        mw = scene.max_resistible_wrench(d)  # type: ignore[attr-defined]
+    except pg.PinograspError as exc:
+        return {"status": type(exc).__name__, "magnitude": float("nan"), "upper": upper, "wedging": False,
+                "wedge_from": None, "t": time.perf_counter() - t0, "error": str(exc)[:300]}  # fmt: skip
+    pred = {"status": str(mw.status), "magnitude": float(mw.magnitude), "upper": upper, "wedging": False,
+            "wedge_from": None, "t": time.perf_counter() - t0, "method": str(mw.method)}  # fmt: skip
     if pred["status"] == "finite" and pred["magnitude"] > upper:
         pred["status"] = "above_limit"
+    if mw.giveway is not None:
+        pred["giveway"] = mw.giveway.to_dict()
     return pred
 
 
-def _threshold_load(scene: object, d: np.ndarray, fraction: float) -> float | None:
-    """The quasi-static path's load where the object has moved ``fraction`` of the simulation's
-    give-way thresholds (its defaults for this direction and upper, docs/simulation.md), with
-    the contact springs scaled to the simulation's stiffness (``load_at_displacement``)."""
-    from pinograsp.sim.simulate import _options
-
-    model = scene.model  # type: ignore[attr-defined]
-    upper = float(scene.analysis.upper)  # type: ignore[attr-defined]
-    o = _options(model, np.asarray(d, float), upper, {})
-    try:
-        lp = pg.loading_path(model, scene.command, d)  # type: ignore[attr-defined]
-        at = lp.load_at_displacement(fraction * o.slip, stiffness=o.stiffness, rotation=fraction * o.rotation)
-        return float(at)
-    except pg.PinograspError:
-        return None
-
-
-def _verdict_live(scene: object, d: np.ndarray, pred: dict, sim: dict) -> tuple[str, float | None]:
-    """As ``VM._compare``, and as ``validate_quasistatic.classify``: where the simulation gives
-    way and the path holds, the path also gives way when it moves as far as the simulation's own
-    criterion below ``upper`` (its thresholds for a sharp give-way, a tenth of them for a
-    gradual one); then ``pred["via"]`` is that load and the difference is taken to it."""
-    verdict, rel = VM._compare(pred, sim)
-    if verdict != "predicted holds":
-        return verdict, rel
-    crit = _threshold_load(scene, d, 0.1 if sim["status"] == "gradual" else 1.0)
-    if crit is None or not crit < pred["upper"]:
-        return verdict, rel
-    pred["via"] = crit
-    at = sim["onset"] if sim["status"] == "gradual" else sim["load"]  # a tenth of the thresholds: the onset
-    return "both give way", (at / crit - 1.0 if crit > 0 and at and at > 0 else None)
+def _first_pred(pred: dict) -> dict:
+    """λ* of a live record (``giveway.first_limit``) as a prediction record of its own."""
+    g = pred.get("giveway") or {}
+    lam, st = g.get("first_limit"), g.get("first_status", pred["status"])
+    out = {**{k: pred[k] for k in ("upper", "wedging", "wedge_from", "t")}, "status": st}
+    if st == "unbounded" or lam is None:
+        out.update(status="unbounded", magnitude=float("inf"))
+    else:
+        out["magnitude"] = float(lam)
+        if st == "finite" and lam > out["upper"]:
+            out["status"] = "above_limit"
+    return out
 
 
 def _matches(label: str, row: dict) -> bool:
@@ -127,8 +123,9 @@ def _matches(label: str, row: dict) -> bool:
 
 
 def add_live(name: str, rows: list[dict], n: int = 12) -> list[dict]:
-    """``rows`` (cached) with the live quasi-static prediction and its verdict on each row
-    (the rows are the directions of :func:`run_hand`, in order)."""
+    """``rows`` (cached) with the live default answer and its λ* on each row, each with its verdict
+    against the cached simulation (``VM._compare``: no rescue, the answer itself) (the rows are
+    the directions of :func:`run_hand`, in order)."""
     scene = pg.load_scene(name)
     dirs = VM._directions(scene, n)
     if len(dirs) != len(rows) or any(not _matches(lab, r) for (lab, _), r in zip(dirs, rows)):
@@ -136,8 +133,10 @@ def add_live(name: str, rows: list[dict], n: int = 12) -> list[dict]:
     out = []
     for (_, d), row in zip(dirs, rows):
         pred = _predict_live(scene, d)
-        pred["verdict"], pred["rel"] = _verdict_live(scene, d, pred, row["sim"])
-        out.append({**row, LIVE: pred})
+        first = _first_pred(pred)
+        for p in (pred, first):
+            p["verdict"], p["rel"] = VM._compare(p, row["sim"])
+        out.append({**row, LIVE: pred, FIRST: first})
     return out
 
 
@@ -145,11 +144,8 @@ _PRED_TEXT = VM._pred_text
 
 
 def _pred_text(p: dict) -> str:
-    """A prediction's cell; a path that reaches the simulation's threshold says at which load."""
-    if p["verdict"] == "not run":
-        return "not run"
-    text = _PRED_TEXT(p)
-    return text if p.get("via") is None else f"{text}; at the threshold {p['via']:.4g}"
+    """A prediction's cell ("not run" where the method was not run in that direction)."""
+    return "not run" if p.get("verdict") == "not run" else _PRED_TEXT(p)
 
 
 VM._pred_text = _pred_text
@@ -225,7 +221,7 @@ def report(results: dict[str, list[dict]], meta: dict[str, dict]) -> list[str]:
     """The markdown section: summary per hand and method, one table per hand, disagreements
     (the live quasi-static column first: ``VM.METHODS`` is this script's own copy)."""
     if LIVE not in VM.METHODS:
-        VM.METHODS = (LIVE, *VM.METHODS)
+        VM.METHODS = (LIVE, FIRST, *VM.METHODS)
     summaries = summarize_all(results)
     when = ", ".join(f"{k} {v['date']} ({v['elapsed']:.0f} s{_extended(v)})" for k, v in meta.items())
     n = {len(rows) for rows in results.values()}
@@ -243,8 +239,12 @@ def report(results: dict[str, list[dict]], meta: dict[str, dict]) -> list[str]:
         f' {360 // max(ran)}° ("not run" in the others, which were simulated only: `--extend`), so their'
         " counts are over those. Same"
         f" procedure and classes as above; energetic capped at `max_nodes={ENERGETIC_NODES}` (a node limit,"
-        " or a solver failure, is no verdict). The quasi-static column is computed live when the report is"
-        f" written ({_live_stamp()}) against the cached simulations; its limit above `upper` counts as held."
+        " or a solver failure, is no verdict). The quasi-static column is the default answer itself,"
+        " `scene.max_resistible_wrench(d)` (the load at which the object gives way by the simulation's"
+        " thresholds at the scene's `upper`, [`giveway.md`](giveway.md); no `load_at_displacement` by hand),"
+        f" computed live when the report is written ({_live_stamp()}) against the cached simulations"
+        " (the default circular cone, `pg.simulate_max_wrench(scene, d)`); a load above `upper` counts as"
+        " held. Column `first_limit`: the path's first limit λ*, the answer before the give-way default."
         " Why the methods disagree, and which to trust:"
         " [`hands.md`](hands.md#when-the-methods-disagree).",
         "",
@@ -252,10 +252,12 @@ def report(results: dict[str, list[dict]], meta: dict[str, dict]) -> list[str]:
     lines += [f"- {name}: {_facts(name)}" for name in results]
     lines += ["", *VM._summary_table(summaries), ""]
     lines += [f"- {VM.summary_line(s)}" for s in summaries]
-    lines += ["", _via_line(results)]
+    lines += ["", "Default answer and λ* in short:", "", *qs_table(results)]
     for name, rows in results.items():
         lines += [line.replace("## ", "### ", 1) for line in _scene_table(name, rows)]
     lines += [line.replace("## Class", "### Built-in hands: class", 1) for line in VM._disagreements(results)]
+    lines += ["", "### Built-in hands: every disagreement of the default answer (generated)", ""]
+    lines += qs_disagreements(results) or ["None."]
     return [*lines, "", END]
 
 
@@ -283,17 +285,65 @@ def summarize_all(results: dict[str, list[dict]]) -> list[dict]:
     ]
 
 
-def _via_line(results: dict[str, list[dict]]) -> str:
-    """How many quasi-static verdicts came through the simulation's threshold, per hand."""
-    via = {name: sum(r[LIVE].get("via") is not None for r in rows) for name, rows in results.items()}
+def qs_counts(rows: list[dict], m: str) -> dict:
+    """Same class, finite pairs (both give way, not both ≈ 0), those within :data:`WITHIN`,
+    median |rel| of one column over ``rows``."""
     same = ("both hold", "both give way", "both ≈ 0")
-    strict = {n: sum(r[LIVE]["verdict"] in same for r in rows) - via[n] for n, rows in results.items()}
-    parts = ", ".join(f"{n} {via[n]} (by λ* alone {strict[n]}/{len(results[n])})" for n in results)
-    return (
-        "Quasi-static directions in the simulation's class through its threshold (the path has no limit"
-        " below `upper` but moves the object as far as the simulation's give-way criterion there: its"
-        f" thresholds, a tenth of them for a gradual give-way): {parts}."
+    rel = np.abs(
+        [r[m]["rel"] for r in rows if r[m]["verdict"] == "both give way" and r[m]["rel"] is not None]
     )
+    return {
+        "directions": len(rows),
+        "same": sum(r[m]["verdict"] in same for r in rows),
+        "finite": int(rel.size),
+        "within": int(np.sum(rel <= WITHIN)),
+        "median": float(np.median(rel)) if rel.size else None,
+    }
+
+
+def qs_table(results: dict[str, list[dict]]) -> list[str]:
+    """Per hand and over all: the default answer and λ* side by side."""
+    lines = [
+        "| hand | directions | default: same class | default: within 10 % / finite"
+        " | default: median \\|diff\\|"
+        " | λ*: same class | λ*: within 10 % / finite | λ*: median \\|diff\\| |",
+        "|---|---:|---:|---:|---:|---:|---:|---:|",
+    ]
+    every = [r for rows in results.values() for r in rows]
+    for name, rows in [*results.items(), ("**all**", every)]:
+        cells = []
+        for m in (LIVE, FIRST):
+            c = qs_counts(rows, m)
+            cells += [f"{c['same']}", f"{c['within']} / {c['finite']}", VM._pct(c["median"])]
+        lines.append(f"| {name} | {len(rows)} | " + " | ".join(cells) + " |")
+    return lines
+
+
+def qs_disagreements(results: dict[str, list[dict]]) -> list[str]:
+    """Every direction where the default answer's class differs or its load is more than
+    :data:`WITHIN` from the simulated one, with its give-way record."""
+    out = []
+    for name, rows in results.items():
+        for r in rows:
+            p = r[LIVE]
+            bad = p["verdict"] in ("predicted holds", "simulation holds", "no verdict")
+            if not (bad or (p["rel"] is not None and abs(p["rel"]) > WITHIN)):
+                continue
+            what = p["verdict"] if bad else f"{100 * p['rel']:+.1f} %"
+            g = p.get("giveway") or {}
+            text = (
+                f"- {name} {r['direction']}: simulated {VM._sim_text(r['sim'])}, default {VM._pred_text(p)}"
+                f" (λ* {VM._pred_text(r[FIRST])}) — {what}"
+            )
+            if g:
+                snaps = ", ".join(f"{a:.4g}→{b:.4g}" for a, b in g["snaps"]) or "none"
+                text += (
+                    f"; reason {g['reason']}, snaps survived {snaps}, at the give-way"
+                    f" {1e3 * g['translation']:.3g} mm / {np.degrees(g['turned']):.3g}° (thresholds"
+                    f" {1e3 * g['slip']:.3g} mm / {np.degrees(g['rotation']):.3g}°)"
+                )
+            out.append(text)
+    return out
 
 
 def _live_stamp() -> str:

@@ -2,27 +2,26 @@
 
 Loads the simulation references (``data/qs_sim.jsonl``, written by ``qs_references.py sim``)
 and the cached predictions of the paper's methods (``data/qs_methods.jsonl``), runs the
-methods asked for that are not cached (``"quasistatic"`` always live: through
-``pg.quasistatic_max_wrench`` when the package has it, else ``pg.max_resistible_wrench(...,
-method="quasistatic")``), and compares each direction with the simulation:
+methods asked for that are not cached (``"quasistatic"`` always live: the **default answer
+itself**, ``pg.max_resistible_wrench(model, command, d, upper=U)`` — the load at which the
+object gives way by the simulation's own thresholds, docs/giveway.md — at the ``upper`` U of the
+simulation record), and compares each direction with the simulation:
 
 - **class**: the simulation holds up to ``upper`` (``held``) or gives way (``gave_way``,
   ``gradual``); a prediction holds when it is ``unbounded``/``above_limit`` or finite at or
   above ``upper``, gives way when finite below it (``below_resolution`` included). Same class,
   wrong class, or **no verdict** (node limit, solver failure, a quasi-static stop without a
-  limit, not run);
-- **sharp give-ways** (simulation ``gave_way``, prediction finite): ``simulated / predicted - 1``,
-  median and max of its absolute value, directions where both are below 1e-3 of ``upper``
-  counted apart ("both ≈ 0");
-- **gradual give-ways** (simulation ``gradual``, the object sways before it breaks): for the
-  quasi-static method the load at which its loading path has moved the simulation's threshold
-  ``slip_threshold`` with the contact springs scaled to the simulation's ``stiffness``
-  (``LoadingPath.load_at_displacement``), against the simulated load; a path that reaches the
-  threshold below ``upper`` is a give-way (same class) even when its limit load is higher.
+  verdict, not run);
+- **magnitudes** where both give way (sharp and gradual simulated give-ways alike):
+  ``simulated / predicted - 1``; the share within 10 %, median and max of its absolute value;
+  directions where both are below 1e-3 of ``upper`` counted apart ("both ≈ 0");
+- the old answer λ* (the loading path's first limit, ``MaxWrench.giveway.first_limit``) in the
+  column ``first_limit`` beside the default, compared the same way, so the change is visible.
 
-Writes a markdown section (summary per scene and per contact count, methods side by side, one
-table per friction model of the simulation; the disagreements of each method with the
-simulation's numbers and, for the quasi-static method, the states where its path ended).
+Writes a markdown section (the headline counts, a summary per scene and per contact count,
+methods side by side, one table per friction model of the simulation; the disagreements of each
+method with the simulation and, for the default answer, its give-way record: reason, first
+limit, snaps, the object's motion at the give-way, and the states where its path ended).
 
 Usage::
 
@@ -80,34 +79,16 @@ def _path_facts(lp: Any) -> dict[str, Any]:
     return out
 
 
-def _lad(lp: Any, sim: dict[str, Any], fraction: float = 1.0) -> float | str | None:
-    """The path's load at ``fraction`` of the simulation's give-way thresholds (translation of
-    the reference point and rotation, the contact springs scaled to its stiffness)."""
-    rot = sim.get("rotation_threshold")
-    try:
-        lad = lp.load_at_displacement(
-            fraction * sim["slip_threshold"],
-            stiffness=sim["stiffness"],
-            rotation=None if rot is None else fraction * rot,
-        )
-    except Exception as exc:  # noqa: BLE001 - recorded, the harness goes on
-        return f"{type(exc).__name__}: {str(exc)[:200]}"
-    return float(lad) if lad is not None else None
-
-
-#: Fraction of the simulation's thresholds where the load-displacement curves are compared.
-CURVE = 0.01
-
-
-def trace_load(sim: dict[str, Any], fraction: float = CURVE) -> float | None:
-    """Applied load of the simulated ramp where the object first moved ``fraction`` of a
-    threshold (translation or rotation), interpolated in log-load between trace samples."""
+def trace_load(sim: dict[str, Any], slip: float, rotation: float) -> float | None:
+    """Applied load of the simulated ramp where the object first moved ``slip`` [m] or turned
+    ``rotation`` [rad], interpolated in log-load between the cached trace samples; None when
+    the trace never gets there."""
     tr = sim.get("trace") or {}
     a, t, r = (np.array([np.nan if v is None else v for v in tr.get(k, [])], dtype=float)
                for k in ("applied", "translation", "rotation"))  # fmt: skip
     if a.size < 2:
         return None
-    u = np.fmax(t / sim["slip_threshold"], r / sim["rotation_threshold"]) / fraction
+    u = np.fmax(t / slip, r / rotation)
     hit = np.flatnonzero(u >= 1.0)
     if not hit.size or hit[0] == 0 or not (a[hit[0] - 1] > 0):
         return None
@@ -116,37 +97,93 @@ def trace_load(sim: dict[str, Any], fraction: float = CURVE) -> float | None:
     return float(np.exp(np.log(a[j - 1]) + s * (np.log(a[j]) - np.log(a[j - 1]))))
 
 
-def _lads(lp: Any, sim: dict[str, Any]) -> dict[str, Any]:
-    """At the thresholds (the simulation's give-way), at a tenth of them (its onset) and at
-    :data:`CURVE` of them (the load-displacement curves, small motions)."""
-    return {"thr": _lad(lp, sim), "onset": _lad(lp, sim, 0.1), "curve": _lad(lp, sim, CURVE)}
+def path_bounds(g: dict[str, Any]) -> tuple[float, float]:
+    """The translation [m] and rotation [rad] at which the default answer's path gives way at
+    the latest: the thresholds, or the linearisation's range where that is tighter
+    (docs/giveway.md; the length scale is ``slip / rotation`` for the default thresholds)."""
+    from pinograsp.core.giveway import LINEAR_ROTATION, LINEAR_TRANSLATION
+
+    ell = g["slip"] / g["rotation"]
+    return min(g["slip"], LINEAR_TRANSLATION * ell), min(g["rotation"], LINEAR_ROTATION)
+
+
+def _answer(model: Any, command: Any, d: np.ndarray, upper: float) -> dict[str, Any]:
+    """The default answer ``pg.max_resistible_wrench(model, command, d, upper=upper)`` (the
+    give-way load, docs/giveway.md) and its record: reason, first limit λ*, snaps survived,
+    the object's motion at the give-way, the stiffness and thresholds used."""
+    t0 = time.perf_counter()
+    try:
+        mw = pg.max_resistible_wrench(model, command, d, upper=upper)
+    except pg.PinograspError as exc:
+        return {"status": "error", "magnitude": None, "time": time.perf_counter() - t0,
+                "error": f"{type(exc).__name__}: {str(exc)[:300]}"}  # fmt: skip
+    out: dict[str, Any] = {
+        "status": str(mw.status),
+        "magnitude": float(mw.magnitude),
+        "time": time.perf_counter() - t0,
+        "method": str(mw.method),
+        "answer": "giveway" if mw.giveway is not None else "first",
+    }
+    g = mw.giveway
+    if g is not None:
+        out["giveway"] = {
+            "reason": g.reason,
+            "first_limit": float(g.first_limit),
+            "first_status": g.first_status,
+            "snaps": [list(map(float, s)) for s in g.snaps],
+            "translation": float(g.translation),
+            "turned": float(g.turned),
+            "stiffness": float(g.stiffness),
+            "slip": float(g.slip),
+            "rotation": float(g.rotation),
+            "note": g.note,
+        }
+    return out
+
+
+def first_limit(rec: dict[str, Any] | None) -> dict[str, Any] | None:
+    """The old answer λ* (the path's first limit) of a default-answer record, as a prediction
+    record (status, magnitude): ``None`` where the record has no give-way record."""
+    g = (rec or {}).get("giveway")
+    if not g:
+        return None
+    st, lam = g["first_status"], g["first_limit"]
+    if st == "unbounded" or lam is None or not np.isfinite(lam):
+        return {"status": "unbounded", "magnitude": float("inf")}
+    if st in ("finite", "below_resolution"):
+        return {"status": "finite" if lam > 0 else "below_resolution", "magnitude": float(lam)}
+    return {"status": st, "magnitude": float(lam)}
+
+
+def at_upper(pred: dict[str, Any] | None, sim: dict[str, Any]) -> dict[str, Any] | None:
+    """The default answer computed at the simulation record's ``upper`` (a refined record's own,
+    else the case's): the thresholds scale with ``upper`` in both."""
+    if pred is None or "by_upper" not in pred:
+        return pred
+    base = {k: v for k, v in pred.items() if k != "by_upper"}
+    return {**base, **pred["by_upper"].get(_ukey(sim["upper"]), {})}
+
+
+def _ukey(upper: float) -> str:
+    return f"{float(upper):.6g}"
 
 
 def run_quasistatic(case: Case, sims: dict[str, dict[str, Any]]) -> dict[str, Any]:
-    """One live quasi-static prediction: the loading path, its limit as a MaxWrench, its facts
-    and its load at the simulation's give-way threshold (per friction model simulated)."""
+    """The live default answer of one case at the case's ``upper`` and at the ``upper`` of each
+    simulation record that differs (a refinement pass), with the loading path's facts."""
     scene, model, command = case.build()
     d = np.asarray(case.direction)
     rec: dict[str, Any] = {"key": case.key, "method": "quasistatic"}
-    t0 = time.perf_counter()
+    rec.update(_answer(model, command, d, case.upper))
+    uppers = {_ukey(s["upper"]): float(s["upper"]) for s in sims.values() if s.get("upper")}
+    rec["by_upper"] = {_ukey(case.upper): {k: v for k, v in rec.items() if k not in ("key", "method")}}
+    for k, up in uppers.items():
+        if k not in rec["by_upper"]:
+            rec["by_upper"][k] = _answer(model, command, d, up)
     try:
-        if hasattr(pg, "loading_path"):
-            lp = pg.loading_path(model, command, d)
-            mw = pg.quasistatic_max_wrench(model, command, d, path=lp)
-        else:  # through the method registry only
-            lp, mw = None, pg.max_resistible_wrench(model, command, d, method="quasistatic", upper=case.upper)
+        rec.update(_path_facts(pg.loading_path(model, command, d)))
     except pg.PinograspError as exc:
-        rec.update(
-            status="error",
-            magnitude=None,
-            time=time.perf_counter() - t0,
-            error=f"{type(exc).__name__}: {str(exc)[:300]}",
-        )
-        return rec
-    rec.update(status=str(mw.status), magnitude=float(mw.magnitude), time=time.perf_counter() - t0)
-    if lp is not None:
-        rec.update(_path_facts(lp))
-        rec["lad"] = {fr: _lads(lp, sim) for fr, sim in sims.items() if sim.get("slip_threshold")}
+        rec["path_error"] = f"{type(exc).__name__}: {str(exc)[:200]}"
     return rec
 
 
@@ -161,7 +198,7 @@ def ratio_study(sel: list[Case], ratios: list[float], energetic: dict[str, dict]
     ]
     base: dict[str, float] = {}
     for r in sorted(ratios, key=lambda x: x != 1.0):
-        settings = pg.Settings(tangential_ratio=r)
+        settings = pg.Settings(tangential_ratio=r, limit="first")  # λ*, the first limit
         for scene in dict.fromkeys(c.group for c in sel):
             cs = [c for c in sel if c.group == scene]
             counts = {"finite": 0, "unbounded": 0, "below_resolution": 0, "other": 0}
@@ -193,6 +230,20 @@ def ratio_study(sel: list[Case], ratios: list[float], energetic: dict[str, dict]
     return lines
 
 
+#: The column of the old answer λ*, the path's first limit (``MaxWrench.giveway.first_limit``).
+FIRST = "first_limit"
+
+
+def methods_shown(methods: list[str]) -> list[str]:
+    """The methods' columns: λ* right after the quasi-static default where that one is run."""
+    out = []
+    for m in methods:
+        out.append(m)
+        if m == "quasistatic":
+            out.append(FIRST)
+    return out
+
+
 def run_live(method: str, case: Case, sims: dict[str, dict[str, Any]]) -> dict[str, Any]:
     if method == "quasistatic":
         return run_quasistatic(case, sims)
@@ -201,23 +252,19 @@ def run_live(method: str, case: Case, sims: dict[str, dict[str, Any]]) -> dict[s
         return predict(case, method)
 
 
-def classify(pred: dict[str, Any] | None, sim: dict[str, Any], friction: str) -> dict[str, Any]:
+def classify(pred: dict[str, Any] | None, sim: dict[str, Any]) -> dict[str, Any]:
     """Verdict of one prediction against one simulation record.
 
-    The class is the prediction's limit load against ``upper``, with "≈ 0" (below
-    :data:`ZERO` of ``upper``: not resisted at all) a class of its own among the give-ways.
-    For a prediction with a loading path, a give-way of the simulation also counts as the
-    same class when the path moves as far as the simulation's own criterion below ``upper``
-    (``via = "threshold"``): its thresholds for a sharp give-way, a tenth of them for a
-    gradual one (the simulation calls a give-way gradual when the object has moved more than
-    a tenth of a threshold at the largest load it holds). Magnitudes: ``rel`` (sharp
-    give-ways) simulated / predicted λ* - 1; ``rel_lad`` simulated load / the path's load at
-    the thresholds - 1; ``rel_onset`` the simulation's onset load / the path's load at a
-    tenth of the thresholds - 1; ``rel_curve`` the ramp's load where the object had moved
-    :data:`CURVE` of a threshold / the path's load there - 1.
+    The class is the prediction's load against ``upper``: it holds when ``unbounded`` /
+    ``above_limit`` or finite at or above ``upper``, gives way when finite below it, with "≈ 0"
+    (below :data:`ZERO` of ``upper``: not resisted at all) a class of its own among the
+    give-ways. ``rel``: simulated give-way load / predicted − 1 wherever both give way (sharp
+    and gradual simulated give-ways alike: the default answer is the give-way load by the
+    simulation's own thresholds, docs/giveway.md); ``sharp``: whether the simulation gave way
+    sharply. No rescue: the answer compared is the prediction's magnitude itself.
     """
-    out: dict[str, Any] = {"verdict": "no verdict", "rel": None, "rel_lad": None, "rel_onset": None,
-                           "rel_curve": None, "zero": False, "via": None}  # fmt: skip
+    out: dict[str, Any] = {"verdict": "no verdict", "rel": None, "zero": False,
+                           "sharp": sim["status"] == "gave_way"}  # fmt: skip
     if pred is None:
         out["verdict"] = out["why"] = "not run"
         return out
@@ -231,18 +278,6 @@ def classify(pred: dict[str, Any] | None, sim: dict[str, Any], friction: str) ->
         out["why"] = str(status)
         return out
     s_holds = sim["status"] == "held"
-    lads = (pred.get("lad") or {}).get(friction) or {}
-    thr, onset = lads.get("thr"), lads.get("onset")
-    if not s_holds and isinstance(thr, float) and thr > 0 and sim["load"]:
-        out["rel_lad"] = sim["load"] / thr - 1.0
-    if sim["status"] == "gradual" and isinstance(onset, float) and onset > 0 and sim.get("onset"):
-        out["rel_onset"] = sim["onset"] / onset - 1.0
-    curve, at = lads.get("curve"), trace_load(sim)
-    if isinstance(curve, float) and curve > 0 and at is not None and np.isfinite(curve):
-        out["rel_curve"] = at / curve - 1.0
-    crit = onset if sim["status"] == "gradual" else thr
-    if not s_holds and p_holds and isinstance(crit, float) and crit < upper:
-        p_holds, out["via"] = False, "threshold"
     if p_holds != s_holds:
         out["verdict"] = "wrong class"
         out["why"] = "predicted holds" if p_holds else "simulation holds"
@@ -250,16 +285,41 @@ def classify(pred: dict[str, Any] | None, sim: dict[str, Any], friction: str) ->
     out["verdict"] = "same class"
     if s_holds:
         return out
-    small = (mag if out["via"] is None else crit) <= ZERO * upper
+    small = mag <= ZERO * upper
     sim_small = sim["load"] <= ZERO * upper
     if small and sim_small:
         out["zero"] = True
     elif small != sim_small:  # "not resisted at all" vs a real load: its own class
         out["verdict"] = "wrong class"
         out["why"] = "predicted ≈ 0" if small else "simulated ≈ 0"
-    elif sim["status"] == "gave_way" and out["via"] is None and mag > 0:
+    elif mag > 0:
         out["rel"] = sim["load"] / mag - 1.0
     return out
+
+
+#: A finite pair agrees when |simulated / predicted − 1| is at most this.
+WITHIN = 0.10
+
+
+def headline(rows: list[dict], method: str, friction: str) -> dict[str, Any]:
+    """Counts of one method against one friction model's simulations: directions, same class,
+    finite pairs (both give way, not both ≈ 0), those within :data:`WITHIN`, median and max
+    |rel|."""
+    cmps = [r["cmp"][method] for r in rows if r["friction"] == friction and method in r["cmp"]]
+    ran = [c for c in cmps if c["verdict"] != "not run"]
+    rel = np.abs([c["rel"] for c in ran if c["rel"] is not None])
+    return {
+        "method": method,
+        "friction": friction,
+        "directions": len(ran),
+        "same": sum(c["verdict"] == "same class" for c in ran),
+        "wrong": sum(c["verdict"] == "wrong class" for c in ran),
+        "no_verdict": sum(c["verdict"] == "no verdict" for c in ran),
+        "finite": int(rel.size),
+        "within": int(np.sum(rel <= WITHIN)),
+        "median": float(np.median(rel)) if rel.size else None,
+        "max": float(np.max(rel)) if rel.size else None,
+    }
 
 
 def load_refs(frictions: list[str]) -> dict[str, dict[str, dict[str, Any]]]:
@@ -361,18 +421,23 @@ def main() -> None:
         methods, sel, refs, args.fresh, Path(args.save_live) if args.save_live else None, args.live
     )
     rows = []
+    shown = methods_shown(methods)
     for c in sel:
         for f in frictions:
             sim = refs[c.key].get(f)
             if sim is None:
                 continue
+            p = {m: preds[m].get(c.key) for m in methods}
+            if "quasistatic" in p:  # the default answer at the record's upper, and its λ*
+                p["quasistatic"] = at_upper(p["quasistatic"], sim)
+                p[FIRST] = first_limit(p["quasistatic"])
             rows.append(
                 {
                     "case": c,
                     "friction": f,
                     "sim": sim,
-                    "preds": {m: preds[m].get(c.key) for m in methods},
-                    "cmp": {m: classify(preds[m].get(c.key), sim, f) for m in methods},
+                    "preds": p,
+                    "cmp": {m: classify(p[m], sim) for m in shown},
                 }
             )
     head = (
@@ -384,7 +449,10 @@ def main() -> None:
         " chosen and compared, and every class disagreement and the largest magnitude difference"
         " explained: [`validation_quasistatic.md`](validation_quasistatic.md)._"
     )
-    text = render(rows, methods, frictions, head, details=args.details)
+    heads = [headline(rows, m, f) for f in frictions for m in shown]
+    text = render(rows, shown, frictions, head, details=args.details, heads=heads)
+    for h in heads:
+        print(h)
     if args.ratios:
         cached = {r["key"]: r for r in read_jsonl(METHODS_FILE) if r["method"] == "energetic"}
         scenes = [c for c in cases(["scenes"]) if c.group in ("case1", "case2", "case3")]
@@ -414,8 +482,11 @@ def explain(key: str, refs: dict[str, dict[str, dict[str, Any]]]) -> None:
     _, model, command = case.build()
     lp = pg.loading_path(model, command, np.asarray(case.direction))
     print(lp.summary())
+    rec = run_quasistatic(case, refs.get(key, {}))
     for f, sim in refs.get(key, {}).items():
-        print(f"load at the {f} simulation's thresholds / a tenth of them: {_lads(lp, sim)}")
+        a = at_upper(rec, sim) or {}
+        print(f"default answer at upper {sim['upper']:g} ({f}): {a.get('status')} {a.get('magnitude')}"
+              f" {a.get('giveway')}")  # fmt: skip
 
 
 START, END = "<!-- quasistatic-validation:start -->", "<!-- quasistatic-validation:end -->"
