@@ -157,7 +157,7 @@ def test_demo_writes_table_plot_and_json(capsys, tmp_path):
     rc, out, _ = run(capsys, "demo", "-n", "4", "--out", str(out_dir))
     assert rc == 0
     assert "scene 'case1'" in out and "angle [deg]" in out and "unbounded" in out
-    assert "method quasistatic, the loading path's limit (exact" in out
+    assert "method quasistatic, the load at which the loading path gives way (exact" in out
     data = json.loads((out_dir / "profile.json").read_text())
     assert data["command"] == "demo" and data["scene"] == "case1" and data["method"] == "quasistatic"
     # case 1: ±X and -Y unbounded, +Y finite (the paper's findings); +Y exact on the default

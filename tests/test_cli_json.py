@@ -24,6 +24,7 @@ RUNS = {
     "optimal-preload": ["optimal-preload", "pinch", "-w", "fy=1", "--grid", "2", "--refine", "0"],
     "simulate": ["simulate", "pinch", "-d", "fy"],
     "path": ["path", "pinch", "-d", "fy"],
+    "plan": ["plan", "parallel_jaw", "sphere:0.02", "--n", "2", "--top", "1", "--mu", "0.5"],
 }
 
 

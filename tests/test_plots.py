@@ -351,7 +351,7 @@ def barrett_grasp():
     hand = pg.Hand.builtin("barrett_bh8_282")
     obj = pg.RigidObject.box((0.05, 0.06, 0.08), pose=[0.0, 0.0, 0.04])
     q = hand.close_on(obj)
-    model = pg.grasp_model_from_scene(hand, q, obj, mu=0.5)
+    model = pg.grasp_model_from_scene(hand, q, obj, mu=0.5, patches=False)  # one point per link
     response = pg.passive_response(model, hand.commands, [0.0, 0.0, -5.0, 0.0, 0.0, 0.0], method="prp")
     return SimpleNamespace(model=model, hand=hand, q=q, object=obj, response=response)
 

@@ -93,9 +93,8 @@ def test_allegro_every_direction_gets_a_verdict(allegro):
     # directions that hold to 20 N within 1 mm sway 20 mm below 1e3 N (gradual give-ways)
     wide_st = [r.status for r in wide.results]
     assert wide_st.count("finite") == 18 and wide_st.count("unbounded") == 6
-    assert all(
-        r.giveway.reason in ("translation", "rotation", "limit") for r in wide.results if r.status == "finite"
-    )
+    reasons = [r.giveway.reason for r in wide.results if r.status == "finite"]
+    assert reasons.count("limit") == 12 and reasons.count("linearisation") == 6  # past 0.1 rad of turn
     side = pg.max_resistible_wrench(
         allegro.model, allegro.command, allegro.analysis.directions["sideways"], method=QS, upper=20.0
     )

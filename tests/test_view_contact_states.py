@@ -256,4 +256,4 @@ def test_summaries_list_the_state_per_contact(wedge, wedge_slide, palm_slide):
     assert "contact states: left sliding (slip direction (0.342, -0.9397, 0)), " in wedge_slide.summary()
     assert "contact states" not in _stateless(palm_slide).summary()
     mw = pg.max_resistible_wrench(wedge, 1.0, [0.0, 1.0, 0.0], method="energetic")
-    assert "contact states at the limit: left sticking, right sticking" in mw.summary()
+    assert "contact states at 2.55652 N: left sticking, right sticking" in mw.summary()

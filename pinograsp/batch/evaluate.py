@@ -342,10 +342,7 @@ def evaluate_grasps(
     """
     _pandas()
     tasks = _tasks(grasps)
-    score = WorstAxisScore() if score is None else score
-    if not callable(score):
-        raise InvalidInputError("score", f"expected a callable score(model, command), got {score!r}")
-    _no_grasp_values(score)  # a malformed no_grasp mapping is refused before any work
+    score = _score_of(score)
     size = whole_number("chunksize", chunksize)
     timeout = None if timeout is None else positive_number("timeout", timeout)
     check_executor(executor, address, timeout)
@@ -364,6 +361,16 @@ def evaluate_grasps(
         if journal is not None:
             journal.close()
     return table
+
+
+def _score_of(score: Score | None) -> Score:
+    """The batch's score (default :class:`WorstAxisScore`), checked before any work: a
+    callable, and its ``no_grasp`` mapping well formed."""
+    score = WorstAxisScore() if score is None else score
+    if not callable(score):
+        raise InvalidInputError("score", f"expected a callable score(model, command), got {score!r}")
+    _no_grasp_values(score)
+    return score
 
 
 def _journal(out: object, resume: object) -> Journal | None:
