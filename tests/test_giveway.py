@@ -136,3 +136,22 @@ def test_scene_file_keys(tmp_path):
     from pinograsp.sim.simulate import _scene_defaults
 
     assert _scene_defaults(s) == {"stiffness": 2e5, "slip": 0.002, "rotation": pytest.approx(np.radians(3))}
+
+
+def test_flat_bar_mirror_directions_and_push_hold():
+    """The flat-pad bar (8 patch corners): pushed along the squeeze axis the pads' four corners
+    unload together at 20 N — classified at zero force (their polygons' apex), the grasp then
+    holds on the other jaw (unbounded; the simulation holds >= 50 N) instead of stopping
+    without a verdict. Mirror directions ±fy and ±fz give way at mu * 20 N = 10 N on both
+    sides (simulation 9.986 N), although the −fy/−fz paths' first limits take a wedging branch."""
+    bar = pg.load_scene("parallel_jaw_bar")
+    m, cmd = bar.model, bar.preload(None)
+    push = pg.max_resistible_wrench(m, cmd, "fx", upper=50)
+    assert push.status == "unbounded" and push.giveway.first_status == "unbounded"
+    for axis in ("fy", "fz"):
+        plus = pg.max_resistible_wrench(m, cmd, axis, upper=50)
+        minus = pg.max_resistible_wrench(m, cmd, "-" + axis, upper=50)
+        assert plus.status == minus.status == "finite"
+        assert plus.magnitude == pytest.approx(10.0, rel=1e-4) and minus.magnitude == pytest.approx(
+            10.0, rel=2e-3
+        )

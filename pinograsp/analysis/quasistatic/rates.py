@@ -144,6 +144,8 @@ def classify(qm: QSModel, st: State, spec: StageSpec) -> Classes:
     gap = qm.A[:, ::d].T @ st.vs
     delta = -gap
     low = cn <= tol
+    if spec.friction and qm.nf and (~low).any():
+        low |= _at_apex(qm, st, tol) & ~low
     opened = low & (delta * qm.kn < -tol)
     zero = low & ~opened
     pressed = ~low
@@ -158,6 +160,18 @@ def classify(qm: QSModel, st: State, spec: StageSpec) -> Classes:
     phi = (st.f - spec.command(st.t)) * qm.r_norm
     act_lcp = qm.nbd & (phi <= tol)
     return Classes(opened, zero, pressed, faces, act_lcp, tol, fscale, st, gap, slack, phi)
+
+
+def _at_apex(qm: QSModel, st: State, tol: float) -> np.ndarray:
+    """Pressed contacts whose force is at the apex of their polygon, (nc,) bool: more faces
+    with zero slack than meet at one vertex (two in 3D, one in a plane) is only possible when
+    ``c_n`` itself is zero within the tolerance — a contact that unloads together with others
+    (a flat pad's corners) lands a rounding above ``tol``, and its faces would all enter the
+    rate problem of a pressed contact, whose LCP is then degenerate. Such a contact is at
+    zero force (its opening pair decides whether it separates)."""
+    tight = (qm.Phi @ st.c) <= tol
+    count = np.bincount(qm.face_contact[tight], minlength=qm.nc)
+    return count > (2 if qm.d == 3 else 1)
 
 
 #: Plans for a contact at zero force: both pairs in the LCP, pressed (touching, faces in the
