@@ -28,17 +28,44 @@ ROBOTS = "example-robot-data/robots"
 #: closing axis (unit, base frame) along which candidate poses are spread)
 HANDS = {
     "romeo_left": ("romeo_description/urdf/romeo.urdf", "romeo_left.yaml", 1.0, (0.07, 0.0, -0.03)),
-    "tiago_pro_left": ("tiago_pro_description/robots/tiago_pro.urdf", "tiago_pro_left.yaml", 1.0, (0.0, 0.0, 0.13)),
+    "tiago_pro_left": (
+        "tiago_pro_description/robots/tiago_pro.urdf",
+        "tiago_pro_left.yaml",
+        1.0,
+        (0.0, 0.0, 0.13),
+    ),
     "z1": ("z1_description/urdf/z1.urdf", "z1.yaml", 1.0, (0.12, 0.0, 0.0)),
     "baxter_left": ("baxter_description/urdf/baxter.urdf", "baxter_left.yaml", 20.0, (0.0, 0.0, 0.115)),
-}  # fmt: skip
+}
 #: Hands on which a grasp without a designed preload (infeasible) is kept, at the description's
 #: commands, when it has at least 3 contacts.
 FALLBACK = {"romeo_left"}
-OFFSETS = [(0, 0, 0), (0.01, 0, 0), (-0.01, 0, 0), (0, 0.01, 0), (0, -0.01, 0), (0, 0, 0.01), (0, 0, -0.01),
-           (0.02, 0, 0), (-0.02, 0, 0), (0, 0, 0.02), (0, 0, -0.02), (0, 0.02, 0), (0, -0.02, 0)]  # fmt: skip
-OBJECTS = [("ball", 0.015), ("ball", 0.02), ("ball", 0.01), ("ball", 0.025), ("box", (0.03, 0.03, 0.03)),
-           ("box", (0.02, 0.04, 0.03)), ("box", (0.04, 0.02, 0.05)), ("torus", 0.0), ("torus", 1.0)]  # fmt: skip
+OFFSETS = [
+    (0, 0, 0),
+    (0.01, 0, 0),
+    (-0.01, 0, 0),
+    (0, 0.01, 0),
+    (0, -0.01, 0),
+    (0, 0, 0.01),
+    (0, 0, -0.01),
+    (0.02, 0, 0),
+    (-0.02, 0, 0),
+    (0, 0, 0.02),
+    (0, 0, -0.02),
+    (0, 0.02, 0),
+    (0, -0.02, 0),
+]
+OBJECTS = [
+    ("ball", 0.015),
+    ("ball", 0.02),
+    ("ball", 0.01),
+    ("ball", 0.025),
+    ("box", (0.03, 0.03, 0.03)),
+    ("box", (0.02, 0.04, 0.03)),
+    ("box", (0.04, 0.02, 0.05)),
+    ("torus", 0.0),
+    ("torus", 1.0),
+]
 
 
 def _torus() -> Path:
@@ -72,10 +99,19 @@ def grasp(hand: pg.Hand, name: str, kind: str, size: object, pose: np.ndarray) -
     q = hand.close_on(obj)
     model = pg.grasp_model_from_scene(hand, q, obj, mu=0.5)
     pre = pg.equilibrium_preload(model, max_command=HANDS[name][2])
-    return {"hand": name, "kind": kind, "size": size, "pose": [float(x) for x in pose], "q": [float(x) for x in q],
-            "nc": int(model.nc), "contacts": list(model.contact_names) if hasattr(model, "contact_names") else None,
-            "preload_status": pre.status, "command": pre.command, "preload_reason": pre.reason,
-            "model": model}  # fmt: skip
+    return {
+        "hand": name,
+        "kind": kind,
+        "size": size,
+        "pose": [float(x) for x in pose],
+        "q": [float(x) for x in q],
+        "nc": int(model.nc),
+        "contacts": list(model.contact_names) if hasattr(model, "contact_names") else None,
+        "preload_status": pre.status,
+        "command": pre.command,
+        "preload_reason": pre.reason,
+        "model": model,
+    }
 
 
 def find_grasps(hand: pg.Hand, name: str) -> list[dict]:
@@ -94,7 +130,10 @@ def find_grasps(hand: pg.Hand, name: str) -> list[dict]:
                 print(f"  {kind} {size} {off}: nc {g['nc']} preload {g['preload_status']}", flush=True)
                 continue
             out.append(g)
-            print(f"  {kind} {size} {off}: nc {g['nc']} preload {g['preload_status']} {g['command']}", flush=True)
+            print(
+                f"  {kind} {size} {off}: nc {g['nc']} preload {g['preload_status']} {g['command']}",
+                flush=True,
+            )
             break
     return out
 
@@ -109,10 +148,21 @@ def compare(g: dict, d: str) -> dict:
     try:
         mw = pg.max_resistible_wrench(model, cmd, d, upper=UPPER)
         gw = mw.giveway
-        row.update(qs_status=mw.status, qs=_finite(mw.magnitude), first_limit=_finite(mw.first_limit),
-                   giveway=None if gw is None else {"reason": gw.reason, "load": _finite(gw.load),
-                   "first_limit": _finite(gw.first_limit), "snaps": [list(s) for s in gw.snaps],
-                   "translation": gw.translation, "turned": gw.turned})  # fmt: skip
+        row.update(
+            qs_status=mw.status,
+            qs=_finite(mw.magnitude),
+            first_limit=_finite(mw.first_limit),
+            giveway=None
+            if gw is None
+            else {
+                "reason": gw.reason,
+                "load": _finite(gw.load),
+                "first_limit": _finite(gw.first_limit),
+                "snaps": [list(s) for s in gw.snaps],
+                "translation": gw.translation,
+                "turned": gw.turned,
+            },
+        )
     except pg.PinograspError as exc:
         row.update(qs_status=type(exc).__name__, qs=None, error=str(exc)[:300])
     t0 = time.perf_counter()
@@ -138,7 +188,11 @@ def run(names: list[str]) -> None:
             pairs = [compare(g, d) for d in DIRS]
             g = {k: v for k, v in g.items() if k != "model"}
             rows.append({**g, "pairs": pairs})
-            print("   ", [(p["direction"], p["qs_status"], p.get("qs"), p["sim_status"], p.get("sim")) for p in pairs], flush=True)
+            print(
+                "   ",
+                [(p["direction"], p["qs_status"], p.get("qs"), p["sim_status"], p.get("sim")) for p in pairs],
+                flush=True,
+            )
             data[name] = rows
             cache.write_text(json.dumps(data, indent=1, default=str))
 
