@@ -74,5 +74,6 @@ def write_report() -> None:
               f"{tot[4]} within 25 %, {tot[5]} ≥ 48 % apart; {tot[6]} errors.", "",
               "## Pairs ≥ 48 % apart and class disagreements (exact inputs)", "", *far, "",
               "## Errors", "", *errs, ""]  # fmt: skip
+    lines.append((HERE / "diagnosis.md").read_text())  # the hand-written diagnosis
     DOC.write_text("\n".join(lines))
     print("\n".join(lines[:20]))
