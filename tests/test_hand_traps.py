@@ -456,3 +456,41 @@ def test_talos_motor_joint_simulates():
     r = pg.max_resistible_wrench(m, {"gripper_left_joint": 1.0}, "fx", upper=20, steps=10)
     assert s.status == "gave_way" and r.status == "finite"
     assert abs(s.load / r.magnitude - 1.0) < 0.1  # 6.3 N simulated, 6.15 N predicted
+
+
+def test_base_link_named_like_a_fixed_joint_loads():
+    """z1.urdf names a fixed joint and its child link both ``gripperStator``: Pinocchio's reduction
+    (and ``getFrameId``) raised ``ValueError: Several frames match the filter`` (issue 31 trial)."""
+    hand = pg.Hand.from_urdf(
+        robots_dir() / "z1_description/urdf/z1.urdf",
+        {"joints": ["jointGripper"], "base_link": "gripperStator", "closing": {"jointGripper": 1}},
+    )
+    assert hand.joint_names == ("jointGripper",)
+    import pinocchio as pin
+
+    fid = hand.model.getFrameId("gripperStator", pin.FrameType.BODY)
+    assert np.allclose(hand.model.frames[fid].placement.homogeneous, np.eye(4), atol=1e-12)
+    assert hand.model.frames[fid].parentJoint == 0
+
+
+def test_open_configuration_of_a_mimic_follower_follows_its_leader():
+    """Baxter's electric gripper: ``open_configuration`` gives the leader only; the follower
+    (``<mimic multiplier="-1">``) stayed at 0, its upper limit, so auto-close stopped at once
+    with both fingertips 3 mm from the ball (issue 31 trial)."""
+    hand = pg.Hand.from_urdf(
+        robots_dir() / "baxter_description/urdf/baxter.urdf",
+        {
+            "joints": ["l_gripper_l_finger_joint", "l_gripper_r_finger_joint"],
+            "base_link": "left_gripper_base_link",
+            "closing": {"l_gripper_l_finger_joint": -1},
+            "actuators": [{"name": "gripper", "transmission": {"l_gripper_l_finger_joint": 1.0}}],
+            "open_configuration": {"l_gripper_l_finger_joint": 0.020833},
+        },
+    )
+    assert np.allclose(hand.q_open, [0.020833, -0.020833])
+    ball = pg.RigidObject.sphere(0.015, pose=[0.0, 0.0, 0.115])
+    q = hand.close_on(ball)
+    assert q[0] == pytest.approx(-q[1], abs=1e-12)
+    assert 0.0 < q[0] < 0.020833 - 0.003  # closed past the old 3 mm stop
+    report = pg.detect_contacts(hand, q, ball)
+    assert sorted(c.link for c in report.contacts) == ["l_gripper_l_finger_tip", "l_gripper_r_finger_tip"]

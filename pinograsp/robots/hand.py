@@ -95,6 +95,10 @@ class Hand:
         q_open = np.clip(np.zeros(self.nq), self.lower, self.upper)
         for j, v in description.open_configuration.items():
             q_open[self._index_of(j)] = v
+        for m in self.mimics:  # followers not given follow their leader (URDF <mimic>)
+            if m.follower not in description.open_configuration:
+                f = self._index_of(m.follower)
+                q_open[f] = np.clip(m.multiplier * q_open[self._index_of(m.leader)] + m.offset, self.lower[f], self.upper[f])
         self.q_open = q_open
         self.q_open.setflags(write=False)
 

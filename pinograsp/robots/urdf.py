@@ -205,6 +205,20 @@ def _build_models(path: Path, dirs: list[str], xml: UrdfXml) -> tuple[pin.Model,
     return model, geom
 
 
+def _rename_shadowing_joint_frames(model: pin.Model) -> None:
+    """Rename, in place, a joint frame that has the name of a link (``<name>_joint``).
+
+    URDFs may name a fixed joint like its child link (z1.urdf: ``gripperStator``); Pinocchio's
+    ``buildReducedModel`` then cannot tell the two frames apart and raises ``ValueError``.
+    """
+    bodies = {f.name for f in model.frames if f.type == pin.FrameType.BODY}
+    for i in range(len(model.frames)):
+        fr = model.frames[i]
+        if fr.type != pin.FrameType.BODY and fr.name in bodies:
+            fr.name = f"{fr.name}_joint"
+            model.frames[i] = fr
+
+
 def _reduce(
     path: Path, model: pin.Model, geom: pin.GeometryModel, desc: HandDescription, mimics: Sequence[Mimic]
 ) -> tuple[pin.Model, pin.GeometryModel, tuple[Mimic, ...]]:
@@ -226,6 +240,7 @@ def _reduce(
         q_ref[model.joints[jid].idx_q] = v
     lock = [model.getJointId(j) for j in movable if j not in hand_joints]
     if lock:
+        _rename_shadowing_joint_frames(model)
         model, geom = pin.buildReducedModel(model, geom, lock, q_ref)
     hand_mimics = []
     for m in mimics if desc.use_mimic else ():
@@ -268,9 +283,10 @@ def _move_base(path: Path, model: pin.Model, geom: pin.GeometryModel, base_link:
     """Make the base link (default: the first body) the world frame, in place; its frame id."""
     body_frames = [f.name for f in model.frames if f.type == pin.FrameType.BODY]
     base = base_link or next((f.name for f in model.frames if f.type == pin.FrameType.BODY), None)
-    if base is None or not model.existFrame(base):
+    if base is None or base not in body_frames:
         raise UnknownNameError("link", base, body_frames)
-    base_id = model.getFrameId(base)
+    # by type: a fixed joint may share the link's name (z1.urdf: joint and link "gripperStator")
+    base_id = model.getFrameId(base, pin.FrameType.BODY)
     if model.frames[base_id].parentJoint != 0:
         mover = model.names[model.frames[base_id].parentJoint]
         raise ModelError(
