@@ -98,7 +98,8 @@ class Hand:
         for m in self.mimics:  # followers not given follow their leader (URDF <mimic>)
             if m.follower not in description.open_configuration:
                 f = self._index_of(m.follower)
-                q_open[f] = np.clip(m.multiplier * q_open[self._index_of(m.leader)] + m.offset, self.lower[f], self.upper[f])
+                lead = q_open[self._index_of(m.leader)]
+                q_open[f] = np.clip(m.multiplier * lead + m.offset, self.lower[f], self.upper[f])
         self.q_open = q_open
         self.q_open.setflags(write=False)
 

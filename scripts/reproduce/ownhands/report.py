@@ -1,3 +1,4 @@
+# ruff: noqa: E501  (report text lines)
 """docs/validation_ownhands.md from the cached results (results*.json), without simulating."""
 
 from __future__ import annotations
