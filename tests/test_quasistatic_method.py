@@ -58,14 +58,21 @@ def test_max_resistible_wrench_is_the_closed_form(pinch, deg):
     assert mw.response.variant == "preload-first"
 
 
-def test_steps_and_upper_do_not_apply(pinch):
+def test_steps_do_not_apply_and_upper_caps(pinch):
+    """``steps`` do not apply; ``upper`` is the largest load of interest: a give-way above it is
+    ``above_limit`` at ``upper`` (as the searches and the simulation say), the exact load kept
+    in ``giveway.load``; an unbounded path stays unbounded."""
     ref = pg.max_resistible_wrench(pinch, TAU, "fy", QS)
     for upper, steps in ((1.0, 1), (5.0, 30), (1e6, 3)):
         mw = pg.max_resistible_wrench(pinch, TAU, "fy", QS, upper, steps)
-        assert mw.magnitude == ref.magnitude == pytest.approx(10.0, rel=1e-12) and mw.status == "finite"
+        assert mw.giveway.load == ref.magnitude == pytest.approx(10.0, rel=1e-12)
+        if upper > 10.0:
+            assert mw.status == "finite" and mw.magnitude == ref.magnitude
+        else:
+            assert mw.status == "above_limit" and mw.magnitude == upper and not mw.unbounded
     assert pg.max_resistible_wrench(pinch, TAU, "fx", QS, upper=1e-3).status == "unbounded"
     q = pg.max_resistible_wrench(pinch, TAU, "fy", query=pg.Query(QS, 7.0, 2, "path"))
-    assert q.magnitude == ref.magnitude
+    assert q.status == "above_limit" and q.magnitude == 7.0 and q.giveway.load == ref.magnitude
 
 
 def test_refusals_name_the_valid_choices(pinch):

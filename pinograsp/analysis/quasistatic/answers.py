@@ -352,6 +352,8 @@ def max_wrench_prepared(
         at = float(lp.loads[-1])
     if status in NO_VERDICT and at >= upper:  # held up to upper before the path stopped
         status, magnitude = "above_limit", float(upper)
+    elif giveway and status == "finite" and magnitude > upper:  # as the searches and the simulation
+        status, magnitude = "above_limit", float(upper)  # (the exact load: giveway.load)
     unbounded = status == "unbounded"
     resp_status = "failed" if status in NO_VERDICT else "resisted"
     resp = response_at(p, lp, at, at * d6, resp_status, s, t0, state)
