@@ -121,6 +121,8 @@ class NoPreloadError(PreloadNotInEquilibriumError):
             ``None`` when no design was attempted (no actuator reaches a contact).
         unloadable_contacts: Contacts that no preload can press.
         unbalanced_actuators: Actuators whose command no preload can balance.
+        contacts_detected: How many contacts the grasp has (the batch row's ``n_contacts``), or
+            ``None`` when no contact model was built.
     """
 
     def __init__(
@@ -129,7 +131,9 @@ class NoPreloadError(PreloadNotInEquilibriumError):
         status: str | None = None,
         unloadable_contacts: Iterable[str] = (),
         unbalanced_actuators: Iterable[str] = (),
+        contacts_detected: int | None = None,
     ) -> None:
+        self.contacts_detected = contacts_detected
         self.command = None
         self.detail = detail
         self.residual = None
