@@ -98,14 +98,23 @@ class PreloadNotInEquilibriumError(PinograspError):
         residual: The net wrench on the object (6,) [N, N·m], or None.
     """
 
-    def __init__(self, command: object, detail: str, residual: object = None) -> None:
+    def __init__(
+        self, command: object, detail: str, residual: object = None, method: str | None = None
+    ) -> None:
         self.command = command
         self.detail = detail
         #: Net wrench left on the object at w = 0 (6,) [N, N·m], when the solve gives one.
         self.residual = residual
+        #: The method whose preload stage refused the command (its equilibrium tolerance).
+        self.method = method
+        call = (
+            "pg.equilibrium_preload(model)"
+            if method is None
+            else f"pg.equilibrium_preload(model, {method!r})"
+        )
         super().__init__(
             f"preload not in equilibrium at w = 0 (command {command}): {detail}. "
-            "pg.equilibrium_preload(model) finds commands that are, or says why none exist "
+            f"{call} finds commands that are, verified by the same method, or says why none exist "
             "(docs/hands.md, 'Choosing a preload')"
         )
 
@@ -134,6 +143,7 @@ class NoPreloadError(PreloadNotInEquilibriumError):
         contacts_detected: int | None = None,
     ) -> None:
         self.contacts_detected = contacts_detected
+        self.method = None
         self.command = None
         self.detail = detail
         self.residual = None
