@@ -98,14 +98,23 @@ class PreloadNotInEquilibriumError(PinograspError):
         residual: The net wrench on the object (6,) [N, N·m], or None.
     """
 
-    def __init__(self, command: object, detail: str, residual: object = None) -> None:
+    def __init__(
+        self, command: object, detail: str, residual: object = None, method: str | None = None
+    ) -> None:
         self.command = command
         self.detail = detail
         #: Net wrench left on the object at w = 0 (6,) [N, N·m], when the solve gives one.
         self.residual = residual
+        #: The method whose preload stage refused the command (its equilibrium tolerance).
+        self.method = method
+        call = (
+            "pg.equilibrium_preload(model)"
+            if method is None
+            else f"pg.equilibrium_preload(model, {method!r})"
+        )
         super().__init__(
             f"preload not in equilibrium at w = 0 (command {command}): {detail}. "
-            "pg.equilibrium_preload(model) finds commands that are, or says why none exist "
+            f"{call} finds commands that are, verified by the same method, or says why none exist "
             "(docs/hands.md, 'Choosing a preload')"
         )
 
@@ -121,6 +130,8 @@ class NoPreloadError(PreloadNotInEquilibriumError):
             ``None`` when no design was attempted (no actuator reaches a contact).
         unloadable_contacts: Contacts that no preload can press.
         unbalanced_actuators: Actuators whose command no preload can balance.
+        contacts_detected: How many contacts the grasp has (the batch row's ``n_contacts``), or
+            ``None`` when no contact model was built.
     """
 
     def __init__(
@@ -129,7 +140,10 @@ class NoPreloadError(PreloadNotInEquilibriumError):
         status: str | None = None,
         unloadable_contacts: Iterable[str] = (),
         unbalanced_actuators: Iterable[str] = (),
+        contacts_detected: int | None = None,
     ) -> None:
+        self.contacts_detected = contacts_detected
+        self.method = None
         self.command = None
         self.detail = detail
         self.residual = None

@@ -44,7 +44,9 @@ def check_preload(solver: SessionLike, command: object, method: str) -> PassiveR
             detail += f"; net wrench left on the object: {shown or '0'} [N, N·m]"
         elif resp.residual_history:
             detail += f" (net wrench {resp.residual_history[-1]:.3g} N)"
-        raise PreloadNotInEquilibriumError(solver.model.command_vector(command).tolist(), detail, residual)
+        raise PreloadNotInEquilibriumError(
+            solver.model.command_vector(command).tolist(), detail, residual, method=method
+        )
     return resp
 
 

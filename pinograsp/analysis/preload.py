@@ -429,7 +429,7 @@ def equilibrium_preload(
             bounds) or ``"least_norm"`` (the smallest commands pressing every contact with at
             least ``grip``).
         max_command: Upper bound of every command, or ``{actuator: bound}`` (others 1)
-            [N·m or N], in (0, 1e12]. The design is homogeneous in the commands: a scalar
+            [N·m or N], in [1e-6, 1e12]. The design is homogeneous in the commands: a scalar
             bound scales the answer and never changes the verdict.
         grip: Smallest normal force at every contact for ``"least_norm"`` [N].
         settings: Solver settings of the verification.

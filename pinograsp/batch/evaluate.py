@@ -197,6 +197,9 @@ def evaluate_one(task: tuple[int, str, str, Any], score: Score) -> dict[str, Any
             row["error_message"] = " ".join(str(exc).split())
             if row["status"] == "no_grasp":
                 row["scores"] = _no_grasp_values(score)
+            detected = getattr(exc, "contacts_detected", None)  # no preload, yet contacts
+            if detected is not None:
+                row["n_contacts"] = int(detected)
     seen = dict.fromkeys(f"{w.category.__name__}: {' '.join(str(w.message).split())}" for w in caught)
     row["warnings"] = "; ".join(seen)
     row["time_total"] = time.perf_counter() - t0

@@ -400,11 +400,14 @@ def build_grasp(spec: GraspSpec) -> tuple[Any, dict[str, float], dict[str, float
         if not any(kind != "locked" for kind in model.kinds):
             raise NoPreloadError(
                 f"no driving actuator reaches the contacts {list(model.contact_names)} (their links are "
-                "carried by locked or undriven joints only)"
+                "carried by locked or undriven joints only)",
+                contacts_detected=model.nc,
             )
         pre = equilibrium_preload(model, spec.preload_method, max_command=spec.max_command)
         if not pre.in_equilibrium or pre.command is None:
-            raise NoPreloadError(pre.reason, pre.status, pre.unloadable_contacts, pre.unbalanced_actuators)
+            raise NoPreloadError(
+                pre.reason, pre.status, pre.unloadable_contacts, pre.unbalanced_actuators, model.nc
+            )
         if not pre.found:  # it balances, but gives at zero load: analysed as it is, and said
             warnings.warn(f"equilibrium_preload: {pre.status}: {pre.reason}", PinograspWarning, stacklevel=2)
         command = dict(pre.command)

@@ -4,7 +4,6 @@
 from __future__ import annotations
 
 import argparse
-import math
 
 from ..core.axes import wrench_unit
 from ..core.serialize import vector_text
@@ -51,13 +50,14 @@ def cmd_path(args: argparse.Namespace) -> int:
     direction, label = opt.parse_direction(scene, args.direction)
     over = {}
     if args.tangential_ratio is not None:
-        if not (math.isfinite(args.tangential_ratio) and args.tangential_ratio > 0):
-            raise InvalidInputError(
-                "--tangential-ratio", f"must be finite and > 0, got {args.tangential_ratio!r}"
-            )
         over["tangential_ratio"] = args.tangential_ratio
     base = {k: getattr(scene.settings, k) for k in ("normal_uncertainty", "tangential_ratio")}
-    settings = pg.Settings(**{**base, **over}).validated()  # the scene's, --tangential-ratio first
+    try:  # the scene's, --tangential-ratio first
+        settings = pg.Settings(**{**base, **over}).validated()
+    except InvalidInputError as exc:
+        if exc.name != "tangential_ratio" or not over:
+            raise
+        raise InvalidInputError("--tangential-ratio", str(exc).removeprefix("tangential_ratio: ")) from None
     lp = pg.loading_path(
         scene.model,
         command,

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InvalidInputError
-from .validate import check_name, choice, finite_number
+from .validate import ARM, check_name, choice, finite_number
 
 #: The actuator kinds (see the module docstring).
 NON_BACKDRIVABLE, BACKDRIVABLE, LOCKED = "non-backdrivable", "backdrivable", "locked"
@@ -43,6 +43,12 @@ def _check_weights(owner: str, weights: Mapping[int | str, float]) -> dict[int |
     for joint, value in weights.items():
         key = _joint_key(owner, joint)
         v = finite_number(f"{owner}[{joint!r}]", value)
+        if v != 0 and not ARM[0] <= abs(v) <= ARM[1]:  # domain: docs/errors.md
+            raise InvalidInputError(
+                f"{owner}[{joint!r}]",
+                f"a moment arm, ratio or coefficient must be 0 or within {ARM[0]:g} … {ARM[1]:g} in "
+                f"magnitude, got {value!r} (give the commands in other units instead)",
+            )
         out[key] = out.get(key, 0.0) + v
     return out
 

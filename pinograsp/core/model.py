@@ -23,7 +23,7 @@ from .axes import PLANAR_AXES
 from .build import PruneRecord, build_model, readonly
 from .cones import edge_counts, with_normal_uncertainty
 from .contact import Contact
-from .validate import MAX_FORCE, finite_number
+from .validate import MAX_FORCE, MIN_FORCE, finite_number
 
 #: Indices of the out-of-plane components ``(fz, mx, my)`` inside a 6-vector.
 _OUT_OF_PLANE = np.delete(np.arange(6), PLANAR_AXES)
@@ -258,6 +258,13 @@ class GraspModel:
             raise InvalidInputError("command", "contains NaN or inf", raw)
         if np.any(np.abs(raw) > MAX_FORCE):  # domain: docs/errors.md
             raise InvalidInputError("command", f"must be within ±{MAX_FORCE:g} [N·m or N]", raw)
+        if 0 < np.abs(raw).max(initial=0.0) < MIN_FORCE:  # domain: docs/errors.md
+            raise InvalidInputError(
+                "command",
+                f"the largest command must be 0 or at least {MIN_FORCE:g} [N·m or N] (the loading path "
+                "resolves 1e-9 of a unit load of 1 N or N·m): give the commands in larger units",
+                raw,
+            )
         if np.any(raw < 0):
             names = names_all if full else self.actuator_names
             bad = [n for n, v in zip(names, raw) if v < 0 and n not in self.bidirectional]

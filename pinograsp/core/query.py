@@ -28,7 +28,7 @@ class Query:
         method: ``"quasistatic"`` (default), ``"iterative"``, ``"energetic"`` or ``"prp"``
             (:class:`~pinograsp.core.settings.Method`; the default is
             :data:`~pinograsp.core.settings.DEFAULT_METHOD`).
-        upper: Upper limit of the search [N or N·m along the unit direction], in (0, 1e12]
+        upper: Upper limit of the search [N or N·m along the unit direction], in [1e-6, 1e12]
             (and, for the searching methods, within 1e6 times the grasp's force scale, checked
             per query; the quasi-static path's limit is exact: ``upper`` does not decide
             unboundedness there and is not checked against the grasp).

@@ -15,7 +15,16 @@ import numpy as np
 from ..errors import InvalidInputError, SolverNotAvailableError, UnknownNameError
 from .cones import check_angle
 from .giveway import DEFAULT_CONTACT_STIFFNESS
-from .validate import choice, count, number_in, positive_number, whole_number
+from .validate import (
+    GIVEWAY,
+    PHYSICAL_STIFFNESS,
+    TANGENTIAL_RATIO,
+    choice,
+    count,
+    number_in,
+    positive_number,
+    whole_number,
+)
 
 
 class Vocabulary(str, Enum):
@@ -174,8 +183,8 @@ class Settings:
             slip direction is at most this wide [rad]; ``None`` (default) keeps the model's
             pyramid. At most 100 edges per contact; planar pyramids are exact already.
         tangential_ratio: ``"quasistatic"``: tangential contact stiffness as a multiple of the
-            normal stiffness ``k`` (default 1, the simulation's; > 0; large values approach the
-            paper's rigid friction).
+            normal stiffness ``k`` (default 1, the simulation's; in [1e-6, 1e6]; large values
+            approach the paper's rigid friction).
         contact_stiffness: ``"quasistatic"``: normal stiffness of the stiffest contact [N/m]
             (default 1e6, the simulation's; the model's ``k`` give the other contacts in
             proportion; in [1, 1e10]). It sets the physical displacements of the loading path
@@ -253,11 +262,11 @@ class Settings:
         if self.variant is not None:
             choice("variant", self.variant, VARIANTS)
         check_angle("normal_uncertainty", self.normal_uncertainty)
-        positive_number("tangential_ratio", self.tangential_ratio)
-        number_in("contact_stiffness", self.contact_stiffness, 1.0, 1e10, "N/m")
+        number_in("tangential_ratio", self.tangential_ratio, *TANGENTIAL_RATIO, "(tangential / normal)")
+        number_in("contact_stiffness", self.contact_stiffness, *PHYSICAL_STIFFNESS, "N/m")
         for name in ("giveway_slip", "giveway_rotation", "giveway_joint"):
             if getattr(self, name) is not None:
-                number_in(name, getattr(self, name), 1e-9, 1e3, "m" if name == "giveway_slip" else "rad")
+                number_in(name, getattr(self, name), *GIVEWAY, "m" if name == "giveway_slip" else "rad")
         choice("limit", self.limit, LIMITS)
         if self.cone_tolerance is not None:
             check_angle("cone_tolerance", self.cone_tolerance, np.pi / 4)

@@ -136,6 +136,23 @@ def flag(name: str, value: object) -> bool:
 #: budgets, grips): squared in spring energies (``c_n^2 / 2k``) it stays far from overflow, and
 #: it is 1e4 times the largest press ever built.
 MAX_FORCE = 1e12
+#: Smallest nonzero force, torque or command magnitude (the largest command of a preload,
+#: ``upper``, bounds, budgets, grips): the loading path resolves 1e-9 of the unit load (1 N or
+#: N·m per unit λ), so commands of 1e-10 left every contact "at zero force" (a ``SolverError``)
+#: and a budget of 1e-300 divided by zero; the answer is exactly homogeneous from 1e-8 up.
+MIN_FORCE = 1e-6
+#: Largest moment arm, gear ratio or coupling coefficient (``Actuator.transmission``,
+#: ``Coupling.weights``) in magnitude, and the smallest nonzero one: a transmission of 1e300
+#: overflowed the path's actuator rows (an ``IndexError`` in Lemke's method).
+ARM = (1e-6, 1e6)
+#: The quasi-static method's tangential / normal contact stiffness (``Settings.tangential_ratio``):
+#: below 3e-8 the tangential springs fall under the rank tolerance (a 10 N pinch reported
+#: ``below_resolution`` 0 N), above 1e8 the rate problems lose their solution (``SolverError``).
+TANGENTIAL_RATIO = (1e-6, 1e6)
+#: Give-way thresholds [m or rad] (``Settings.giveway_*``, ``LoadingPath.load_at_displacement``).
+GIVEWAY = (1e-9, 1e3)
+#: A physical contact stiffness [N/m] (``Settings.contact_stiffness``, ``load_at_displacement``).
+PHYSICAL_STIFFNESS = (1.0, 1e10)
 #: Largest load (a wrench, ``upper``) relative to the grasp's own force scale (the contact force
 #: its commands press, :func:`grasp_force_scale`): the solvers resolve 1e-9 of the largest force,
 #: so beyond 1e6 the preload's forces drown in the load's rounding (a "push-only" force of
@@ -212,8 +229,8 @@ def directions(value: object, name: str = "n") -> int:
 
 
 def force(name: str, value: object, unit: str = "N") -> float:
-    """A force, torque or command magnitude in ``(0, MAX_FORCE]``."""
-    return number_in(name, value, 0.0, MAX_FORCE, unit, open_low=True)
+    """A force, torque or command magnitude in ``[MIN_FORCE, MAX_FORCE]``."""
+    return number_in(name, value, MIN_FORCE, MAX_FORCE, unit)
 
 
 def grasp_force_scale(model: object, command: np.ndarray) -> float:

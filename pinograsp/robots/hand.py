@@ -95,13 +95,22 @@ class Hand:
         q_open = np.clip(np.zeros(self.nq), self.lower, self.upper)
         for j, v in description.open_configuration.items():
             q_open[self._index_of(j)] = v
-        for m in self.mimics:  # followers not given follow their leader (URDF <mimic>)
-            if m.follower not in description.open_configuration:
-                f = self._index_of(m.follower)
-                lead = q_open[self._index_of(m.leader)]
-                q_open[f] = np.clip(m.multiplier * lead + m.offset, self.lower[f], self.upper[f])
-        self.q_open = q_open
+        self.q_open = self._mimics_follow(q_open, set(description.open_configuration))
         self.q_open.setflags(write=False)
+
+    def _mimics_follow(self, q: np.ndarray, given: set) -> np.ndarray:
+        """``q`` with every URDF mimic follower not in ``given`` placed by its leader
+        (``multiplier * q_leader + offset``, clipped to its limits; chains in order): an open
+        pose given for a leader opens its followers too."""
+        moved = set(given)
+        for _ in self.mimics:  # a chain of n mimics settles in n passes
+            for m in self.mimics:
+                if m.follower in given or m.leader not in moved or m.leader not in self.joint_names:
+                    continue
+                f, lead = self.joint_names.index(m.follower), self.joint_names.index(m.leader)
+                q[f] = np.clip(m.multiplier * q[lead] + m.offset, self.lower[f], self.upper[f])
+                moved.add(m.follower)
+        return q
 
     def _index_of(self, name: object) -> int:
         """Index of joint ``name`` named by the description (unknown: :class:`UnknownNameError`)."""

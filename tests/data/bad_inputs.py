@@ -79,7 +79,7 @@ def cli_json(*argv: str) -> Callable[[Path], Any]:
 
 
 # ------------------------------------------------------------------------------ API: searches
-case("upper-1e300", "api", mw(upper=1e300), match="upper: must be in (0, 1e+12]")
+case("upper-1e300", "api", mw(upper=1e300), match="upper: must be in [1e-06, 1e+12]")
 case("upper-1e200-steps-20", "api", mw(upper=1e200, steps=20), match="upper")
 case("upper-1e12-pinch", "api", mw(upper=1e12, method=IT), match="times the grasp's force scale")
 case("upper-negative", "api", mw(upper=-1.0), match="upper")
@@ -624,3 +624,90 @@ def _batch_resume_method(tmp: Path) -> Any:
 
 case("cli-batch-resume-other-method", "cli", _batch_resume_method, None,
      verdict=lambda r: r[0] == 2 and "another batch" in r[1])  # fmt: skip
+
+
+# ---- issue 33, the rest: numeric domains of the loading path (docs/errors.md, "Input domains")
+def qs(**kw: Any) -> Callable[[Path], Any]:
+    """The default (quasi-static) max-wrench query on the pinch, ``kw`` as settings or arguments."""
+    args = dict(command=1.0, direction="fy", upper=100.0) | kw
+    return lambda tmp: pg.max_resistible_wrench(pinch(), args.pop("command"), args.pop("direction"), **args)
+
+
+def _ten(r: Any) -> bool:
+    return r.status == "finite" and abs(r.magnitude - 10.0) < 1e-9
+
+
+for _tr in (1e-9, 3e-8, 1e-7, 2e6, 1e8, 1e9):
+    case(f"api-tangential-ratio-{_tr:g}", "api", qs(tangential_ratio=_tr, limit="first"),
+         match="tangential_ratio: must be in [1e-06, 1e+06]")  # fmt: skip
+for _tr in (1e-6, 1e6):  # the edges answer the pinch's exact 10 N
+    case(
+        f"api-tangential-ratio-{_tr:g}-ok", "api", qs(tangential_ratio=_tr, limit="first"), None, verdict=_ten
+    )
+case("scene-tangential-ratio-1e9", "scene",
+     scene(pinch_with("  steps: 20", "  steps: 20\n  tangential_ratio: 1.0e+9")), pg.PinograspError,
+     "tangential_ratio")  # fmt: skip
+case("scene-tangential-ratio-3e-8", "scene",
+     scene(pinch_with("  steps: 20", "  steps: 20\n  tangential_ratio: 3.0e-8")), pg.PinograspError,
+     "tangential_ratio")  # fmt: skip
+case("cli-tangential-ratio-1e9", "cli", cli("max-wrench", "pinch", "-d", "fy", "--tangential-ratio", "1e9"),
+     None, verdict=lambda r: r[0] == 2 and "--tangential-ratio" in r[1] and "1e+06" in r[1])  # fmt: skip
+case("cli-path-tangential-ratio-3e-8", "cli", cli("path", "pinch", "-d", "fy", "--tangential-ratio", "3e-8"),
+     None, verdict=lambda r: r[0] == 2 and "--tangential-ratio" in r[1] and "1e-06" in r[1])  # fmt: skip
+for _c in (1e-300, 1e-12, 1e-10, 1e-7):
+    case(
+        f"api-command-{_c:g}", "api", qs(command=_c), match="the largest command must be 0 or at least 1e-06"
+    )
+case("api-command-1e-6-ok", "api", qs(command=1e-6, limit="first"), None,
+     verdict=lambda r: r.status == "finite" and abs(r.magnitude - 1e-5) < 1e-14)  # fmt: skip
+case("api-command-small-beside-large-ok", "api", qs(command=[1.0, 1e-9], limit="first"), None,
+     verdict=lambda r: r.status == "finite" and r.magnitude > 0)  # fmt: skip
+case("scene-preload-1e-10", "scene",
+     lambda t: scene(pinch_with("preload: 1.0 ", "preload: 1.0e-10 "))(t).max_resistible_wrench("fy"),
+     pg.InvalidInputError, "largest command")  # fmt: skip
+case("api-budget-1e-300", "api", lambda t: pg.optimal_preload(pinch(), ["fy"], budget=1e-300),
+     match="budget: must be in [1e-06")  # fmt: skip
+case("api-upper-1e-300", "api", qs(upper=1e-300), match="upper: must be in [1e-06")
+case("api-grip-1e-300", "api", lambda t: pg.equilibrium_preload(pinch(), objective="least_norm", grip=1e-300),
+     match="grip: must be in [1e-06")  # fmt: skip
+case("cli-budget-1e-300", "cli", cli("optimal-preload", "pinch", "-w", "fy=1", "--budget", "1e-300"), None,
+     verdict=lambda r: r[0] == 2 and "budget" in r[1])  # fmt: skip
+
+
+def _arm(value: float) -> Callable[[Path], Any]:
+    def run(tmp: Path) -> Any:
+        from pinograsp.core.examples import pinch_contacts
+
+        acts = [pg.Actuator({0: value}, name="left"), pg.Actuator({1: 1.0}, name="right")]
+        m = pg.GraspModel.from_contacts(pinch_contacts(), actuators=acts, planar=True)
+        return pg.max_resistible_wrench(m, 1.0, "fy", upper=100.0, limit="first")
+
+    return run
+
+
+for _a in (1e300, 1e7, 1e-7, 1e-300):
+    case(f"api-moment-arm-{_a:g}", "api", _arm(_a), match="transmission[0]: a moment arm")
+case("api-moment-arm-1e6-ok", "api", _arm(1e6), None, verdict=lambda r: r.status == "finite")
+case("api-coupling-1e300", "api", lambda t: pg.Coupling({0: 1.0, 1: -1e300}), match="weights[1]")
+case("scene-moment-arm-1e300", "scene",
+     scene(pinch_with("transmission: {left: 1.0}", "transmission: {left: 1.0e+300}")), pg.PinograspError,
+     "moment arm")  # fmt: skip
+
+
+def _lad(**kw: Any) -> Callable[[Path], Any]:
+    return lambda tmp: pg.loading_path(pinch(), 1.0, "fy").load_at_displacement(**({"delta": 1e-3} | kw))
+
+
+for _r in (-1.0, 0.0, float("nan"), 1e4):
+    case(f"api-load-at-displacement-rotation-{_r:g}", "api", _lad(rotation=_r), match="rotation: must be")
+for _k in (1e-200, 0.5, 1e11):
+    case(
+        f"api-load-at-displacement-stiffness-{_k:g}", "api", _lad(stiffness=_k), match="stiffness: must be in"
+    )
+case("api-load-at-displacement-delta-0", "api", _lad(delta=0.0), match="delta: must be in")
+case("api-load-at-displacement-ok", "api", _lad(rotation=1e-2, stiffness=1e6), None,
+     verdict=lambda v: 0.0 < v <= 10.0)  # fmt: skip
+case("api-continuation-no", "api", lambda t: pg.loading_path(pinch(), 1.0, "fy", continuation="no"),
+     match="continuation: expected True or False")  # fmt: skip
+case("api-continuation-1", "api", lambda t: pg.loading_path(pinch(), 1.0, "fy", continuation=1),
+     match="continuation: expected True or False")  # fmt: skip

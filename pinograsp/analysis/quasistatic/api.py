@@ -386,6 +386,8 @@ def loading_path(
     s = checked_settings(settings)
     v = _variant(variant, s)
     max_segments = count("max_segments", max_segments, MAX_PATH_SEGMENTS, what="each segment one LCP")
+    if not isinstance(continuation, (bool, np.bool_)):  # "no" is truthy: docs/errors.md
+        raise InvalidInputError("continuation", f"expected True or False, got {continuation!r}")
     p = prepare(model, command, s, v, int(max_segments))
     d6 = wrench_direction(model, direction)
     if up_to is not None:  # a load: the domains of every load (docs/errors.md, "Input domains")

@@ -14,6 +14,7 @@ import numpy as np
 
 from ...core.axes import WRENCH_AXES, direction_text, wrench_unit
 from ...core.serialize import jsonable
+from ...core.validate import GIVEWAY, PHYSICAL_STIFFNESS, number_in
 from ...errors import InvalidInputError, MissingDependencyError
 from .events import PathEvent
 from .giveway import Thresholds, Trace, walk
@@ -196,13 +197,9 @@ class LoadingPath:
             rotation ``rotation``; the limit load when neither is reached before it (a sharp
             give-way); ``inf`` on an unbounded path that never gets there.
         """
-        d = float(delta)
-        if not (np.isfinite(d) and d > 0):
-            raise InvalidInputError("delta", f"expected a positive displacement [m], got {delta!r}")
-        k = float(stiffness)
-        if not (np.isfinite(k) and k > 0):
-            raise InvalidInputError("stiffness", f"expected a positive stiffness [N/m], got {stiffness!r}")
-        rot = d / self.length_scale if rotation is None else float(rotation)
+        d = number_in("delta", delta, *GIVEWAY, "m")
+        k = number_in("stiffness", stiffness, *PHYSICAL_STIFFNESS, "N/m")
+        rot = d / self.length_scale if rotation is None else number_in("rotation", rotation, *GIVEWAY, "rad")
         th = Thresholds(d, rot, None, self.model_stiffness / k, self.length_scale, linear=False)
         cont = self.continuation
         follow = self.status == "finite" and cont is not None and bool(cont.snaps)
