@@ -44,3 +44,16 @@ def test_readme_own_hand_example(name, tmp_path, monkeypatch, capsys):
     result = ns["push"] if name == "allegro" else ns["pull"]
     assert result.status in ("finite", "unbounded", "above_limit", "below_resolution")
     assert ns["profile"].summary() in out
+
+
+def test_readme_giveway_example(capsys):
+    """The give-way example prints what the README says it prints (the numbers from the API)."""
+    text = README.read_text()
+    printed = re.search(
+        r"<!-- readme-example: giveway -->\n```python\n.*?```\n\nprints\n\n```\n(.*?)```", text, re.S
+    )
+    assert printed, "the README's printed lines of the give-way example"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        exec(compile(_example("giveway"), "README:giveway", "exec"), {})
+    assert capsys.readouterr().out == printed.group(1)
