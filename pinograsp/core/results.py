@@ -237,7 +237,9 @@ class MaxWrench:
             f"max resistible wrench along {label or direction_text(self.direction)}: "
             f"{format_max_wrench(self, unit=unit)} ({self.status}"
         )
-        if self.status == "finite":
+        if self.status == "finite" and self.search == "path":
+            head += ", exact"
+        elif self.status == "finite":
             head += f", resolution {self.resolution:.2g} {unit}"
         elif self.status == "above_limit":
             head += f": the upper limit {self.upper:g} {unit} is resisted"
