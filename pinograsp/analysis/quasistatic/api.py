@@ -24,6 +24,7 @@ from .path import MAX_SEGMENTS, StageRun, follow
 from .preload import PRELOAD_VARIANTS, preload_path, released_states
 from .rates import EVENT_RTOL, StageSpec, State, force_scale
 from .result import LoadingPath, PathStatus
+from .statuses import RunStatus
 
 _CACHE: weakref.WeakKeyDictionary[GraspModel, dict] = weakref.WeakKeyDictionary()
 
@@ -253,18 +254,18 @@ def _audit_failure(
 def _status(run: StageRun, p: Prepared, spec: StageSpec) -> tuple[str, float, str]:
     """(status, limit, stop reason) of a load stage."""
     last = run.states[-1].t
-    if run.status in ("limit", "unstable"):
+    if run.status in (RunStatus.LIMIT, RunStatus.UNSTABLE):
         scale = force_scale(p.qm, p.start, spec) / max(float(np.abs(p.qm.w_scaled(spec.dw)).max()), 1e-300)
         if last <= EVENT_RTOL * scale:
-            return "below_resolution", 0.0, run.status
-        return "finite", float(last), run.status
-    if run.status == "unbounded":
+            return "below_resolution", 0.0, run.status.value
+        return "finite", float(last), run.status.value
+    if run.status == RunStatus.UNBOUNDED:
         return "unbounded", float("inf"), "ray"
-    if run.status == "end":
+    if run.status == RunStatus.END:
         return "reached", float(last), "load"
-    if run.status == "segment_limit":
+    if run.status == RunStatus.SEGMENT_LIMIT:
         return "segment_limit", float(last), "segment_limit"
-    return "no_solution", float(last), run.status
+    return "no_solution", float(last), run.status.value
 
 
 def _seg_rates(p: Prepared, seg, x0: np.ndarray | None) -> dict[str, np.ndarray]:
@@ -421,10 +422,10 @@ def run_path(
     run = (
         follow(p.qm, p.start, spec, max_segments)
         if t_end > 0
-        else StageRun(states=[p.start.copy()], status="end")
+        else StageRun(states=[p.start.copy()], status=RunStatus.END)
     )
     cont = None
-    if run.status == "limit" and up_to is None and continuation:
+    if run.status == RunStatus.LIMIT and up_to is None and continuation:
         more = continue_past_limit(p.qm, run, spec, max_segments)
         if more is not None:
             cont = _continuation(p, d6, more, spec, lean)
@@ -440,24 +441,24 @@ def _continuation(
     cont = build_path(
         p,
         d6,
-        StageRun(states=more.states, segments=more.segments, triggers=more.triggers, status="end"),
+        StageRun(states=more.states, segments=more.segments, triggers=more.triggers, status=RunStatus.END),
         spec,
         0.0,
         lean,
     )
-    snaps = tuple(getattr(more, "snaps", ()))
+    snaps = tuple(more.snaps)
     if cont.stop_reason == "audit":
         return replace(cont, snaps=snaps)
-    tail = more.status.split(":")[-1]
+    tail = more.tail if more.status == RunStatus.LANDED and more.tail is not None else more.status
     status: PathStatus
     if not snaps:
-        status = "finite" if more.status in ("unloaded", "mechanism") else "no_solution"
+        status = "finite" if more.status in (RunStatus.UNLOADED, RunStatus.MECHANISM) else "no_solution"
         limit = float(more.states[0].t)
-    elif tail == "unbounded":
+    elif tail == RunStatus.UNBOUNDED:
         status, limit = "unbounded", float("inf")
-    elif tail == "limit":
+    elif tail == RunStatus.LIMIT:
         status, limit = "finite", float(more.states[-1].t)
-    elif tail in ("unloaded", "mechanism"):  # gave way past the last landing: its peak
+    elif tail in (RunStatus.UNLOADED, RunStatus.MECHANISM):  # gave way past the last landing: its peak
         status, limit = "finite", max(float(s.t) for s in more.states[snaps[-1][1] :])
     else:
         status, limit = "no_solution", float(more.states[-1].t)
@@ -466,7 +467,7 @@ def _continuation(
         cont,
         status=status,
         limit=limit,
-        stop_reason=more.status,
+        stop_reason=tail.value,  # how the path past the limit ended (after its last landing)
         snaps=snaps,
         ray=ray,
     )

@@ -19,6 +19,7 @@ import numpy as np
 from .model import QSModel
 from .path import LIMIT_RTOL, StageRun, Trigger, _plan, _planned, advance, follow, next_event
 from .rates import Segment, StageCache, StageSpec, classify
+from .statuses import RunStatus, SegmentStatus, TriggerKind, run_status
 
 #: Largest number of segments of one descent past a limit (a count).
 MAX_DESCENT = 200
@@ -34,13 +35,13 @@ def _neutral(qm: QSModel, seg: Segment, spec: StageSpec) -> bool:
     return abs(seg.lam_rate) * size <= LIMIT_RTOL * qm.k_ref
 
 
-def _descend(qm: QSModel, out: StageRun, seg: Segment, spec: StageSpec, sc: StageCache) -> str:
+def _descend(qm: QSModel, out: StageRun, seg: Segment, spec: StageSpec, sc: StageCache) -> RunStatus:
     """Follow the path from ``out.states[-1]`` (a limit, leaving segment ``seg``) under
-    displacement control until the load is back at the limit (``"landed"``), falls to zero
-    (``"unloaded"``) or the path stops; the states are appended to ``out``. A neutral segment
+    displacement control until the load is back at the limit (``LANDED``), falls to zero
+    (``UNLOADED``) or the path stops; the states are appended to ``out``. A neutral segment
     (a mechanism along the load, :func:`_neutral`) is followed at the limit load to its next
     event (a contact touches, a face is reached): it lands where the grasp stiffens again, and
-    is a ``"mechanism"`` when no event lies ahead."""
+    is a ``MECHANISM`` when no event lies ahead."""
     st = out.states[-1]
     peak = st.t
     cls = classify(qm, st, spec)
@@ -51,57 +52,56 @@ def _descend(qm: QSModel, out: StageRun, seg: Segment, spec: StageSpec, sc: Stag
         t, trig = next_event(qm, st, spec, cls, seg)
         lam_rate = seg.lam_rate
         if lam_rate == 0.0 and not np.isfinite(t):
-            return "mechanism"
+            return RunStatus.MECHANISM
         if lam_rate > 0 and (peak - st.t) / lam_rate <= t:
-            t, trig = max((peak - st.t) / lam_rate, 0.0), (Trigger("landed", -1),)
+            t, trig = max((peak - st.t) / lam_rate, 0.0), (Trigger(TriggerKind.LANDED, -1),)
         elif lam_rate < 0 and st.t / -lam_rate <= t:
             out.states.append(advance(st, seg, st.t / -lam_rate))
-            out.triggers.append((Trigger("unloaded", -1),))
-            return "unloaded"
+            out.triggers.append((Trigger(TriggerKind.UNLOADED, -1),))
+            return RunStatus.UNLOADED
         if not np.isfinite(t):
-            return "mechanism" if lam_rate <= 0 else "unbounded"
+            return RunStatus.MECHANISM if lam_rate <= 0 else RunStatus.UNBOUNDED
         st = advance(st, seg, t)
         out.states.append(st)
         out.triggers.append(trig)
-        if trig and trig[0].kind == "landed":
+        if trig and trig[0].kind == TriggerKind.LANDED:
             st.t = peak
-            return "landed"
+            return RunStatus.LANDED
         cls = classify(qm, st, spec)
         prev: Segment = seg
         seg = _planned(qm, st, spec, cls, "displacement", _plan(qm, cls, prev), out, sc, (prev.active,))
-        if seg.status != "ok":
-            return seg.status
-    return "segment_limit"
+        if seg.status != SegmentStatus.OK:
+            return run_status(seg.status)
+    return RunStatus.SEGMENT_LIMIT
 
 
 def continue_past_limit(qm: QSModel, run: StageRun, spec: StageSpec, max_segments: int) -> StageRun | None:
     """The path from the limit state of ``run`` (status ``"limit"``) beyond it: descents
     under displacement control and, after each landing, the load-controlled path to its next
-    limit, up to :data:`MAX_SNAPS` snaps. ``status``: ``"landed:<status of the last
-    load-controlled part>"``, ``"unloaded"`` (the load falls to zero), ``"mechanism"`` (no
+    limit, up to :data:`MAX_SNAPS` snaps. ``status``: ``LANDED`` (``tail``: the status of the
+    last load-controlled part), ``UNLOADED`` (the load falls to zero), ``MECHANISM`` (no
     stiffness left) or a failure; ``snaps`` holds ``(limit index, landing index)`` pairs. None
     when the limit is not a softening one (a mechanism along the load: nothing to land on)."""
     seg = run.segments[-1]
     if seg.control != "displacement":
         return None
     out = StageRun(states=[run.states[-1].copy()])
-    out.snaps = []  # type: ignore[attr-defined]
     sc = StageCache.of(qm, spec)
     for _ in range(MAX_SNAPS):
         top = len(out.states) - 1
         status = _descend(qm, out, seg, spec, sc)
-        if status != "landed":
+        if status != RunStatus.LANDED:
             out.status = status
             return out
-        out.snaps.append((top, len(out.states) - 1))  # type: ignore[attr-defined]
+        out.snaps.append((top, len(out.states) - 1))
         rest = follow(qm, out.states[-1], spec, max_segments)
         out.states += rest.states[1:]
         out.segments += rest.segments
         out.triggers += rest.triggers
         out.lcp_solves += rest.lcp_solves
-        out.status = "landed:" + rest.status
+        out.status, out.tail = RunStatus.LANDED, rest.status
         last = rest.segments[-1] if rest.segments else None
-        if rest.status != "limit" or last is None or last.control != "displacement":
+        if rest.status != RunStatus.LIMIT or last is None or last.control != "displacement":
             return out
         out.segments.pop()  # the limit's segment is the next descent's first
         seg = last

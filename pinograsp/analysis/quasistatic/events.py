@@ -8,6 +8,7 @@ from typing import Any, Literal
 from .model import QSModel
 from .path import StageRun, Trigger
 from .rates import Segment
+from .statuses import RunStatus, TriggerKind
 
 #: What an event is about.
 EventKind = Literal["contact", "actuator", "limit", "unbounded", "stop"]
@@ -74,14 +75,14 @@ def contact_label(seg: Segment, i: int) -> str:
 def trigger_text(qm: QSModel, tr: Trigger) -> str:
     """An inequality reached, as text."""
     m = qm.model
-    if tr.kind == "separates":
+    if tr.kind == TriggerKind.SEPARATES:
         return f"{m.contact_names[tr.index]} unloaded"
-    if tr.kind == "touches":
+    if tr.kind == TriggerKind.TOUCHES:
         return f"{m.contact_names[tr.index]} touched"
-    if tr.kind == "face":
+    if tr.kind == TriggerKind.FACE:
         i = int(qm.face_contact[tr.index])
         return f"face {int(qm.face_index[tr.index])} of {m.contact_names[i]} reached"
-    if tr.kind == "command":
+    if tr.kind == TriggerKind.COMMAND:
         return f"{m.actuator_names[tr.index]} back at its command"
     return "end of stage"
 
@@ -115,7 +116,7 @@ def path_events(qm: QSModel, run: StageRun, status: str) -> tuple[PathEvent, ...
     cause = "; ".join(trigger_text(qm, tr) for tr in run.triggers[-1]) if run.triggers else ""
     if status in ("finite", "below_resolution"):
         what = "limit load"
-        if run.status == "unstable":
+        if run.status == RunStatus.UNSTABLE:
             what += " (no quasi-static continuation: the grasp snaps)"
         out.append(PathEvent(load, "limit", "", -1, "", what, cause, last))
     elif status == "unbounded":

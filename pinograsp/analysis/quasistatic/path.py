@@ -33,6 +33,7 @@ from .rates import (
     stage_constants,
 )
 from .snap import no_continuation, unstable_segment
+from .statuses import RunStatus, SegmentStatus, TriggerKind, run_status
 
 #: A mechanism along the load: ``dλ`` per unit displacement below this fraction of the
 #: largest contact stiffness. Rounding of a degenerate rate problem (zero-force contacts at the
@@ -48,11 +49,10 @@ MAX_SEGMENTS = 5000
 
 @dataclass(frozen=True)
 class Trigger:
-    """An inequality reached at the end of a segment: ``kind`` is ``"separates"``,
-    ``"touches"``, ``"face"``, ``"command"`` (an actuator's force reaches its command) or
-    ``"end"``; ``index`` the contact, face (row of :attr:`QSModel.Phi`) or actuator."""
+    """An inequality reached at the end of a segment: ``kind`` (:class:`~.statuses.TriggerKind`)
+    and ``index``: the contact, face (row of :attr:`QSModel.Phi`) or actuator (-1: none)."""
 
-    kind: str
+    kind: TriggerKind
     index: int
 
 
@@ -66,19 +66,27 @@ class StageRun:
             segments between breakpoints when the stage ends in a ray (unbounded) or at a
             limit (the state found there).
         triggers: Inequalities reached at each breakpoint after the first.
-        status: ``"end"`` (reached ``t_end``), ``"unbounded"``, ``"limit"``,
-            ``"segment_limit"``, or the rate problem's failure (``"ray_termination"``,
-            ``"pivot_limit"``, ``"singular"``).
+        status: :class:`~.statuses.RunStatus`: ``END`` (reached ``t_end``), ``UNBOUNDED``,
+            ``LIMIT``, ``UNSTABLE``, ``SEGMENT_LIMIT`` or the rate problem's failure; past a
+            limit (:func:`~.continuation.continue_past_limit`) also ``LANDED`` (then ``tail``
+            says how the load-controlled part after the last landing ended), ``UNLOADED``,
+            ``MECHANISM``.
         lcp_solves, pivots, largest_lcp: Work done.
+        snaps: Past a limit: ``(limit breakpoint, landing breakpoint)`` of each snap.
+        tail: With ``status == LANDED``: the status of the part after the last landing.
+        friction_on: A preload closing: the contacts that closed with friction (nc,) bool.
     """
 
     states: list[State]
     segments: list[Segment] = field(default_factory=list)
     triggers: list[tuple[Trigger, ...]] = field(default_factory=list)
-    status: str = "end"
+    status: RunStatus = RunStatus.END
     lcp_solves: int = 0
     pivots: int = 0
     largest_lcp: int = 0
+    snaps: list[tuple[int, int]] = field(default_factory=list)
+    tail: RunStatus | None = None
+    friction_on: np.ndarray | None = None
 
 
 def _planned(
@@ -122,15 +130,15 @@ def _planned(
             run.pivots += seg.pivots
             run.largest_lcp = max(run.largest_lcp, seg.lcp_size)
             first = first or seg
-            if seg.status == "guess":
+            if seg.status == SegmentStatus.GUESS:
                 plan[seg.flip] = np.where(plan[seg.flip] == PRESS, SEPARATE, PRESS)
-            elif seg.status == "apex":
+            elif seg.status == SegmentStatus.APEX:
                 apex[seg.add] = True
             else:
                 break
             if len(tried) > 8 * (qm.nc + 1):
                 break
-        if seg.status in ("ok", "singular"):
+        if seg.status in (SegmentStatus.OK, SegmentStatus.SINGULAR):
             return seg
         if not cls.zero.any():
             return seg
@@ -138,9 +146,9 @@ def _planned(
     run.lcp_solves += 1
     run.pivots += full.pivots
     run.largest_lcp = max(run.largest_lcp, full.lcp_size)
-    if full.status == "ok" or first is None:
+    if full.status == SegmentStatus.OK or first is None:
         return full
-    return first if first.status not in ("guess", "apex") else full
+    return first if first.status not in (SegmentStatus.GUESS, SegmentStatus.APEX) else full
 
 
 def _plan(qm: QSModel, cls: Classes, prev: Segment | None) -> np.ndarray:
@@ -168,29 +176,29 @@ def _solve_segment(
     hints: tuple[np.ndarray, ...] = ()
     if prev is not None:
         new = [
-            qm.nc + tr.index if tr.kind == "face" else qm.nc + qm.nf + tr.index
+            qm.nc + tr.index if tr.kind == TriggerKind.FACE else qm.nc + qm.nf + tr.index
             for tr in trig
-            if tr.kind in ("face", "command")
+            if tr.kind in (TriggerKind.FACE, TriggerKind.COMMAND)
         ]
         hints = (np.union1d(prev.active, new), prev.active) if new else (prev.active,)
     seg = _planned(qm, st, spec, cls, "load", plan, run, sc, hints)
     _, _, r0, size, loaded = stage_constants(qm, spec)
     if not loaded:
         return seg
-    if seg.status == "ok":
+    if seg.status == SegmentStatus.OK:
         along = float(r0 @ seg.dvs[: qm.nx]) / size  # displacement along the load per unit load
         if along * SOFT_RTOL * qm.k_ref < size:
             return seg
         # nearly a mechanism along the load: decide under displacement control
     alt = _planned(qm, st, spec, cls, "displacement", plan, run, sc)
-    if alt.status != "ok":
-        if seg.status == alt.status == "ray_termination" and no_continuation(qm, spec, cls, sc):
+    if alt.status != SegmentStatus.OK:
+        if seg.status == alt.status == SegmentStatus.RAY_TERMINATION and no_continuation(qm, spec, cls, sc):
             return unstable_segment()  # certified: no equilibrium path leaves this state
         return seg
     load_rate = alt.lam_rate * size
     alt.stiffness_rate = load_rate
     if load_rate <= LIMIT_RTOL * qm.k_ref:
-        alt.status = "limit"
+        alt.status = SegmentStatus.LIMIT
         return alt
     return rescaled(alt, 1.0 / alt.lam_rate)
 
@@ -204,7 +212,9 @@ def next_event(
     wd, fd = stage_constants(qm, spec)[:2]
     rscale = max(float(np.abs(seg.dc).max(initial=0.0)), wd, fd, 1e-300)
     rtol = RATE_RTOL * rscale
-    kinds, idx, steps = [], [], []
+    kinds: list[TriggerKind] = []
+    idx: list[int] = []
+    steps: list[float] = []
     staying = (
         ~seg.separated
         if seg.separated is not None
@@ -212,7 +222,7 @@ def next_event(
     )
     cn, dcn = st.c[::d], seg.dc[::d]
     sel = (staying & (cn > tol) & (dcn < -rtol)).nonzero()[0]
-    kinds += ["separates"] * len(sel)
+    kinds += [TriggerKind.SEPARATES] * len(sel)
     idx += sel.tolist()
     steps += (cn[sel] / -dcn[sel]).tolist()
     An = qm.A[:, ::d]
@@ -221,25 +231,25 @@ def next_event(
         gap = cls.gap if same and cls.gap is not None else An.T @ st.vs  # -delta
         dgap = An.T @ seg.dvs
         sel = (cls.open & (-dgap * qm.kn > rtol)).nonzero()[0]
-        kinds += ["touches"] * len(sel)
+        kinds += [TriggerKind.TOUCHES] * len(sel)
         idx += sel.tolist()
         steps += (gap[sel] / -dgap[sel]).tolist()
     if spec.friction and qm.nf:
         slack = cls.slack if same and cls.slack is not None else qm.Phi @ st.c
         rate = qm.Phi @ seg.dc
         sel = (staying[qm.face_contact] & (slack > tol) & (rate < -rtol)).nonzero()[0]
-        kinds += ["face"] * len(sel)
+        kinds += [TriggerKind.FACE] * len(sel)
         idx += sel.tolist()
         steps += (slack[sel] / -rate[sel]).tolist()
     if qm.na:
         phi = cls.phi if same and cls.phi is not None else (st.f - spec.command(st.t)) * qm.r_norm
         dphi = (seg.df - spec.dfc) * qm.r_norm
         sel = (qm.nbd & ~cls.act_lcp & (dphi < -rtol)).nonzero()[0]
-        kinds += ["command"] * len(sel)
+        kinds += [TriggerKind.COMMAND] * len(sel)
         idx += sel.tolist()
         steps += (phi[sel] / -dphi[sel]).tolist()
     if np.isfinite(spec.t_end):
-        kinds.append("end")
+        kinds.append(TriggerKind.END)
         idx.append(-1)
         steps.append(max(spec.t_end - st.t, 0.0))
     if not steps:
@@ -249,8 +259,10 @@ def next_event(
     near = arr <= t * (1.0 + 1e-9)
     found = [Trigger(kinds[m], int(idx[m])) for m in near.nonzero()[0].tolist()]
     # a contact that unloads reaches every face at once: keep only its unloading
-    gone = {tr.index for tr in found if tr.kind == "separates"}
-    trig = tuple(tr for tr in found if not (tr.kind == "face" and int(qm.face_contact[tr.index]) in gone))
+    gone = {tr.index for tr in found if tr.kind == TriggerKind.SEPARATES}
+    trig = tuple(
+        tr for tr in found if not (tr.kind == TriggerKind.FACE and int(qm.face_contact[tr.index]) in gone)
+    )
     return t, trig
 
 
@@ -288,23 +300,23 @@ def follow(qm: QSModel, start: State, spec: StageSpec, max_segments: int = MAX_S
             run.triggers[-1] if run.triggers else (),
         )
         run.segments.append(seg)
-        if seg.status != "ok":
-            run.status = seg.status
+        if seg.status != SegmentStatus.OK:
+            run.status = run_status(seg.status)
             return run
         t, trig = next_event(qm, st, spec, cls, seg)
         if not np.isfinite(t):
-            run.status = "unbounded"
+            run.status = RunStatus.UNBOUNDED
             return run
-        ends = any(tr.kind == "end" for tr in trig)
+        ends = any(tr.kind == TriggerKind.END for tr in trig)
         st = advance(st, seg, t, spec.t_end if ends else None)
         run.states.append(st)
         run.triggers.append(trig)
         if ends:
             classify(qm, st, spec)  # zero the forces of contacts that reached zero
-            run.status = "end"
+            run.status = RunStatus.END
             return run
         if len(run.segments) >= max_segments:
-            run.status = "segment_limit"
+            run.status = RunStatus.SEGMENT_LIMIT
             return run
 
 

@@ -28,6 +28,7 @@ from ...errors import PreloadNotInEquilibriumError
 from .model import QSModel, finger_groups, with_friction_on
 from .path import StageRun, follow
 from .rates import EVENT_RTOL, StageSpec, State, classify, force_scale
+from .statuses import RunStatus
 
 #: The preload variants.
 PRELOAD_VARIANTS = ("held", "settled")
@@ -55,7 +56,14 @@ def _fail(
     detail = (
         f"method 'quasistatic': the {stage} path of the preload stopped at {st.t:.6g} of the way "
         f"({run.status}: "
-        + (why or ("the grasp gives way under the preload" if run.status == "limit" else "no continuation"))
+        + (
+            why
+            or (
+                "the grasp gives way under the preload"
+                if run.status == RunStatus.LIMIT
+                else "no continuation"
+            )
+        )
         + ")"
     )
     if unbalanced is not None:
@@ -101,20 +109,20 @@ def stage_sound(qm: QSModel, run: StageRun, spec: StageSpec) -> bool:
 
 def _ended(qm: QSModel, run: StageRun, spec: StageSpec) -> bool:
     """The stage reached its end through equilibrium states."""
-    return run.status == "end" and stage_sound(qm, run, spec)
+    return run.status == RunStatus.END and stage_sound(qm, run, spec)
 
 
 def _why(run: StageRun, release: bool = False) -> str:
     """What a preload stage that did not reach its end means."""
-    if run.status == "end":
+    if run.status == RunStatus.END:
         return "its states are not equilibria: the rate problem is nearly singular there"
-    if run.status == "limit":
+    if run.status == RunStatus.LIMIT:
         return (
             "the released grasp gives way before the holder's wrench is gone"
             if release
             else "the grasp gives way under the preload"
         )
-    if run.status == "unbounded":
+    if run.status == RunStatus.UNBOUNDED:
         return "the path runs off without bound"
     return "no continuation"
 
@@ -205,7 +213,7 @@ def preload_path(
         st = run.states[-1].copy()
     else:
         run, on = _held_closing(qm, fc, max_segments)
-        run.friction_on = on  # type: ignore[attr-defined]
+        run.friction_on = on
         runs.append(run)
         st = run.states[-1].copy()
         wh = st.hold.copy()

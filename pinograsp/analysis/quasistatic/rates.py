@@ -29,6 +29,7 @@ import numpy as np
 from ...solvers.lcp import canonical, lemke, principal_pivoting
 from .model import QSModel
 from .state import StageSpec, State
+from .statuses import SegmentStatus
 from .system import StageCache, affine_full, affine_reduced
 
 #: Relative tolerance (to the force scale of the state) under which a slack is zero.
@@ -44,9 +45,10 @@ class Segment:
     """Rates of one segment per unit of the path parameter, and its states.
 
     Attributes:
-        status: ``"ok"``, ``"limit"`` (no continuation with growing load: ``dλ <= 0`` under
-            displacement control), or the LCP's failure (``"ray_termination"``,
-            ``"pivot_limit"``) / ``"singular"``.
+        status: :class:`~.statuses.SegmentStatus`: ``OK``, ``LIMIT`` (no continuation with
+            growing load: ``dλ <= 0`` under displacement control), ``UNSTABLE``, the retries
+            ``GUESS``/``APEX``, or a failure (``SINGULAR``, the LCP's ``RAY_TERMINATION``,
+            ``PIVOT_LIMIT``, ``INACCURATE``).
         dvs, dc, df, dlam_c, dhold, dslip: Rates (as :class:`State`).
         contact: Per contact ``"separated"``, ``"sticking"`` or ``"sliding"``.
         detail: Per contact the sliding faces (indices) — one face, or two at a vertex.
@@ -57,7 +59,7 @@ class Segment:
             control only).
     """
 
-    status: str
+    status: SegmentStatus
     dvs: np.ndarray = field(default_factory=lambda: np.zeros(0))
     dc: np.ndarray = field(default_factory=lambda: np.zeros(0))
     df: np.ndarray = field(default_factory=lambda: np.zeros(0))
@@ -223,7 +225,9 @@ def rates(
     keys = np.concatenate([zero, qm.nc + faces, qm.nc + qm.nf + acts])
     res = _solve_lcp(Mlcp, Wrows[:, 0], keys, hints, qm.nc + qm.nf + qm.na) if nz else None
     if res is not None and not res.solved:
-        return Segment(status=res.status.value, lcp_size=nz, pivots=res.pivots, control=control)
+        return Segment(
+            status=SegmentStatus(res.status.value), lcp_size=nz, pivots=res.pivots, control=control
+        )
     zeta1 = np.concatenate([[1.0], res.z if res is not None else np.zeros(0)])
     v = V @ zeta1
     dc = dC @ zeta1
@@ -279,7 +283,7 @@ def _linear(qm: QSModel, sc: StageCache, spec: StageSpec, ks: np.ndarray, items,
         dC = Fm - ks[:, None] * G
     else:
         if control != "load" and sc.crow is None:
-            return Segment(status="singular", control=control)
+            return Segment(status=SegmentStatus.SINGULAR, control=control)
         rhs_top = A @ F
         rhs_top[:, 0] = sc.r0
         con_rhs = np.zeros((sc.B.shape[1], 1 + nz))
@@ -287,7 +291,7 @@ def _linear(qm: QSModel, sc: StageCache, spec: StageSpec, ks: np.ndarray, items,
             con_rhs[cols, 1 + n1 + np.arange(len(acts))] = -1.0
         full = affine_full(qm, sc, (A * ks) @ A.T, rhs_top, con_rhs, control)
         if full is None:
-            return Segment(status="singular", lcp_size=nz, control=control)
+            return Segment(status=SegmentStatus.SINGULAR, lcp_size=nz, control=control)
         V, lam = full
         dC = -ks[:, None] * (A.T @ V) + F
     # multipliers per column: k B rho = K V - r0 lam - A F = -A dC - r0 lam
@@ -335,7 +339,7 @@ def _check_guesses(qm, spec, cls, plan, sep, apex, seg, v, dc, sc) -> Segment:
     closing = -(qm.A[:, ::d].T @ v) * qm.kn
     bad |= sep & (closing > rtol)
     if bad.any():
-        seg.status = "guess"
+        seg.status = SegmentStatus.GUESS
         seg.flip = bad
         return seg
     if apex is not None and spec.friction and qm.nf:
@@ -344,7 +348,7 @@ def _check_guesses(qm, spec, cls, plan, sep, apex, seg, v, dc, sc) -> Segment:
         if len(rows):
             out = rows[(qm.Phi[rows] @ dc) < -rtol]
             if len(out):
-                seg.status = "apex"
+                seg.status = SegmentStatus.APEX
                 seg.add = out
     return seg
 
@@ -391,7 +395,7 @@ def _segment(qm, spec, cls, sc, v, dc, rho, lam_rate, zeta, items, nz, res, cont
     dc = dc.reshape(nc, d).copy()
     dc[sep_all] = 0.0
     return Segment(
-        status="ok",
+        status=SegmentStatus.OK,
         dvs=v,
         dc=dc.reshape(-1),
         df=df,

@@ -24,6 +24,7 @@ import numpy as np
 from .model import QSModel
 from .rates import FULL, Classes, Segment, StageCache, _items, _linear
 from .state import StageSpec
+from .statuses import SegmentStatus
 
 #: Largest LCP whose complementary index sets are enumerated (2^n small solves).
 MAX_ENUMERATED = 12
@@ -88,7 +89,7 @@ def no_continuation(qm: QSModel, spec: StageSpec, cls: Classes, sc: StageCache) 
 
 def unstable_segment() -> Segment:
     """The segment record of a certified end (status ``"unstable"``)."""
-    return Segment(status="unstable", control="displacement", lam_rate=0.0)
+    return Segment(status=SegmentStatus.UNSTABLE, control="displacement", lam_rate=0.0)
 
 
 __all__ = ["MAX_ENUMERATED", "lcp_has_no_solution", "no_continuation", "unstable_segment"]
