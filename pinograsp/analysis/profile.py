@@ -82,7 +82,7 @@ def _failed(model: GraspModel, direction: np.ndarray, query: Query) -> MaxWrench
         upper=query.upper,
         resolution=query.resolution,
         evidence=(),
-        method=query.method.value,
+        method=str(query.method),
         solve_time=0.0,
         wall_time=0.0,
         n_solves=0,
@@ -142,7 +142,7 @@ def resistance_profile(
     basis, labels = plane_basis(model, plane)
     solver = session_for(model, session, settings, overrides)
     fc = query_within(solver, command, q, eps=False)  # before any work (docs/errors.md)
-    check_preload(solver, fc, q.method.value)
+    check_preload(solver, fc, str(q.method))
     angles, dirs = circle_directions(basis, n)
     found, failures = run_directions(solver, fc, dirs, q, workers=workers, progress=progress, catch=True)
     results = [_failed(model, d, q) if r is None else r for r, d in zip(found, dirs)]

@@ -1,9 +1,10 @@
-"""The contracts of the analysis layer: what a method is (:class:`AnalysisMethod`), what it
+"""The contracts of the analysis layer: what a method
 may ask of a session (:class:`SessionLike`), and the records a max-load query carries
 (:class:`LimitQuery`, :class:`Tally`, :class:`LoadFactor`).
 
-A method (``analysis/method_*.py``) implements :class:`AnalysisMethod` and is registered in
-:mod:`pinograsp.analysis.registry`; the session
+A method (``analysis/method_*.py``) subclasses
+:class:`~pinograsp.analysis.method_base.MethodBase` and is named by its row of the method table
+(:mod:`pinograsp.core.methods`); the session
 (:class:`~pinograsp.analysis.response.PassiveSolver`) implements :class:`SessionLike`. Neither
 imports the other: both meet here (docs/design.md, "Adding a method").
 """
@@ -12,18 +13,20 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass, field
-from typing import Protocol
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
 from ..core.model import GraspModel
-from ..core.results import MaxWrench, PassiveResponse
-from ..core.settings import DEFAULT_METHOD, Method, Search, Settings, Variant
+from ..core.results import PassiveResponse
+from ..core.settings import DEFAULT_METHOD, Search, Settings
 from ..errors import AuditWarning, SolverError, SolverTimeoutError
-from ..solvers.base import Mode, SolveStatus
-from ..solvers.problem import ProblemKind
+from ..solvers.base import SolveStatus
 from .context import SolveContext
 from .stages import Stage
+
+if TYPE_CHECKING:  # the base class of methods builds on this module's records
+    from .method_base import MethodBase
 
 
 @dataclass(frozen=True)
@@ -36,7 +39,7 @@ class LoadFactor:
         solve_time: Wall time [s].
         model: The refined model the answer was found on (``Settings.cone_tolerance``), or None.
         response: For a method whose load-factor point is its own equilibrium
-            (:attr:`AnalysisMethod.limit_point`, the energetic one): the equilibrium at the limit
+            (:attr:`MethodBase.limit_point`, the energetic one): the equilibrium at the limit
             (at ``magnitude`` or at ``upper``), else None.
     """
 
@@ -51,7 +54,7 @@ class SessionLike(SolveContext, Protocol):
     """A session as a method sees it (implemented by
     :class:`~pinograsp.analysis.response.PassiveSolver`)."""
 
-    def rules(self, method: str) -> AnalysisMethod:
+    def rules(self, method: str) -> MethodBase:
         """The registered method named ``method``."""
         ...
 
@@ -75,67 +78,6 @@ class SessionLike(SolveContext, Protocol):
 
     def plain(self, model: GraspModel) -> SessionLike:
         """A session of ``model`` with these settings but no further cone refinement."""
-        ...
-
-
-class AnalysisMethod(Protocol):
-    """One passive-response method: its problems, its stages and how it finds a limit.
-
-    A method that is not built from complementarity stages (e.g. a path-following one) sets
-    ``load_kind``/``load_factor_kind`` to what it solves (or None) and implements
-    :meth:`response` and :meth:`max_load` directly; the staged methods delegate both to
-    :mod:`pinograsp.analysis.staged` and :mod:`pinograsp.analysis.limit_search`.
-
-    Attributes:
-        name: The :class:`~pinograsp.core.settings.Method` it answers to.
-        load_kind: Problem kind of its load stage (the layout its responses are read with).
-        load_factor_kind: Problem kind of its largest load factor in one solve
-            (``search="direct"``), or None.
-        default_variant: The variant used when ``Settings.variant`` is None.
-        searches: Supported searches of the largest load, the default (``"auto"``) first.
-        refines: Whether ``Settings.cone_tolerance`` refines its pyramids.
-        exact: Its equilibria are exact (a residual above the audit tolerance makes a resisted
-            verdict ``"failed"``); False for a scheme converged to a tolerance (iterative).
-        limit_point: Its load-factor problem's optimum is an equilibrium of its own problem (the
-            direct search needs no other solve).
-        preload_method: Whose preload stage it loads on top of (preload-first variant).
-        carries_residual: Its load stage balances the load plus the net wrench an inexact
-            preload stage left (energetic on the iterative preload).
-        preload_kept: Its preload check (``max_resistible_wrench``'s verdict at ``w = 0``) is a
-            pure function of the session and the commands, so a session makes it once per
-            command (the quasi-static path).
-    """
-
-    name: Method
-    load_kind: ProblemKind | None
-    load_factor_kind: ProblemKind | None
-    default_variant: Variant
-    searches: tuple[Search, ...]
-    refines: bool
-    exact: bool
-    limit_point: bool
-    preload_method: Method
-    carries_residual: bool
-    preload_kept: bool
-
-    def stage(
-        self, session: SolveContext, w: np.ndarray, fc: np.ndarray, p: np.ndarray, start: Mode | None
-    ) -> Stage:
-        """One stage: the reduced wrench ``w`` [N, N·m], commands ``fc`` (na,), pre-compression
-        ``p`` (nc,) [N]; ``start`` the mode the grasp is in (an incumbent, speed only)."""
-        ...
-
-    def floor(self, session: SolveContext, direction: np.ndarray, upper: float, steps: int) -> float:
-        """Smallest magnitude [N or N·m] distinguishable from zero along ``direction``."""
-        ...
-
-    def response(self, session: SessionLike, fc: np.ndarray, w6: np.ndarray) -> PassiveResponse:
-        """The response to ``w6`` (6,) under commands ``fc`` (na,), non-negative (mirrored)
-        commands and unrefined pyramids (the session handles both)."""
-        ...
-
-    def max_load(self, session: SessionLike, query: LimitQuery) -> MaxWrench:
-        """The largest load along ``query.direction`` (the preload is checked already)."""
         ...
 
 
@@ -207,7 +149,7 @@ class LimitQuery:
     session: SessionLike
     command: object
     direction: np.ndarray
-    method: AnalysisMethod
+    method: MethodBase
     upper: float
     steps: int
     search: Search
@@ -226,7 +168,7 @@ class LimitQuery:
         with warnings.catch_warnings():  # summarised once, after the search
             warnings.simplefilter("ignore", AuditWarning)
             resp = (session or self.session).response(
-                self.command, magnitude * self.direction, self.method.name.value
+                self.command, magnitude * self.direction, self.method.name
             )
         self.tally.add(resp)
         ok = verdict(resp, magnitude)

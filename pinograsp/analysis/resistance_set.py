@@ -27,6 +27,7 @@ from typing import TYPE_CHECKING, Any, Literal, get_args
 import numpy as np
 
 from ..core.axes import PLANAR_AXES, direction_text, wrench_direction
+from ..core.methods import search_resolution, search_text
 from ..core.model import GraspModel
 from ..core.query import Query, make_query
 from ..core.results import MaxWrench, ResistanceProfile
@@ -35,7 +36,6 @@ from ..core.settings import DEFAULT_METHOD
 from ..core.validate import directions as n_directions
 from ..core.validate import finite_array, relative_length, whole_number
 from ..errors import InvalidInputError
-from .registry import search_resolution, search_text
 
 if TYPE_CHECKING:
     from .response import PassiveSolver
@@ -432,7 +432,7 @@ def resistance_set(
     with single_threaded_blas():  # as every public query: one BLAS thread, one reduction order
         solver = session_for(model, session, settings, overrides)
         fc = query_within(solver, command, q, eps=False)  # domains: docs/errors.md
-        check_preload(solver, fc, q.method.value)
+        check_preload(solver, fc, str(q.method))
         results, failures = run_directions(solver, fc, raw, q, workers=workers, progress=progress, catch=True)
     mags = np.array([np.nan if r is None else r.magnitude for r in results])
     k = _scale_of(dirs, length)
@@ -448,7 +448,7 @@ def resistance_set(
         unbounded=np.array([r is not None and r.unbounded for r in results], dtype=bool),
         failures=tuple(failures),
         results=tuple(results),
-        method=q.method.value,
+        method=str(q.method),
         upper=q.upper,
         steps=q.steps,
         seed=seed_used,

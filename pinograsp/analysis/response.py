@@ -46,7 +46,7 @@ import numpy as np
 
 from ..core.model import GraspModel
 from ..core.results import PassiveResponse
-from ..core.settings import DEFAULT_METHOD, Backend, Method, Settings, make_settings
+from ..core.settings import DEFAULT_METHOD, Backend, Settings, make_settings
 from ..core.validate import load_within
 from ..errors import ConditioningWarning, InvalidInputError
 from ..solvers.base import Mode, RawSolution, SolveStatus
@@ -54,7 +54,8 @@ from ..solvers.formulation import Formulation, ScaledData
 from ..solvers.problem import Problem, ProblemKind, build_problem
 from ..solvers.solve import SolverBackend, make_backend
 from ..solvers.threads import single_threaded
-from .protocols import AnalysisMethod, LoadFactor
+from .method_base import MethodBase
+from .protocols import LoadFactor
 from .refine import refine
 from .registry import get_method, refining_methods
 from .staged import staged_load_factor
@@ -110,9 +111,9 @@ class PassiveSolver:
                 ConditioningWarning,
                 stacklevel=3,
             )
-        self._preload: dict[tuple[Method, tuple[float, ...]], Stage] = {}
-        #: commands whose preload check passed, per method (``AnalysisMethod.preload_kept``)
-        self._preload_checked: set[tuple[Method, tuple[float, ...]]] = set()
+        self._preload: dict[tuple[str, tuple[float, ...]], Stage] = {}
+        #: commands whose preload check passed, per method (``MethodBase.preload_kept``)
+        self._preload_checked: set[tuple[str, tuple[float, ...]]] = set()
         self._mirrors: dict[tuple[bool, ...], PassiveSolver] = {}
 
     # ------------------------------------------------------------ the solvers
@@ -137,13 +138,13 @@ class PassiveSolver:
         return self.backend.solve_fixed_mode(problem, mode)
 
     # ------------------------------------------------------------ methods and preloads
-    def rules(self, method: object) -> AnalysisMethod:
+    def rules(self, method: object) -> MethodBase:
         """The registered method named ``method`` (:func:`~pinograsp.analysis.registry.get_method`)."""
         return get_method(method)
 
     @staticmethod
-    def _preload_key(command: np.ndarray, method: object) -> tuple[Method, tuple[float, ...]]:
-        return (Method(method), tuple(np.asarray(command, float).tolist()))
+    def _preload_key(command: np.ndarray, method: object) -> tuple[str, tuple[float, ...]]:
+        return (str(method), tuple(np.asarray(command, float).tolist()))
 
     def has_preload(self, command: np.ndarray, method: object) -> bool:
         """Whether the preload stage of ``method`` under ``command`` is kept already."""
@@ -152,7 +153,7 @@ class PassiveSolver:
     def preload_checked(self, command: np.ndarray, method: object, *, passed: bool = False) -> bool:
         """Whether the preload check of ``method`` under ``command`` passed on this session
         already; ``passed=True`` records that it did (for methods whose check is a pure
-        function of the session and the commands, ``AnalysisMethod.preload_kept``)."""
+        function of the session and the commands, ``MethodBase.preload_kept``)."""
         key = self._preload_key(command, method)
         if passed:
             self._preload_checked.add(key)
@@ -184,14 +185,14 @@ class PassiveSolver:
         return self._mirrors[key], signs
 
     # ------------------------------------------------------------ refinement
-    def _refines(self, method: AnalysisMethod) -> bool:
+    def _refines(self, method: MethodBase) -> bool:
         """Whether queries of ``method`` refine the pyramids (``Settings.cone_tolerance``)."""
         if self.settings.cone_tolerance is None:
             return False
         if not method.refines:
             who = " or ".join(repr(n) for n in refining_methods())
             raise InvalidInputError(
-                "cone_tolerance", f"cone refinement applies to method={who}, not {method.name.value!r}"
+                "cone_tolerance", f"cone refinement applies to method={who}, not {method.name!r}"
             )
         return not self.model.planar
 
@@ -251,7 +252,7 @@ class PassiveSolver:
     ) -> LoadFactor:
         """The largest resistible magnitude along a unit ``direction`` in one complementarity
         solve of ``method``'s load-factor problem
-        (:attr:`~pinograsp.analysis.protocols.AnalysisMethod.load_factor_kind`), by the
+        (:attr:`~pinograsp.analysis.method_base.MethodBase.load_factor_kind`), by the
         settings' backend.
 
         Returns:
@@ -261,7 +262,7 @@ class PassiveSolver:
         """
         rules = get_method(method)
         if self._refines(rules):
-            return self._refined_load_factor(command, direction, upper, rules.name.value)
+            return self._refined_load_factor(command, direction, upper, rules.name)
         fc = self.model.command_vector(command)
         mirror = self._mirror(fc)
         if mirror is not None:
@@ -274,7 +275,7 @@ class PassiveSolver:
         """Passive response to ``wrench`` under ``command`` (see :func:`passive_response`)."""
         rules = get_method(method)
         if self._refines(rules):
-            return self._refined_response(command, wrench, rules.name.value)
+            return self._refined_response(command, wrench, rules.name)
         m = self.model
         fc = m.command_vector(command)
         mirror = self._mirror(fc)
