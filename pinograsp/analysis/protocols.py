@@ -3,7 +3,7 @@ may ask of a session (:class:`SessionLike`), and the records a max-load query ca
 (:class:`LimitQuery`, :class:`Tally`, :class:`LoadFactor`).
 
 A method (``analysis/method_*.py``) subclasses
-:class:`~pinograsp.analysis.method_base.MethodBase` and is named by its row of the method table
+:class:`~pinograsp.analysis.method_base.MethodRules` and is named by its row of the method table
 (:mod:`pinograsp.core.methods`); the session
 (:class:`~pinograsp.analysis.response.PassiveSolver`) implements :class:`SessionLike`. Neither
 imports the other: both meet here (docs/design.md, "Adding a method").
@@ -13,20 +13,26 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Protocol
+from typing import Protocol
 
 import numpy as np
 
+from ..core.methods import MethodSpec
 from ..core.model import GraspModel
-from ..core.results import PassiveResponse
-from ..core.settings import DEFAULT_METHOD, Search, Settings
-from ..errors import AuditWarning, SolverError, SolverTimeoutError
-from ..solvers.base import SolveStatus
+from ..core.results import MaxWrench, PassiveResponse
+from ..core.settings import DEFAULT_METHOD, Search, Settings, Variant
+from ..errors import (
+    AuditWarning,
+    InvalidInputError,
+    PreloadNotInEquilibriumError,
+    SolverError,
+    SolverTimeoutError,
+)
+from ..solvers.base import Mode, SolveStatus
+from ..solvers.problem import ProblemKind
 from .context import SolveContext
+from .search import grid_resolution
 from .stages import Stage
-
-if TYPE_CHECKING:  # the base class of methods builds on this module's records
-    from .method_base import MethodBase
 
 
 @dataclass(frozen=True)
@@ -39,7 +45,7 @@ class LoadFactor:
         solve_time: Wall time [s].
         model: The refined model the answer was found on (``Settings.cone_tolerance``), or None.
         response: For a method whose load-factor point is its own equilibrium
-            (:attr:`MethodBase.limit_point`, the energetic one): the equilibrium at the limit
+            (:attr:`MethodRules.limit_point`, the energetic one): the equilibrium at the limit
             (at ``magnitude`` or at ``upper``), else None.
     """
 
@@ -54,7 +60,7 @@ class SessionLike(SolveContext, Protocol):
     """A session as a method sees it (implemented by
     :class:`~pinograsp.analysis.response.PassiveSolver`)."""
 
-    def rules(self, method: str) -> MethodBase:
+    def rules(self, method: str) -> MethodRules:
         """The registered method named ``method``."""
         ...
 
@@ -79,6 +85,93 @@ class SessionLike(SolveContext, Protocol):
     def plain(self, model: GraspModel) -> SessionLike:
         """A session of ``model`` with these settings but no further cone refinement."""
         ...
+
+
+class MethodRules:
+    """One passive-response method as the analysis layer sees it: its row and the rules where
+    it differs from the defaults (:class:`~pinograsp.analysis.method_base.MethodBase` adds the
+    staged methods' :meth:`response` and :meth:`max_load`).
+
+    Class attributes (override only what differs):
+        load_kind: Problem kind of its load stage (the layout its responses are read with), or
+            None (no complementarity stages).
+        load_factor_kind: Problem kind of its largest load factor in one solve
+            (``search="direct"``), or None.
+        refines: Whether ``Settings.cone_tolerance`` refines its pyramids.
+        exact: Its equilibria are exact (a residual above the audit tolerance makes a resisted
+            verdict ``"failed"``); False for a scheme converged to a tolerance (iterative).
+        limit_point: Its load-factor problem's optimum is an equilibrium of its own problem (the
+            direct search needs no other solve).
+        preload_from: Whose preload stage it loads on top of (preload-first variant); None: its
+            own.
+        carries_residual: Its load stage balances the load plus the net wrench an inexact
+            preload stage left (energetic on the iterative preload).
+        preload_kept: Its preload check (``max_resistible_wrench``'s verdict at ``w = 0``) is a
+            pure function of the session and the commands, so a session makes it once per
+            command.
+
+    Attributes:
+        spec: Its row of the method table.
+    """
+
+    load_kind: ProblemKind | None = None
+    load_factor_kind: ProblemKind | None = None
+    refines: bool = False
+    exact: bool = True
+    limit_point: bool = False
+    preload_from: str | None = None
+    carries_residual: bool = False
+    preload_kept: bool = False
+
+    def __init__(self, spec: MethodSpec) -> None:
+        self.spec = spec
+
+    @property
+    def name(self) -> str:
+        """The name it answers to (its row's)."""
+        return self.spec.name
+
+    @property
+    def searches(self) -> tuple[Search, ...]:
+        """Supported searches of the largest load, the default first (its row's)."""
+        return self.spec.searches
+
+    @property
+    def default_variant(self) -> Variant:
+        """The variant used when ``Settings.variant`` is None (its row's)."""
+        return self.spec.default_variant
+
+    @property
+    def preload_method(self) -> str:
+        """The method whose preload stage it loads on top of (``preload_from``, else itself)."""
+        return self.preload_from or self.name
+
+    def stage(
+        self, session: SolveContext, w: np.ndarray, fc: np.ndarray, p: np.ndarray, start: Mode | None
+    ) -> Stage:
+        """One complementarity stage: the reduced wrench ``w`` [N, N·m], commands ``fc`` (na,),
+        pre-compression ``p`` (nc,) [N]; ``start`` the mode the grasp is in (speed only).
+        Default: refused (:class:`InvalidInputError`), for a method without stages."""
+        raise InvalidInputError("method", f"{self.name!r} has no complementarity stages")
+
+    def floor(self, session: SolveContext, direction: np.ndarray, upper: float, steps: int) -> float:
+        """Smallest magnitude [N or N·m] distinguishable from zero along ``direction``. Default:
+        the resolution ``upper / 2**steps`` of a bounded search, 0 for an exact limit."""
+        return grid_resolution(upper, steps) if self.spec.bounded else 0.0
+
+    def preload_error(self, session: SessionLike, command: object) -> PreloadNotInEquilibriumError | None:
+        """Its own account of why the preload of ``command`` has no equilibrium (raised by the
+        preload check instead of the generic one), or None. Default: None."""
+        return None
+
+    def response(self, session: SessionLike, fc: np.ndarray, w6: np.ndarray) -> PassiveResponse:
+        """The response to ``w6`` (6,) [N, N·m] under commands ``fc`` (na,), non-negative
+        (mirrored) commands and unrefined pyramids (the session handles both)."""
+        raise NotImplementedError  # MethodBase: the staged default
+
+    def max_load(self, session: SessionLike, query: LimitQuery) -> MaxWrench:
+        """The largest load along ``query.direction`` (the preload is checked already)."""
+        raise NotImplementedError  # MethodBase: the searched default
 
 
 def verdict(resp: PassiveResponse, magnitude: float) -> bool:
@@ -149,7 +242,7 @@ class LimitQuery:
     session: SessionLike
     command: object
     direction: np.ndarray
-    method: MethodBase
+    method: MethodRules
     upper: float
     steps: int
     search: Search

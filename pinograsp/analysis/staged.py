@@ -3,14 +3,13 @@ stage (per the variant) and a load stage on top of it, assembled into a
 :class:`~pinograsp.core.results.PassiveResponse` (docs/design.md, "Variants").
 
 The rules that differ between methods come from their
-:class:`~pinograsp.analysis.method_base.MethodBase` record; this module holds what they share.
+:class:`~pinograsp.analysis.protocols.MethodRules` record; this module holds what they share.
 """
 
 from __future__ import annotations
 
 import time
 from dataclasses import dataclass, replace
-from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -21,22 +20,19 @@ from ..errors import InvalidInputError, SolverError
 from ..solvers.base import INFEASIBLE, OPTIMAL
 from ..solvers.formulation import ScaledData
 from .assemble import build_response, carries_residual
-from .protocols import LoadFactor, SessionLike
+from .protocols import LoadFactor, MethodRules, SessionLike
 from .stages import Stage
-
-if TYPE_CHECKING:  # the base class's defaults call this module
-    from .method_base import MethodBase
 
 #: The settled-preload variant's preload stage: Alg. 1 at ``w = 0`` (the object settles).
 SETTLED_PRELOAD_METHOD = Method.PRP
 
 
-def variant_of(settings: Settings, method: MethodBase) -> Variant:
+def variant_of(settings: Settings, method: MethodRules) -> Variant:
     """The variant ``method`` runs under ``settings`` (its default when none is set)."""
     return method_variant(method.name, settings.variant)
 
 
-def preload_method_of(method: MethodBase, variant: Variant) -> str:
+def preload_method_of(method: MethodRules, variant: Variant) -> str:
     """The method whose preload stage ``method`` loads on top of under ``variant``."""
     return SETTLED_PRELOAD_METHOD if variant is Variant.SETTLED_PRELOAD else method.preload_method
 
@@ -55,9 +51,9 @@ def precompression(session: SessionLike, pre: Stage) -> np.ndarray:
     return session.form.E @ _preload_beta(pre) * pre.data.F
 
 
-def carried(session: SessionLike, method: MethodBase, pre_method: MethodBase, pre: Stage) -> np.ndarray:
+def carried(session: SessionLike, method: MethodRules, pre_method: MethodRules, pre: Stage) -> np.ndarray:
     """The preload stage's own net wrench (reduced, [N, N·m]) that ``method``'s load stage
-    balances on top of the load (:attr:`MethodBase.carries_residual`): the held-still
+    balances on top of the load (:attr:`MethodRules.carries_residual`): the held-still
     preload (the iterative scheme's) is an equilibrium only to its tolerance ``eps``, and an
     exact balance of that residual would have to slip the contacts. Zero otherwise and for an
     exact preload."""
@@ -69,8 +65,8 @@ def carried(session: SessionLike, method: MethodBase, pre_method: MethodBase, pr
 
 
 def _preload(
-    session: SessionLike, method: MethodBase, variant: Variant, fc: np.ndarray
-) -> tuple[MethodBase, Stage, bool]:
+    session: SessionLike, method: MethodRules, variant: Variant, fc: np.ndarray
+) -> tuple[MethodRules, Stage, bool]:
     """The preload stage ``method`` loads on under ``variant``, its method and whether this
     call solved it (``fresh``: it counts in this query's time and solves)."""
     pre_method = session.rules(preload_method_of(method, variant))
@@ -79,7 +75,7 @@ def _preload(
 
 
 def staged_response(
-    session: SessionLike, method: MethodBase, fc: np.ndarray, w6: np.ndarray
+    session: SessionLike, method: MethodRules, fc: np.ndarray, w6: np.ndarray
 ) -> PassiveResponse:
     """The response of a staged method to ``w6`` (6,) [N, N·m] under commands ``fc`` (na,)."""
     m = session.model
@@ -107,18 +103,18 @@ class _LimitPoint:
 
     stage: Stage
     pre: Stage | None
-    pre_method: MethodBase | None
+    pre_method: MethodRules | None
     variant: Variant
     fresh: bool
     at: float  # the magnitude of the point [N or N·m] (``upper`` when unbounded)
 
 
 def staged_load_factor(
-    session: SessionLike, method: MethodBase, fc: np.ndarray, direction: np.ndarray, upper: float
+    session: SessionLike, method: MethodRules, fc: np.ndarray, direction: np.ndarray, upper: float
 ) -> LoadFactor:
     """The largest resistible magnitude along the unit ``direction`` (6,) in one solve of the
-    method's load-factor problem (:attr:`MethodBase.load_factor_kind`), commands ``fc``
-    (na,) non-negative, pyramids unrefined; for a :attr:`MethodBase.limit_point` method,
+    method's load-factor problem (:attr:`MethodRules.load_factor_kind`), commands ``fc``
+    (na,) non-negative, pyramids unrefined; for a :attr:`MethodRules.limit_point` method,
     with the response at the limit."""
     lf, point = solve_load_factor(session, method, fc, direction, upper)
     if point is None or not method.limit_point:
@@ -139,7 +135,7 @@ def staged_load_factor(
 
 
 def solve_load_factor(
-    session: SessionLike, method: MethodBase, fc: np.ndarray, direction: np.ndarray, upper: float
+    session: SessionLike, method: MethodRules, fc: np.ndarray, direction: np.ndarray, upper: float
 ) -> tuple[LoadFactor, _LimitPoint | None]:
     """The load factor (as :func:`staged_load_factor`, without a response) and its optimum as a
     stage (None when not optimal)."""
