@@ -29,9 +29,7 @@ from .method_base import MethodBase
 from .protocols import LimitQuery, SessionLike
 from .quasistatic.answers import NO_VERDICT, max_wrench_prepared, quasistatic_response
 from .quasistatic.api import Prepared, checked_settings, prepare, unit_again
-
-#: The preload path each of the method's variants (its row's) names.
-PATH_VARIANTS = {Variant.PRELOAD_FIRST: "held", Variant.SETTLED_PRELOAD: "settled"}
+from .quasistatic.preload import PRELOAD_PATHS
 
 
 def path_variant(settings: Settings) -> tuple[Variant, str]:
@@ -43,7 +41,7 @@ def path_variant(settings: Settings) -> tuple[Variant, str]:
             (:func:`~pinograsp.core.methods.method_variant`).
     """
     v = method_variant(Method.QUASISTATIC, settings.variant)
-    return v, PATH_VARIANTS[v]
+    return v, PRELOAD_PATHS[v]
 
 
 def no_preload_response(

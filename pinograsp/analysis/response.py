@@ -44,6 +44,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from ..core.methods import method_variant
 from ..core.model import GraspModel
 from ..core.results import PassiveResponse
 from ..core.settings import DEFAULT_METHOD, Backend, Settings, make_settings
@@ -274,6 +275,7 @@ class PassiveSolver:
     def response(self, command: object, wrench: object, method: str = DEFAULT_METHOD) -> PassiveResponse:
         """Passive response to ``wrench`` under ``command`` (see :func:`passive_response`)."""
         rules = get_method(method)
+        method_variant(rules.name, self.settings.variant)  # the one variant rule of every entry point
         if self._refines(rules):
             return self._refined_response(command, wrench, rules.name)
         m = self.model
