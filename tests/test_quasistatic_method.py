@@ -16,8 +16,8 @@ from support.clirun import run, run_json
 import pinograsp as pg
 from pinograsp import examples
 from pinograsp.analysis.registry import get_method
-from pinograsp.core.methods import bounded, search_text
 from pinograsp.cli import main
+from pinograsp.core.methods import bounded, search_text
 
 MU, TAU, L = 0.5, 1.0, 0.1
 QS = "quasistatic"

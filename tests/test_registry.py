@@ -12,9 +12,9 @@ import pytest
 
 import pinograsp as pg
 from pinograsp.analysis.registry import available_methods, get_method, resolve_search
-from pinograsp.core.methods import BUILT_IN, method_names
 from pinograsp.cli import main
 from pinograsp.core import examples
+from pinograsp.core.methods import BUILT_IN, method_names
 from pinograsp.solvers import BACKENDS, Formulation, ProblemKind, available_backends, build_problem
 
 PACKAGE = Path(pg.__file__).parent

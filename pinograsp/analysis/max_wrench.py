@@ -25,7 +25,7 @@ from ..errors import PreloadNotInEquilibriumError
 from ..solvers.threads import single_threaded
 from .protocols import LimitQuery, SessionLike, Tally, verdict
 from .registry import get_method, resolve_search
-from .response import PassiveSolver, session_for
+from .response import Session, session_for
 
 
 def check_preload(solver: SessionLike, command: object, method: str) -> PassiveResponse:
@@ -48,7 +48,7 @@ def check_preload(solver: SessionLike, command: object, method: str) -> PassiveR
     return resp
 
 
-def query_within(session: PassiveSolver, command: object, query: Query, *, eps: bool = True) -> np.ndarray:
+def query_within(session: Session, command: object, query: Query, *, eps: bool = True) -> np.ndarray:
     """The validated commands (na,) of a query, its ``upper`` checked against the grasp they
     preload: within :data:`~pinograsp.core.validate.LOAD_RATIO` of its force scale; with ``eps``,
     for a method converged to a tolerance (not
@@ -70,7 +70,7 @@ def query_within(session: PassiveSolver, command: object, query: Query, *, eps: 
 
 
 def max_wrench_on(
-    session: PassiveSolver, fc: np.ndarray, d: np.ndarray, query: Query, *, check_preload_first: bool = True
+    session: Session, fc: np.ndarray, d: np.ndarray, query: Query, *, check_preload_first: bool = True
 ) -> MaxWrench:
     """:func:`max_resistible_wrench` on a session, with validated commands ``fc`` (na,), unit
     direction ``d`` (6,) and query: what profiles, sets and batches call per direction."""
@@ -98,7 +98,7 @@ def max_resistible_wrench(
     settings: Settings | None = None,
     check_preload_first: bool = True,
     search: str = "auto",
-    session: PassiveSolver | None = None,
+    session: Session | None = None,
     query: Query | None = None,
     **overrides: object,
 ) -> MaxWrench:

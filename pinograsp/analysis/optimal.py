@@ -37,7 +37,7 @@ from ..solvers.problem import ProblemKind
 from .optimal_search import GRID, OBJECTIVES, RESISTANCES, DisturbanceCheck, Status, simplex_grid
 from .preload import command_bounds
 from .registry import get_method
-from .response import solver_for
+from .response import Session
 from .staged import variant_of
 
 
@@ -282,7 +282,7 @@ def optimal_preload(
     refine = count("refine", refine, MAX_REFINE, minimum=0, what="each halves the pattern step")
     upper = force("upper", upper, "(a load factor)")
     steps = n_steps(steps, bounded=limits_bound(method))  # an exact limit does not bisect
-    solver = solver_for(model, settings)
+    solver = Session(model, settings)
     spec = dict(objective=objective, budget=budget, resistance=resistance, cost=cost, bound=bound, dw=dw)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", AuditWarning)

@@ -22,7 +22,7 @@ from ..solvers.threads import single_threaded
 from .directions import run_directions
 from .max_wrench import check_preload, max_wrench_on, query_within
 from .registry import get_method, resolve_search
-from .response import PassiveSolver, session_for
+from .response import Session, session_for
 
 
 def reference_magnitude(
@@ -58,7 +58,7 @@ def reference_magnitude(
 
 
 def _reference(
-    session: PassiveSolver, fc: np.ndarray, profile: ResistanceProfile, reference: object, query: Query
+    session: Session, fc: np.ndarray, profile: ResistanceProfile, reference: object, query: Query
 ) -> float:
     """:func:`reference_magnitude` on a session with validated commands ``fc`` (na,)."""
     model = session.source
@@ -105,7 +105,7 @@ def resistance_profile(
     progress: Callable[[int, int], None] | None = None,
     workers: int | None = None,
     search: str = "auto",
-    session: PassiveSolver | None = None,
+    session: Session | None = None,
     query: Query | None = None,
     **overrides: object,
 ) -> ResistanceProfile:

@@ -5,7 +5,7 @@ may ask of a session (:class:`SessionLike`), and the records a max-load query ca
 A method (``analysis/method_*.py``) subclasses
 :class:`~pinograsp.analysis.method_base.MethodRules` and is named by its row of the method table
 (:mod:`pinograsp.core.methods`); the session
-(:class:`~pinograsp.analysis.response.PassiveSolver`) implements :class:`SessionLike`. Neither
+(:class:`~pinograsp.analysis.response.Session`) implements :class:`SessionLike`. Neither
 imports the other: both meet here (docs/design.md, "Adding a method").
 """
 
@@ -58,7 +58,7 @@ class LoadFactor:
 
 class SessionLike(SolveContext, Protocol):
     """A session as a method sees it (implemented by
-    :class:`~pinograsp.analysis.response.PassiveSolver`)."""
+    :class:`~pinograsp.analysis.response.Session`)."""
 
     def rules(self, method: str) -> MethodRules:
         """The registered method named ``method``."""

@@ -38,7 +38,7 @@ from ..core.validate import finite_array, relative_length, whole_number
 from ..errors import InvalidInputError
 
 if TYPE_CHECKING:
-    from .response import PassiveSolver
+    from .response import Session
 
 #: Outcome per direction: a :data:`~pinograsp.core.results.MaxWrenchStatus`, or ``"failed"`` (the
 #: query raised a :class:`~pinograsp.SolverError`; recorded in ``ResistanceSet.failures``).
@@ -391,7 +391,7 @@ def resistance_set(
     directions: object = None,
     progress: Callable[[int, int], None] | None = None,
     search: str = "auto",
-    session: PassiveSolver | None = None,
+    session: Session | None = None,
     query: Query | None = None,
     **overrides: object,
 ) -> ResistanceSet:

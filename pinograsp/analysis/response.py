@@ -31,7 +31,7 @@ Each method's rules are its module (``analysis/method_*.py``) registered in
 :mod:`pinograsp.analysis.registry`; the stages are in :mod:`pinograsp.analysis.stages`, their
 chaining per variant in :mod:`pinograsp.analysis.staged`, their assembly into a
 :class:`~pinograsp.core.results.PassiveResponse` in :mod:`pinograsp.analysis.assemble`. This
-module holds the session (:class:`PassiveSolver`): the state a caller owns and every method
+module holds the session (:class:`Session`): the state a caller owns and every method
 reads through :class:`~pinograsp.analysis.protocols.SessionLike`.
 """
 
@@ -77,8 +77,10 @@ def formulation_of(model: GraspModel) -> Formulation:
     return _FORMS[model]
 
 
-class PassiveSolver:
-    """Passive-response session of one model and settings: the state a caller owns.
+class Session:
+    """Passive-response session of one model and settings: the state a caller owns, made as
+    ``pg.Session(model, settings, **overrides)`` (the one way; keyword ``overrides`` replace
+    single fields of ``settings``, as for every analysis).
 
     It carries no state that changes answers: each solve is a function of its inputs. What it
     keeps between calls — the preload stage per command and method (a pure function of them),
@@ -88,10 +90,10 @@ class PassiveSolver:
     share the preload stages across queries; profiles and sets share one per worker block.
     """
 
-    def __init__(self, model: GraspModel, settings: Settings | None = None) -> None:
+    def __init__(self, model: GraspModel, settings: Settings | None = None, **overrides: object) -> None:
         if not isinstance(model, GraspModel):
             raise InvalidInputError("model", f"expected pinograsp.GraspModel, got {type(model).__name__}")
-        self.settings = (settings or Settings()).validated()
+        self.settings = make_settings(settings, **overrides)  # validated: Settings.validated
         #: the model as given (what ``session=`` arguments are checked against)
         self.source = model
         #: the model analysed: ``model`` with the settings' normal uncertainty (core/cones.py)
@@ -115,7 +117,7 @@ class PassiveSolver:
         self._preload: dict[tuple[str, tuple[float, ...]], Stage] = {}
         #: commands whose preload check passed, per method (``MethodBase.preload_kept``)
         self._preload_checked: set[tuple[str, tuple[float, ...]]] = set()
-        self._mirrors: dict[tuple[bool, ...], PassiveSolver] = {}
+        self._mirrors: dict[tuple[bool, ...], Session] = {}
 
     # ------------------------------------------------------------ the solvers
     def solve(
@@ -170,7 +172,7 @@ class PassiveSolver:
             self._preload[key] = get_method(method).stage(self, zero, command, nop, None)
         return self._preload[key]
 
-    def _mirror(self, fc: np.ndarray) -> tuple[PassiveSolver, np.ndarray] | None:
+    def _mirror(self, fc: np.ndarray) -> tuple[Session, np.ndarray] | None:
         """For negative commands of bidirectional actuators: the session of the model with
         those actuators' transmissions negated (commanded ``|f_c|``) and the signs (na,); else
         None."""
@@ -182,7 +184,7 @@ class PassiveSolver:
         if key not in self._mirrors:
             with warnings.catch_warnings():  # the same contacts: warned by this session already
                 warnings.simplefilter("ignore", ConditioningWarning)
-                self._mirrors[key] = PassiveSolver(self.model.with_actuator_signs(signs), self.settings)
+                self._mirrors[key] = Session(self.model.with_actuator_signs(signs), self.settings)
         return self._mirrors[key], signs
 
     # ------------------------------------------------------------ refinement
@@ -203,12 +205,12 @@ class PassiveSolver:
             raise InvalidInputError("cone_tolerance", "refinement needs a tolerance [rad]")
         return float(tol)
 
-    def plain(self, model: GraspModel) -> PassiveSolver:
+    def plain(self, model: GraspModel) -> Session:
         """A session of ``model`` (a refinement of this one's) with these settings but no
         further refinement."""
         with warnings.catch_warnings():  # the same contacts: warned by this session already
             warnings.simplefilter("ignore", ConditioningWarning)
-            return PassiveSolver(model, replace(self.settings, cone_tolerance=None))
+            return Session(model, replace(self.settings, cone_tolerance=None))
 
     def _refined_response(self, command: object, wrench: object, method: str) -> PassiveResponse:
         """:meth:`response` on pyramids refined where the answer loads them (analysis/refine.py);
@@ -293,16 +295,9 @@ class PassiveSolver:
         return rules.response(self, fc, m.wrench_vector(wrench))
 
 
-def solver_for(model: GraspModel, settings: Settings | None = None, **overrides: object) -> PassiveSolver:
-    """A new :class:`PassiveSolver` of ``model`` with these settings (no shared state)."""
-    if not isinstance(model, GraspModel):
-        raise InvalidInputError("model", f"expected pinograsp.GraspModel, got {type(model).__name__}")
-    return PassiveSolver(model, make_settings(settings, **overrides))
-
-
 def session_for(
-    model: GraspModel, session: PassiveSolver | None, settings: Settings | None, overrides: dict[str, object]
-) -> PassiveSolver:
+    model: GraspModel, session: Session | None, settings: Settings | None, overrides: dict[str, object]
+) -> Session:
     """The session a public query runs on: the caller's ``session`` (built for ``model``; its
     settings rule, so none may be given besides it), or a new one of ``settings`` and
     ``overrides``.
@@ -312,8 +307,8 @@ def session_for(
             with settings.
     """
     if session is None:
-        return solver_for(model, settings, **overrides)
-    if not isinstance(session, PassiveSolver):
+        return Session(model, settings, **overrides)
+    if not isinstance(session, Session):
         raise InvalidInputError(
             "session", f"expected pinograsp.Session or None, got {type(session).__name__}"
         )
@@ -328,11 +323,6 @@ def session_for(
     return session
 
 
-#: The caller-owned session of one model and settings (the public name of
-#: :class:`PassiveSolver`): ``pg.Session(model, settings)``.
-Session = PassiveSolver
-
-
 def passive_response(
     model: GraspModel,
     command: object,
@@ -340,7 +330,7 @@ def passive_response(
     method: str = DEFAULT_METHOD,
     *,
     settings: Settings | None = None,
-    session: PassiveSolver | None = None,
+    session: Session | None = None,
     **overrides: object,
 ) -> PassiveResponse:
     """Passive response of the grasp ``model`` preloaded with ``command`` to ``wrench``.
@@ -373,4 +363,4 @@ def passive_response(
     return solver.response(command, wrench, method)
 
 
-__all__ = ["LoadFactor", "PassiveSolver", "Session", "passive_response", "session_for", "solver_for"]
+__all__ = ["LoadFactor", "Session", "passive_response", "session_for"]

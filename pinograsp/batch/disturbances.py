@@ -122,10 +122,10 @@ class DisturbanceScore:
     def __call__(self, model: Any, command: Mapping[str, float]) -> dict[str, float]:
         from ..analysis.max_wrench import max_resistible_wrench
         from ..analysis.metrics import ferrari_canny
-        from ..analysis.response import PassiveSolver
+        from ..analysis.response import Session
 
         query = Query(self.method, self.upper, self.steps)
-        session = PassiveSolver(model)  # one per grasp: its preload stage is solved once
+        session = Session(model)  # one per grasp: its preload stage is solved once
         values: dict[str, float] = {}
         first = True
         for label, w in zip(self.labels, self.wrenches):

@@ -114,7 +114,7 @@ class WorstAxisScore:
 
     def __call__(self, model: Any, command: Mapping[str, float]) -> ScoreValues:
         from ..analysis.max_wrench import max_resistible_wrench
-        from ..analysis.response import PassiveSolver
+        from ..analysis.response import Session
 
         axes = ("fx", "fy") if model.planar else ("fx", "fy", "fz")
         mags: dict[str, float] = {}
@@ -122,7 +122,7 @@ class WorstAxisScore:
         failures: list[DirectionFailure] = []
         first: PinograspError | None = None
         query = Query(self.method, self.upper, self.steps)
-        session = PassiveSolver(model)  # one per grasp: its preload stage is solved once
+        session = Session(model)  # one per grasp: its preload stage is solved once
         for direction in (s + a for a in axes for s in ("+", "-")):
             try:  # the preload is checked by the first direction that answers
                 mw = max_resistible_wrench(

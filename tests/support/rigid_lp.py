@@ -40,7 +40,9 @@ SPEC = MethodSpec(
 )
 
 
-def solve_lp(m: GraspModel, fc: np.ndarray, w: np.ndarray, fixed: float | None) -> tuple[str, float, np.ndarray]:
+def solve_lp(
+    m: GraspModel, fc: np.ndarray, w: np.ndarray, fixed: float | None
+) -> tuple[str, float, np.ndarray]:
     """``("optimal", lam, x)``, ``("unbounded", inf, x)`` or ``("infeasible", nan, x)`` of the LP
     above for the reduced load ``w`` (nw,); ``fixed``: ``lam`` held at that value (feasibility)."""
     nb, na, ncp = m.nb, m.na, m.ncp
@@ -51,7 +53,9 @@ def solve_lp(m: GraspModel, fc: np.ndarray, w: np.ndarray, fixed: float | None) 
     bounds.append((fixed, fixed) if fixed is not None else (0.0, None))
     cost = np.zeros(n)
     cost[-1] = -1.0
-    res = linprog(cost, A_eq=np.vstack([a_obj, a_hand]), b_eq=np.zeros(m.nw + m.nq), bounds=bounds, method="highs")
+    res = linprog(
+        cost, A_eq=np.vstack([a_obj, a_hand]), b_eq=np.zeros(m.nw + m.nq), bounds=bounds, method="highs"
+    )
     if res.status == 3:
         return "unbounded", float("inf"), np.zeros(n)
     if res.status != 0:
