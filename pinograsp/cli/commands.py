@@ -15,7 +15,7 @@ import numpy as np
 
 import pinograsp as pg
 
-from ..core.methods import search_text
+from ..core.methods import bounded, search_text
 from ..core.results import format_max_wrench
 from ..core.serialize import jsonable, vector_text, wrench_unit
 from ..errors import InvalidInputError
@@ -165,6 +165,8 @@ def _verdict(mw: Any, upper: float) -> str:
             f"< {mw.floor:.2g} {unit} (below the resolution and the scheme's tolerance: "
             "not distinguishable from zero)"
         )
+    if not bounded(mw.method):  # its row: an exact limit, upper and steps do not shape it
+        return f"{format_max_wrench(mw)} {unit} (exact)"
     return f"{format_max_wrench(mw)} {unit} (resolution {mw.resolution:.2g} {unit})"
 
 
