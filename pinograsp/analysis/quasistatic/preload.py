@@ -1,4 +1,4 @@
-"""The preload as a path (docs/quasistatic.md, "The preload as a path").
+"""The preload as a path (docs/quasistatic.md, "The preload is a path too").
 
 * ``"held"`` (default, the simulation's ``preload="held"``): from the touching configuration
   the commands ramp ``f = s f_c``, ``s: 0 -> 1``, with the object held still and friction off
