@@ -67,10 +67,8 @@ if TYPE_CHECKING:
     from .analysis.resistance_set import ResistanceSet as ResistanceSet
     from .analysis.resistance_set import resistance_set as resistance_set
     from .analysis.resistance_set import sphere_points as sphere_points
-    from .analysis.response import PassiveSolver as PassiveSolver
     from .analysis.response import Session as Session
     from .analysis.response import passive_response as passive_response
-    from .analysis.response import solver_for as solver_for
     from .batch.disturbances import DisturbanceScore as DisturbanceScore
     from .batch.evaluate import WorstAxisScore as WorstAxisScore
     from .batch.evaluate import evaluate_grasps as evaluate_grasps
@@ -118,10 +116,8 @@ if TYPE_CHECKING:
 #: Public names of the lazily imported layers -> their module (below ``pinograsp``).
 _LAZY = {
     # analysis: passive response, max wrench, profiles, sets, scores, preloads, baseline
-    "PassiveSolver": "analysis.response",
     "Session": "analysis.response",
     "passive_response": "analysis.response",
-    "solver_for": "analysis.response",
     "max_resistible_wrench": "analysis.max_wrench",
     "resistance_profile": "analysis.profile",
     "resistance_set": "analysis.resistance_set",

@@ -97,7 +97,7 @@ def test_fuzz_wrench_direction(pinch, direction, name):
 def test_fuzz_settings_and_sessions(pinch, kw):
     known = {k: v for k, v in kw.items() if k != "nonsense"}  # Settings(nonsense=...) is a TypeError
     s = expect_pinograsp_error(lambda: pg.Settings(**known).validated())
-    session = expect_pinograsp_error(pg.solver_for, pinch, None, **kw)
+    session = expect_pinograsp_error(pg.Session, pinch, None, **kw)
     assert (s is None) == (session is None) or "nonsense" in kw  # one validation for both routes
     if "nonsense" in kw:
         assert session is None  # an unknown override is an UnknownNameError

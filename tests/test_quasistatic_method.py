@@ -15,8 +15,9 @@ from support.clirun import run, run_json
 
 import pinograsp as pg
 from pinograsp import examples
-from pinograsp.analysis.registry import get_method, limits_apply, search_text
+from pinograsp.analysis.registry import get_method
 from pinograsp.cli import main
+from pinograsp.core.methods import bounded, search_text
 
 MU, TAU, L = 0.5, 1.0, 0.1
 QS = "quasistatic"
@@ -36,9 +37,9 @@ def pinch():
 # ------------------------------------------------------------------------------ the row
 def test_registry_row_and_its_vocabulary():
     rules = get_method(QS)
-    assert rules.name is pg.Method.QUASISTATIC and rules.searches == (pg.Search.PATH,)
+    assert rules.name == pg.Method.QUASISTATIC and rules.searches == (pg.Search.PATH,)
     assert rules.load_kind is None and rules.load_factor_kind is None and not rules.refines
-    assert not limits_apply(QS) and limits_apply("iterative")
+    assert not bounded(QS) and bounded("iterative")
     assert "exact" in search_text(QS, 1e3, 20) and "upper 1000" in search_text("prp", 1e3, 20)
     assert pg.Query(QS).search is pg.Search.AUTO and pg.Query(QS, search="path").search is pg.Search.PATH
 

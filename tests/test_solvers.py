@@ -114,7 +114,7 @@ def test_missing_and_unknown_solvers(pinch):
 
 def test_no_hidden_state_between_queries(pinch):
     """Every public query gets its own session: answers do not depend on what ran before."""
-    assert pg.solver_for(pinch) is not pg.solver_for(pinch)
+    assert pg.Session(pinch) is not pg.Session(pinch)
     first = pg.passive_response(pinch, TAU, [3.0, 4.0, 0], method="iterative")
     for w in ([40.0, 0, 0], [0, -9.0, 0], [1.0, 12.0, 0.0]):  # unrelated queries
         pg.passive_response(pinch, TAU, w, method="iterative")

@@ -98,7 +98,7 @@ def test_stiff_left_contact_without_verification(ratio):
     np.testing.assert_allclose(r.normal_forces, [10.0, 13.0], atol=1e-5)
     if ratio > 1e5:  # beyond the branch-and-bound's node QPs: it says so
         with pytest.warns(pg.ConditioningWarning, match="backend='miqp'"):
-            pg.solver_for(m)
+            pg.Session(m)
     else:
         r = pg.passive_response(m, 1.0, [3.0, 4.0, 0.0], method="prp")
         np.testing.assert_allclose(r.normal_forces, [10.0, 13.0], atol=1e-5)

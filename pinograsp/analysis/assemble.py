@@ -19,7 +19,7 @@ from .context import SolveContext
 from .stages import Stage
 
 if TYPE_CHECKING:
-    from .protocols import AnalysisMethod
+    from .protocols import MethodRules
 
 
 @dataclass(frozen=True, eq=False)
@@ -139,15 +139,15 @@ def _energy(
 EXACT_EQUILIBRIUM = 1e-6
 
 
-def carries_residual(method: AnalysisMethod, pre_method: AnalysisMethod | None) -> bool:
+def carries_residual(method: MethodRules, pre_method: MethodRules | None) -> bool:
     """Whether ``method``'s load stage balances the net wrench its preload stage (solved by
-    ``pre_method``; None: no preload stage) left: :attr:`AnalysisMethod.carries_residual` on an
+    ``pre_method``; None: no preload stage) left: :attr:`MethodRules.carries_residual` on an
     inexact preload (the energetic method on the held-still, iterative preload)."""
     return pre_method is not None and method.carries_residual and not pre_method.exact
 
 
 def equilibrium_tolerance(
-    solver: SolveContext, method: AnalysisMethod, st: Stage, pre: Stage | None, carried: bool
+    solver: SolveContext, method: MethodRules, st: Stage, pre: Stage | None, carried: bool
 ) -> float | None:
     """What the object's net wrench [N] may be at ``method``'s equilibrium (None: an inexact
     method, judged by its own tolerance ``eps``): an exact method :data:`EXACT_EQUILIBRIUM` of the
@@ -205,7 +205,7 @@ def _audit(
 
 def build_response(
     solver: SolveContext,
-    method: AnalysisMethod,
+    method: MethodRules,
     variant: Variant,
     w6: np.ndarray,
     fc: np.ndarray,
@@ -213,7 +213,7 @@ def build_response(
     pre: Stage | None,
     *,
     pre_fresh: bool = True,
-    pre_method: AnalysisMethod | None = None,
+    pre_method: MethodRules | None = None,
 ) -> PassiveResponse:
     """The :class:`PassiveResponse` of the load stage ``st`` on top of the preload stage ``pre``
     (each solution read with its own layout, ``raw.layout``).
@@ -228,7 +228,7 @@ def build_response(
     m = solver.model
     status = st.status
     counted = pre if (pre is not None and pre_fresh) else None  # a cached preload costs nothing
-    name = method.name.value
+    name = method.name
     common: dict[str, Any] = dict(
         method=name,
         variant=variant,

@@ -1,7 +1,7 @@
 """What the stages and the response assembly need of a session: its model, scaled formulation,
 settings and the one path to the solvers (:class:`SolveContext`).
 
-:class:`~pinograsp.analysis.response.PassiveSolver` implements it; the stages
+:class:`~pinograsp.analysis.response.Session` implements it; the stages
 (:mod:`pinograsp.analysis.stages`) and :mod:`pinograsp.analysis.assemble` only see this
 protocol, so they never import the session (and the session may import them).
 """

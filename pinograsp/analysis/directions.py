@@ -22,7 +22,7 @@ from ..core.results import MaxWrench
 from ..core.settings import Settings
 from ..errors import InvalidInputError, SolverError
 from .max_wrench import max_wrench_on
-from .response import PassiveSolver
+from .response import Session
 
 #: A direction whose query raised a :class:`~pinograsp.errors.SolverError` (``run_directions``
 #: with ``catch=True``): ``(index, message, status)``.
@@ -56,11 +56,11 @@ class _Job:
 Outcome = MaxWrench | tuple[str, str]
 
 
-def _directions_block(job: _Job, dirs: np.ndarray, session: PassiveSolver | None = None) -> list[Outcome]:
+def _directions_block(job: _Job, dirs: np.ndarray, session: Session | None = None) -> list[Outcome]:
     """Worker: max resistible wrench along each of a block of directions (k, 6) on one session
     (``session``, or a new one of the job's settings); with ``catch``, a direction whose query
     raises a SolverError gives ``(message, status)``."""
-    session = session or PassiveSolver(job.model, job.settings)
+    session = session or Session(job.model, job.settings)
     out: list[Outcome] = []
     for d in dirs:
         try:
@@ -98,7 +98,7 @@ def _parallel_directions(
 
 
 def run_directions(
-    session: PassiveSolver,
+    session: Session,
     command: np.ndarray,
     dirs: np.ndarray,
     query: Query,

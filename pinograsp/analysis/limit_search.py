@@ -1,5 +1,5 @@
 """The largest load along a direction by searching magnitudes (the staged methods'
-:meth:`~pinograsp.analysis.protocols.AnalysisMethod.max_load`): the upper limit first, then the
+:meth:`~pinograsp.analysis.method_base.MethodBase.max_load`): the upper limit first, then the
 paper's bisection, the iterative scheme's secant or one load-factor problem (``"direct"``),
 and the :class:`~pinograsp.core.results.MaxWrench` of where it ended.
 """
@@ -47,7 +47,7 @@ def resisted_without_preload(q: LimitQuery) -> PassiveResponse:
     ``d`` under ``f_c / t``). Resisted means passively resisted without bound
     (docs/accuracy.md)."""
     zero = np.zeros(q.session.model.na)
-    resp = q.session.response(zero, q.direction, q.method.name.value)
+    resp = q.session.response(zero, q.direction, q.method.name)
     verdict(resp, float("inf"))
     return resp
 
@@ -59,7 +59,7 @@ def audit_warning(q: LimitQuery) -> str | None:
     at, bad = min(q.tally.flagged, key=lambda mr: mr[0])
     e = bad.audit.energy if bad.audit is not None else None
     why = (
-        audit_message(q.method.name.value, e)
+        audit_message(q.method.name, e)
         if e is not None and not (e.energy_ok and e.displacement_ok)
         else "residuals above the audit tolerance"
     )
@@ -100,7 +100,7 @@ def finish(q: LimitQuery, magnitude: float, at_upper: bool, response: PassiveRes
         upper=float(q.upper),
         resolution=grid_resolution(q.upper, q.steps),
         evidence=tuple(q.tally.evidence),
-        method=q.method.name.value,
+        method=q.method.name,
         solve_time=q.tally.solve_time + extra_time,
         wall_time=time.perf_counter() - q.t0,
         n_solves=q.tally.n_solves,
@@ -147,10 +147,10 @@ NEAR_UPPER = 1e-4
 
 def direct(q: LimitQuery) -> tuple[float, PassiveResponse]:
     """The exact limit by one load-factor problem, and the response at it: the method's own
-    point there (:attr:`~pinograsp.analysis.protocols.AnalysisMethod.limit_point`), or the
+    point there (:attr:`~pinograsp.analysis.method_base.MethodBase.limit_point`), or the
     response just below it. ``inf``: ``upper``."""
     session, upper = q.session, float(q.upper)
-    lf = session.max_load_factor(q.command, q.direction, upper, q.method.name.value)
+    lf = session.max_load_factor(q.command, q.direction, upper, q.method.name)
     status, mag = lf.status, lf.magnitude
     q.tally.solve_time += lf.solve_time
     q.tally.n_solves += 1
@@ -179,7 +179,7 @@ def direct(q: LimitQuery) -> tuple[float, PassiveResponse]:
         return mag, lf.response
     if np.isinf(mag):
         raise SolverError(
-            f"load-factor problem reached the upper limit {upper:g} that the {q.method.name.value} "
+            f"load-factor problem reached the upper limit {upper:g} that the {q.method.name} "
             "problem did not resist",
             solver=backend,
             status="failed",
@@ -188,7 +188,7 @@ def direct(q: LimitQuery) -> tuple[float, PassiveResponse]:
     ok, resp = q.test(at, session.plain(lf.model) if lf.model is not None else None)
     if not ok:
         raise SolverError(
-            f"load-factor problem found magnitude {mag:.9g} but the {q.method.name.value} problem at "
+            f"load-factor problem found magnitude {mag:.9g} but the {q.method.name} problem at "
             f"{at:.9g} is not resisted",
             solver=backend,
             status="failed",

@@ -1,6 +1,6 @@
 """The largest wrench magnitude a preloaded grasp resists along one direction (seed paper:
 bisection on ``[0, upper]``), and the check that the preload alone is in equilibrium. The
-search itself is the method's (:meth:`~pinograsp.analysis.protocols.AnalysisMethod.max_load`;
+search itself is the method's (:meth:`~pinograsp.analysis.method_base.MethodBase.max_load`;
 for the staged methods :mod:`pinograsp.analysis.limit_search`).
 
 Many directions at once: :mod:`pinograsp.analysis.directions`; profiles in a plane:
@@ -15,16 +15,17 @@ from dataclasses import replace
 import numpy as np
 
 from ..core.axes import WRENCH_AXES, wrench_direction
+from ..core.methods import bounded as limits_bound
 from ..core.model import GraspModel
 from ..core.query import Query, make_query
 from ..core.results import MaxWrench, PassiveResponse
-from ..core.settings import DEFAULT_METHOD, PATH_METHODS, Settings
+from ..core.settings import DEFAULT_METHOD, Settings
 from ..core.validate import search_bounds
 from ..errors import PreloadNotInEquilibriumError
 from ..solvers.threads import single_threaded
 from .protocols import LimitQuery, SessionLike, Tally, verdict
 from .registry import get_method, resolve_search
-from .response import PassiveSolver, session_for
+from .response import Session, session_for
 
 
 def check_preload(solver: SessionLike, command: object, method: str) -> PassiveResponse:
@@ -32,8 +33,7 @@ def check_preload(solver: SessionLike, command: object, method: str) -> PassiveR
     passive equilibrium."""
     resp = solver.response(command, np.zeros(6), method)
     if not verdict(resp, 0.0):
-        why = getattr(get_method(method), "preload_error", None)  # the method's own account, if it has one
-        exc = why(solver, command) if why is not None else None
+        exc = get_method(method).preload_error(solver, command)  # the method's own account, if any
         if exc is not None:
             raise exc
         detail = f"{method} solve at w = 0 returned {resp.status!r}"
@@ -50,20 +50,21 @@ def check_preload(solver: SessionLike, command: object, method: str) -> PassiveR
     return resp
 
 
-def query_within(session: PassiveSolver, command: object, query: Query, *, eps: bool = True) -> np.ndarray:
+def query_within(session: Session, command: object, query: Query, *, eps: bool = True) -> np.ndarray:
     """The validated commands (na,) of a query, its ``upper`` checked against the grasp they
     preload: within :data:`~pinograsp.core.validate.LOAD_RATIO` of its force scale; with ``eps``,
     for a method converged to a tolerance (not
-    :attr:`~pinograsp.analysis.protocols.AnalysisMethod.exact`), ``Settings.eps`` within
+    :attr:`~pinograsp.analysis.method_base.MethodBase.exact`), ``Settings.eps`` within
     :data:`~pinograsp.core.validate.EPS_RATIO` of it (docs/errors.md, "Input domains"). A
-    loading-path method (:data:`~pinograsp.core.settings.PATH_METHODS`) ignores ``upper`` and
-    ``steps``: only the commands are checked (``upper`` was checked by the :class:`Query`).
+    method whose limit is exact (:attr:`~pinograsp.core.methods.MethodSpec.bounded` False)
+    ignores ``upper`` and ``steps``: only the commands are checked (``upper`` was checked by
+    the :class:`Query`).
 
     Raises:
         InvalidInputError: A bad command, or ``upper`` or ``eps`` out of its domain for this grasp.
     """
     fc = session.model.command_vector(command)
-    if query.method in PATH_METHODS:  # upper does not decide unboundedness, steps do not apply
+    if not limits_bound(query.method):  # upper does not decide unboundedness, steps do not apply
         return fc
     tolerance = None if not eps or get_method(query.method).exact else session.settings.eps
     search_bounds(session.source, fc, query.upper, query.steps, tolerance)
@@ -71,7 +72,7 @@ def query_within(session: PassiveSolver, command: object, query: Query, *, eps: 
 
 
 def max_wrench_on(
-    session: PassiveSolver, fc: np.ndarray, d: np.ndarray, query: Query, *, check_preload_first: bool = True
+    session: Session, fc: np.ndarray, d: np.ndarray, query: Query, *, check_preload_first: bool = True
 ) -> MaxWrench:
     """:func:`max_resistible_wrench` on a session, with validated commands ``fc`` (na,), unit
     direction ``d`` (6,) and query: what profiles, sets and batches call per direction."""
@@ -79,7 +80,7 @@ def max_wrench_on(
     rules = get_method(query.method)
     tally = Tally()
     if check_preload_first and not (rules.preload_kept and session.preload_checked(fc, rules.name)):
-        tally.add(check_preload(session, fc, rules.name.value))
+        tally.add(check_preload(session, fc, rules.name))
         session.preload_checked(fc, rules.name, passed=rules.preload_kept)
     kind = resolve_search(query.search, rules)
     floor = rules.floor(session, d, query.upper, query.steps)
@@ -99,7 +100,7 @@ def max_resistible_wrench(
     settings: Settings | None = None,
     check_preload_first: bool = True,
     search: str = "auto",
-    session: PassiveSolver | None = None,
+    session: Session | None = None,
     query: Query | None = None,
     **overrides: object,
 ) -> MaxWrench:

@@ -8,32 +8,20 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..core.results import MaxWrench, PassiveResponse
-from ..core.settings import Method, Search, Variant
 from ..solvers.base import Mode
 from ..solvers.problem import ProblemKind
 from .context import SolveContext
-from .limit_search import searched_max_load
-from .protocols import LimitQuery, SessionLike
+from .method_base import MethodBase
 from .search import grid_resolution
-from .staged import staged_response
 from .stages import Stage, iterative_stage
 
 
-class IterativeMethod:
-    """Rules of ``method="iterative"`` (:class:`~pinograsp.analysis.protocols.AnalysisMethod`)."""
+class IterativeMethod(MethodBase):
+    """Rules of ``method="iterative"`` where it differs from
+    :class:`~pinograsp.analysis.method_base.MethodBase`."""
 
-    name = Method.ITERATIVE
-    load_kind: ProblemKind | None = ProblemKind.MOVE
-    load_factor_kind: ProblemKind | None = None  # a trajectory: no one-solve limit
-    default_variant = Variant.PRELOAD_FIRST
-    searches: tuple[Search, ...] = (Search.SECANT, Search.BISECTION)
-    refines = False
+    load_kind = ProblemKind.MOVE  # a trajectory: no one-solve limit (no load_factor_kind)
     exact = False  # converged to the tolerance eps + eps_rel F
-    limit_point = False
-    preload_method = Method.ITERATIVE
-    carries_residual = False
-    preload_kept = False
 
     def stage(
         self, session: SolveContext, w: np.ndarray, fc: np.ndarray, p: np.ndarray, start: Mode | None
@@ -46,14 +34,3 @@ class IterativeMethod:
         floor = grid_resolution(upper, steps)
         scale = float(np.linalg.norm(session.model.reduce_wrench(direction) * session.form.wscale))
         return max(floor, session.settings.eps / scale)
-
-    def response(self, session: SessionLike, fc: np.ndarray, w6: np.ndarray) -> PassiveResponse:
-        """Preload stage (per the variant) and Alg. 3 on top."""
-        return staged_response(session, self, fc, w6)
-
-    def max_load(self, session: SessionLike, query: LimitQuery) -> MaxWrench:
-        """Secant (or bisection) on ``[0, upper]``."""
-        return searched_max_load(query)
-
-
-ITERATIVE = IterativeMethod()

@@ -20,38 +20,28 @@ from dataclasses import replace
 
 import numpy as np
 
+from ..core.methods import method_variant
 from ..core.results import MaxWrench, PassiveResponse
-from ..core.settings import Method, Search, Settings, Variant
-from ..errors import InvalidInputError, PreloadNotInEquilibriumError, SolverError
-from ..solvers.base import Mode
-from ..solvers.problem import ProblemKind
-from .context import SolveContext
+from ..core.settings import Method, Settings, Variant
+from ..errors import PreloadNotInEquilibriumError, SolverError
 from .limit_search import free_motion_note
+from .method_base import MethodBase
 from .protocols import LimitQuery, SessionLike
 from .quasistatic.answers import NO_VERDICT, max_wrench_prepared, quasistatic_response
 from .quasistatic.api import Prepared, checked_settings, prepare, unit_again
-from .stages import Stage
-
-#: The settings' variants that apply, and the preload path each names.
-PATH_VARIANTS = {Variant.PRELOAD_FIRST: "held", Variant.SETTLED_PRELOAD: "settled"}
+from .quasistatic.preload import PRELOAD_PATHS
 
 
 def path_variant(settings: Settings) -> tuple[Variant, str]:
     """The variant under ``settings`` and the preload path it names (``"held"``/``"settled"``).
 
     Raises:
-        InvalidInputError: ``variant="single-step"`` (the path starts from the preloaded grasp).
+        InvalidInputError: A variant the method's row does not accept (``"single-step"``: the
+            path starts from the preloaded grasp), as every entry point refuses it
+            (:func:`~pinograsp.core.methods.method_variant`).
     """
-    v = Variant.PRELOAD_FIRST if settings.variant is None else Variant(settings.variant)
-    if v not in PATH_VARIANTS:
-        raise InvalidInputError(
-            "variant",
-            f"{v.value!r} does not apply to method='quasistatic' (its preload is a path of its own "
-            f"before the load): one of {[x.value for x in PATH_VARIANTS]} or None "
-            "('preload-first': the object held while the hand closes, the default; "
-            "'settled-preload': the object free)",
-        )
-    return v, PATH_VARIANTS[v]
+    v = method_variant(Method.QUASISTATIC, settings.variant)
+    return v, PRELOAD_PATHS[v]
 
 
 def no_preload_response(
@@ -112,32 +102,12 @@ def _prepared(session: SessionLike, fc: object) -> tuple[Variant, Settings, Prep
     return hit[1], hit[2], hit[3]
 
 
-class QuasistaticMethod:
-    """Rules of ``method="quasistatic"`` (:class:`~pinograsp.analysis.protocols.AnalysisMethod`)."""
+class QuasistaticMethod(MethodBase):
+    """Rules of ``method="quasistatic"`` where it differs from
+    :class:`~pinograsp.analysis.method_base.MethodBase`: no complementarity stages (its LCPs are
+    its own, solvers/lcp.py), a path for a search, its own preload account."""
 
-    name = Method.QUASISTATIC
-    load_kind: ProblemKind | None = None  # LCPs of its own (solvers/lcp.py), no MIQP stage
-    load_factor_kind: ProblemKind | None = None
-    default_variant = Variant.PRELOAD_FIRST
-    searches: tuple[Search, ...] = (Search.PATH,)
-    refines = False  # follows the model's own polygon (refine the model's pyramids instead)
-    exact = True
-    limit_point = False
     preload_kept = True  # the preload verdict: a pure function of model, settings and commands
-    preload_method = Method.QUASISTATIC
-    carries_residual = False
-
-    def stage(
-        self, session: SolveContext, w: np.ndarray, fc: np.ndarray, p: np.ndarray, start: Mode | None
-    ) -> Stage:
-        """Refused (:class:`InvalidInputError`): the path has no complementarity stages."""
-        raise InvalidInputError(
-            "method", "'quasistatic' follows a loading path: it has no complementarity stages"
-        )
-
-    def floor(self, session: SolveContext, direction: np.ndarray, upper: float, steps: int) -> float:
-        """0: the limit is exact (λ* = 0 is ``"below_resolution"`` with magnitude 0)."""
-        return 0.0
 
     def response(self, session: SessionLike, fc: np.ndarray, w6: np.ndarray) -> PassiveResponse:
         """The state reached on the path at ``w6`` (``"resisted"``), or at the limit load when
@@ -197,6 +167,3 @@ class QuasistaticMethod:
             n_solves=mw.n_solves,  # the path's LCPs, its preload path's included (once)
             wall_time=time.perf_counter() - query.t0,
         )
-
-
-QUASISTATIC = QuasistaticMethod()

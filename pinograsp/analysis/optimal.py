@@ -26,8 +26,10 @@ from typing import Literal
 
 import numpy as np
 
+from ..core.methods import bounded as limits_bound
+from ..core.methods import preload_method
 from ..core.model import GraspModel
-from ..core.settings import DEFAULT_METHOD, METHODS, PATH_METHODS, Settings, Variant
+from ..core.settings import DEFAULT_METHOD, Settings, Variant
 from ..core.validate import choice, count, finite_array, force, positive_number
 from ..core.validate import steps as n_steps
 from ..errors import AuditWarning, InvalidInputError
@@ -35,7 +37,7 @@ from ..solvers.problem import ProblemKind
 from .optimal_search import GRID, OBJECTIVES, RESISTANCES, DisturbanceCheck, Status, simplex_grid
 from .preload import command_bounds
 from .registry import get_method
-from .response import solver_for
+from .response import Session
 from .staged import variant_of
 
 
@@ -265,7 +267,7 @@ def optimal_preload(
     t0 = time.perf_counter()
     if not isinstance(model, GraspModel):
         raise InvalidInputError("model", f"expected pinograsp.GraspModel, got {type(model).__name__}")
-    choice("method", method, METHODS)
+    preload_method(method, "optimal_preload")
     choice("objective", objective, OBJECTIVES)
     choice("resistance", resistance, RESISTANCES)
     loads = _disturbances(model, disturbances)
@@ -279,8 +281,8 @@ def optimal_preload(
     grid = _grid(grid, nfree)
     refine = count("refine", refine, MAX_REFINE, minimum=0, what="each halves the pattern step")
     upper = force("upper", upper, "(a load factor)")
-    steps = n_steps(steps, bounded=method not in PATH_METHODS)  # a path does not bisect
-    solver = solver_for(model, settings)
+    steps = n_steps(steps, bounded=limits_bound(method))  # an exact limit does not bisect
+    solver = Session(model, settings)
     spec = dict(objective=objective, budget=budget, resistance=resistance, cost=cost, bound=bound, dw=dw)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", AuditWarning)

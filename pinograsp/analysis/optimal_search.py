@@ -17,7 +17,7 @@ import numpy as np
 from ..core.settings import Method
 from ..errors import PinograspError, PreloadNotInEquilibriumError, SolverError
 from ..solvers.base import INFEASIBLE, OPTIMAL
-from .response import PassiveSolver
+from .response import Session
 
 Status = Literal["optimal", "bound_hit", "infeasible"]
 OBJECTIVES = ("max", "sum")
@@ -96,14 +96,14 @@ def _phi(u: np.ndarray, cost: np.ndarray, objective: str) -> float:
     return float(v.max(initial=0.0) if objective == "max" else v.sum())
 
 
-def _command_dict(solver: PassiveSolver, f: np.ndarray) -> dict[str, float]:
+def _command_dict(solver: Session, f: np.ndarray) -> dict[str, float]:
     m = solver.model
     out = {n: 0.0 for n in m.all_actuator_names}
     out.update({n: float(v) for n, v in zip(m.actuator_names, f)})
     return out
 
 
-def _needs_preload(solver: PassiveSolver, method: str, loads: np.ndarray, count: _Count) -> np.ndarray:
+def _needs_preload(solver: Session, method: str, loads: np.ndarray, count: _Count) -> np.ndarray:
     """Whether each disturbance needs a preload (not resisted with zero commands)."""
     zero = np.zeros(solver.model.na)
     out = []
@@ -115,7 +115,7 @@ def _needs_preload(solver: PassiveSolver, method: str, loads: np.ndarray, count:
 
 
 def _checks(
-    solver: PassiveSolver,
+    solver: Session,
     method: str,
     f: np.ndarray,
     loads: np.ndarray,
@@ -138,13 +138,13 @@ def _checks(
     return tuple(out)
 
 
-def _at_bound(solver: PassiveSolver, f: np.ndarray, bound: np.ndarray, free: np.ndarray) -> tuple[str, ...]:
+def _at_bound(solver: Session, f: np.ndarray, bound: np.ndarray, free: np.ndarray) -> tuple[str, ...]:
     hit = free & (f >= bound * (1.0 - BOUND_TOL))
     return tuple(n for n, h in zip(solver.model.actuator_names, hit) if h)
 
 
 def _zero_answer(
-    solver: PassiveSolver, method: str, loads: np.ndarray, needs: np.ndarray, spec: dict, count: _Count
+    solver: Session, method: str, loads: np.ndarray, needs: np.ndarray, spec: dict, count: _Count
 ) -> dict:
     f = np.zeros(solver.model.na)
     ones = np.ones(len(loads))
@@ -157,7 +157,7 @@ def _zero_answer(
 
 
 # ------------------------------------------------------------------------------ exact (PRP)
-def _solve_program(solver: PassiveSolver, loads: np.ndarray, spec: dict, task: str, upper: float):
+def _solve_program(solver: Session, loads: np.ndarray, spec: dict, task: str, upper: float):
     """Solve the program; returns (status, commands (na,) [N·m or N], factors) in physical units."""
     from ..solvers.preload_problem import build_preload_program
 
@@ -185,9 +185,7 @@ def _solve_program(solver: PassiveSolver, loads: np.ndarray, spec: dict, task: s
     return True, f, raw.z[prog.factors]
 
 
-def _limits(
-    solver: PassiveSolver, f: np.ndarray, loads: np.ndarray, upper: float, count: _Count
-) -> np.ndarray:
+def _limits(solver: Session, f: np.ndarray, loads: np.ndarray, upper: float, count: _Count) -> np.ndarray:
     """Largest resistible multiple of each load under ``f`` (PRP, one load-factor solve each)."""
     out = []
     for w in loads:
@@ -213,7 +211,7 @@ def _infeasible(bad: list, why: str, n_solves: int, common: dict) -> dict:
     )
 
 
-def exact_prp(solver: PassiveSolver, loads: np.ndarray, free: np.ndarray, spec: dict, upper: float) -> dict:
+def exact_prp(solver: Session, loads: np.ndarray, free: np.ndarray, spec: dict, upper: float) -> dict:
     """The PRP's exact answer (module docstring of :mod:`pinograsp.solvers.preload_problem`)."""
     count = _Count()
     needs = _needs_preload(solver, Method.PRP, loads, count)
@@ -330,7 +328,7 @@ def _evaluate(solver, method, loads, needs, spec, u, upper, steps, count) -> dic
     return dict(u=u, s_q=s_q, rho=rho, need=need, key=(1, need / s_q if np.isfinite(need) else np.inf))
 
 
-def _candidates(solver: PassiveSolver, method: str, free: np.ndarray, grid: int) -> list[np.ndarray]:
+def _candidates(solver: Session, method: str, free: np.ndarray, grid: int) -> list[np.ndarray]:
     """Grid points on the simplex of the chosen actuators, then the balanced equilibrium preload."""
     from .preload import equilibrium_preload
 

@@ -31,9 +31,10 @@ from typing import Any, Literal
 
 import numpy as np
 
+from ..core.methods import preload_method
 from ..core.model import GraspModel
 from ..core.results import PassiveResponse
-from ..core.settings import DEFAULT_METHOD, METHODS, Settings
+from ..core.settings import DEFAULT_METHOD, Settings
 from ..core.validate import choice, force
 from ..errors import InvalidInputError, ModelError, PinograspError, SolverError, UnknownNameError
 from ..solvers.quiet import quiet_stdout
@@ -448,7 +449,7 @@ def equilibrium_preload(
     """
     if not isinstance(model, GraspModel):
         raise InvalidInputError("model", f"expected pinograsp.GraspModel, got {type(model).__name__}")
-    choice("method", method, METHODS)
+    preload_method(method, "equilibrium_preload")
     choice("objective", objective, OBJECTIVES)
     fmax = command_bounds(model, max_command)
     grip = force("grip", grip)

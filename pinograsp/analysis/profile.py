@@ -22,7 +22,7 @@ from ..solvers.threads import single_threaded
 from .directions import run_directions
 from .max_wrench import check_preload, max_wrench_on, query_within
 from .registry import get_method, resolve_search
-from .response import PassiveSolver, session_for
+from .response import Session, session_for
 
 
 def reference_magnitude(
@@ -58,7 +58,7 @@ def reference_magnitude(
 
 
 def _reference(
-    session: PassiveSolver, fc: np.ndarray, profile: ResistanceProfile, reference: object, query: Query
+    session: Session, fc: np.ndarray, profile: ResistanceProfile, reference: object, query: Query
 ) -> float:
     """:func:`reference_magnitude` on a session with validated commands ``fc`` (na,)."""
     model = session.source
@@ -82,7 +82,7 @@ def _failed(model: GraspModel, direction: np.ndarray, query: Query) -> MaxWrench
         upper=query.upper,
         resolution=query.resolution,
         evidence=(),
-        method=query.method.value,
+        method=str(query.method),
         solve_time=0.0,
         wall_time=0.0,
         n_solves=0,
@@ -105,7 +105,7 @@ def resistance_profile(
     progress: Callable[[int, int], None] | None = None,
     workers: int | None = None,
     search: str = "auto",
-    session: PassiveSolver | None = None,
+    session: Session | None = None,
     query: Query | None = None,
     **overrides: object,
 ) -> ResistanceProfile:
@@ -142,7 +142,7 @@ def resistance_profile(
     basis, labels = plane_basis(model, plane)
     solver = session_for(model, session, settings, overrides)
     fc = query_within(solver, command, q, eps=False)  # before any work (docs/errors.md)
-    check_preload(solver, fc, q.method.value)
+    check_preload(solver, fc, str(q.method))
     angles, dirs = circle_directions(basis, n)
     found, failures = run_directions(solver, fc, dirs, q, workers=workers, progress=progress, catch=True)
     results = [_failed(model, d, q) if r is None else r for r, d in zip(found, dirs)]

@@ -1,10 +1,11 @@
-"""The contracts of the analysis layer: what a method is (:class:`AnalysisMethod`), what it
+"""The contracts of the analysis layer: what a method
 may ask of a session (:class:`SessionLike`), and the records a max-load query carries
 (:class:`LimitQuery`, :class:`Tally`, :class:`LoadFactor`).
 
-A method (``analysis/method_*.py``) implements :class:`AnalysisMethod` and is registered in
-:mod:`pinograsp.analysis.registry`; the session
-(:class:`~pinograsp.analysis.response.PassiveSolver`) implements :class:`SessionLike`. Neither
+A method (``analysis/method_*.py``) subclasses
+:class:`~pinograsp.analysis.method_base.MethodRules` and is named by its row of the method table
+(:mod:`pinograsp.core.methods`); the session
+(:class:`~pinograsp.analysis.response.Session`) implements :class:`SessionLike`. Neither
 imports the other: both meet here (docs/design.md, "Adding a method").
 """
 
@@ -16,13 +17,21 @@ from typing import Protocol
 
 import numpy as np
 
+from ..core.methods import MethodSpec
 from ..core.model import GraspModel
 from ..core.results import MaxWrench, PassiveResponse
-from ..core.settings import DEFAULT_METHOD, Method, Search, Settings, Variant
-from ..errors import AuditWarning, SolverError, SolverTimeoutError
+from ..core.settings import DEFAULT_METHOD, Search, Settings, Variant
+from ..errors import (
+    AuditWarning,
+    InvalidInputError,
+    PreloadNotInEquilibriumError,
+    SolverError,
+    SolverTimeoutError,
+)
 from ..solvers.base import Mode, SolveStatus
 from ..solvers.problem import ProblemKind
 from .context import SolveContext
+from .search import grid_resolution
 from .stages import Stage
 
 
@@ -36,7 +45,7 @@ class LoadFactor:
         solve_time: Wall time [s].
         model: The refined model the answer was found on (``Settings.cone_tolerance``), or None.
         response: For a method whose load-factor point is its own equilibrium
-            (:attr:`AnalysisMethod.limit_point`, the energetic one): the equilibrium at the limit
+            (:attr:`MethodRules.limit_point`, the energetic one): the equilibrium at the limit
             (at ``magnitude`` or at ``upper``), else None.
     """
 
@@ -49,9 +58,9 @@ class LoadFactor:
 
 class SessionLike(SolveContext, Protocol):
     """A session as a method sees it (implemented by
-    :class:`~pinograsp.analysis.response.PassiveSolver`)."""
+    :class:`~pinograsp.analysis.response.Session`)."""
 
-    def rules(self, method: str) -> AnalysisMethod:
+    def rules(self, method: str) -> MethodRules:
         """The registered method named ``method``."""
         ...
 
@@ -78,65 +87,91 @@ class SessionLike(SolveContext, Protocol):
         ...
 
 
-class AnalysisMethod(Protocol):
-    """One passive-response method: its problems, its stages and how it finds a limit.
+class MethodRules:
+    """One passive-response method as the analysis layer sees it: its row and the rules where
+    it differs from the defaults (:class:`~pinograsp.analysis.method_base.MethodBase` adds the
+    staged methods' :meth:`response` and :meth:`max_load`).
 
-    A method that is not built from complementarity stages (e.g. a path-following one) sets
-    ``load_kind``/``load_factor_kind`` to what it solves (or None) and implements
-    :meth:`response` and :meth:`max_load` directly; the staged methods delegate both to
-    :mod:`pinograsp.analysis.staged` and :mod:`pinograsp.analysis.limit_search`.
-
-    Attributes:
-        name: The :class:`~pinograsp.core.settings.Method` it answers to.
-        load_kind: Problem kind of its load stage (the layout its responses are read with).
+    Class attributes (override only what differs):
+        load_kind: Problem kind of its load stage (the layout its responses are read with), or
+            None (no complementarity stages).
         load_factor_kind: Problem kind of its largest load factor in one solve
             (``search="direct"``), or None.
-        default_variant: The variant used when ``Settings.variant`` is None.
-        searches: Supported searches of the largest load, the default (``"auto"``) first.
         refines: Whether ``Settings.cone_tolerance`` refines its pyramids.
         exact: Its equilibria are exact (a residual above the audit tolerance makes a resisted
             verdict ``"failed"``); False for a scheme converged to a tolerance (iterative).
         limit_point: Its load-factor problem's optimum is an equilibrium of its own problem (the
             direct search needs no other solve).
-        preload_method: Whose preload stage it loads on top of (preload-first variant).
+        preload_from: Whose preload stage it loads on top of (preload-first variant); None: its
+            own.
         carries_residual: Its load stage balances the load plus the net wrench an inexact
             preload stage left (energetic on the iterative preload).
         preload_kept: Its preload check (``max_resistible_wrench``'s verdict at ``w = 0``) is a
             pure function of the session and the commands, so a session makes it once per
-            command (the quasi-static path).
+            command.
+
+    Attributes:
+        spec: Its row of the method table.
     """
 
-    name: Method
-    load_kind: ProblemKind | None
-    load_factor_kind: ProblemKind | None
-    default_variant: Variant
-    searches: tuple[Search, ...]
-    refines: bool
-    exact: bool
-    limit_point: bool
-    preload_method: Method
-    carries_residual: bool
-    preload_kept: bool
+    load_kind: ProblemKind | None = None
+    load_factor_kind: ProblemKind | None = None
+    refines: bool = False
+    exact: bool = True
+    limit_point: bool = False
+    preload_from: str | None = None
+    carries_residual: bool = False
+    preload_kept: bool = False
+
+    def __init__(self, spec: MethodSpec) -> None:
+        self.spec = spec
+
+    @property
+    def name(self) -> str:
+        """The name it answers to (its row's)."""
+        return self.spec.name
+
+    @property
+    def searches(self) -> tuple[Search, ...]:
+        """Supported searches of the largest load, the default first (its row's)."""
+        return self.spec.searches
+
+    @property
+    def default_variant(self) -> Variant:
+        """The variant used when ``Settings.variant`` is None (its row's)."""
+        return self.spec.default_variant
+
+    @property
+    def preload_method(self) -> str:
+        """The method whose preload stage it loads on top of (``preload_from``, else itself)."""
+        return self.preload_from or self.name
 
     def stage(
         self, session: SolveContext, w: np.ndarray, fc: np.ndarray, p: np.ndarray, start: Mode | None
     ) -> Stage:
-        """One stage: the reduced wrench ``w`` [N, N·m], commands ``fc`` (na,), pre-compression
-        ``p`` (nc,) [N]; ``start`` the mode the grasp is in (an incumbent, speed only)."""
-        ...
+        """One complementarity stage: the reduced wrench ``w`` [N, N·m], commands ``fc`` (na,),
+        pre-compression ``p`` (nc,) [N]; ``start`` the mode the grasp is in (speed only).
+        Default: refused (:class:`InvalidInputError`), for a method without stages."""
+        raise InvalidInputError("method", f"{self.name!r} has no complementarity stages")
 
     def floor(self, session: SolveContext, direction: np.ndarray, upper: float, steps: int) -> float:
-        """Smallest magnitude [N or N·m] distinguishable from zero along ``direction``."""
-        ...
+        """Smallest magnitude [N or N·m] distinguishable from zero along ``direction``. Default:
+        the resolution ``upper / 2**steps`` of a bounded search, 0 for an exact limit."""
+        return grid_resolution(upper, steps) if self.spec.bounded else 0.0
+
+    def preload_error(self, session: SessionLike, command: object) -> PreloadNotInEquilibriumError | None:
+        """Its own account of why the preload of ``command`` has no equilibrium (raised by the
+        preload check instead of the generic one), or None. Default: None."""
+        return None
 
     def response(self, session: SessionLike, fc: np.ndarray, w6: np.ndarray) -> PassiveResponse:
-        """The response to ``w6`` (6,) under commands ``fc`` (na,), non-negative (mirrored)
-        commands and unrefined pyramids (the session handles both)."""
-        ...
+        """The response to ``w6`` (6,) [N, N·m] under commands ``fc`` (na,), non-negative
+        (mirrored) commands and unrefined pyramids (the session handles both)."""
+        raise NotImplementedError  # MethodBase: the staged default
 
     def max_load(self, session: SessionLike, query: LimitQuery) -> MaxWrench:
         """The largest load along ``query.direction`` (the preload is checked already)."""
-        ...
+        raise NotImplementedError  # MethodBase: the searched default
 
 
 def verdict(resp: PassiveResponse, magnitude: float) -> bool:
@@ -207,7 +242,7 @@ class LimitQuery:
     session: SessionLike
     command: object
     direction: np.ndarray
-    method: AnalysisMethod
+    method: MethodRules
     upper: float
     steps: int
     search: Search
@@ -226,7 +261,7 @@ class LimitQuery:
         with warnings.catch_warnings():  # summarised once, after the search
             warnings.simplefilter("ignore", AuditWarning)
             resp = (session or self.session).response(
-                self.command, magnitude * self.direction, self.method.name.value
+                self.command, magnitude * self.direction, self.method.name
             )
         self.tally.add(resp)
         ok = verdict(resp, magnitude)

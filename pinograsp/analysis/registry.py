@@ -1,47 +1,50 @@
-"""The method registry: one row per passive-response method (docs/design.md, "Adding a method").
+"""The implementations of the method table's rows (docs/design.md, "Adding a method").
 
-Every rule that differs between methods — its problem kinds, preload stage, variant and search
-defaults, whether it refines pyramids, how it finds the largest load — lives in its module
-(``analysis/method_*.py``) as an :class:`~pinograsp.analysis.protocols.AnalysisMethod`; the rest
-of the package asks this table. A new method is one module and one row of :data:`METHODS`
-(plus its name in :class:`~pinograsp.core.settings.Method`).
+Every solver-free fact about a method (name, searches, variants, whether ``upper``/``steps``
+apply, help text) is its row of :mod:`pinograsp.core.methods`; every rule that needs a solver
+is its :class:`~pinograsp.analysis.method_base.MethodBase` subclass, in the module the row
+names, imported here on use. A new method is one row and one module: nothing in this file
+changes.
 """
 
 from __future__ import annotations
 
-from ..core.settings import Method, Search
-from ..errors import InvalidInputError, UnknownChoiceError
-from .method_energetic import ENERGETIC
-from .method_iterative import ITERATIVE
-from .method_prp import PRP
-from .method_quasistatic import QUASISTATIC
-from .protocols import AnalysisMethod
-from .search import grid_resolution
+from importlib import import_module
 
-#: The registered methods, in the order they are listed to users.
-METHODS: dict[str, AnalysisMethod] = {m.name.value: m for m in (PRP, ITERATIVE, ENERGETIC, QUASISTATIC)}
+from ..core.methods import method_names, method_spec
+from ..core.settings import Search
+from ..errors import InvalidInputError
+from .method_base import MethodBase
 
 
 def available_methods() -> tuple[str, ...]:
-    """Names of the registered methods."""
-    return tuple(METHODS)
+    """Names of the methods in the table (:func:`~pinograsp.core.methods.method_names`)."""
+    return method_names()
 
 
-def get_method(name: object) -> AnalysisMethod:
-    """The method registered as ``name`` (a string or a
-    :class:`~pinograsp.core.settings.Method`).
+def get_method(name: object) -> MethodBase:
+    """The implementation of the method named ``name`` (a string or a
+    :class:`~pinograsp.core.settings.Method`), built with its row.
 
     Raises:
-        UnknownChoiceError: ``name`` is not registered (an ``InvalidInputError`` and an
+        UnknownChoiceError: ``name`` is not in the table (an ``InvalidInputError`` and an
             ``UnknownNameError`` naming the valid methods).
+        InvalidInputError: The row names an implementation that is not a ``MethodBase``
+            subclass.
     """
-    key = name.value if isinstance(name, Method) else name
-    if not isinstance(key, str) or key not in METHODS:
-        raise UnknownChoiceError("method", name, available_methods())
-    return METHODS[key]
+    spec = method_spec(name)
+    module, _, attr = spec.implementation.partition(":")
+    cls = getattr(import_module(module), attr, None)
+    if not (isinstance(cls, type) and issubclass(cls, MethodBase)):
+        raise InvalidInputError(
+            "implementation",
+            f"method {spec.name!r}: implementation {spec.implementation!r} is not a "
+            "pinograsp.analysis.method_base.MethodBase subclass (docs/design.md, 'Adding a method')",
+        )
+    return cls(spec)
 
 
-def resolve_search(search: object, method: AnalysisMethod) -> Search:
+def resolve_search(search: object, method: MethodBase) -> Search:
     """The search ``search`` names for ``method`` (``"auto"``: the method's default).
 
     Raises:
@@ -54,53 +57,18 @@ def resolve_search(search: object, method: AnalysisMethod) -> Search:
     if kind is Search.AUTO:
         return method.searches[0]
     if kind not in method.searches:
-        who = [m.name.value for m in METHODS.values() if kind in m.searches]
+        who = [n for n in method_names() if kind in method_spec(n).searches]
         raise InvalidInputError(
             "search",
             f"'{kind}' exists for method={' and '.join(repr(w) for w in who)} only, "
-            f"not {method.name.value!r} (its searches: {[s.value for s in method.searches]})",
+            f"not {method.name!r} (its searches: {[s.value for s in method.searches]})",
         )
     return kind
 
 
-def limits_apply(method: object) -> bool:
-    """Whether a query's ``upper`` and ``steps`` shape ``method``'s largest loads (False for a
-    method whose one search follows a path to its exact limit: ``"quasistatic"``)."""
-    return get_method(method).searches != (Search.PATH,)
-
-
-def search_resolution(method: object, upper: float, steps: int) -> float:
-    """The resolution of ``method``'s largest loads [N or N·m]: ``upper / 2**steps``, or 0 for
-    a path method (its limit is exact)."""
-    return grid_resolution(upper, steps) if limits_apply(method) else 0.0
-
-
-def search_text(method: object, upper: float, steps: int, unit: str = "") -> str:
-    """How ``method`` finds a largest load, in words: ``"upper 1000 N, 20 steps (resolution
-    0.00095 N)"``, or for a path method ``"the load at which the loading path gives way
-    (exact; thresholds scaled by upper 1000 N; steps do not apply)"``."""
-    if not limits_apply(method):
-        u = f" {unit}" if unit else ""
-        return (
-            f"the load at which the loading path gives way (exact; thresholds scaled by upper "
-            f"{upper:g}{u}; steps do not apply)"
-        )
-    u = f" {unit}" if unit else ""
-    return f"upper {upper:g}{u}, {steps} steps (resolution {upper / 2**steps:.2g}{u})"
-
-
 def refining_methods() -> tuple[str, ...]:
     """Names of the methods that ``Settings.cone_tolerance`` applies to."""
-    return tuple(n for n, m in METHODS.items() if m.refines)
+    return tuple(n for n in method_names() if get_method(n).refines)
 
 
-__all__ = [
-    "METHODS",
-    "available_methods",
-    "get_method",
-    "limits_apply",
-    "refining_methods",
-    "resolve_search",
-    "search_resolution",
-    "search_text",
-]
+__all__ = ["available_methods", "get_method", "refining_methods", "resolve_search"]

@@ -27,6 +27,7 @@ from typing import TYPE_CHECKING, Any, Literal, get_args
 import numpy as np
 
 from ..core.axes import PLANAR_AXES, direction_text, wrench_direction
+from ..core.methods import search_resolution, search_text
 from ..core.model import GraspModel
 from ..core.query import Query, make_query
 from ..core.results import MaxWrench, ResistanceProfile
@@ -35,10 +36,9 @@ from ..core.settings import DEFAULT_METHOD
 from ..core.validate import directions as n_directions
 from ..core.validate import finite_array, relative_length, whole_number
 from ..errors import InvalidInputError
-from .registry import search_resolution, search_text
 
 if TYPE_CHECKING:
-    from .response import PassiveSolver
+    from .response import Session
 
 #: Outcome per direction: a :data:`~pinograsp.core.results.MaxWrenchStatus`, or ``"failed"`` (the
 #: query raised a :class:`~pinograsp.SolverError`; recorded in ``ResistanceSet.failures``).
@@ -391,7 +391,7 @@ def resistance_set(
     directions: object = None,
     progress: Callable[[int, int], None] | None = None,
     search: str = "auto",
-    session: PassiveSolver | None = None,
+    session: Session | None = None,
     query: Query | None = None,
     **overrides: object,
 ) -> ResistanceSet:
@@ -432,7 +432,7 @@ def resistance_set(
     with single_threaded_blas():  # as every public query: one BLAS thread, one reduction order
         solver = session_for(model, session, settings, overrides)
         fc = query_within(solver, command, q, eps=False)  # domains: docs/errors.md
-        check_preload(solver, fc, q.method.value)
+        check_preload(solver, fc, str(q.method))
         results, failures = run_directions(solver, fc, raw, q, workers=workers, progress=progress, catch=True)
     mags = np.array([np.nan if r is None else r.magnitude for r in results])
     k = _scale_of(dirs, length)
@@ -448,7 +448,7 @@ def resistance_set(
         unbounded=np.array([r is not None and r.unbounded for r in results], dtype=bool),
         failures=tuple(failures),
         results=tuple(results),
-        method=q.method.value,
+        method=str(q.method),
         upper=q.upper,
         steps=q.steps,
         seed=seed_used,

@@ -31,7 +31,7 @@ Each method's rules are its module (``analysis/method_*.py``) registered in
 :mod:`pinograsp.analysis.registry`; the stages are in :mod:`pinograsp.analysis.stages`, their
 chaining per variant in :mod:`pinograsp.analysis.staged`, their assembly into a
 :class:`~pinograsp.core.results.PassiveResponse` in :mod:`pinograsp.analysis.assemble`. This
-module holds the session (:class:`PassiveSolver`): the state a caller owns and every method
+module holds the session (:class:`Session`): the state a caller owns and every method
 reads through :class:`~pinograsp.analysis.protocols.SessionLike`.
 """
 
@@ -44,9 +44,10 @@ from dataclasses import replace
 
 import numpy as np
 
+from ..core.methods import method_variant
 from ..core.model import GraspModel
 from ..core.results import PassiveResponse
-from ..core.settings import DEFAULT_METHOD, Backend, Method, Settings, make_settings
+from ..core.settings import DEFAULT_METHOD, Backend, Settings, make_settings
 from ..core.validate import load_within
 from ..errors import ConditioningWarning, InvalidInputError
 from ..solvers.base import Mode, RawSolution, SolveStatus
@@ -54,7 +55,8 @@ from ..solvers.formulation import Formulation, ScaledData
 from ..solvers.problem import Problem, ProblemKind, build_problem
 from ..solvers.solve import SolverBackend, make_backend
 from ..solvers.threads import single_threaded
-from .protocols import AnalysisMethod, LoadFactor
+from .method_base import MethodBase
+from .protocols import LoadFactor
 from .refine import refine
 from .registry import get_method, refining_methods
 from .staged import staged_load_factor
@@ -75,8 +77,10 @@ def formulation_of(model: GraspModel) -> Formulation:
     return _FORMS[model]
 
 
-class PassiveSolver:
-    """Passive-response session of one model and settings: the state a caller owns.
+class Session:
+    """Passive-response session of one model and settings: the state a caller owns, made as
+    ``pg.Session(model, settings, **overrides)`` (the one way; keyword ``overrides`` replace
+    single fields of ``settings``, as for every analysis).
 
     It carries no state that changes answers: each solve is a function of its inputs. What it
     keeps between calls — the preload stage per command and method (a pure function of them),
@@ -86,10 +90,10 @@ class PassiveSolver:
     share the preload stages across queries; profiles and sets share one per worker block.
     """
 
-    def __init__(self, model: GraspModel, settings: Settings | None = None) -> None:
+    def __init__(self, model: GraspModel, settings: Settings | None = None, **overrides: object) -> None:
         if not isinstance(model, GraspModel):
             raise InvalidInputError("model", f"expected pinograsp.GraspModel, got {type(model).__name__}")
-        self.settings = (settings or Settings()).validated()
+        self.settings = make_settings(settings, **overrides)  # validated: Settings.validated
         #: the model as given (what ``session=`` arguments are checked against)
         self.source = model
         #: the model analysed: ``model`` with the settings' normal uncertainty (core/cones.py)
@@ -110,10 +114,10 @@ class PassiveSolver:
                 ConditioningWarning,
                 stacklevel=3,
             )
-        self._preload: dict[tuple[Method, tuple[float, ...]], Stage] = {}
-        #: commands whose preload check passed, per method (``AnalysisMethod.preload_kept``)
-        self._preload_checked: set[tuple[Method, tuple[float, ...]]] = set()
-        self._mirrors: dict[tuple[bool, ...], PassiveSolver] = {}
+        self._preload: dict[tuple[str, tuple[float, ...]], Stage] = {}
+        #: commands whose preload check passed, per method (``MethodBase.preload_kept``)
+        self._preload_checked: set[tuple[str, tuple[float, ...]]] = set()
+        self._mirrors: dict[tuple[bool, ...], Session] = {}
 
     # ------------------------------------------------------------ the solvers
     def solve(
@@ -137,13 +141,13 @@ class PassiveSolver:
         return self.backend.solve_fixed_mode(problem, mode)
 
     # ------------------------------------------------------------ methods and preloads
-    def rules(self, method: object) -> AnalysisMethod:
+    def rules(self, method: object) -> MethodBase:
         """The registered method named ``method`` (:func:`~pinograsp.analysis.registry.get_method`)."""
         return get_method(method)
 
     @staticmethod
-    def _preload_key(command: np.ndarray, method: object) -> tuple[Method, tuple[float, ...]]:
-        return (Method(method), tuple(np.asarray(command, float).tolist()))
+    def _preload_key(command: np.ndarray, method: object) -> tuple[str, tuple[float, ...]]:
+        return (str(method), tuple(np.asarray(command, float).tolist()))
 
     def has_preload(self, command: np.ndarray, method: object) -> bool:
         """Whether the preload stage of ``method`` under ``command`` is kept already."""
@@ -152,7 +156,7 @@ class PassiveSolver:
     def preload_checked(self, command: np.ndarray, method: object, *, passed: bool = False) -> bool:
         """Whether the preload check of ``method`` under ``command`` passed on this session
         already; ``passed=True`` records that it did (for methods whose check is a pure
-        function of the session and the commands, ``AnalysisMethod.preload_kept``)."""
+        function of the session and the commands, ``MethodBase.preload_kept``)."""
         key = self._preload_key(command, method)
         if passed:
             self._preload_checked.add(key)
@@ -168,7 +172,7 @@ class PassiveSolver:
             self._preload[key] = get_method(method).stage(self, zero, command, nop, None)
         return self._preload[key]
 
-    def _mirror(self, fc: np.ndarray) -> tuple[PassiveSolver, np.ndarray] | None:
+    def _mirror(self, fc: np.ndarray) -> tuple[Session, np.ndarray] | None:
         """For negative commands of bidirectional actuators: the session of the model with
         those actuators' transmissions negated (commanded ``|f_c|``) and the signs (na,); else
         None."""
@@ -180,18 +184,18 @@ class PassiveSolver:
         if key not in self._mirrors:
             with warnings.catch_warnings():  # the same contacts: warned by this session already
                 warnings.simplefilter("ignore", ConditioningWarning)
-                self._mirrors[key] = PassiveSolver(self.model.with_actuator_signs(signs), self.settings)
+                self._mirrors[key] = Session(self.model.with_actuator_signs(signs), self.settings)
         return self._mirrors[key], signs
 
     # ------------------------------------------------------------ refinement
-    def _refines(self, method: AnalysisMethod) -> bool:
+    def _refines(self, method: MethodBase) -> bool:
         """Whether queries of ``method`` refine the pyramids (``Settings.cone_tolerance``)."""
         if self.settings.cone_tolerance is None:
             return False
         if not method.refines:
             who = " or ".join(repr(n) for n in refining_methods())
             raise InvalidInputError(
-                "cone_tolerance", f"cone refinement applies to method={who}, not {method.name.value!r}"
+                "cone_tolerance", f"cone refinement applies to method={who}, not {method.name!r}"
             )
         return not self.model.planar
 
@@ -201,12 +205,12 @@ class PassiveSolver:
             raise InvalidInputError("cone_tolerance", "refinement needs a tolerance [rad]")
         return float(tol)
 
-    def plain(self, model: GraspModel) -> PassiveSolver:
+    def plain(self, model: GraspModel) -> Session:
         """A session of ``model`` (a refinement of this one's) with these settings but no
         further refinement."""
         with warnings.catch_warnings():  # the same contacts: warned by this session already
             warnings.simplefilter("ignore", ConditioningWarning)
-            return PassiveSolver(model, replace(self.settings, cone_tolerance=None))
+            return Session(model, replace(self.settings, cone_tolerance=None))
 
     def _refined_response(self, command: object, wrench: object, method: str) -> PassiveResponse:
         """:meth:`response` on pyramids refined where the answer loads them (analysis/refine.py);
@@ -251,7 +255,7 @@ class PassiveSolver:
     ) -> LoadFactor:
         """The largest resistible magnitude along a unit ``direction`` in one complementarity
         solve of ``method``'s load-factor problem
-        (:attr:`~pinograsp.analysis.protocols.AnalysisMethod.load_factor_kind`), by the
+        (:attr:`~pinograsp.analysis.method_base.MethodBase.load_factor_kind`), by the
         settings' backend.
 
         Returns:
@@ -261,7 +265,7 @@ class PassiveSolver:
         """
         rules = get_method(method)
         if self._refines(rules):
-            return self._refined_load_factor(command, direction, upper, rules.name.value)
+            return self._refined_load_factor(command, direction, upper, rules.name)
         fc = self.model.command_vector(command)
         mirror = self._mirror(fc)
         if mirror is not None:
@@ -273,8 +277,9 @@ class PassiveSolver:
     def response(self, command: object, wrench: object, method: str = DEFAULT_METHOD) -> PassiveResponse:
         """Passive response to ``wrench`` under ``command`` (see :func:`passive_response`)."""
         rules = get_method(method)
+        method_variant(rules.name, self.settings.variant)  # the one variant rule of every entry point
         if self._refines(rules):
-            return self._refined_response(command, wrench, rules.name.value)
+            return self._refined_response(command, wrench, rules.name)
         m = self.model
         fc = m.command_vector(command)
         mirror = self._mirror(fc)
@@ -290,16 +295,9 @@ class PassiveSolver:
         return rules.response(self, fc, m.wrench_vector(wrench))
 
 
-def solver_for(model: GraspModel, settings: Settings | None = None, **overrides: object) -> PassiveSolver:
-    """A new :class:`PassiveSolver` of ``model`` with these settings (no shared state)."""
-    if not isinstance(model, GraspModel):
-        raise InvalidInputError("model", f"expected pinograsp.GraspModel, got {type(model).__name__}")
-    return PassiveSolver(model, make_settings(settings, **overrides))
-
-
 def session_for(
-    model: GraspModel, session: PassiveSolver | None, settings: Settings | None, overrides: dict[str, object]
-) -> PassiveSolver:
+    model: GraspModel, session: Session | None, settings: Settings | None, overrides: dict[str, object]
+) -> Session:
     """The session a public query runs on: the caller's ``session`` (built for ``model``; its
     settings rule, so none may be given besides it), or a new one of ``settings`` and
     ``overrides``.
@@ -309,8 +307,8 @@ def session_for(
             with settings.
     """
     if session is None:
-        return solver_for(model, settings, **overrides)
-    if not isinstance(session, PassiveSolver):
+        return Session(model, settings, **overrides)
+    if not isinstance(session, Session):
         raise InvalidInputError(
             "session", f"expected pinograsp.Session or None, got {type(session).__name__}"
         )
@@ -325,11 +323,6 @@ def session_for(
     return session
 
 
-#: The caller-owned session of one model and settings (the public name of
-#: :class:`PassiveSolver`): ``pg.Session(model, settings)``.
-Session = PassiveSolver
-
-
 def passive_response(
     model: GraspModel,
     command: object,
@@ -337,7 +330,7 @@ def passive_response(
     method: str = DEFAULT_METHOD,
     *,
     settings: Settings | None = None,
-    session: PassiveSolver | None = None,
+    session: Session | None = None,
     **overrides: object,
 ) -> PassiveResponse:
     """Passive response of the grasp ``model`` preloaded with ``command`` to ``wrench``.
@@ -370,4 +363,4 @@ def passive_response(
     return solver.response(command, wrench, method)
 
 
-__all__ = ["LoadFactor", "PassiveSolver", "Session", "passive_response", "session_for", "solver_for"]
+__all__ = ["LoadFactor", "Session", "passive_response", "session_for"]

@@ -3,7 +3,7 @@ stage (per the variant) and a load stage on top of it, assembled into a
 :class:`~pinograsp.core.results.PassiveResponse` (docs/design.md, "Variants").
 
 The rules that differ between methods come from their
-:class:`~pinograsp.analysis.protocols.AnalysisMethod` record; this module holds what they share.
+:class:`~pinograsp.analysis.protocols.MethodRules` record; this module holds what they share.
 """
 
 from __future__ import annotations
@@ -13,25 +13,26 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from ..core.methods import method_variant
 from ..core.results import PassiveResponse
 from ..core.settings import Method, Settings, Variant
 from ..errors import InvalidInputError, SolverError
 from ..solvers.base import INFEASIBLE, OPTIMAL
 from ..solvers.formulation import ScaledData
 from .assemble import build_response, carries_residual
-from .protocols import AnalysisMethod, LoadFactor, SessionLike
+from .protocols import LoadFactor, MethodRules, SessionLike
 from .stages import Stage
 
 #: The settled-preload variant's preload stage: Alg. 1 at ``w = 0`` (the object settles).
 SETTLED_PRELOAD_METHOD = Method.PRP
 
 
-def variant_of(settings: Settings, method: AnalysisMethod) -> Variant:
+def variant_of(settings: Settings, method: MethodRules) -> Variant:
     """The variant ``method`` runs under ``settings`` (its default when none is set)."""
-    return method.default_variant if settings.variant is None else Variant(settings.variant)
+    return method_variant(method.name, settings.variant)
 
 
-def preload_method_of(method: AnalysisMethod, variant: Variant) -> Method:
+def preload_method_of(method: MethodRules, variant: Variant) -> str:
     """The method whose preload stage ``method`` loads on top of under ``variant``."""
     return SETTLED_PRELOAD_METHOD if variant is Variant.SETTLED_PRELOAD else method.preload_method
 
@@ -50,11 +51,9 @@ def precompression(session: SessionLike, pre: Stage) -> np.ndarray:
     return session.form.E @ _preload_beta(pre) * pre.data.F
 
 
-def carried(
-    session: SessionLike, method: AnalysisMethod, pre_method: AnalysisMethod, pre: Stage
-) -> np.ndarray:
+def carried(session: SessionLike, method: MethodRules, pre_method: MethodRules, pre: Stage) -> np.ndarray:
     """The preload stage's own net wrench (reduced, [N, N·m]) that ``method``'s load stage
-    balances on top of the load (:attr:`AnalysisMethod.carries_residual`): the held-still
+    balances on top of the load (:attr:`MethodRules.carries_residual`): the held-still
     preload (the iterative scheme's) is an equilibrium only to its tolerance ``eps``, and an
     exact balance of that residual would have to slip the contacts. Zero otherwise and for an
     exact preload."""
@@ -66,8 +65,8 @@ def carried(
 
 
 def _preload(
-    session: SessionLike, method: AnalysisMethod, variant: Variant, fc: np.ndarray
-) -> tuple[AnalysisMethod, Stage, bool]:
+    session: SessionLike, method: MethodRules, variant: Variant, fc: np.ndarray
+) -> tuple[MethodRules, Stage, bool]:
     """The preload stage ``method`` loads on under ``variant``, its method and whether this
     call solved it (``fresh``: it counts in this query's time and solves)."""
     pre_method = session.rules(preload_method_of(method, variant))
@@ -76,7 +75,7 @@ def _preload(
 
 
 def staged_response(
-    session: SessionLike, method: AnalysisMethod, fc: np.ndarray, w6: np.ndarray
+    session: SessionLike, method: MethodRules, fc: np.ndarray, w6: np.ndarray
 ) -> PassiveResponse:
     """The response of a staged method to ``w6`` (6,) [N, N·m] under commands ``fc`` (na,)."""
     m = session.model
@@ -104,18 +103,18 @@ class _LimitPoint:
 
     stage: Stage
     pre: Stage | None
-    pre_method: AnalysisMethod | None
+    pre_method: MethodRules | None
     variant: Variant
     fresh: bool
     at: float  # the magnitude of the point [N or N·m] (``upper`` when unbounded)
 
 
 def staged_load_factor(
-    session: SessionLike, method: AnalysisMethod, fc: np.ndarray, direction: np.ndarray, upper: float
+    session: SessionLike, method: MethodRules, fc: np.ndarray, direction: np.ndarray, upper: float
 ) -> LoadFactor:
     """The largest resistible magnitude along the unit ``direction`` (6,) in one solve of the
-    method's load-factor problem (:attr:`AnalysisMethod.load_factor_kind`), commands ``fc``
-    (na,) non-negative, pyramids unrefined; for a :attr:`AnalysisMethod.limit_point` method,
+    method's load-factor problem (:attr:`MethodRules.load_factor_kind`), commands ``fc``
+    (na,) non-negative, pyramids unrefined; for a :attr:`MethodRules.limit_point` method,
     with the response at the limit."""
     lf, point = solve_load_factor(session, method, fc, direction, upper)
     if point is None or not method.limit_point:
@@ -136,13 +135,13 @@ def staged_load_factor(
 
 
 def solve_load_factor(
-    session: SessionLike, method: AnalysisMethod, fc: np.ndarray, direction: np.ndarray, upper: float
+    session: SessionLike, method: MethodRules, fc: np.ndarray, direction: np.ndarray, upper: float
 ) -> tuple[LoadFactor, _LimitPoint | None]:
     """The load factor (as :func:`staged_load_factor`, without a response) and its optimum as a
     stage (None when not optimal)."""
     kind = method.load_factor_kind
     if kind is None:
-        raise InvalidInputError("method", f"{method.name.value!r} has no one-solve load-factor problem")
+        raise InvalidInputError("method", f"{method.name!r} has no one-solve load-factor problem")
     m, f = session.model, session.form
     p = np.zeros(m.nc)
     pre_time = 0.0

@@ -21,8 +21,10 @@ from typing import Any
 import numpy as np
 
 from ..core.axes import cube_directions
+from ..core.methods import bounded as limits_bound
+from ..core.methods import method_name
 from ..core.query import Query
-from ..core.settings import DEFAULT_METHOD, METHODS, PATH_METHODS, Method
+from ..core.settings import DEFAULT_METHOD, Method
 from ..core.validate import choice, finite_array, force
 from ..core.validate import steps as n_steps
 from ..errors import InvalidInputError
@@ -92,9 +94,9 @@ class DisturbanceScore:
         _, w = disturbance_set(self.disturbances)
         if not isinstance(self.disturbances, str):
             object.__setattr__(self, "disturbances", tuple(tuple(float(v) for v in row) for row in w))
-        object.__setattr__(self, "method", Method(choice("method", self.method, METHODS)))
+        object.__setattr__(self, "method", method_name(self.method))
         object.__setattr__(self, "upper", force("upper", self.upper, "N or N·m"))
-        bounded = self.method not in PATH_METHODS
+        bounded = limits_bound(self.method)
         object.__setattr__(self, "steps", n_steps(self.steps, bounded=bounded))
 
     @property
@@ -120,10 +122,10 @@ class DisturbanceScore:
     def __call__(self, model: Any, command: Mapping[str, float]) -> dict[str, float]:
         from ..analysis.max_wrench import max_resistible_wrench
         from ..analysis.metrics import ferrari_canny
-        from ..analysis.response import PassiveSolver
+        from ..analysis.response import Session
 
-        query = Query(Method(self.method), self.upper, self.steps)
-        session = PassiveSolver(model)  # one per grasp: its preload stage is solved once
+        query = Query(self.method, self.upper, self.steps)
+        session = Session(model)  # one per grasp: its preload stage is solved once
         values: dict[str, float] = {}
         first = True
         for label, w in zip(self.labels, self.wrenches):

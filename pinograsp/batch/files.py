@@ -13,7 +13,9 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from ..core.settings import DEFAULT_METHOD, METHODS, PATH_METHODS, Method
+from ..core.methods import bounded as limits_bound
+from ..core.methods import method_name, method_names
+from ..core.settings import DEFAULT_METHOD
 from ..core.validate import force
 from ..core.validate import steps as n_steps
 from ..errors import PinograspError
@@ -239,11 +241,11 @@ def _score(f: SceneFile, data: dict[str, Any]) -> dict[str, Any]:
     if "upper" in s:
         score["upper"] = f.domain(lambda k, v: force(k, v, "N or N·m"), s["upper"], "score.upper")
     if "method" in s:
-        if s["method"] not in METHODS:
-            raise f.error("score.method", f"must be one of {', '.join(METHODS)}, got {s['method']!r}")
-        score["method"] = Method(s["method"])
+        if not isinstance(s["method"], str) or s["method"] not in method_names():
+            raise f.error("score.method", f"must be one of {', '.join(method_names())}, got {s['method']!r}")
+        score["method"] = method_name(s["method"])
     if "steps" in s:  # domains checked before any grasp runs (docs/errors.md); a path ignores steps
-        bounded = score.get("method", DEFAULT_METHOD) not in PATH_METHODS
+        bounded = limits_bound(score.get("method", DEFAULT_METHOD))
         score["steps"] = f.domain(lambda k, v: n_steps(v, k, bounded=bounded), s["steps"], "score.steps")
     if "disturbances" in s:  # "cube26" or a list of wrenches (k, 6)
         _, w = f.domain(lambda k, v: disturbance_set(v, k), s["disturbances"], "score.disturbances")

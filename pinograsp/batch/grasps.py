@@ -19,8 +19,9 @@ from typing import Any, Literal, cast
 
 import numpy as np
 
+from ..core.methods import method_name
 from ..core.poses import rotation_rpy, rpy_of
-from ..core.settings import DEFAULT_METHOD, METHODS, Method
+from ..core.settings import DEFAULT_METHOD, Method
 from ..core.validate import MAX_SAMPLES, choice, count, finite_number, positive_number, whole_number
 from ..core.validate import size as check_size
 from ..errors import InvalidInputError
@@ -246,8 +247,7 @@ class GraspSpec:
             object.__setattr__(self, "command", _pairs("command", dict(cmd)))
         else:
             object.__setattr__(self, "command", finite_number("command", cmd))
-        method = choice("preload_method", self.preload_method, METHODS)
-        object.__setattr__(self, "preload_method", Method(method))
+        object.__setattr__(self, "preload_method", method_name(self.preload_method, "preload_method"))
         if self.id is not None and not isinstance(self.id, str):
             object.__setattr__(self, "id", str(self.id))
 

@@ -18,9 +18,11 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
+from ..core.methods import bounded as limits_bound
+from ..core.methods import method_name
 from ..core.query import Query
-from ..core.settings import DEFAULT_METHOD, METHODS, PATH_METHODS, Method
-from ..core.validate import choice, force
+from ..core.settings import DEFAULT_METHOD, Method
+from ..core.validate import force
 from ..core.validate import steps as n_steps
 from ..errors import PinograspError
 from .rows import classify
@@ -105,22 +107,22 @@ class WorstAxisScore:
     no_grasp: ClassVar[dict[str, float]] = dict.fromkeys(columns, 0.0)
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "method", Method(choice("method", self.method, METHODS)))
+        object.__setattr__(self, "method", method_name(self.method))
         object.__setattr__(self, "upper", force("upper", self.upper, "N or N·m"))  # docs/errors.md
-        bounded = self.method not in PATH_METHODS  # the loading path does not bisect
+        bounded = limits_bound(self.method)  # the loading path does not bisect
         object.__setattr__(self, "steps", n_steps(self.steps, bounded=bounded))
 
     def __call__(self, model: Any, command: Mapping[str, float]) -> ScoreValues:
         from ..analysis.max_wrench import max_resistible_wrench
-        from ..analysis.response import PassiveSolver
+        from ..analysis.response import Session
 
         axes = ("fx", "fy") if model.planar else ("fx", "fy", "fz")
         mags: dict[str, float] = {}
         unbounded = 0
         failures: list[DirectionFailure] = []
         first: PinograspError | None = None
-        query = Query(Method(self.method), self.upper, self.steps)
-        session = PassiveSolver(model)  # one per grasp: its preload stage is solved once
+        query = Query(self.method, self.upper, self.steps)
+        session = Session(model)  # one per grasp: its preload stage is solved once
         for direction in (s + a for a in axes for s in ("+", "-")):
             try:  # the preload is checked by the first direction that answers
                 mw = max_resistible_wrench(

@@ -15,6 +15,7 @@ import numpy as np
 
 import pinograsp as pg
 
+from ..core.methods import bounded, search_text
 from ..core.results import format_max_wrench
 from ..core.serialize import jsonable, vector_text, wrench_unit
 from ..errors import InvalidInputError
@@ -31,14 +32,6 @@ from .report import (
     scene_header,
     scene_line,
 )
-
-
-def _search_text(method: object, upper: float, steps: int, unit: str = "") -> str:
-    """:func:`pinograsp.analysis.registry.search_text`, imported on use (the registry loads the
-    solvers; ``pinograsp scenes`` and ``--help`` stay light)."""
-    from ..analysis.registry import search_text
-
-    return search_text(method, upper, steps, unit)
 
 
 def _scene_data(scene: Any) -> dict[str, Any]:
@@ -86,7 +79,7 @@ def cmd_scenes(args: argparse.Namespace) -> int:
     print(scene.summary())
     note = model_settings(scene.settings)[1]
     print(
-        f"  analysis: method {an.method}{note}, {_search_text(an.method, an.upper, an.steps)}, "
+        f"  analysis: method {an.method}{note}, {search_text(an.method, an.upper, an.steps)}, "
         f"n = {an.n}, plane {','.join(map(str, an.plane))}"
     )
     for key in ("directions", "wrenches"):
@@ -172,6 +165,8 @@ def _verdict(mw: Any, upper: float) -> str:
             f"< {mw.floor:.2g} {unit} (below the resolution and the scheme's tolerance: "
             "not distinguishable from zero)"
         )
+    if not bounded(mw.method):  # its row: an exact limit, upper and steps do not shape it
+        return f"{format_max_wrench(mw)} {unit} (exact)"
     return f"{format_max_wrench(mw)} {unit} (resolution {mw.resolution:.2g} {unit})"
 
 
@@ -200,7 +195,7 @@ def cmd_max_wrench(args: argparse.Namespace) -> int:
         scene_line(scene),
         preload_line(command, preload_name),
         f"direction: {label} = {vector_text(mw.direction)}; method {method}{note}, "
-        f"{_search_text(method, upper, steps)}",
+        f"{search_text(method, upper, steps)}",
         "",
         f"max resistible magnitude: {_verdict(mw, upper)}",
         (

@@ -17,7 +17,8 @@ Sub-commands::
     pinograsp path SCENE -d DIRECTION [--png FILE] [--csv FILE] [--json]
 
 ``SCENE`` is a built-in scene name (``pinograsp scenes``) or the path of a scene YAML file.
-Common options: ``--method prp|iterative|energetic``, ``--upper``, ``--steps``,
+Common options: ``--method`` (a name of the method table, :mod:`pinograsp.core.methods`),
+``--upper``, ``--steps``,
 ``--normal-uncertainty`` and ``--cone-tolerance`` [deg], ``--json`` (the result as JSON on stdout
 and nothing else), ``--out DIR`` (plots and JSON files), ``--debug`` (full tracebacks). Errors
 are one line ``pinograsp: error: ...`` on stderr; bad input

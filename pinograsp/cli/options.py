@@ -17,7 +17,8 @@ import numpy as np
 import pinograsp as pg
 
 from ..core.axes import WRENCH_AXES, axis_index
-from ..core.settings import PATH_METHODS, Settings, make_settings
+from ..core.methods import bounded as limits_bound
+from ..core.settings import Settings, make_settings
 from ..core.validate import MAX_FORCE, MAX_STEPS
 from ..errors import InvalidInputError, PinograspError, UnknownNameError
 
@@ -51,7 +52,7 @@ def upper_steps(args: argparse.Namespace, scene: Any, default_steps: int | None 
         steps = int(scene.analysis.steps)
     if not (math.isfinite(upper) and 0 < upper <= MAX_FORCE):  # domains: docs/errors.md
         raise InvalidInputError("--upper", f"must be in (0, {MAX_FORCE:g}] [N or N·m], got {upper!r}")
-    if method(args, scene) in PATH_METHODS:  # the loading path does not bisect: steps is ignored
+    if not limits_bound(method(args, scene)):  # an exact limit (the path) does not bisect: steps ignored
         if steps < 1:
             raise InvalidInputError("--steps", f"must be an integer >= 1, got {steps}")
     elif not 1 <= steps <= MAX_STEPS:

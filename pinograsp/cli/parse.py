@@ -9,7 +9,8 @@ from __future__ import annotations
 import argparse
 from collections.abc import Sequence
 
-from ..core.settings import Method, Variant
+from ..core.methods import bounded, method_names, methods_help
+from ..core.settings import DEFAULT_METHOD, Variant
 from .arguments import PRELOAD_HELP, add_direction
 from .path_command import add_path
 from .plan_command import add_plan
@@ -21,7 +22,6 @@ DEMO_STEPS = 10
 
 #: Options whose value may start with ``-`` (``--direction -fy``, ``--wrench -5,0,0``).
 _DASH_VALUE_OPTIONS = ("--direction", "-d", "--wrench", "-w", "--plane", "-p")
-_METHODS = [m.value for m in Method]
 _PROGRESS_HELP = "progress bar with ETA on stderr (default: when stderr is a terminal)"
 
 
@@ -60,11 +60,9 @@ def _common(p: argparse.ArgumentParser, *, out_default: str | None = None) -> No
     g = p.add_argument_group("common options")
     g.add_argument(
         "--method",
-        choices=_METHODS,
-        help="prp (Alg. 1, one MIQP), iterative (Alg. 2+3, the paper's, no wedging), energetic "
-        "(maximum dissipation: friction opposes slip, one solve per direction) or quasistatic (the "
-        "loading path followed exactly: the limit load without bisection); default: the scene's "
-        "analysis.method, else quasistatic (the package default; every built-in scene)",
+        choices=method_names(),
+        help=f"{methods_help()}; default: the scene's analysis.method, else {DEFAULT_METHOD} (the "
+        "package default; every built-in scene)",
     )
     g.add_argument(
         "--variant",
@@ -72,13 +70,14 @@ def _common(p: argparse.ArgumentParser, *, out_default: str | None = None) -> No
         help="load path: preload and load together, preload first (object held still), or the "
         "object settled into the preload first; default: the scene's (docs/design.md)",
     )
+    exact = "/".join(n for n in method_names() if not bounded(n))  # their limits are exact
     g.add_argument(
-        "--upper", type=float, help="search upper limit [N or N·m] (quasistatic: none); default: the scene's"
+        "--upper", type=float, help=f"search upper limit [N or N·m] ({exact}: none); default: the scene's"
     )
     g.add_argument(
         "--steps",
         type=int,
-        help="bisection steps (resolution upper/2**steps; quasistatic: none); default: the scene's",
+        help=f"bisection steps (resolution upper/2**steps; {exact}: none); default: the scene's",
     )
     g.add_argument("--solver", help="MIQP backend (default: the scene's, normally scip)")
     g.add_argument("--time-limit", type=float, help="per-MIQP time limit [s]")
@@ -340,9 +339,9 @@ def _add_batch(sub: argparse._SubParsersAction) -> None:
     b.add_argument("--steps", type=int, help="score search steps (default: the file's score block)")
     b.add_argument(
         "--method",
-        choices=_METHODS,
-        help="score method: prp, iterative, energetic or quasistatic (default: the file's score "
-        "block, else quasistatic)",
+        choices=method_names(),
+        help=f"score method: {', '.join(method_names())} (default: the file's score block, else "
+        f"{DEFAULT_METHOD})",
     )
     b.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None, help=_PROGRESS_HELP)
     _debug_option(b)
@@ -365,9 +364,9 @@ def _add_simulate(sub: argparse._SubParsersAction) -> None:
     )
     sm.add_argument(
         "--method",
-        choices=_METHODS,
-        help="method of --compare (prp, iterative, energetic, quasistatic); default: the scene's "
-        "(quasistatic unless it names one)",
+        choices=method_names(),
+        help=f"method of --compare ({', '.join(method_names())}); default: the scene's "
+        f"({DEFAULT_METHOD} unless it names one)",
     )
     g = sm.add_argument_group("simulation options (defaults: docs/simulation.md)")
     g.add_argument("--stiffness", type=float, help="stiffest contact's stiffness [N/m] (default 1e6)")

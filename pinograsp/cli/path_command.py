@@ -6,7 +6,9 @@ from __future__ import annotations
 import argparse
 
 from ..core.axes import wrench_unit
+from ..core.methods import method_spec
 from ..core.serialize import vector_text
+from ..core.settings import Method
 from ..errors import InvalidInputError
 from . import options as opt
 from .arguments import PRELOAD_HELP, add_direction
@@ -26,7 +28,14 @@ def add_path(sub: argparse._SubParsersAction) -> None:
     p.add_argument("scene", metavar="SCENE")
     add_direction(p)
     p.add_argument("--preload", help=PRELOAD_HELP)
-    p.add_argument("--variant", choices=("held", "settled"), help="preload: object held (default) or settled")
+    p.add_argument(
+        "--variant",
+        type=lambda v: {"held": "preload-first", "settled": "settled-preload"}.get(v, v),
+        choices=[v.value for v in method_spec(Method.QUASISTATIC).variants],
+        help="preload, as --variant of the other commands: the object held while the hand closes "
+        "(preload-first, the default) or settled into the preload (settled-preload); held and "
+        "settled are accepted for them",
+    )
     p.add_argument(
         "--tangential-ratio",
         type=float,

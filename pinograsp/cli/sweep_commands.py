@@ -17,6 +17,7 @@ import numpy as np
 
 import pinograsp as pg
 
+from ..core.methods import search_resolution, search_text
 from ..core.results import format_max_wrench
 from ..core.serialize import direction_text, format_magnitude, runs_text, wrench_unit
 from ..core.tables import profile_to_csv
@@ -38,7 +39,7 @@ class _Sweep:
 
     @property
     def method(self) -> str:
-        return str(self.query.method.value)
+        return str(self.query.method)
 
     @property
     def upper(self) -> float:
@@ -58,21 +59,6 @@ def cmd_profile(args: argparse.Namespace) -> int:
     n = args.n if args.n is not None else int(scene.analysis.n)
     sweep = _Sweep(scene, command, preload_name, opt.query(args, scene))
     return _profile_report(args, sweep, plane, n, "profile")
-
-
-def _resolution(method: object, upper: float, steps: int) -> float:
-    """:func:`pinograsp.analysis.registry.search_resolution`, imported on use."""
-    from ..analysis.registry import search_resolution
-
-    return search_resolution(method, upper, steps)
-
-
-def _search_text(method: object, upper: float, steps: int, unit: str = "") -> str:
-    """:func:`pinograsp.analysis.registry.search_text`, imported on use (the registry loads the
-    solvers; ``pinograsp scenes`` and ``--help`` stay light)."""
-    from ..analysis.registry import search_text
-
-    return search_text(method, upper, steps, unit)
 
 
 def cmd_demo(args: argparse.Namespace) -> int:
@@ -135,7 +121,7 @@ def _profile_lines(sweep: _Sweep, p: Any, norm: float | None, wall: float, runs:
         scene_line(sweep.scene),
         preload_line(sweep.command, sweep.preload_name),
         f"profile in the plane ({b1}, {b2}): {len(p.angles)} directions, method {sweep.method}{sweep.note}, "
-        f"{_search_text(sweep.method, upper, steps, unit)}; {wall:.1f} s",
+        f"{search_text(sweep.method, upper, steps, unit)}; {wall:.1f} s",
         "",
         header,
     ]
@@ -156,7 +142,7 @@ def _profile_lines(sweep: _Sweep, p: Any, norm: float | None, wall: float, runs:
     else:
         lines.append("no unbounded direction")
     if norm is not None:
-        res = _resolution(sweep.method, upper, steps)
+        res = search_resolution(sweep.method, upper, steps)
         lines.append(f"normalised by the {b2} value {format_magnitude(norm, res, unit)}")
     bad = [f"{deg[i]:g}°" for i, r in enumerate(p.results) if not r.monotone]
     if bad:
@@ -203,7 +189,7 @@ def _profile_report(args: argparse.Namespace, sweep: _Sweep, plane: Any, n: int,
         **model_data,
         "upper": upper,
         "steps": steps,
-        "resolution": _resolution(sweep.method, upper, steps),
+        "resolution": search_resolution(sweep.method, upper, steps),
         "unit": wrench_unit(p.basis[0] + p.basis[1]),
         **p.to_dict(norm),
         "statuses": list(p.statuses),
@@ -333,7 +319,7 @@ def cmd_compare_preloads(args: argparse.Namespace) -> int:
         ],
         "total_time": wall,
     }
-    head = f"method {method}, {_search_text(method, upper, steps)}; {wall:.1f} s"
+    head = f"method {method}, {search_text(method, upper, steps)}; {wall:.1f} s"
     out.print(*_compare_lines(scene, names, rows, head))
     out.write_json("compare_preloads.json", data)
     out.figure("compare_preloads.png", lambda path: _plot_comparison(scene, rows, method, path))

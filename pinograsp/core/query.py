@@ -12,7 +12,9 @@ from dataclasses import dataclass
 from typing import Any
 
 from ..errors import InvalidInputError
-from .settings import DEFAULT_METHOD, METHODS, PATH_METHODS, Method, Search
+from .methods import bounded as limits_bound
+from .methods import method_name
+from .settings import DEFAULT_METHOD, Method, Search
 from .validate import choice, force
 from .validate import steps as n_steps
 
@@ -33,7 +35,7 @@ class Query:
             per query; the quasi-static path's limit is exact: ``upper`` does not decide
             unboundedness there and is not checked against the grasp).
         steps: Search steps, in [1, 60]; resolution ``upper / 2**steps``. The quasi-static
-            method (:data:`~pinograsp.core.settings.PATH_METHODS`) does not bisect: any whole
+            method (a row of :mod:`pinograsp.core.methods` that is not ``bounded``) does not bisect: any whole
             number >= 1 is accepted and ignored.
         search: ``"auto"`` (the method's default), ``"bisection"``, ``"secant"``, ``"direct"``
             or ``"path"`` (:class:`~pinograsp.core.settings.Search`; ``"path"``: quasi-static,
@@ -43,16 +45,16 @@ class Query:
         InvalidInputError: A field out of its domain (named).
     """
 
-    method: Method = Method(DEFAULT_METHOD)
+    method: str = Method(DEFAULT_METHOD)
     upper: float = 1e3
     steps: int = 20
     search: Search = Search.AUTO
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "method", Method(choice("method", self.method, METHODS)))
+        object.__setattr__(self, "method", method_name(self.method))
         # domains (docs/errors.md, "Input domains"); against a grasp: analysis.max_wrench.query_within
         object.__setattr__(self, "upper", force("upper", self.upper, "N or N·m"))
-        bounded = self.method not in PATH_METHODS  # the path does not bisect (docs/errors.md)
+        bounded = limits_bound(self.method)  # an exact limit does not bisect (docs/errors.md)
         object.__setattr__(self, "steps", n_steps(self.steps, bounded=bounded))
         object.__setattr__(self, "search", Search(choice("search", self.search, SEARCHES)))
 
@@ -64,7 +66,7 @@ class Query:
     def to_dict(self) -> dict[str, Any]:
         """Plain JSON-ready data."""
         return {
-            "method": self.method.value,
+            "method": str(self.method),
             "upper": self.upper,
             "steps": self.steps,
             "search": self.search.value,

@@ -20,8 +20,9 @@ if TYPE_CHECKING:
 #: scheme's cap (``not_converged``), or a solver's limit or failure (the values of
 #: ``pinograsp.solvers.base.SolveStatus`` that are not optimal or infeasible).
 ResponseStatus = Literal["resisted", "not_resisted", "not_converged", "timeout", "node_limit", "failed"]
-#: Name of an analysis method (the values of :class:`~pinograsp.core.settings.Method`).
-MethodName = Literal["prp", "iterative", "energetic", "quasistatic"]
+#: Name of an analysis method: a name of the method table (:func:`pinograsp.core.methods.method_names`;
+#: a ``str``, since methods may be registered at run time).
+MethodName = str
 #: State of a contact in a solution: ``"separated"`` (no force), ``"sticking"`` (touching, no
 #: slip) or ``"sliding"`` (touching and slipping; for ``method="energetic"`` its force then sits
 #: on the pyramid's boundary, pointing most against the slip).

@@ -100,16 +100,11 @@ class Search(Vocabulary):
     PATH = "path"
 
 
-METHODS = tuple(m.value for m in Method)
 #: The method every analysis, scene, batch file and CLI command uses when none is named: the
 #: quasi-static loading path, which has the simulation's class in 250 of 254 validated
 #: directions (the iterative scheme: 170 of 239; docs/validation_quasistatic.md). The paper's
 #: methods stay selectable by name.
 DEFAULT_METHOD: str = Method.QUASISTATIC.value
-#: Methods that follow a loading path instead of searching ``[0, upper]``: ``steps`` does not
-#: apply (not bounded by :data:`~pinograsp.core.validate.MAX_STEPS`, ignored) and ``upper`` does
-#: not decide unboundedness (not checked against the grasp's force scale; docs/errors.md).
-PATH_METHODS: tuple[str, ...] = (Method.QUASISTATIC.value,)
 VARIANTS = tuple(v.value for v in Variant)
 BACKENDS = tuple(b.value for b in Backend)
 COMPLEMENTARITIES = tuple(c.value for c in Complementarity)

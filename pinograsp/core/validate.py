@@ -216,7 +216,7 @@ def count(name: str, value: object, maximum: int, minimum: int = 1, what: str = 
 
 def steps(value: object, name: str = "steps", *, bounded: bool = True) -> int:
     """Bisection halvings in ``[1, MAX_STEPS]``; with ``bounded=False`` (a method that does not
-    bisect, :data:`~pinograsp.core.settings.PATH_METHODS`: the value is ignored) any whole
+    bisect, a row of :mod:`pinograsp.core.methods` that is not ``bounded``: the value is ignored) any whole
     number >= 1."""
     if not bounded:
         return whole_number(name, value)

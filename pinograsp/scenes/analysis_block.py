@@ -15,8 +15,10 @@ from typing import Any
 import numpy as np
 
 from ..core.axes import WRENCH_AXES, plane_basis, wrench_direction
+from ..core.methods import bounded as limits_bound
+from ..core.methods import method_name, method_names
 from ..core.model import GraspModel
-from ..core.settings import DEFAULT_METHOD, METHODS, PATH_METHODS, Method, Settings, make_settings
+from ..core.settings import DEFAULT_METHOD, Settings, make_settings
 from ..core.validate import directions as n_directions
 from ..core.validate import force
 from ..core.validate import steps as n_steps
@@ -96,10 +98,10 @@ def _named(f: SceneFile, value: object, key: str, what: str) -> Mapping:
 def _block(f: SceneFile, model: GraspModel, a: Mapping) -> SceneAnalysis:
     """The analysis keys of an ``analysis`` block (its settings aside)."""
     method = a.get("method", DEFAULT_METHOD)
-    if method not in METHODS:
-        raise f.error("analysis.method", f"must be one of {', '.join(METHODS)}, got {method!r}")
+    if not isinstance(method, str) or method not in method_names():
+        raise f.error("analysis.method", f"must be one of {', '.join(method_names())}, got {method!r}")
     upper = f.domain(lambda k, v: force(k, v, "N or N·m"), a.get("upper", 1e3), "analysis.upper")
-    bounded = method not in PATH_METHODS  # the loading path does not bisect: steps is ignored
+    bounded = limits_bound(method)  # an exact limit (the loading path) does not bisect: steps ignored
     steps = f.domain(lambda k, v: n_steps(v, k, bounded=bounded), a.get("steps", 20), "analysis.steps")
     n = f.domain(lambda k, v: n_directions(v, k), a.get("n", 72), "analysis.n")
     planes: dict[str, Plane] = {}
@@ -119,7 +121,7 @@ def _block(f: SceneFile, model: GraspModel, a: Mapping) -> SceneAnalysis:
     wrenches = {str(k): _wrench(f, model, v, f"analysis.wrenches.{k}", False) for k, v in wr.items()}
     pre = _named(f, a.get("preloads"), "analysis.preloads", "command")
     return SceneAnalysis(
-        method=Method(method),
+        method=method_name(method),
         upper=upper,
         steps=steps,
         n=n,

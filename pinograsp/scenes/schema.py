@@ -153,7 +153,7 @@ class SceneAnalysis:
         preloads: Named preloads, name -> ``{actuator: command}`` [N·m or N].
     """
 
-    method: Method = Method(DEFAULT_METHOD)
+    method: str = Method(DEFAULT_METHOD)
     upper: float = 1e3
     steps: int = 20
     n: int = 72
@@ -241,7 +241,7 @@ class Scene:
 
         kw = self._query_args(overrides)
         cmd = self._command(command)
-        method = kw["query"].method.value
+        method = str(kw["query"].method)
         return passive_response(self.model, cmd, wrench, method, settings=kw["settings"], **overrides)
 
     def max_resistible_wrench(

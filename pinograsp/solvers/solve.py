@@ -3,7 +3,7 @@
 Every solve of pinograsp — a stage, an iterative step, a subspace jump, a load factor, an
 optimal-preload program — is one :class:`~pinograsp.solvers.problem.Problem` handed to the
 :class:`SolverBackend` that ``Settings.backend`` names, through one caller: the session
-(:meth:`pinograsp.analysis.response.PassiveSolver.solve`). A backend is a small object with a
+(:meth:`pinograsp.analysis.response.Session.solve`). A backend is a small object with a
 name, whether it is installed, what it can do (:class:`Capabilities`), and two calls: solve a
 problem (the global optimum) and solve it in a fixed mode (one convex QP).
 

@@ -104,7 +104,7 @@ def response_at(
     return PassiveResponse(
         resistible=status == "resisted",
         status=status,  # type: ignore[arg-type]
-        method=METHOD,  # type: ignore[arg-type]
+        method=METHOD,
         variant=p.variant,
         wrench=w6,
         command=p.fc * p.signs,
@@ -370,7 +370,7 @@ def max_wrench_prepared(
         upper=float(upper),
         resolution=0.0,
         evidence=((at, True),) if status != "unbounded" else ((at, True), (float("inf"), True)),
-        method=METHOD,  # type: ignore[arg-type]
+        method=METHOD,
         solve_time=lp.wall_time,
         wall_time=time.perf_counter() - t0,
         n_solves=lp.lcp_solves,

@@ -21,7 +21,7 @@ from .continuation import continue_past_limit
 from .events import path_events
 from .model import QSModel, build_qs_model
 from .path import MAX_SEGMENTS, StageRun, follow
-from .preload import PRELOAD_VARIANTS, preload_path, released_states
+from .preload import preload_path, preload_path_of, released_states
 from .rates import EVENT_RTOL, StageSpec, State, force_scale
 from .result import LoadingPath, PathStatus
 from .statuses import RunStatus
@@ -70,13 +70,7 @@ def _ratio(settings: Settings) -> float:
 
 
 def _variant(variant: object, settings: Settings) -> str:
-    if variant is None:
-        return "settled" if settings.variant == "settled-preload" else "held"
-    if variant not in PRELOAD_VARIANTS:
-        raise InvalidInputError(
-            "variant", f"expected one of {list(PRELOAD_VARIANTS)} or None, got {variant!r}"
-        )
-    return str(variant)
+    return preload_path_of(variant, settings.variant)  # the one variant rule (core.methods)
 
 
 def prepare(
@@ -365,8 +359,11 @@ def loading_path(
         model: The grasp.
         command: Actuator commands (as for :func:`pinograsp.passive_response`) [N·m or N].
         direction: Wrench direction: axis name (``"fy"``, ``"-mz"``) or vector (normalised).
-        variant: Preload: ``"held"`` (default, as the simulation's: object held, friction off
-            while the commands ramp, then released) or ``"settled"`` (object free, friction on).
+        variant: Preload, in the variant vocabulary of every entry point: ``"preload-first"``
+            (default, as the simulation's: object held, friction off while the commands ramp,
+            then released; the path's name ``"held"``) or ``"settled-preload"`` (object free,
+            friction on; ``"settled"``); None: ``Settings.variant``. ``"single-step"`` is
+            refused, as by ``max_resistible_wrench(method="quasistatic")``.
         settings: :class:`~pinograsp.Settings`: ``tangential_ratio`` (tangential / normal
             contact stiffness, default 1) and ``normal_uncertainty`` apply.
         max_segments: Segment-count limit of each stage (a count in [1, 1e6]; status

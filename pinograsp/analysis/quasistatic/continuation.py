@@ -7,7 +7,7 @@ depends on how far it jumped. This module follows the equilibrium path beyond th
 displacement control (the load may fall) until the load comes back to the limit load — the
 *landing* point of the snap, from where the path continues under load control as usual — or
 until the load falls to zero or the path stops. :meth:`LoadingPath.load_at_displacement` uses
-it; the limit load λ* itself stays the first limit (QUASISTATIC.md).
+it; the limit load λ* itself stays the first limit (docs/quasistatic.md, "Continuation and snaps").
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""The quasi-static state-space model of a :class:`~pinograsp.GraspModel` (QUASISTATIC.md).
+"""The quasi-static state-space model of a :class:`~pinograsp.GraspModel` (docs/quasistatic.md).
 
 Everything the path follower needs, precomputed once per model, in *scaled* coordinates so
 that rank decisions and tolerances do not depend on units:

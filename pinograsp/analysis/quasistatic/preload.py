@@ -1,4 +1,4 @@
-"""The preload as a path (QUASISTATIC.md, "The preload as a path").
+"""The preload as a path (docs/quasistatic.md, "The preload is a path too").
 
 * ``"held"`` (default, the simulation's ``preload="held"``): from the touching configuration
   the commands ramp ``f = s f_c``, ``s: 0 -> 1``, with the object held still and friction off
@@ -24,14 +24,41 @@ from __future__ import annotations
 import numpy as np
 
 from ...core.axes import WRENCH_AXES
-from ...errors import PreloadNotInEquilibriumError
+from ...core.methods import method_variant
+from ...core.settings import Method, Variant
+from ...errors import InvalidInputError, PreloadNotInEquilibriumError
 from .model import QSModel, finger_groups, with_friction_on
 from .path import StageRun, follow
 from .rates import EVENT_RTOL, StageSpec, State, classify, force_scale
 from .statuses import RunStatus
 
-#: The preload variants.
+#: The preload paths (the names :class:`~.result.LoadingPath` records).
 PRELOAD_VARIANTS = ("held", "settled")
+#: The preload path each of the method's variants (:class:`~pinograsp.core.settings.Variant`,
+#: its row of :mod:`pinograsp.core.methods`) follows.
+PRELOAD_PATHS = {Variant.PRELOAD_FIRST: "held", Variant.SETTLED_PRELOAD: "settled"}
+
+
+def preload_path_of(variant: object, settings_variant: object) -> str:
+    """The preload path (``"held"``/``"settled"``) of a ``variant=`` argument under
+    ``Settings.variant``: the variant vocabulary of every other entry point
+    (``"preload-first"``/``"settled-preload"``; None: the settings', else the method's
+    default), or the path's own name (``"held"``/``"settled"``, as :class:`LoadingPath`
+    records it).
+
+    Raises:
+        InvalidInputError: Any other value; ``"single-step"`` (in ``variant=`` or in the
+            settings) is refused as ``max_resistible_wrench(method="quasistatic")`` refuses it
+            (:func:`~pinograsp.core.methods.method_variant`).
+    """
+    if isinstance(variant, str) and variant in PRELOAD_VARIANTS:
+        return variant
+    if variant is None or (isinstance(variant, str) and variant in Variant._value2member_map_):
+        return PRELOAD_PATHS[
+            method_variant(Method.QUASISTATIC, settings_variant if variant is None else variant)
+        ]
+    valid = [v.value for v in PRELOAD_PATHS] + list(PRELOAD_VARIANTS)
+    raise InvalidInputError("variant", f"expected one of {valid} or None, got {variant!r}")
 
 
 def zero_state(qm: QSModel) -> State:

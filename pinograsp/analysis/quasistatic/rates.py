@@ -1,7 +1,7 @@
 """One segment of the loading path: the local rate problem at a point of the path.
 
 At a point (the :class:`State`), every contact and actuator is classified by the inequalities
-that hold with zero slack (QUASISTATIC.md, "The local rate problem is an LCP"):
+that hold with zero slack (docs/quasistatic.md, "The rate problem is an LCP"):
 
 * a contact is *open* (gap ``delta < 0``), at *zero force* (touching with ``c_n = 0``: its
   opening rate and every face of its polygon are boundary items) or *pressed* (``c_n > 0``:
