@@ -96,8 +96,12 @@ def test_path_stopped_above_upper_is_above_limit(case2):
     """A path that stops without a verdict (here the segment-count limit) is ``above_limit``
     when it held up to ``upper`` first, and a lower bound without verdict below it."""
     m, cmd = case2.model, case2.preload(None)
-    lp = pg.loading_path(m, cmd, "fz", max_segments=3)
-    assert lp.status == "segment_limit" and lp.limit > 0
+    # the count applies to every stage, the preload's too: 7 lets the preload through (a cold
+    # call, nothing kept between calls) and stops the load stage at 14.44 N
+    with pytest.raises(pg.PreloadNotInEquilibriumError, match="segment_limit"):
+        pg.loading_path(m, cmd, "fz", max_segments=3)
+    lp = pg.loading_path(m, cmd, "fz", max_segments=7)
+    assert lp.status == "segment_limit" and lp.limit == pytest.approx(14.4426, rel=1e-4)
     above = pg.quasistatic_max_wrench(m, cmd, "fz", path=lp, upper=0.5 * lp.limit)
     assert above.status == "above_limit" and above.magnitude == 0.5 * lp.limit and not above.unbounded
     below = pg.quasistatic_max_wrench(m, cmd, "fz", path=lp, upper=2.0 * lp.limit)

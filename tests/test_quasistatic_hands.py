@@ -10,10 +10,11 @@ import numpy as np
 import pytest
 
 import pinograsp as pg
-from pinograsp.analysis.quasistatic.api import UNBALANCED_RTOL, checked_settings, prepare, unbalanceable
+from pinograsp.analysis.quasistatic.audit import UNBALANCED_RTOL, unbalanceable
 from pinograsp.analysis.quasistatic.model import build_qs_model, finger_groups, with_friction_on
 from pinograsp.analysis.quasistatic.path import follow
 from pinograsp.analysis.quasistatic.preload import stage_sound, zero_state
+from pinograsp.analysis.quasistatic.prepared import checked_settings, prepare
 from pinograsp.analysis.quasistatic.snap import lcp_has_no_solution
 from pinograsp.analysis.quasistatic.state import StageSpec
 

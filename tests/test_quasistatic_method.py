@@ -343,26 +343,73 @@ def test_every_default_reads_the_one_default_method():
         assert pg.load_scene(name).analysis.method == DEFAULT_METHOD, name
 
 
-def test_the_preload_path_is_followed_once_per_model(monkeypatch):
-    """A profile (one session) follows the preload path once for all its directions; a new
-    model (e.g. a pool worker's copy) follows it again; the answers do not depend on it."""
-    from pinograsp.analysis.quasistatic import api
+def test_the_preload_path_is_followed_once_per_session(monkeypatch):
+    """A profile (one session) follows the preload path once for all its directions; a session
+    the caller owns keeps it across queries; a new session follows it again (nothing is kept at
+    module level); the answers do not depend on it."""
+    from pinograsp.analysis.quasistatic import prepared
 
     calls = []
-    real = api.preload_path
+    real = prepared.preload_path
 
     def counted(*args, **kwargs):
         calls.append(1)
         return real(*args, **kwargs)
 
-    monkeypatch.setattr(api, "preload_path", counted)
+    monkeypatch.setattr(prepared, "preload_path", counted)
     scene = pg.load_scene("case1")
-    model = examples.pinch()  # a fresh model: nothing kept yet
+    model = examples.pinch()
     first = pg.resistance_profile(model, TAU, n=12, method=QS)
     assert len(calls) == 1
-    again = pg.resistance_profile(model, TAU, n=12, method=QS, session=pg.Session(model))
-    assert len(calls) == 1 and np.array_equal(first.magnitudes, again.magnitudes, equal_nan=True)
-    other = pg.resistance_profile(examples.pinch(), TAU, n=12, method=QS)
-    assert len(calls) == 2 and np.array_equal(first.magnitudes, other.magnitudes, equal_nan=True)
+    mine = pg.Session(model)
+    again = pg.resistance_profile(model, TAU, n=12, method=QS, session=mine)
+    assert len(calls) == 2 and np.array_equal(first.magnitudes, again.magnitudes, equal_nan=True)
+    pg.max_resistible_wrench(model, TAU, "fy", QS, session=mine)
+    assert len(calls) == 2  # the caller's session kept it
     pg.resistance_set(scene.model, scene.command, 6, QS)
     assert len(calls) == 3
+
+
+def test_a_cold_query_validates_once_prepares_once_and_builds_no_miqp(monkeypatch):
+    """One cold quasi-static max_resistible_wrench validates its settings once, prepares the
+    grasp once, builds no complementarity formulation (no MIQP objects), and calls at most 350
+    of the package's functions (cProfile: 328; comprehension frames aside, 536 with them)."""
+    import cProfile
+    import pstats
+
+    from pinograsp.analysis import response
+    from pinograsp.analysis.quasistatic import prepared
+
+    counts = {"validated": 0, "prepared": 0, "formulation": 0}
+    real_validated, real_prepare = pg.Settings.validated, prepared.prepare_analysed
+    real_form = response.Formulation
+
+    def validated(self):
+        counts["validated"] += 1
+        return real_validated(self)
+
+    def prepare_analysed(*args, **kwargs):
+        counts["prepared"] += 1
+        return real_prepare(*args, **kwargs)
+
+    def formulation(*args, **kwargs):
+        counts["formulation"] += 1
+        return real_form(*args, **kwargs)
+
+    monkeypatch.setattr(pg.Settings, "validated", validated)
+    monkeypatch.setattr(response, "prepare_analysed", prepare_analysed)
+    monkeypatch.setattr(response, "Formulation", formulation)
+    model = examples.pinch()
+    mw = pg.max_resistible_wrench(model, TAU, "fy", tangential_ratio=0.5)
+    assert mw.magnitude == pytest.approx(10.0, rel=1e-12)
+    assert counts == {"validated": 1, "prepared": 1, "formulation": 0}
+    cold = examples.pinch()  # the caller's model; the query is cold (no session yet)
+    prof = cProfile.Profile()
+    prof.enable()
+    pg.max_resistible_wrench(cold, TAU, "fy", tangential_ratio=0.5)
+    prof.disable()
+    stats = pstats.Stats(prof).stats  # type: ignore[attr-defined]
+    ours = {k: v[1] for k, v in stats.items() if "/pinograsp/" in k[0].replace("\\", "/")}
+    named = sum(n for k, n in ours.items() if not k[2].startswith("<"))  # not comprehension frames
+    # 481 named functions (699 frames with comprehensions) before the session owned its state
+    assert named <= 350 and sum(ours.values()) <= 560, (named, sum(ours.values()))

@@ -27,8 +27,12 @@ class SolveContext(Protocol):
     """
 
     model: GraspModel
-    form: Formulation
     settings: Settings
+
+    @property
+    def form(self) -> Formulation:
+        """The scaled formulation (built on first use)."""
+        ...
 
     def solve(
         self, kind: ProblemKind, data: ScaledData, guess: Mode | None = None, t_max: float | None = None

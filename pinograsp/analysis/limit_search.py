@@ -12,7 +12,6 @@ import warnings
 import numpy as np
 
 from ..core.audit import audit_message
-from ..core.model import GraspModel
 from ..core.results import MaxWrench, MaxWrenchStatus, PassiveResponse
 from ..core.settings import Search
 from ..errors import AuditWarning, PreloadNotInEquilibriumError, SolverError, SolverTimeoutError
@@ -90,7 +89,7 @@ def finish(q: LimitQuery, magnitude: float, at_upper: bool, response: PassiveRes
     message = audit_warning(q)
     if message is not None:
         warnings.warn(message, AuditWarning, stacklevel=7)
-    note = free_motion_note(q.session.model, q.direction) if status == "below_resolution" else ""
+    note = q.session.model.free_motion_note(q.direction) if status == "below_resolution" else ""
     return MaxWrench(
         direction=q.direction,
         magnitude=magnitude,
@@ -109,35 +108,6 @@ def finish(q: LimitQuery, magnitude: float, at_upper: bool, response: PassiveRes
         audit_failures=tuple(sorted(m for m, _ in q.tally.flagged)),
         note=note,
     )
-
-
-def free_motion_note(model: GraspModel, d: np.ndarray) -> str:
-    """Why the unit direction ``d`` (6,) resists nothing when the contacts leave the object a
-    free motion (:meth:`GraspModel.free_motions`) that the load drives (does work on): ``""``
-    otherwise."""
-    for t in model.free_motions():
-        power = float(d[:3] @ t[:3] + d[3:] @ t[3:])
-        size = float(
-            np.linalg.norm(d[:3]) * np.linalg.norm(t[:3]) + np.linalg.norm(d[3:]) * np.linalg.norm(t[3:])
-        )
-        if abs(power) <= 1e-6 * max(size, 1e-300):
-            continue
-        w, v = t[3:], t[:3]
-        if np.linalg.norm(w) > 0:
-            p = model.reference_point + np.cross(w, v) / float(w @ w)  # a point on the axis
-            axis = ", ".join(f"{c:.3g}" for c in w)
-            where = ", ".join(f"{1e3 * c:.1f}" for c in p)
-            motion = f"rotate about the axis ({axis}) through ({where}) mm"
-            if model.nc == 2:
-                motion += " (the line through the two contacts)"
-        else:
-            motion = "translate along (" + ", ".join(f"{c:.3g}" for c in t[:3]) + ")"
-        return (
-            f"no contact resists this load: the contacts leave the object free to {motion}, and the "
-            "load drives that motion (point contacts carry no torsional friction); add a contact "
-            "off that axis, or model the contact patch with several points"
-        )
-    return ""
 
 
 #: A direct (load-factor) limit within this fraction of ``upper`` (or within the resolution
@@ -196,4 +166,4 @@ def direct(q: LimitQuery) -> tuple[float, PassiveResponse]:
     return mag, resp
 
 
-__all__ = ["NEAR_UPPER", "audit_warning", "direct", "finish", "free_motion_note", "searched_max_load"]
+__all__ = ["NEAR_UPPER", "audit_warning", "direct", "finish", "searched_max_load"]

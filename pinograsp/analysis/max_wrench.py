@@ -28,12 +28,19 @@ from .registry import get_method, resolve_search
 from .response import Session, session_for
 
 
-def check_preload(solver: SessionLike, command: object, method: str) -> PassiveResponse:
+def check_preload(solver: SessionLike, command: object, method: str) -> PassiveResponse | None:
     """Solve ``w = 0``; raise :class:`PreloadNotInEquilibriumError` if the preload alone has no
-    passive equilibrium."""
+    passive equilibrium. A method whose preload is decided by its own account
+    (``preload_by_error``: the quasi-static preload path) asks that alone: None is returned."""
+    rules = get_method(method)
+    if rules.preload_by_error:
+        exc = rules.preload_error(solver, command)
+        if exc is not None:
+            raise exc
+        return None
     resp = solver.response(command, np.zeros(6), method)
     if not verdict(resp, 0.0):
-        exc = get_method(method).preload_error(solver, command)  # the method's own account, if any
+        exc = rules.preload_error(solver, command)  # the method's own account, if any
         if exc is not None:
             raise exc
         detail = f"{method} solve at w = 0 returned {resp.status!r}"

@@ -24,12 +24,12 @@ from ..core.methods import method_variant
 from ..core.results import MaxWrench, PassiveResponse
 from ..core.settings import Method, Settings, Variant
 from ..errors import PreloadNotInEquilibriumError, SolverError
-from .limit_search import free_motion_note
 from .method_base import MethodBase
 from .protocols import LimitQuery, SessionLike
-from .quasistatic.answers import NO_VERDICT, max_wrench_prepared, quasistatic_response
-from .quasistatic.api import Prepared, checked_settings, prepare, unit_again
+from .quasistatic.answers import NO_VERDICT, max_wrench_prepared, response_prepared
+from .quasistatic.api import unit_again
 from .quasistatic.preload import PRELOAD_PATHS
+from .quasistatic.prepared import Prepared
 
 
 def path_variant(settings: Settings) -> tuple[Variant, str]:
@@ -85,21 +85,15 @@ def no_preload_response(
     )
 
 
-def _prepared(session: SessionLike, fc: object) -> tuple[Variant, Settings, Prepared]:
-    """The variant, validated settings and prepared grasp of the commands ``fc`` on ``session``,
-    kept with the session per commands (a pure function of its model, settings and ``fc``;
-    speed only)."""
-    kept = getattr(session, "__dict__", None)
-    memo = kept.setdefault("_qs_prepared", {}) if kept is not None and isinstance(fc, np.ndarray) else {}
-    key = (id(session.settings), fc.tobytes() if isinstance(fc, np.ndarray) else None)
-    hit = memo.get(key)
-    if hit is None or hit[0] is not session.settings:
-        v, path = path_variant(session.settings)
-        s = checked_settings(session.settings)
-        if len(memo) >= 64:
-            memo.clear()
-        hit = memo[key] = (session.settings, v, s, prepare(session.model, fc, s, path))
-    return hit[1], hit[2], hit[3]
+def _prepared(session: SessionLike, fc: object) -> tuple[Variant, Prepared]:
+    """The variant and the prepared grasp (preloaded state) of the commands ``fc`` on
+    ``session``: the session keeps it per command (:meth:`~pinograsp.Session.loading_grasp`).
+
+    Raises:
+        PreloadNotInEquilibriumError: The preload path does not reach its end.
+    """
+    v, path = path_variant(session.settings)
+    return v, session.loading_grasp(session.model.command_vector(fc), path)
 
 
 class QuasistaticMethod(MethodBase):
@@ -108,23 +102,24 @@ class QuasistaticMethod(MethodBase):
     its own, solvers/lcp.py), a path for a search, its own preload account."""
 
     preload_kept = True  # the preload verdict: a pure function of model, settings and commands
+    preload_by_error = True  # the preload path reaches its end, or says why not
 
     def response(self, session: SessionLike, fc: np.ndarray, w6: np.ndarray) -> PassiveResponse:
         """The state reached on the path at ``w6`` (``"resisted"``), or at the limit load when
         the path ends before it (``"not_resisted"``; ``"failed"`` without a verdict)."""
-        v, path = path_variant(session.settings)
         try:
-            r = quasistatic_response(session.model, fc, w6, session.settings, variant=path)
+            v, p = _prepared(session, fc)
         except PreloadNotInEquilibriumError as exc:
+            v = path_variant(session.settings)[0]
             return no_preload_response(session, fc, w6, v, exc.residual)
+        r = response_prepared(p, w6, session.settings, time.perf_counter())
         return replace(r, variant=v.value)
 
     def preload_error(self, session: SessionLike, command: object) -> PreloadNotInEquilibriumError | None:
         """Why the preload path of ``command`` does not reach its end (the error
         :func:`pinograsp.loading_path` raises: which stage stopped, where and why), or None."""
-        _, path = path_variant(session.settings)
         try:
-            quasistatic_response(session.model, command, np.zeros(6), session.settings, variant=path)
+            _prepared(session, command)
         except PreloadNotInEquilibriumError as exc:
             return exc
         return None
@@ -138,9 +133,14 @@ class QuasistaticMethod(MethodBase):
         """
         # quasistatic_max_wrench on the session's validated settings and direction, the
         # response labelled with the registry's variant
-        v, s, p = _prepared(session, query.command)
+        v, p = _prepared(session, query.command)
         mw = max_wrench_prepared(
-            p, unit_again(query.direction), s, time.perf_counter(), label=v.value, upper=query.upper
+            p,
+            unit_again(query.direction),
+            session.settings,
+            time.perf_counter(),
+            label=v.value,
+            upper=query.upper,
         )
         if mw.status in NO_VERDICT:
             raise SolverError(
@@ -158,7 +158,7 @@ class QuasistaticMethod(MethodBase):
             )
         tally = query.tally
         note = mw.note or (
-            free_motion_note(session.model, query.direction) if mw.status == "below_resolution" else ""
+            session.model.free_motion_note(query.direction) if mw.status == "below_resolution" else ""
         )  # the searching methods' note: a load that drives a free motion of the object
         return replace(
             mw,

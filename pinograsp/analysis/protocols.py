@@ -31,6 +31,7 @@ from ..errors import (
 from ..solvers.base import Mode, SolveStatus
 from ..solvers.problem import ProblemKind
 from .context import SolveContext
+from .quasistatic.prepared import Prepared
 from .search import grid_resolution
 from .stages import Stage
 
@@ -82,6 +83,11 @@ class SessionLike(SolveContext, Protocol):
         """The largest resistible magnitude along a unit direction in one solve."""
         ...
 
+    def loading_grasp(self, command: np.ndarray, variant: str) -> Prepared:
+        """The quasi-static method's prepared grasp (preloaded state) of the validated
+        ``command`` (na,) and preload path ``variant``, kept per command."""
+        ...
+
     def plain(self, model: GraspModel) -> SessionLike:
         """A session of ``model`` with these settings but no further cone refinement."""
         ...
@@ -109,6 +115,8 @@ class MethodRules:
         preload_kept: Its preload check (``max_resistible_wrench``'s verdict at ``w = 0``) is a
             pure function of the session and the commands, so a session makes it once per
             command.
+        preload_by_error: Its :meth:`preload_error` hook alone decides the preload check (the
+            preload is a path of its own: no zero-load solve is needed to know it holds).
 
     Attributes:
         spec: Its row of the method table.
@@ -122,6 +130,7 @@ class MethodRules:
     preload_from: str | None = None
     carries_residual: bool = False
     preload_kept: bool = False
+    preload_by_error: bool = False
 
     def __init__(self, spec: MethodSpec) -> None:
         self.spec = spec
@@ -211,8 +220,10 @@ class Tally:
     evidence: list[tuple[float, bool]] = field(default_factory=list)
     flagged: list[tuple[float, PassiveResponse]] = field(default_factory=list)
 
-    def add(self, resp: PassiveResponse) -> None:
-        """Count a response's solver time and solves."""
+    def add(self, resp: PassiveResponse | None) -> None:
+        """Count a response's solver time and solves (None: nothing was solved)."""
+        if resp is None:
+            return
         self.solve_time += resp.solve_time
         self.n_solves += resp.n_solves
 

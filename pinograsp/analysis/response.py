@@ -39,8 +39,8 @@ from __future__ import annotations
 
 import time
 import warnings
-import weakref
 from dataclasses import replace
+from functools import cached_property
 
 import numpy as np
 
@@ -57,6 +57,7 @@ from ..solvers.solve import SolverBackend, make_backend
 from ..solvers.threads import single_threaded
 from .method_base import MethodBase
 from .protocols import LoadFactor
+from .quasistatic.prepared import Prepared, prepare_analysed
 from .refine import refine
 from .registry import get_method, refining_methods
 from .staged import staged_load_factor
@@ -64,17 +65,6 @@ from .stages import Stage
 
 #: Contact stiffness ratio above which the branch-and-bound warns (docs/solvers.md).
 MAX_STIFFNESS_RATIO = 1e5
-
-
-_FORMS: weakref.WeakKeyDictionary[GraspModel, Formulation] = weakref.WeakKeyDictionary()
-
-
-def formulation_of(model: GraspModel) -> Formulation:
-    """The scaled formulation of ``model`` (a pure function of the immutable model, kept per
-    model so that it is built once)."""
-    if model not in _FORMS:
-        _FORMS[model] = Formulation(model)
-    return _FORMS[model]
 
 
 class Session:
@@ -98,14 +88,6 @@ class Session:
         self.source = model
         #: the model analysed: ``model`` with the settings' normal uncertainty (core/cones.py)
         self.model = model = model.with_normal_uncertainty(self.settings.normal_uncertainty)
-        self.form = formulation_of(model)
-        #: the one path to the solvers: the backend ``settings.backend`` names
-        self.backend: SolverBackend = make_backend(self.settings, self.form)
-        #: Step bound in scaled units. ``gamma`` is relative to the stiffest contact; with a
-        #: stiffness spread a soft contact would otherwise gain only ``k_min / k_max`` of the
-        #: net wrench per step and the 1 % rule would stop the iteration early ("not
-        #: resisted"), so the bound is widened by ``k_max / k_min`` (1 for uniform stiffness).
-        self.gamma_eff = float(self.settings.gamma * self.form.kx / model.k.min())
         ratio = float(model.k.max() / model.k.min())
         if ratio > MAX_STIFFNESS_RATIO and self.settings.backend == Backend.BNB:
             warnings.warn(
@@ -118,6 +100,43 @@ class Session:
         #: commands whose preload check passed, per method (``MethodBase.preload_kept``)
         self._preload_checked: set[tuple[str, tuple[float, ...]]] = set()
         self._mirrors: dict[tuple[bool, ...], Session] = {}
+        #: the quasi-static method's prepared grasps (preloaded states), per variant and command
+        self._paths: dict[tuple[str, bytes], Prepared] = {}
+
+    # ------------------------------------------ built on first use (a method that needs them)
+    @cached_property
+    def form(self) -> Formulation:
+        """The complementarity formulation of the model (the staged methods' problems)."""
+        return Formulation(self.model)
+
+    @cached_property
+    def backend(self) -> SolverBackend:
+        """The one path to the solvers: the backend ``settings.backend`` names."""
+        return make_backend(self.settings, self.form)
+
+    @cached_property
+    def gamma_eff(self) -> float:
+        """Step bound in scaled units. ``gamma`` is relative to the stiffest contact; with a
+        stiffness spread a soft contact would otherwise gain only ``k_min / k_max`` of the net
+        wrench per step and the 1 % rule would stop the iteration early ("not resisted"), so
+        the bound is widened by ``k_max / k_min`` (1 for uniform stiffness)."""
+        return float(self.settings.gamma * self.form.kx / self.model.k.min())
+
+    def loading_grasp(self, command: np.ndarray, variant: str) -> Prepared:
+        """The quasi-static method's prepared grasp — the model ready for loading paths and the
+        preloaded state — of the validated ``command`` (na,) and preload path ``variant``
+        (``"held"``/``"settled"``), kept per command (a pure function of the session's model,
+        settings and ``command``: only time is saved).
+
+        Raises:
+            PreloadNotInEquilibriumError: The preload path does not reach its end.
+        """
+        fc = np.asarray(command, float)
+        key = (variant, fc.tobytes())
+        hit = self._paths.get(key)
+        if hit is None:
+            hit = self._paths[key] = prepare_analysed(self.model, fc, self.settings, variant)
+        return hit
 
     # ------------------------------------------------------------ the solvers
     def solve(

@@ -209,6 +209,34 @@ class GraspModel:
             out.append(x / size)
         return np.array(out).reshape(-1, 6)
 
+    def free_motion_note(self, d: np.ndarray) -> str:
+        """Why the unit direction ``d`` (6,) resists nothing when the contacts leave the object a
+        free motion (:meth:`GraspModel.free_motions`) that the load drives (does work on): ``""``
+        otherwise."""
+        for t in self.free_motions():
+            power = float(d[:3] @ t[:3] + d[3:] @ t[3:])
+            size = float(
+                np.linalg.norm(d[:3]) * np.linalg.norm(t[:3]) + np.linalg.norm(d[3:]) * np.linalg.norm(t[3:])
+            )
+            if abs(power) <= 1e-6 * max(size, 1e-300):
+                continue
+            w, v = t[3:], t[:3]
+            if np.linalg.norm(w) > 0:
+                p = self.reference_point + np.cross(w, v) / float(w @ w)  # a point on the axis
+                axis = ", ".join(f"{c:.3g}" for c in w)
+                where = ", ".join(f"{1e3 * c:.1f}" for c in p)
+                motion = f"rotate about the axis ({axis}) through ({where}) mm"
+                if self.nc == 2:
+                    motion += " (the line through the two contacts)"
+            else:
+                motion = "translate along (" + ", ".join(f"{c:.3g}" for c in t[:3]) + ")"
+            return (
+                f"no contact resists this load: the contacts leave the object free to {motion}, and the "
+                "load drives that motion (point contacts carry no torsional friction); add a contact "
+                "off that axis, or model the contact patch with several points"
+            )
+        return ""
+
     def command_vector(self, command: object) -> np.ndarray:
         """Validate an actuator command and return it for the kept actuators, (na,).
 

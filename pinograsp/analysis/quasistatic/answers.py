@@ -16,12 +16,12 @@ from ...core.giveway import GiveWay, giveway_thresholds
 from ...core.model import GraspModel
 from ...core.results import Audit, MaxWrench, PassiveResponse
 from ...core.settings import Settings
-from ...core.validate import force
+from ...core.validate import force, load_within
 from ...solvers.threads import single_threaded
-from ..limit_search import free_motion_note
-from .api import Prepared, _variant, checked_settings, loading_path, prepare, run_path, unit_again
+from .api import run_path, unit_again
 from .giveway import Thresholds, Trace, walk
 from .path import MAX_SEGMENTS
+from .prepared import Prepared, checked_settings, path_of_variant, prepare
 from .result import LoadingPath
 
 #: Name of the method in the records.
@@ -149,13 +149,6 @@ def _complementarity(p: Prepared, x: np.ndarray, q: np.ndarray, c: np.ndarray, f
     return float(max(law, ratchet))
 
 
-def fresh(resp: PassiveResponse, solve_time: float) -> PassiveResponse:
-    """A kept response as a new record: its arrays copied (a caller may write into them), its
-    ``solve_time`` [s] this call's."""
-    arrays = {k: v.copy() for k, v in vars(resp).items() if isinstance(v, np.ndarray)}
-    return replace(resp, solve_time=solve_time, **arrays)
-
-
 @single_threaded
 def quasistatic_response(
     model: GraspModel,
@@ -172,17 +165,21 @@ def quasistatic_response(
     """
     t0 = time.perf_counter()
     s = checked_settings(settings)
-    v = _variant(variant, s)
-    p = prepare(model, command, s, v)
+    p = prepare(model, command, s, path_of_variant(variant, s))
     w6 = model.wrench_vector(wrench)
+    # a load: the domains of every load (docs/errors.md, "Input domains")
+    load_within(model, model.command_vector(command), "wrench", w6)
+    return response_prepared(p, w6, s, t0)
+
+
+def response_prepared(p: Prepared, w6: np.ndarray, s: Settings, t0: float) -> PassiveResponse:
+    """:func:`quasistatic_response` of a prepared grasp, a validated wrench ``w6`` (6,)
+    [N, N·m] and validated settings (what a session's method runs)."""
     size = float(np.linalg.norm(w6))
-    if size == 0.0:  # the preloaded state: a pure function of the prepared grasp, kept with it
-        hit = p.memo.get("zero")
-        if hit is None:
-            lp = loading_path(model, command, "fx", variant=v, settings=s, up_to=0.0)
-            hit = p.memo["zero"] = response_at(p, lp, 0.0, w6, "resisted", s, t0)
-        return fresh(hit, time.perf_counter() - t0)
-    lp = loading_path(model, command, w6 / size, variant=v, settings=s, up_to=size)
+    if size == 0.0:  # the preloaded state
+        lp = run_path(p, wrench_direction(p.model, "fx"), MAX_SEGMENTS, 0.0, True, t0)
+        return response_at(p, lp, 0.0, w6, "resisted", s, t0)
+    lp = run_path(p, wrench_direction(p.model, w6 / size), MAX_SEGMENTS, size, True, t0)
     if lp.status in ("reached", "unbounded"):
         return response_at(p, lp, size, w6, "resisted", s, t0)
     status = "not_resisted" if lp.status in ("finite", "below_resolution") else "failed"
@@ -214,8 +211,7 @@ def quasistatic_max_wrench(
     t0 = time.perf_counter()
     upper = force("upper", upper, "N or N·m")
     s = checked_settings(settings)
-    v = _variant(variant, s)
-    p = prepare(model, command, s, v)
+    p = prepare(model, command, s, path_of_variant(variant, s))
     return max_wrench_prepared(p, wrench_direction(model, direction), s, t0, path, upper=upper)
 
 
@@ -357,7 +353,7 @@ def max_wrench_prepared(
     unbounded = status == "unbounded"
     resp_status = "failed" if status in NO_VERDICT else "resisted"
     resp = response_at(p, lp, at, at * d6, resp_status, s, t0, state)
-    note = free_motion_note(p.model, d6) if status == "below_resolution" else ""
+    note = p.model.free_motion_note(d6) if status == "below_resolution" else ""
     note = note or (record.note if record is not None else "")
     if label is not None:  # the registry's name of the variant
         resp = replace(resp, variant=label)
@@ -381,4 +377,11 @@ def max_wrench_prepared(
     )
 
 
-__all__ = ["METHOD", "max_wrench_prepared", "quasistatic_max_wrench", "quasistatic_response", "response_at"]
+__all__ = [
+    "METHOD",
+    "max_wrench_prepared",
+    "quasistatic_max_wrench",
+    "quasistatic_response",
+    "response_at",
+    "response_prepared",
+]

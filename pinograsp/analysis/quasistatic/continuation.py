@@ -44,12 +44,12 @@ def _descend(qm: QSModel, out: StageRun, seg: Segment, spec: StageSpec, sc: Stag
     is a ``MECHANISM`` when no event lies ahead."""
     st = out.states[-1]
     peak = st.t
-    cls = classify(qm, st, spec)
+    cls = classify(qm, st, spec, sc)
     for _ in range(MAX_DESCENT):
         if _neutral(qm, seg, spec):  # drift at the limit load: rounding of dλ is no load change
             seg = replace(seg, lam_rate=0.0)
         out.segments.append(seg)
-        t, trig = next_event(qm, st, spec, cls, seg)
+        t, trig = next_event(qm, st, spec, cls, seg, sc)
         lam_rate = seg.lam_rate
         if lam_rate == 0.0 and not np.isfinite(t):
             return RunStatus.MECHANISM
@@ -67,7 +67,7 @@ def _descend(qm: QSModel, out: StageRun, seg: Segment, spec: StageSpec, sc: Stag
         if trig and trig[0].kind == TriggerKind.LANDED:
             st.t = peak
             return RunStatus.LANDED
-        cls = classify(qm, st, spec)
+        cls = classify(qm, st, spec, sc)
         prev: Segment = seg
         seg = _planned(qm, st, spec, cls, "displacement", _plan(qm, cls, prev), out, sc, (prev.active,))
         if seg.status != SegmentStatus.OK:

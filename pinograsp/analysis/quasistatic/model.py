@@ -28,6 +28,69 @@ from ...core.actuation import BACKDRIVABLE, LOCKED, NON_BACKDRIVABLE
 from ...core.model import GraspModel
 from ...errors import ModelError
 
+#: Relative singular-value cut-off of the rate system (its rank, relative to its scale).
+RANK_RTOL = 1e-11
+
+
+@dataclass(frozen=True, eq=False)
+class Constraints:
+    """The rigid constraints of a stage (actuators that are not backdrivable or are locked,
+    couplings and, when the object is held, the holder): columns ``B`` (nv, ncon), the owner of
+    each (actuator index; -1 coupling; -2 holder), a basis ``Z`` of the motions they allow,
+    ``pinv(B)`` and ``pinv(B^T)``, the column of each actuator (``col_of``, ``col_arr``; -1:
+    none) and the products with ``A`` the rate problem reads (``A^T Z``, ``A^T pinv(B^T)``,
+    ``pinv(B) A``)."""
+
+    B: np.ndarray
+    owner: np.ndarray
+    Z: np.ndarray
+    B_pinv: np.ndarray
+    Bt_pinv: np.ndarray
+    col_of: dict
+    col_arr: np.ndarray
+    AZ: np.ndarray
+    AtBt: np.ndarray
+    BpA: np.ndarray
+
+
+def constraints_of(
+    A: np.ndarray, Rn: np.ndarray, Cn: np.ndarray, rigid: np.ndarray, nx: int, held: bool
+) -> Constraints:
+    """The :class:`Constraints` of a model's scaled arrays (``rigid``: the actuators whose
+    displacement is constrained, (na,) bool) with the object free or ``held``."""
+    nv = A.shape[0]
+    cols, owner = [], []
+    for a in np.flatnonzero(rigid):
+        col = np.zeros(nv)
+        col[nx:] = Rn[:, a]
+        cols.append(col)
+        owner.append(int(a))
+    for k in range(Cn.shape[0]):
+        col = np.zeros(nv)
+        col[nx:] = Cn[k]
+        cols.append(col)
+        owner.append(-1)
+    if held:
+        for j in range(nx):
+            col = np.zeros(nv)
+            col[j] = 1.0
+            cols.append(col)
+            owner.append(-2)
+    B = np.column_stack(cols) if cols else np.zeros((nv, 0))
+    if B.shape[1]:
+        u, sv, _ = np.linalg.svd(B, full_matrices=True)
+        rank = int(np.sum(sv > RANK_RTOL * sv[0]))
+        Z = u[:, rank:]
+        B_pinv = np.linalg.pinv(B, rcond=RANK_RTOL)
+    else:
+        Z, B_pinv = np.eye(nv), np.zeros((0, nv))
+    col_of = {a: j for j, a in enumerate(owner) if a >= 0}
+    Bt_pinv = B_pinv.T.copy()
+    col_arr = np.array([col_of.get(a, -1) for a in range(Rn.shape[1])], int)
+    return Constraints(
+        B, np.array(owner, int), Z, B_pinv, Bt_pinv, col_of, col_arr, A.T @ Z, A.T @ Bt_pinv, B_pinv @ A
+    )
+
 
 def _polygon_faces(block: np.ndarray, d: int) -> tuple[np.ndarray, np.ndarray]:
     """Faces ``(nu (m, d-1), h (m,))`` of the friction polygon of one contact's pyramid block
@@ -100,33 +163,24 @@ class QSModel:
     kt_rows: np.ndarray
     PhiT_t: np.ndarray
     slip_rows: np.ndarray
+    #: The stage constraints with the object free and held (:class:`Constraints`).
+    free: Constraints
+    held: Constraints
 
-    @property
-    def nv(self) -> int:
-        """Scaled displacement unknowns ``nx + nq``."""
-        return self.nx + self.nq
+    #: Scaled displacement unknowns ``nx + nq``, polygon faces of all contacts, contact force
+    #: components ``nc * d`` (sizes, kept as fields: read in every segment).
+    nv: int = 0
+    nf: int = 0
+    ncd: int = 0
 
-    @property
-    def nf(self) -> int:
-        """Friction-polygon faces of all contacts."""
-        return self.Phi.shape[0]
-
-    @property
-    def ncd(self) -> int:
-        """Contact force components ``nc * d``."""
-        return self.nc * self.d
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "nv", self.nx + self.nq)
+        object.__setattr__(self, "nf", int(self.Phi.shape[0]))
+        object.__setattr__(self, "ncd", self.nc * self.d)
 
     def w_scaled(self, w: np.ndarray) -> np.ndarray:
         """A reduced wrench (nx,) [N, N·m] as scaled equilibrium rows (nx,) [N]."""
         return np.asarray(w, float) / self.S[: self.nx]
-
-    def unscale_x(self, xs: np.ndarray) -> np.ndarray:
-        """Object displacement in the model's coordinates (nx,) [m, rad]."""
-        return xs / self.S[: self.nx]
-
-    def unscale_q(self, qs: np.ndarray) -> np.ndarray:
-        """Joint displacements (nq,) [rad or m]."""
-        return qs / self.S[self.nx :]
 
 
 def build_qs_model(model: GraspModel, tangential_ratio: float = 1.0) -> QSModel:
@@ -166,6 +220,9 @@ def build_qs_model(model: GraspModel, tangential_ratio: float = 1.0) -> QSModel:
     c_norm = np.linalg.norm(Cs, axis=1) if ncp else np.zeros(0)
     Cn = Cs / np.where(c_norm > 0, c_norm, 1.0)[:, None] if ncp else Cs
     kinds = tuple(model.kinds)
+    nbd = np.array([k == NON_BACKDRIVABLE for k in kinds], bool)
+    locked = np.array([k == LOCKED for k in kinds], bool)
+    rigid = nbd | locked
     row_contact = np.repeat(np.arange(nc), d)
     kn_rows = np.zeros(nc * d)
     kn_rows[::d] = kn
@@ -195,9 +252,9 @@ def build_qs_model(model: GraspModel, tangential_ratio: float = 1.0) -> QSModel:
         r_norm=r_norm,
         Cn=Cn,
         c_norm=c_norm,
-        nbd=np.array([k == NON_BACKDRIVABLE for k in kinds], bool),
+        nbd=nbd,
         bd=np.array([k == BACKDRIVABLE for k in kinds], bool),
-        locked=np.array([k == LOCKED for k in kinds], bool),
+        locked=locked,
         k_ref=float(kn.max()),
         lever=lever,
         row_contact=row_contact,
@@ -205,6 +262,8 @@ def build_qs_model(model: GraspModel, tangential_ratio: float = 1.0) -> QSModel:
         kt_rows=kt_rows,
         PhiT_t=PhiT_t,
         slip_rows=slip_rows,
+        free=constraints_of(A, Rn, Cn, rigid, nx, held=False),
+        held=constraints_of(A, Rn, Cn, rigid, nx, held=True),
     )
 
 

@@ -30,7 +30,7 @@ from .rates import (
     classify,
     rates,
     rescaled,
-    stage_constants,
+    separated_on,
 )
 from .snap import no_continuation, unstable_segment
 from .statuses import RunStatus, SegmentStatus, TriggerKind, run_status
@@ -182,7 +182,7 @@ def _solve_segment(
         ]
         hints = (np.union1d(prev.active, new), prev.active) if new else (prev.active,)
     seg = _planned(qm, st, spec, cls, "load", plan, run, sc, hints)
-    _, _, r0, size, loaded = stage_constants(qm, spec)
+    _, _, r0, size, loaded = sc.rates
     if not loaded:
         return seg
     if seg.status == SegmentStatus.OK:
@@ -204,22 +204,18 @@ def _solve_segment(
 
 
 def next_event(
-    qm: QSModel, st: State, spec: StageSpec, cls: Classes, seg: Segment
+    qm: QSModel, st: State, spec: StageSpec, cls: Classes, seg: Segment, sc: StageCache
 ) -> tuple[float, tuple[Trigger, ...]]:
     """The step to the next event along ``seg`` (``inf``: none) and the inequalities reached."""
     d = qm.d
     tol = cls.tol
-    wd, fd = stage_constants(qm, spec)[:2]
+    wd, fd = sc.rates[:2]
     rscale = max(float(np.abs(seg.dc).max(initial=0.0)), wd, fd, 1e-300)
     rtol = RATE_RTOL * rscale
     kinds: list[TriggerKind] = []
     idx: list[int] = []
     steps: list[float] = []
-    staying = (
-        ~seg.separated
-        if seg.separated is not None
-        else np.array([s != "separated" for s in seg.contact], bool)
-    )
+    staying = ~separated_on(seg)
     cn, dcn = st.c[::d], seg.dc[::d]
     sel = (staying & (cn > tol) & (dcn < -rtol)).nonzero()[0]
     kinds += [TriggerKind.SEPARATES] * len(sel)
@@ -288,7 +284,7 @@ def follow(qm: QSModel, start: State, spec: StageSpec, max_segments: int = MAX_S
     run = StageRun(states=[st])
     sc = StageCache.of(qm, spec)
     while True:
-        cls = classify(qm, st, spec)
+        cls = classify(qm, st, spec, sc)
         seg = _solve_segment(
             qm,
             st,
@@ -303,7 +299,7 @@ def follow(qm: QSModel, start: State, spec: StageSpec, max_segments: int = MAX_S
         if seg.status != SegmentStatus.OK:
             run.status = run_status(seg.status)
             return run
-        t, trig = next_event(qm, st, spec, cls, seg)
+        t, trig = next_event(qm, st, spec, cls, seg, sc)
         if not np.isfinite(t):
             run.status = RunStatus.UNBOUNDED
             return run
@@ -312,7 +308,7 @@ def follow(qm: QSModel, start: State, spec: StageSpec, max_segments: int = MAX_S
         run.states.append(st)
         run.triggers.append(trig)
         if ends:
-            classify(qm, st, spec)  # zero the forces of contacts that reached zero
+            classify(qm, st, spec, sc)  # zero the forces of contacts that reached zero
             run.status = RunStatus.END
             return run
         if len(run.segments) >= max_segments:

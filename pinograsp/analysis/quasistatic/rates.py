@@ -30,7 +30,7 @@ from ...solvers.lcp import canonical, lemke, principal_pivoting
 from .model import QSModel
 from .state import StageSpec, State
 from .statuses import SegmentStatus
-from .system import StageCache, affine_full, affine_reduced
+from .system import StageCache, affine_full, affine_reduced, stage_rates
 
 #: Relative tolerance (to the force scale of the state) under which a slack is zero.
 EVENT_RTOL = 1e-9
@@ -100,32 +100,12 @@ class Classes:
     phi: np.ndarray | None = None
 
 
-def stage_constants(qm: QSModel, spec: StageSpec) -> tuple[float, float, np.ndarray, float, bool]:
-    """What the segment loop reads of ``spec`` and never changes along it (kept with the spec,
-    speed only): the largest scaled load rate and command rate [N], the scaled load rate (nx,),
-    its norm [N], whether the stage loads the object."""
-    memo = spec.__dict__.get("_qs_constants")
-    if memo is None or memo[0] is not qm:
-        r0 = qm.w_scaled(spec.dw)
-        memo = (
-            qm,
-            (
-                float(np.abs(r0).max(initial=0.0)),
-                float(np.abs(spec.dfc * qm.r_norm).max(initial=0.0)),
-                r0,
-                float(np.linalg.norm(r0)),
-                bool(np.any(spec.dw)),
-            ),
-        )
-        spec.__dict__["_qs_constants"] = memo  # a frozen record: its own dict, not setattr
-    return memo[1]
-
-
-def force_scale(qm: QSModel, st: State, spec: StageSpec) -> float:
-    """Force scale of a state [N]: contact forces, load and commands (as forces)."""
+def force_scale(qm: QSModel, st: State, spec: StageSpec, sc: StageCache | None = None) -> float:
+    """Force scale of a state [N]: contact forces, load and commands (as forces); ``sc``: the
+    stage's cache, whose rates are read instead of computed again (speed only)."""
     w = spec.w0 + st.t * spec.dw
     fc = spec.command(st.t)
-    wd, fd = stage_constants(qm, spec)[:2]
+    wd, fd = (sc.rates if sc is not None else stage_rates(qm, spec))[:2]
     parts = [
         float(np.abs(st.c).max(initial=0.0)),
         float(np.abs(qm.w_scaled(w)).max(initial=0.0)),
@@ -136,10 +116,10 @@ def force_scale(qm: QSModel, st: State, spec: StageSpec) -> float:
     return max(max(parts), 1e-300)
 
 
-def classify(qm: QSModel, st: State, spec: StageSpec) -> Classes:
+def classify(qm: QSModel, st: State, spec: StageSpec, sc: StageCache | None = None) -> Classes:
     """Classify contacts, faces and actuators of ``st`` (and zero the forces of contacts at
-    zero force: their anchors are forgotten)."""
-    fscale = force_scale(qm, st, spec)
+    zero force: their anchors are forgotten); ``sc`` as for :func:`force_scale`."""
+    fscale = force_scale(qm, st, spec, sc)
     tol = EVENT_RTOL * fscale
     d = qm.d
     cn = st.c[::d]
@@ -353,7 +333,7 @@ def _check_guesses(qm, spec, cls, plan, sep, apex, seg, v, dc, sc) -> Segment:
     return seg
 
 
-def opening_of(seg: Segment) -> np.ndarray:
+def separated_on(seg: Segment) -> np.ndarray:
     """Contacts separated on ``seg`` (nc,) bool."""
     if seg.separated is not None:
         return seg.separated

@@ -5,13 +5,12 @@ mechanisms and redundant constraints, a least-norm SVD solve of the whole border
 
 from __future__ import annotations
 
-import weakref
 from dataclasses import dataclass
 
 import numpy as np
 from scipy.linalg.lapack import dpotrf, dpotrs
 
-from .model import QSModel
+from .model import RANK_RTOL, QSModel
 from .state import StageSpec
 
 #: Relative residual above which a linear solve is taken as having no solution (singular
@@ -22,8 +21,6 @@ from .state import StageSpec
 RANGE_RTOL = 1e-5
 #: Relative squared pivot of the Cholesky factor below which the stiffness is singular.
 CHOL_RTOL = 1e-9
-#: Relative singular-value cut-off of the rate system (its rank, relative to its scale).
-RANK_RTOL = 1e-11
 
 
 @dataclass(frozen=True, eq=False)
@@ -52,81 +49,59 @@ class StageCache:
     Ztr0: np.ndarray
     cz: np.ndarray | None
     r0max: float = 0.0  # largest |r0| (speed only)
+    #: The stage's load and command rates as forces: the largest scaled load rate and command
+    #: rate [N], the scaled load rate (nx,), its norm [N], whether the stage loads the object
+    #: (what the segment loop reads of the spec; :func:`stage_rates`).
+    rates: tuple[float, float, np.ndarray, float, bool] = (0.0, 0.0, np.zeros(0), 0.0, False)
 
     @classmethod
     def of(cls, qm: QSModel, spec: StageSpec) -> StageCache:
-        """The cache of ``spec`` (the constraint part kept per model and holder)."""
+        """The cache of ``spec`` on ``qm`` (its constraints: the model's, free or held)."""
         nv, nx = qm.nv, qm.nx
-        per_model = _CONSTRAINTS.setdefault(qm, {})
-        if spec.held not in per_model:
-            per_model[spec.held] = _constraints(qm, spec.held)
-        B, owner, Z, B_pinv, Bt_pinv, col_of, col_arr, AZ, AtBt, BpA = per_model[spec.held]
+        con = qm.held if spec.held else qm.free
         r0 = np.zeros(nv)
         r0[:nx] = qm.w_scaled(spec.dw)
         if qm.na and np.any(qm.bd):
             r0[nx:] = qm.Rn[:, qm.bd] @ (qm.r_norm[qm.bd] * spec.dfc[qm.bd])
         size = float(np.linalg.norm(r0[:nx]))
         crow = r0[:nx] / size if size > 0 else None
+        Z = con.Z
         return cls(
-            B,
-            owner,
+            con.B,
+            con.owner,
             Z,
-            Bt_pinv,
-            B_pinv,
+            con.Bt_pinv,
+            con.B_pinv,
             r0,
             crow,
-            col_of,
-            col_arr=col_arr,
-            act_cols=owner >= 0,
-            coupling_cols=owner == -1,
-            holder_cols=owner == -2,
-            AZ=AZ,
-            AtBt=AtBt,
-            BpA=BpA,
-            Bpr0=B_pinv @ r0,
+            con.col_of,
+            col_arr=con.col_arr,
+            act_cols=con.owner >= 0,
+            coupling_cols=con.owner == -1,
+            holder_cols=con.owner == -2,
+            AZ=con.AZ,
+            AtBt=con.AtBt,
+            BpA=con.BpA,
+            Bpr0=con.B_pinv @ r0,
             Ztr0=Z.T @ r0,
             cz=None if crow is None else Z[:nx].T @ crow,
             r0max=float(np.abs(r0).max(initial=0.0)),
+            rates=stage_rates(qm, spec),
         )
 
 
-#: Constraint part of the stage caches, per model and holder (a pure function of them).
-_CONSTRAINTS: weakref.WeakKeyDictionary[QSModel, dict] = weakref.WeakKeyDictionary()
-
-
-def _constraints(qm: QSModel, held: bool) -> tuple:
-    """Constraint columns, their owners, the allowed motions and the pseudo-inverses."""
-    nv, nx = qm.nv, qm.nx
-    cols, owner = [], []
-    for a in np.flatnonzero(qm.nbd | qm.locked):
-        col = np.zeros(nv)
-        col[nx:] = qm.Rn[:, a]
-        cols.append(col)
-        owner.append(int(a))
-    for k in range(qm.ncp):
-        col = np.zeros(nv)
-        col[nx:] = qm.Cn[k]
-        cols.append(col)
-        owner.append(-1)
-    if held:
-        for j in range(nx):
-            col = np.zeros(nv)
-            col[j] = 1.0
-            cols.append(col)
-            owner.append(-2)
-    B = np.column_stack(cols) if cols else np.zeros((nv, 0))
-    if B.shape[1]:
-        u, sv, _ = np.linalg.svd(B, full_matrices=True)
-        rank = int(np.sum(sv > RANK_RTOL * sv[0]))
-        Z = u[:, rank:]
-        B_pinv = np.linalg.pinv(B, rcond=RANK_RTOL)
-    else:
-        Z, B_pinv = np.eye(nv), np.zeros((0, nv))
-    col_of = {a: j for j, a in enumerate(owner) if a >= 0}
-    Bt_pinv = B_pinv.T.copy()
-    A = qm.A
-    col_arr = np.array([col_of.get(a, -1) for a in range(qm.na)], int)
-    return B, np.array(owner, int), Z, B_pinv, Bt_pinv, col_of, col_arr, A.T @ Z, A.T @ Bt_pinv, B_pinv @ A
+def stage_rates(qm: QSModel, spec: StageSpec) -> tuple[float, float, np.ndarray, float, bool]:
+    """What the segment loop reads of ``spec`` and never changes along it: the largest scaled
+    load rate and command rate [N], the scaled load rate (nx,), its norm [N], whether the stage
+    loads the object (kept on :class:`StageCache`)."""
+    r0 = qm.w_scaled(spec.dw)
+    return (
+        float(np.abs(r0).max(initial=0.0)),
+        float(np.abs(spec.dfc * qm.r_norm).max(initial=0.0)),
+        r0,
+        float(np.linalg.norm(r0)),
+        bool(np.any(spec.dw)),
+    )
 
 
 def affine_reduced(qm, sc, ks, Fm, Vp, control):
@@ -197,4 +172,12 @@ def affine_full(qm, sc, K, rhs_top, con_rhs, control):
     return U[:nv], U[-1]
 
 
-__all__ = ["CHOL_RTOL", "RANGE_RTOL", "RANK_RTOL", "StageCache", "affine_full", "affine_reduced"]
+__all__ = [
+    "CHOL_RTOL",
+    "RANGE_RTOL",
+    "RANK_RTOL",
+    "StageCache",
+    "affine_full",
+    "affine_reduced",
+    "stage_rates",
+]
