@@ -105,7 +105,11 @@ def test_node_limit_is_reported_not_answered():
 
 def test_missing_and_unknown_solvers(pinch):
     with pytest.raises(pg.SolverNotAvailableError, match="install"):
-        pg.passive_response(pinch, TAU, [0, 1, 0], solver="mosek", backend="miqp")
+        pg.passive_response(pinch, TAU, [0, 1, 0], "prp", solver="mosek", backend="miqp")
+    # the session builds a backend only for a method that solves complementarity problems: the
+    # default (quasi-static) path answers without one
+    r = pg.passive_response(pinch, TAU, [0, 1, 0], solver="mosek", backend="miqp")
+    assert r.method == "quasistatic" and r.resistible
     with pytest.raises(pg.SolverNotAvailableError, match="supported"):
         pg.passive_response(pinch, TAU, [0, 1, 0], solver="simplex9000")
     with pytest.raises(pg.InvalidInputError, match="backend"):

@@ -183,6 +183,31 @@ class QSModel:
         return np.asarray(w, float) / self.S[: self.nx]
 
 
+def _faces(
+    model: GraspModel, kn: np.ndarray, kt: np.ndarray, ratio: float
+) -> tuple[np.ndarray, list[int], list[int]]:
+    """The face rows of every contact's friction polygon, ``Phi`` (nf, nc*d), with the contact
+    and index of each face; ``kt`` (nc,) is filled in place: ``ratio * kn`` where a contact has
+    a polygon (0 without friction)."""
+    nc, d = model.nc, model.d
+    rows, owner, index = [], [], []
+    D = np.asarray(model.D, float)
+    bc = np.asarray(model.beta_contact)
+    for i in range(nc):
+        nu, h = _polygon_faces(D[i * d : (i + 1) * d, bc == i], d)
+        if len(h):
+            kt[i] = ratio * kn[i]
+        for j in range(len(h)):
+            row = np.zeros(nc * d)
+            row[i * d] = h[j]
+            row[i * d + 1 : (i + 1) * d] = -nu[j]
+            rows.append(row)
+            owner.append(i)
+            index.append(j)
+    Phi = np.array(rows) if rows else np.zeros((0, nc * d))
+    return Phi, owner, index
+
+
 def build_qs_model(model: GraspModel, tangential_ratio: float = 1.0) -> QSModel:
     """The :class:`QSModel` of ``model`` with tangential springs ``tangential_ratio * k``."""
     nx, nq, na, ncp, nc, d = model.nw, model.nq, model.na, model.ncp, model.nc, model.d
@@ -196,21 +221,7 @@ def build_qs_model(model: GraspModel, tangential_ratio: float = 1.0) -> QSModel:
     A = np.vstack([np.asarray(model.G, float), -np.asarray(model.J, float).T]) / S[:, None]
     kn = np.asarray(model.k, float).copy()
     kt = np.zeros(nc)
-    rows, owner, index = [], [], []
-    D = np.asarray(model.D, float)
-    bc = np.asarray(model.beta_contact)
-    for i in range(nc):
-        nu, h = _polygon_faces(D[i * d : (i + 1) * d, bc == i], d)
-        if len(h):
-            kt[i] = float(tangential_ratio) * kn[i]
-        for j in range(len(h)):
-            row = np.zeros(nc * d)
-            row[i * d] = h[j]
-            row[i * d + 1 : (i + 1) * d] = -nu[j]
-            rows.append(row)
-            owner.append(i)
-            index.append(j)
-    Phi = np.array(rows) if rows else np.zeros((0, nc * d))
+    Phi, owner, index = _faces(model, kn, kt, float(tangential_ratio))
     Rs = np.asarray(model.R, float) / lever[:, None] if na else np.zeros((nq, 0))
     r_norm = np.linalg.norm(Rs, axis=0) if na else np.zeros(0)
     if na and np.any(r_norm == 0):
