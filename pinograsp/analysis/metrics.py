@@ -35,7 +35,7 @@ def primitive_wrenches(model: GraspModel, length: float | None = None) -> np.nda
         float(model.length_scale) if length is None else relative_length("length", length, model.length_scale)
     )
     W = (np.asarray(model.G) @ np.asarray(model.D)).T.copy()  # (nb, nw): G c with c = D beta
-    W[:, (2 if model.planar else 3) :] /= length
+    W[:, model.d :] /= length
     return W
 
 

@@ -101,6 +101,15 @@ class GraspModel:
         return 3 if self.planar else 6
 
     @property
+    def wrench_weights(self) -> np.ndarray:
+        """The wrench metric of every residual and scaled formulation, (nw,): 1 on the force
+        rows, ``1 / length_scale`` [1/m] on the torque rows (a torque as the force at the
+        length scale)."""
+        w = np.ones(self.nw)
+        w[self.d :] = 1.0 / float(self.length_scale)
+        return w
+
+    @property
     def nb(self) -> int:
         """Number of pyramid edge weights ``beta``."""
         return self.D.shape[1]

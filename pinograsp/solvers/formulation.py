@@ -126,8 +126,7 @@ class Formulation:
         self.nw = m.nw
         self.nx = m.nw
         # wrench metric: torque rows / ℓ
-        self.wscale = np.ones(m.nw)
-        self.wscale[(2 if m.planar else 3) :] = 1.0 / ell
+        self.wscale = m.wrench_weights
         G = m.G * self.wscale[:, None]
         self.Gb = G @ m.D  # (nw, nb)
         self.E = m.E  # (nc, nb)

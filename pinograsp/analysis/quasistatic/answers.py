@@ -20,6 +20,7 @@ from ...core.validate import force, load_within
 from ...solvers.threads import single_threaded
 from .api import run_path, unit_again
 from .giveway import Thresholds, Trace, walk
+from .model import balance_residuals
 from .path import MAX_SEGMENTS
 from .prepared import Prepared, checked_settings, path_of_variant, prepare
 from .result import LoadingPath
@@ -43,14 +44,13 @@ def _state_audit(
     f = st["actuator_forces"]
     q = st["joint_displacements"]
     x6 = st["object_displacements"]
-    net = m.G @ cc + m.reduce_wrench(w6)
+    rows = balance_residuals(
+        p.qm, cc[None], (f * p.signs)[None], st["coupling_forces"][None], m.reduce_wrench(w6)[None]
+    )
+    net, hand, slack = (r[0] for r in rows)
     tol = settings.tolerance * max(float(np.abs(c).max(initial=0.0)), float(np.abs(w6).max()), 1e-300)
     ell = m.length_scale
-    wscale = np.ones(m.nw)
-    wscale[(2 if m.planar else 3) :] = 1.0 / ell
     lever = p.qm.lever
-    fsg = f * p.signs
-    hand = (m.J.T @ cc - m.R @ fsg - m.C.T @ st["coupling_forces"]) / lever if m.nq else np.zeros(0)
     x0 = lp.object_displacements[0]
     energy = None
     if status == "resisted":
@@ -69,10 +69,10 @@ def _state_audit(
             tol,
         )
     audit = Audit(
-        equilibrium=float(np.linalg.norm(net * wscale)),
+        equilibrium=float(np.linalg.norm(net * m.wrench_weights)),
         hand=float(np.abs(hand).max(initial=0.0)),
         complementarity=_complementarity(p, m.reduce_wrench(x6), q, c, f),
-        friction=float(max(0.0, -(p.qm.Phi @ cc).min(initial=0.0))),
+        friction=float(max(0.0, -slack.min(initial=0.0))),
         tolerance=tol,
         energy=energy,
     )

@@ -8,6 +8,7 @@ from collections.abc import Callable
 import numpy as np
 
 from ...core.model import GraspModel
+from .model import balance_residuals
 from .prepared import Prepared
 from .state import State
 
@@ -36,22 +37,16 @@ def path_audit(
     (without ``energy``: an empty array, for a lean record)."""
     qm, m = p.qm, p.model
     st = stacks(states) if stacked is None else stacked
-    ell = m.length_scale
-    wscale = np.ones(qm.nx)
-    wscale[(2 if m.planar else 3) :] = 1.0 / ell
     C = st["c"]  # (k, ncd)
     t = st["t"]
     Fa = st["f"].reshape(len(states), qm.na)
     Lc = st["lam"].reshape(len(states), qm.ncp)
     VS = st["vs"]
     SL = st["slip"]
-    eq = np.linalg.norm((C @ np.asarray(m.G).T + t[:, None] * d_red) * wscale, axis=1)
-    if qm.nq:
-        tau = C @ np.asarray(m.J) - Fa @ np.asarray(m.R).T - Lc @ np.asarray(m.C)
-        hand = np.abs(tau / qm.lever).max(axis=1)
-    else:
-        hand = np.zeros(len(states))
-    fr = np.maximum(0.0, -(C @ qm.Phi.T).min(axis=1, initial=0.0)) if qm.nf else np.zeros(len(states))
+    obj, joints, slack = balance_residuals(qm, C, Fa, Lc, t[:, None] * d_red)
+    eq = np.linalg.norm(obj * m.wrench_weights, axis=1)
+    hand = np.abs(joints).max(axis=1) if qm.nq else np.zeros(len(states))
+    fr = np.maximum(0.0, -slack.min(axis=1, initial=0.0)) if qm.nf else np.zeros(len(states))
     if not energy:
         return {"equilibrium": eq, "hand": hand, "friction": fr, "energy": np.zeros(0)}
     d = qm.d
@@ -92,9 +87,7 @@ def unbalanceable(model: GraspModel, d_red: np.ndarray) -> float:
     their chord), the load's rounding-level component along it (auto-closed contact points are
     1e-8 m off a common line), which the rate problem leaves to its least-norm solution when it
     is within its range tolerance (``system.RANGE_RTOL``)."""
-    nt = 2 if model.planar else 3
-    ws = np.ones(model.nw)
-    ws[nt:] = 1.0 / model.length_scale
+    ws = model.wrench_weights
     Gs = np.asarray(model.G, float) * ws[:, None]
     ds = np.asarray(d_red, float) * ws
     c = np.linalg.lstsq(Gs, -ds, rcond=None)[0]

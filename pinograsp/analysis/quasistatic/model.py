@@ -216,7 +216,7 @@ def build_qs_model(model: GraspModel, tangential_ratio: float = 1.0) -> QSModel:
     lever = absJ.max(axis=0) if nq else np.zeros(0)
     lever = np.where(lever > 0, lever, ell)
     sx = np.ones(nx)
-    sx[(2 if model.planar else 3) :] = ell
+    sx[d:] = ell
     S = np.concatenate([sx, lever])
     A = np.vstack([np.asarray(model.G, float), -np.asarray(model.J, float).T]) / S[:, None]
     kn = np.asarray(model.k, float).copy()
@@ -276,6 +276,25 @@ def build_qs_model(model: GraspModel, tangential_ratio: float = 1.0) -> QSModel:
         free=constraints_of(A, Rn, Cn, rigid, nx, held=False),
         held=constraints_of(A, Rn, Cn, rigid, nx, held=True),
     )
+
+
+def balance_residuals(
+    qm: QSModel, c: np.ndarray, f: np.ndarray, lam: np.ndarray, w: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The balance of states, one row each (the one place the path's residuals are written):
+    the object's ``G c + w`` (k, nx) [N, N·m] (weight it with ``model.wrench_weights``), the
+    joints' ``J^T c - R f - C^T lam`` over their levers (k, nq) [N], and the slack of every
+    polygon face ``Phi c`` (k, nf) [N] (negative: outside its polygon). ``c`` (k, nc*d),
+    ``f`` (k, na), ``lam`` (k, ncp), ``w`` (k, nx) reduced loads."""
+    m = qm.model
+    k = len(c)
+    obj = c @ np.asarray(m.G).T + w
+    if qm.nq:
+        joints = (c @ np.asarray(m.J) - f @ np.asarray(m.R).T - lam @ np.asarray(m.C)) / qm.lever
+    else:
+        joints = np.zeros((k, 0))
+    slack = c @ qm.Phi.T if qm.nf else np.zeros((k, 0))
+    return obj, joints, slack
 
 
 def with_friction_on(qm: QSModel, mask: np.ndarray) -> QSModel:

@@ -27,7 +27,7 @@ from ...core.axes import WRENCH_AXES
 from ...core.methods import method_variant
 from ...core.settings import Method, Variant
 from ...errors import InvalidInputError, PreloadNotInEquilibriumError
-from .model import QSModel, finger_groups, with_friction_on
+from .model import QSModel, balance_residuals, finger_groups, with_friction_on
 from .path import StageRun, follow
 from .rates import EVENT_RTOL, StageSpec, State, classify, force_scale
 from .statuses import RunStatus
@@ -116,17 +116,16 @@ def stage_sound(qm: QSModel, run: StageRun, spec: StageSpec) -> bool:
         if not (np.all(np.isfinite(st.vs)) and np.all(np.isfinite(st.c)) and np.all(np.isfinite(st.f))):
             return False
         tol = STAGE_AUDIT_RTOL * force_scale(qm, st, spec)
-        w = spec.w0 + st.t * spec.dw
-        obj = (np.asarray(m.G) @ st.c + w + st.hold) / qm.S[: qm.nx]
-        hand = np.asarray(m.J).T @ st.c - np.asarray(m.R) @ st.f
-        if qm.ncp:
-            hand = hand - np.asarray(m.C).T @ st.lam_c
+        w = spec.w0 + st.t * spec.dw + st.hold
+        obj, hand, slack = (
+            r[0] for r in balance_residuals(qm, st.c[None], st.f[None], st.lam_c[None], w[None])
+        )
         over = (st.f - spec.command(st.t)) * qm.r_norm
         bad = (
-            np.abs(obj).max(initial=0.0) > tol
-            or np.abs(hand / qm.lever).max(initial=0.0) > tol
+            np.abs(obj * m.wrench_weights).max(initial=0.0) > tol
+            or np.abs(hand).max(initial=0.0) > tol
             or st.c[::d].min(initial=0.0) < -tol
-            or (spec.friction and qm.nf and (qm.Phi @ st.c).min() < -tol)
+            or (spec.friction and qm.nf and slack.min() < -tol)
             or over[qm.nbd].min(initial=0.0) < -tol
         )
         if bad:
