@@ -41,29 +41,8 @@ class _Physical:
 def _nan_response(solver: SolveContext, status: ResponseStatus, common: dict[str, Any]) -> PassiveResponse:
     """No solution: every quantity is NaN."""
     m = solver.model
-
-    def nan(*shape: int) -> np.ndarray:
-        return np.full(shape, np.nan)
-
-    return PassiveResponse(
-        resistible=False,
-        status=status,
-        contact_forces=nan(m.nc, 3),
-        contact_forces_world=nan(m.nc, 3),
-        joint_torques=nan(m.nq),
-        actuator_forces=nan(m.na),
-        coupling_forces=nan(m.ncp),
-        object_displacement=nan(6),
-        joint_displacements=nan(m.nq),
-        actuator_displacements=nan(m.na),
-        contact_modes=(),
-        actuator_modes=(),
-        net_wrench=nan(6),
-        audit=None,
-        friction_use=nan(m.nc),
-        converged=False,
-        solver=solver.settings.backend,
-        **common,
+    return PassiveResponse.unsolved(
+        m, status, friction_use=np.full(m.nc, np.nan), solver=solver.settings.backend, **common
     )
 
 
@@ -238,11 +217,6 @@ def build_response(
         residual_history=st.history,
         solve_time=st.solve_time + (counted.solve_time if counted is not None else 0.0),
         n_solves=st.n_solves + (counted.n_solves if counted is not None else 0),
-        contact_names=m.contact_names,
-        joint_names=m.joint_names,
-        actuator_names=m.actuator_names,
-        contact_mu=np.array(m.mu, dtype=float),
-        actuator_kinds=tuple(m.kinds),
     )
     raw = st.raw
     if raw is None or raw.z is None or raw.layout is None or raw.mode is None:
@@ -256,7 +230,8 @@ def build_response(
     if energy is not None and not (energy.energy_ok and energy.displacement_ok):
         warnings.warn(audit_message(name, energy), AuditWarning, stacklevel=6)
     status = _balanced(status, audit)
-    return PassiveResponse(
+    return PassiveResponse.of_model(
+        m,
         resistible=status == "resisted",
         status=status,
         contact_forces=ph.cf,
@@ -279,7 +254,6 @@ def build_response(
         solver=raw.backend,
         contact_states=contact_states(ph.cf[:, 0], slip, m.k, mode.touching, audit.tolerance),
         contact_slip=slip,
-        edge_counts=m.edge_counts,
         **common,
     )
 

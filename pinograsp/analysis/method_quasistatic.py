@@ -54,34 +54,18 @@ def no_preload_response(
     :func:`~pinograsp.analysis.max_wrench.check_preload` names it. :func:`pinograsp.loading_path`
     raises :class:`~pinograsp.PreloadNotInEquilibriumError` with where the preload path stopped."""
     m = session.model
-    nan = np.full
-    return PassiveResponse(
-        resistible=False,
-        status="not_resisted",
+    return PassiveResponse.unsolved(
+        m,
+        "not_resisted",
         method="quasistatic",
         variant=variant.value,
         wrench=np.asarray(w6, float),
         command=np.asarray(fc, float),
-        contact_forces=nan((m.nc, 3), np.nan),
-        contact_forces_world=nan((m.nc, 3), np.nan),
-        joint_torques=nan(m.nq, np.nan),
-        actuator_forces=nan(m.na, np.nan),
-        coupling_forces=nan(m.ncp, np.nan),
-        object_displacement=nan(6, np.nan),
-        joint_displacements=nan(m.nq, np.nan),
-        actuator_displacements=nan(m.na, np.nan),
         contact_modes=("separated",) * m.nc,
         actuator_modes=("holding",) * m.na,
-        net_wrench=nan(6, np.nan) if residual is None else np.asarray(residual, float).reshape(6),
-        audit=None,
+        net_wrench=np.full(6, np.nan) if residual is None else np.asarray(residual, float).reshape(6),
         iterations=0,
         solver="lemke",
-        contact_names=m.contact_names,
-        joint_names=m.joint_names,
-        actuator_names=m.actuator_names,
-        contact_mu=np.array(m.mu, dtype=float),
-        actuator_kinds=tuple(m.kinds),
-        edge_counts=m.edge_counts,
     )
 
 

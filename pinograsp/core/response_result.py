@@ -113,6 +113,50 @@ class PassiveResponse:
     contact_slip: np.ndarray | None = None
     edge_counts: tuple[int, ...] = ()
 
+    @classmethod
+    def of_model(cls, model: GraspModel, **fields: Any) -> PassiveResponse:
+        """The response of ``model`` (the one factory of every method's responses): the fields
+        that come from the model — contact, joint and actuator names, ``mu`` per contact (what
+        was analysed), actuator kinds, pyramid edges — filled from it, the rest from
+        ``fields``."""
+        labels: dict[str, Any] = dict(
+            contact_names=model.contact_names,
+            joint_names=model.joint_names,
+            actuator_names=model.actuator_names,
+            contact_mu=np.array(model.mu, dtype=float),
+            actuator_kinds=tuple(model.kinds),
+            edge_counts=model.edge_counts,
+        )
+        return cls(**{**labels, **fields})
+
+    @classmethod
+    def unsolved(cls, model: GraspModel, status: ResponseStatus, **fields: Any) -> PassiveResponse:
+        """A response with no state (no solution, or no preload to load): every force and
+        displacement NaN (shapes of ``model``), not resistible, no audit; ``fields`` override
+        (e.g. ``net_wrench`` when a residual is known, the modes, the solver)."""
+
+        def nan(*shape: int) -> np.ndarray:
+            return np.full(shape, np.nan)
+
+        base: dict[str, Any] = dict(
+            resistible=False,
+            status=status,
+            contact_forces=nan(model.nc, 3),
+            contact_forces_world=nan(model.nc, 3),
+            joint_torques=nan(model.nq),
+            actuator_forces=nan(model.na),
+            coupling_forces=nan(model.ncp),
+            object_displacement=nan(6),
+            joint_displacements=nan(model.nq),
+            actuator_displacements=nan(model.na),
+            contact_modes=(),
+            actuator_modes=(),
+            net_wrench=nan(6),
+            audit=None,
+            converged=False,
+        )
+        return cls.of_model(model, **{**base, **fields})
+
     @property
     def normal_forces(self) -> np.ndarray:
         """Normal contact forces ``c_n`` (nc,) [N]."""

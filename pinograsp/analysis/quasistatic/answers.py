@@ -69,7 +69,7 @@ def _state_audit(
             tol,
         )
     audit = Audit(
-        equilibrium=float(np.linalg.norm(net * m.wrench_weights)),
+        equilibrium=float(np.linalg.norm(net * p.qm.weights)),
         hand=float(np.abs(hand).max(initial=0.0)),
         complementarity=_complementarity(p, m.reduce_wrench(x6), q, c, f),
         friction=float(max(0.0, -slack.min(initial=0.0))),
@@ -101,9 +101,10 @@ def response_at(
     x6 = st["object_displacement"] if "object_displacement" in st else st["object_displacements"]
     audit, tol, net = _state_audit(p, lp, st, w6, status, settings)
     touching = tuple(s != "separated" for s in st["contact_states"])
-    return PassiveResponse(
+    return PassiveResponse.of_model(
+        m,
         resistible=status == "resisted",
-        status=status,  # type: ignore[arg-type]
+        status=status,
         method=METHOD,
         variant=p.variant,
         wrench=w6,
@@ -125,15 +126,9 @@ def response_at(
         solver="lemke",
         solve_time=time.perf_counter() - t0,
         n_solves=lp.lcp_solves,
-        contact_names=m.contact_names,
-        joint_names=m.joint_names,
-        actuator_names=m.actuator_names,
         friction_use=friction_use(c, m.mu, touching, tol),
-        contact_mu=np.array(m.mu, dtype=float),
-        actuator_kinds=tuple(m.kinds),
         contact_states=tuple(st["contact_states"]),
         contact_slip=st["contact_slip"],
-        edge_counts=m.edge_counts,
     )
 
 

@@ -44,7 +44,7 @@ def path_audit(
     VS = st["vs"]
     SL = st["slip"]
     obj, joints, slack = balance_residuals(qm, C, Fa, Lc, t[:, None] * d_red)
-    eq = np.linalg.norm(obj * m.wrench_weights, axis=1)
+    eq = np.linalg.norm(obj * qm.weights, axis=1)
     hand = np.abs(joints).max(axis=1) if qm.nq else np.zeros(len(states))
     fr = np.maximum(0.0, -slack.min(axis=1, initial=0.0)) if qm.nf else np.zeros(len(states))
     if not energy:

@@ -20,7 +20,7 @@ plane and support values ``h_j`` (``nu_j . c_t <= h_j c_n``), so each face's sla
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -172,11 +172,14 @@ class QSModel:
     nv: int = 0
     nf: int = 0
     ncd: int = 0
+    #: The model's wrench metric (``GraspModel.wrench_weights``: ``1 / S`` on the object rows).
+    weights: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "nv", self.nx + self.nq)
         object.__setattr__(self, "nf", int(self.Phi.shape[0]))
         object.__setattr__(self, "ncd", self.nc * self.d)
+        object.__setattr__(self, "weights", 1.0 / self.S[: self.nx])
 
     def w_scaled(self, w: np.ndarray) -> np.ndarray:
         """A reduced wrench (nx,) [N, N·m] as scaled equilibrium rows (nx,) [N]."""

@@ -110,7 +110,6 @@ def stage_sound(qm: QSModel, run: StageRun, spec: StageSpec) -> bool:
     their polygons and ratchets at or above their commands, to :data:`STAGE_AUDIT_RTOL` of the
     force scale [N]. A rate problem accepted on a nearly singular system (a finger that is a
     mechanism) shows here as huge displacements and unbalanced forces: never an "end"."""
-    m = qm.model
     d = qm.d
     for st in run.states:
         if not (np.all(np.isfinite(st.vs)) and np.all(np.isfinite(st.c)) and np.all(np.isfinite(st.f))):
@@ -122,7 +121,7 @@ def stage_sound(qm: QSModel, run: StageRun, spec: StageSpec) -> bool:
         )
         over = (st.f - spec.command(st.t)) * qm.r_norm
         bad = (
-            np.abs(obj * m.wrench_weights).max(initial=0.0) > tol
+            np.abs(obj * qm.weights).max(initial=0.0) > tol
             or np.abs(hand).max(initial=0.0) > tol
             or st.c[::d].min(initial=0.0) < -tol
             or (spec.friction and qm.nf and slack.min() < -tol)
