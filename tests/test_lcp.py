@@ -5,7 +5,7 @@ import itertools
 import numpy as np
 import pytest
 
-from pinograsp.solvers.lcp import LCPStatus, lemke, warm
+from pinograsp.solvers.lcp import LCPStatus, block_solution, lemke
 
 
 def brute_force(M, q):
@@ -106,14 +106,16 @@ def test_order_independent_solution():
     np.testing.assert_allclose(zp, z[perm], rtol=1e-12, atol=1e-14)
 
 
-def test_warm_start_accepts_only_a_right_guess():
+def test_block_solution_is_the_complementary_point_of_an_index_set():
     M = np.array([[2.0, 1.0], [1.0, 2.0]])
     q = np.array([-5.0, -6.0])
-    good = warm(M, q, np.array([True, True]))
-    assert good is not None and good.pivots == 0
-    np.testing.assert_allclose(good.z, lemke(M, q).z, rtol=1e-14)
-    assert warm(M, q, np.array([True, False])) is None  # w2 = z1 - 6 < 0
-    assert warm(M, q, np.array([False, False])) is None
+    z, w = block_solution(M, q, np.array([True, True]))
+    np.testing.assert_allclose(z, lemke(M, q).z, rtol=1e-14)  # (4/3, 7/3): the solution
+    assert np.array_equal(w, [0.0, 0.0])
+    z, w = block_solution(M, q, np.array([True, False]))  # z1 = 5/2, w2 = 5/2 - 6 < 0: not one
+    np.testing.assert_allclose(z, [2.5, 0.0], rtol=1e-15)
+    np.testing.assert_allclose(w, [0.0, -3.5], rtol=1e-15)
+    assert block_solution(np.zeros((2, 2)), q, np.array([True, True])) is None  # a singular block
 
 
 @pytest.mark.parametrize("seed", range(10))

@@ -17,6 +17,7 @@ rate problems. NumPy and SciPy's LAPACK wrappers only.
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass
 from enum import Enum
@@ -91,28 +92,55 @@ def _leaving_row(T: np.ndarray, col: int, rhs: np.ndarray, n: int, tol: float) -
     return int(cand[0])
 
 
-def warm(M: np.ndarray, q: np.ndarray, active: np.ndarray, rtol: float = 1e-12) -> LCPResult | None:
-    """The solution whose positive ``z`` are exactly ``active`` (bool (n,)), if the guess is
-    right: ``M_BB z_B = -q_B`` with ``z_B >= 0`` and ``w_N >= 0`` (to ``rtol`` of the data's
-    scale); else None. A guess only saves pivots: a wrong one is detected, never returned."""
+def block_solution(M: np.ndarray, q: np.ndarray, active: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+    """The complementary point of the index set ``active`` (bool (n,)): ``z`` with ``z_N = 0``
+    and ``M_BB z_B = -q_B``, and ``w = M z + q`` with ``w_B = 0`` (the one place this system is
+    solved: principal pivoting and the enumeration read it); None when the block is singular.
+    Whether the point is a solution (``z >= 0``, ``w >= 0``) is the caller's test."""
     n = q.size
     z = np.zeros(n)
-    scale = max(float(np.abs(q).max(initial=0.0)), 1e-300)
     if active.any():
-        Mbb = M[np.ix_(active, active)]
-        _, _, zb, info = dgesv(Mbb, -q[active])
-        if info != 0 or not np.all(np.isfinite(zb)):
+        _, _, zb, info = dgesv(M[np.ix_(active, active)], -q[active])
+        if info != 0 or not np.isfinite(zb).all():
             return None
-        zscale = max(float(np.abs(zb).max()), 1e-300)
-        if zb.min() < -rtol * zscale:
-            return None
-        z[active] = np.maximum(zb, 0.0)
-        scale = max(scale, float(np.abs(M).max()) * zscale)
+        z[active] = zb
     w = M @ z + q
     w[active] = 0.0
-    if w.min(initial=0.0) < -rtol * scale:
-        return None
-    return LCPResult(LCPStatus.SOLVED, z, np.maximum(w, 0.0), 0)
+    return z, w
+
+
+#: Largest LCP whose complementary index sets :func:`provably_unsolvable` enumerates (2^n
+#: small solves).
+MAX_ENUMERATED = 12
+#: Condition number above which a principal block is taken as singular (no certificate).
+BLOCK_COND = 1e10
+#: Relative margin by which every candidate must fail for the certificate.
+MARGIN_RTOL = 1e-9
+
+
+def provably_unsolvable(M: np.ndarray, q: np.ndarray) -> bool:
+    """True only when ``w = M z + q, 0 <= z ⟂ w >= 0`` provably has no solution: every
+    complementary index set fails by a margin, every principal block well conditioned
+    (``n <= MAX_ENUMERATED``). False means "not certified", not "solvable"."""
+    n = q.size
+    if n == 0 or n > MAX_ENUMERATED:
+        return False
+    mscale = max(float(np.abs(M).max(initial=0.0)), 1e-300)
+    qscale = max(float(np.abs(q).max(initial=0.0)), 1e-300)
+    for size in range(n + 1):
+        for subset in itertools.combinations(range(n), size):
+            active = np.zeros(n, bool)
+            active[list(subset)] = True
+            if size and np.linalg.cond(M[np.ix_(active, active)]) > BLOCK_COND:
+                return False
+            point = block_solution(M, q, active)
+            if point is None:
+                return False
+            z, w = point
+            tol = MARGIN_RTOL * max(qscale, mscale * float(np.abs(z).max(initial=0.0)))
+            if z.min(initial=0.0) >= -tol and w.min(initial=0.0) >= -tol:
+                return False
+    return True
 
 
 def principal_pivoting(
@@ -138,14 +166,10 @@ def principal_pivoting(
             if key in seen:
                 return None
             seen.add(key)
-        z = np.zeros(n)
-        if act.any():
-            _, _, zb, info = dgesv(M[np.ix_(act, act)], -q[act])
-            if info != 0 or not np.isfinite(zb).all():
-                return None
-            z[act] = zb
-        w = M @ z + q
-        w[act] = 0.0
+        point = block_solution(M, q, act)
+        if point is None:
+            return None
+        z, w = point
         tol = rtol * max(qscale, mscale * float(np.abs(z).max(initial=0.0)))
         bad = (act & (z < -tol)) | (~act & (w < -tol))
         if not bad.any():
@@ -350,4 +374,12 @@ def canonical(M: np.ndarray, q: np.ndarray, res: LCPResult, rtol: float = 1e-9) 
     return LCPResult(LCPStatus.SOLVED, z, np.maximum(w, 0.0), res.pivots, tie=True)
 
 
-__all__ = ["LCPResult", "LCPStatus", "canonical", "lemke", "principal_pivoting", "warm"]
+__all__ = [
+    "LCPResult",
+    "LCPStatus",
+    "block_solution",
+    "canonical",
+    "lemke",
+    "principal_pivoting",
+    "provably_unsolvable",
+]

@@ -17,21 +17,13 @@ the tolerance) leaves the stop without a verdict, as before.
 
 from __future__ import annotations
 
-import itertools
-
 import numpy as np
 
+from ...solvers.lcp import provably_unsolvable
 from .model import QSModel
 from .rates import FULL, Classes, Segment, StageCache, _items, _linear
 from .state import StageSpec
 from .statuses import SegmentStatus
-
-#: Largest LCP whose complementary index sets are enumerated (2^n small solves).
-MAX_ENUMERATED = 12
-#: Condition number above which a principal block is taken as singular (no certificate).
-BLOCK_COND = 1e10
-#: Relative margin by which every candidate must fail for the certificate.
-MARGIN_RTOL = 1e-9
 
 
 def _lcp(qm: QSModel, spec: StageSpec, cls: Classes, sc: StageCache, control: str):
@@ -48,32 +40,6 @@ def _lcp(qm: QSModel, spec: StageSpec, cls: Classes, sc: StageCache, control: st
     return M, W[:, 0]
 
 
-def lcp_has_no_solution(M: np.ndarray, q: np.ndarray) -> bool:
-    """True only when ``w = M z + q, 0 <= z ⟂ w >= 0`` provably has no solution: every
-    complementary index set fails by a margin, every principal block well conditioned
-    (``n <= MAX_ENUMERATED``). False means "not certified", not "solvable"."""
-    n = q.size
-    if n == 0 or n > MAX_ENUMERATED:
-        return False
-    mscale = max(float(np.abs(M).max(initial=0.0)), 1e-300)
-    qscale = max(float(np.abs(q).max(initial=0.0)), 1e-300)
-    for size in range(n + 1):
-        for subset in itertools.combinations(range(n), size):
-            B = np.array(subset, int)
-            z = np.zeros(n)
-            if size:
-                Mbb = M[np.ix_(B, B)]
-                if np.linalg.cond(Mbb) > BLOCK_COND:
-                    return False
-                z[B] = np.linalg.solve(Mbb, -q[B])
-            w = M @ z + q
-            w[B] = 0.0
-            tol = MARGIN_RTOL * max(qscale, mscale * float(np.abs(z).max(initial=0.0)))
-            if z.min(initial=0.0) >= -tol and w.min(initial=0.0) >= -tol:
-                return False
-    return True
-
-
 def no_continuation(qm: QSModel, spec: StageSpec, cls: Classes, sc: StageCache) -> bool:
     """Whether the state has provably no quasi-static continuation: no zero-force contact
     (their plans would multiply the problems) and no solution of the local rate problem
@@ -82,7 +48,7 @@ def no_continuation(qm: QSModel, spec: StageSpec, cls: Classes, sc: StageCache) 
         return False
     for control in ("load", "displacement"):
         lcp = _lcp(qm, spec, cls, sc, control)
-        if lcp is None or not lcp_has_no_solution(*lcp):
+        if lcp is None or not provably_unsolvable(*lcp):
             return False
     return True
 
@@ -92,4 +58,4 @@ def unstable_segment() -> Segment:
     return Segment(status=SegmentStatus.UNSTABLE, control="displacement", lam_rate=0.0)
 
 
-__all__ = ["MAX_ENUMERATED", "lcp_has_no_solution", "no_continuation", "unstable_segment"]
+__all__ = ["no_continuation", "unstable_segment"]
