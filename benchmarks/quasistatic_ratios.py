@@ -275,7 +275,7 @@ def batch_line(n: int) -> str:
 #: What ``--split`` times: (module, function, label); nested entries are inside the ones above.
 SPLIT = (
     ("pinograsp.analysis.quasistatic.api", "follow", "path: segments (all)"),
-    ("pinograsp.analysis.quasistatic.rates", "_linear", "- rate problem: linear part (reduced Cholesky)"),
+    ("pinograsp.analysis.quasistatic.rates", "linear_part", "- rate problem: linear part (reduced Cholesky)"),
     (
         "pinograsp.analysis.quasistatic.rates",
         "_solve_lcp",

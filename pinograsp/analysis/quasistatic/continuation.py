@@ -17,7 +17,7 @@ from dataclasses import replace
 import numpy as np
 
 from .model import QSModel
-from .path import LIMIT_RTOL, StageRun, Trigger, _plan, _planned, advance, follow, next_event
+from .path import LIMIT_RTOL, StageRun, Trigger, advance, follow, next_event, plan_of, planned
 from .rates import Segment, StageCache, StageSpec, classify
 from .statuses import RunStatus, SegmentStatus, TriggerKind, run_status
 
@@ -45,6 +45,7 @@ def _descend(qm: QSModel, out: StageRun, seg: Segment, spec: StageSpec, sc: Stag
     st = out.states[-1]
     peak = st.t
     cls = classify(qm, st, spec, sc)
+    st.c = cls.forces
     for _ in range(MAX_DESCENT):
         if _neutral(qm, seg, spec):  # drift at the limit load: rounding of dλ is no load change
             seg = replace(seg, lam_rate=0.0)
@@ -68,8 +69,9 @@ def _descend(qm: QSModel, out: StageRun, seg: Segment, spec: StageSpec, sc: Stag
             st.t = peak
             return RunStatus.LANDED
         cls = classify(qm, st, spec, sc)
+        st.c = cls.forces
         prev: Segment = seg
-        seg = _planned(qm, st, spec, cls, "displacement", _plan(qm, cls, prev), out, sc, (prev.active,))
+        seg = planned(qm, st, spec, cls, "displacement", plan_of(qm, cls, prev), out, sc, (prev.active,))
         if seg.status != SegmentStatus.OK:
             return run_status(seg.status)
     return RunStatus.SEGMENT_LIMIT

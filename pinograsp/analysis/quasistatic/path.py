@@ -89,7 +89,7 @@ class StageRun:
     friction_on: np.ndarray | None = None
 
 
-def _planned(
+def planned(
     qm: QSModel,
     st: State,
     spec: StageSpec,
@@ -151,7 +151,7 @@ def _planned(
     return first if first.status not in (SegmentStatus.GUESS, SegmentStatus.APEX) else full
 
 
-def _plan(qm: QSModel, cls: Classes, prev: Segment | None) -> np.ndarray:
+def plan_of(qm: QSModel, cls: Classes, prev: Segment | None) -> np.ndarray:
     """First guess for the zero-force contacts: one that was separated has just touched
     (pressed), one that was touching has just unloaded (separated)."""
     plan = np.full(qm.nc, PRESS)
@@ -172,7 +172,7 @@ def _solve_segment(
     trig: tuple[Trigger, ...] = (),
 ) -> Segment:
     """Load control first; displacement control when that fails (limit or continuation)."""
-    plan = _plan(qm, cls, prev)
+    plan = plan_of(qm, cls, prev)
     hints: tuple[np.ndarray, ...] = ()
     if prev is not None:
         new = [
@@ -181,7 +181,7 @@ def _solve_segment(
             if tr.kind in (TriggerKind.FACE, TriggerKind.COMMAND)
         ]
         hints = (np.union1d(prev.active, new), prev.active) if new else (prev.active,)
-    seg = _planned(qm, st, spec, cls, "load", plan, run, sc, hints)
+    seg = planned(qm, st, spec, cls, "load", plan, run, sc, hints)
     _, _, r0, size, loaded = sc.rates
     if not loaded:
         return seg
@@ -190,7 +190,7 @@ def _solve_segment(
         if along * SOFT_RTOL * qm.k_ref < size:
             return seg
         # nearly a mechanism along the load: decide under displacement control
-    alt = _planned(qm, st, spec, cls, "displacement", plan, run, sc)
+    alt = planned(qm, st, spec, cls, "displacement", plan, run, sc)
     if alt.status != SegmentStatus.OK:
         if seg.status == alt.status == SegmentStatus.RAY_TERMINATION and no_continuation(qm, spec, cls, sc):
             return unstable_segment()  # certified: no equilibrium path leaves this state
@@ -285,6 +285,7 @@ def follow(qm: QSModel, start: State, spec: StageSpec, max_segments: int = MAX_S
     sc = StageCache.of(qm, spec)
     while True:
         cls = classify(qm, st, spec, sc)
+        st.c = cls.forces  # contacts at zero force: exactly 0, anchors forgotten
         seg = _solve_segment(
             qm,
             st,
@@ -308,7 +309,7 @@ def follow(qm: QSModel, start: State, spec: StageSpec, max_segments: int = MAX_S
         run.states.append(st)
         run.triggers.append(trig)
         if ends:
-            classify(qm, st, spec, sc)  # zero the forces of contacts that reached zero
+            st.c = classify(qm, st, spec, sc).forces  # contacts that reached zero: exactly 0
             run.status = RunStatus.END
             return run
         if len(run.segments) >= max_segments:

@@ -201,7 +201,7 @@ def released_states(
     ``"sticking"`` (pressed, strictly inside its polygon); the faces it is on (nc,); per
     actuator ``"holding"`` (non-backdrivable) or its kind. The states a path reports at its
     zero-load breakpoint when it has no load segment (``up_to=0``)."""
-    cls = classify(qm, start.copy(), spec)  # classify zeroes low forces: of a copy
+    cls = classify(qm, start, spec)
     faces: list[list[int]] = [[] for _ in range(qm.nc)]
     for f in cls.faces.tolist():
         i = int(qm.face_contact[f])

@@ -92,12 +92,57 @@ class Classes:
     act_lcp: np.ndarray  # (na,) non-backdrivable at its command
     tol: float  # force tolerance [N]
     fscale: float
+    forces: np.ndarray  # the state's contact forces, those at zero force exactly 0 (ncd,) [N]
     # of the state classified (its identity): gaps ``-delta`` (nc,), face slacks (nf,) and
     # actuator over-forces (na,), read again by the event search (speed only)
     src: object = None
     gap: np.ndarray | None = None
     slack: np.ndarray | None = None
     phi: np.ndarray | None = None
+
+
+@dataclass(frozen=True)
+class Items:
+    """The LCP items of a rate problem (index arrays): zero-force contacts with an opening
+    pair (``zero``), boundary faces (``faces``, rows of :attr:`QSModel.Phi`), non-backdrivable
+    actuators at their command (``acts``)."""
+
+    zero: np.ndarray
+    faces: np.ndarray
+    acts: np.ndarray
+
+    @property
+    def size(self) -> int:
+        """Number of items (the LCP's size)."""
+        return len(self.zero) + len(self.faces) + len(self.acts)
+
+
+@dataclass(frozen=True)
+class LinearPart:
+    """The rate problem's linear part, per column (the load, then one per flow): contact force
+    rates ``dC`` (ncd, 1+nz), displacement rates ``V`` (nv, 1+nz), load rates ``lam``
+    (1+nz,), the complementarity rows ``W`` (nz, 1+nz) and their matrix ``M`` (nz, nz) (the
+    LCP is ``w = M zeta + W[:, 0]``), and the constraint multipliers ``Rho`` (ncon, 1+nz)."""
+
+    dC: np.ndarray
+    V: np.ndarray
+    lam: np.ndarray
+    W: np.ndarray
+    M: np.ndarray
+    Rho: np.ndarray
+
+
+@dataclass(frozen=True)
+class Solved:
+    """The rates of one solved rate problem per unit path parameter: displacements ``v`` (nv,),
+    contact forces ``dc`` (ncd,), constraint multipliers ``rho`` (ncon,), the load rate
+    ``lam_rate`` and the flows ``zeta`` (nz,)."""
+
+    v: np.ndarray
+    dc: np.ndarray
+    rho: np.ndarray
+    lam_rate: float
+    zeta: np.ndarray
 
 
 def force_scale(qm: QSModel, st: State, spec: StageSpec, sc: StageCache | None = None) -> float:
@@ -117,8 +162,10 @@ def force_scale(qm: QSModel, st: State, spec: StageSpec, sc: StageCache | None =
 
 
 def classify(qm: QSModel, st: State, spec: StageSpec, sc: StageCache | None = None) -> Classes:
-    """Classify contacts, faces and actuators of ``st`` (and zero the forces of contacts at
-    zero force: their anchors are forgotten); ``sc`` as for :func:`force_scale`."""
+    """Classify contacts, faces and actuators of ``st`` (a pure function: the state is not
+    changed); :attr:`Classes.forces` are its contact forces with those of contacts at zero
+    force set to exactly 0 (their anchors forgotten), which the segment loop makes the state's
+    own; ``sc`` as for :func:`force_scale`."""
     fscale = force_scale(qm, st, spec, sc)
     tol = EVENT_RTOL * fscale
     d = qm.d
@@ -131,17 +178,19 @@ def classify(qm: QSModel, st: State, spec: StageSpec, sc: StageCache | None = No
     opened = low & (delta * qm.kn < -tol)
     zero = low & ~opened
     pressed = ~low
+    c = st.c
     if low.any():
-        st.c.reshape(qm.nc, d)[low] = 0.0
+        c = c.copy()
+        c.reshape(qm.nc, d)[low] = 0.0
     if spec.friction and qm.nf:
-        slack = qm.Phi @ st.c
+        slack = qm.Phi @ c
         fc = qm.face_contact
         faces = ((zero[fc]) | (pressed[fc] & (slack <= tol))).nonzero()[0]
     else:
         faces, slack = np.zeros(0, int), None
     phi = (st.f - spec.command(st.t)) * qm.r_norm
     act_lcp = qm.nbd & (phi <= tol)
-    return Classes(opened, zero, pressed, faces, act_lcp, tol, fscale, st, gap, slack, phi)
+    return Classes(opened, zero, pressed, faces, act_lcp, tol, fscale, c, st, gap, slack, phi)
 
 
 def _at_apex(qm: QSModel, st: State, tol: float) -> np.ndarray:
@@ -188,12 +237,12 @@ def rates(
     touch = (cls.zero & ~sep) | cls.pressed
     rc = qm.row_contact
     ks = touch[rc] * (qm.kn_rows + qm.kt_rows) if spec.friction else touch[rc] * qm.kn_rows
-    items = _items(qm, cls, plan, sep, apex)
-    lin = _linear(qm, sc, spec, ks, items, control)
-    if isinstance(lin, Segment):
-        return lin
-    dC, V, lam, Wrows, Mlcp, Rho = lin
-    zero, faces, acts = items
+    items = lcp_items(qm, cls, plan, sep, apex)
+    lin = linear_part(qm, sc, spec, ks, items, control)
+    if lin is None:
+        return Segment(status=SegmentStatus.SINGULAR, lcp_size=items.size, control=control)
+    Wrows, Mlcp = lin.W, lin.M
+    zero, faces, acts = items.zero, items.faces, items.acts
     nz = Mlcp.shape[0]
     # faces of a contact at zero force: opposite faces' flows cancel (a null direction of M);
     # a relative 1e-12 on their diagonal picks the least flow
@@ -209,11 +258,11 @@ def rates(
             status=SegmentStatus(res.status.value), lcp_size=nz, pivots=res.pivots, control=control
         )
     zeta1 = np.concatenate([[1.0], res.z if res is not None else np.zeros(0)])
-    v = V @ zeta1
-    dc = dC @ zeta1
-    rho = Rho @ zeta1
-    lam_rate = float(lam @ zeta1)
-    seg = _segment(qm, spec, cls, sc, v, dc, rho, lam_rate, zeta1[1:], items, nz, res, control, sep)
+    v = lin.V @ zeta1
+    dc = lin.dC @ zeta1
+    solved = Solved(v, dc, lin.Rho @ zeta1, float(lin.lam @ zeta1), zeta1[1:])
+    pivots = res.pivots if res is not None else 0
+    seg = _segment(qm, spec, cls, sc, solved, items, lcp_size=nz, pivots=pivots, control=control, sep=sep)
     if nz:
         assert res is not None  # solved whenever there are items
         ftol = RATE_RTOL * max(float(np.abs(res.z).max()), 1e-300)
@@ -222,9 +271,9 @@ def rates(
     return _check_guesses(qm, spec, cls, plan, sep, apex, seg, v, dc, sc)
 
 
-def _items(qm: QSModel, cls: Classes, plan: np.ndarray, sep: np.ndarray, apex: np.ndarray | None):
-    """The LCP items: zero-force contacts with an opening pair, boundary faces, actuators at
-    their command (index arrays)."""
+def lcp_items(qm: QSModel, cls: Classes, plan: np.ndarray, sep: np.ndarray, apex: np.ndarray | None) -> Items:
+    """The LCP :class:`Items` of a classified state under the zero-force ``plan`` (``sep``: the
+    contacts planned separated; ``apex``: the zero-force faces taken, None: all)."""
     zero = (cls.zero & (plan == FULL)).nonzero()[0]
     faces = cls.faces
     if len(faces) and (sep.any() or (apex is not None and cls.zero.any())):  # else every face stays
@@ -233,15 +282,16 @@ def _items(qm: QSModel, cls: Classes, plan: np.ndarray, sep: np.ndarray, apex: n
         if apex is not None:
             keep &= ~cls.zero[owner_f] | apex[faces]
         faces = faces[keep]
-    return zero, faces, cls.act_lcp.nonzero()[0]
+    return Items(zero, faces, cls.act_lcp.nonzero()[0])
 
 
-def _linear(qm: QSModel, sc: StageCache, spec: StageSpec, ks: np.ndarray, items, control: str):
-    """Contact force rates ``dC`` (ncd, 1+nz), displacement rates ``V`` (nv, 1+nz), load rates
-    ``lam`` (1+nz,), the complementarity rows ``W`` (nz, 1+nz) and ``M`` (nz, nz), and the
-    multipliers ``Rho`` (ncon, 1+nz) per column (load, then one per flow); or a failed
-    :class:`Segment`."""
-    zero, faces, acts = items
+def linear_part(
+    qm: QSModel, sc: StageCache, spec: StageSpec, ks: np.ndarray, items: Items, control: str
+) -> LinearPart | None:
+    """The :class:`LinearPart` of the rate problem with the tangent spring stiffness rows ``ks``
+    (ncd,) and the LCP ``items``, under ``"load"`` or ``"displacement"`` control; None when it
+    is singular (the load outside the system's range)."""
+    zero, faces, acts = items.zero, items.faces, items.acts
     d, nv, k, A = qm.d, qm.nv, qm.k_ref, qm.A
     n0, n1 = len(zero), len(zero) + len(faces)
     nz = n1 + len(acts)
@@ -263,7 +313,7 @@ def _linear(qm: QSModel, sc: StageCache, spec: StageSpec, ks: np.ndarray, items,
         dC = Fm - ks[:, None] * G
     else:
         if control != "load" and sc.crow is None:
-            return Segment(status=SegmentStatus.SINGULAR, control=control)
+            return None
         rhs_top = A @ F
         rhs_top[:, 0] = sc.r0
         con_rhs = np.zeros((sc.B.shape[1], 1 + nz))
@@ -271,7 +321,7 @@ def _linear(qm: QSModel, sc: StageCache, spec: StageSpec, ks: np.ndarray, items,
             con_rhs[cols, 1 + n1 + np.arange(len(acts))] = -1.0
         full = affine_full(qm, sc, (A * ks) @ A.T, rhs_top, con_rhs, control)
         if full is None:
-            return Segment(status=SegmentStatus.SINGULAR, lcp_size=nz, control=control)
+            return None
         V, lam = full
         dC = -ks[:, None] * (A.T @ V) + F
     # multipliers per column: k B rho = K V - r0 lam - A F = -A dC - r0 lam
@@ -285,7 +335,7 @@ def _linear(qm: QSModel, sc: StageCache, spec: StageSpec, ks: np.ndarray, items,
     # rounding of a zero load rate (symmetric grasps) is zero
     qscale = max(float(np.abs(W[:, 0]).max(initial=0.0)), float(np.abs(dC[:, 0]).max(initial=0.0)), 1e-300)
     W[np.abs(W[:, 0]) <= RATE_RTOL * 1e-3 * qscale, 0] = 0.0
-    return dC, V, lam, W, W[:, 1:].copy(), Rho
+    return LinearPart(dC, V, lam, W, W[:, 1:].copy(), Rho)
 
 
 def _solve_lcp(M: np.ndarray, q: np.ndarray, keys: np.ndarray, hints: tuple[np.ndarray, ...], ntot: int):
@@ -340,9 +390,22 @@ def separated_on(seg: Segment) -> np.ndarray:
     return np.array([c == "separated" for c in seg.contact], bool)
 
 
-def _segment(qm, spec, cls, sc, v, dc, rho, lam_rate, zeta, items, nz, res, control, sep) -> Segment:
+def _segment(
+    qm: QSModel,
+    spec: StageSpec,
+    cls: Classes,
+    sc: StageCache,
+    solved: Solved,
+    items: Items,
+    *,
+    lcp_size: int,
+    pivots: int,
+    control: str,
+    sep: np.ndarray,
+) -> Segment:
     """Assemble the :class:`Segment` of a solved rate problem."""
-    zero, faces, acts = items
+    zero, faces, acts = items.zero, items.faces, items.acts
+    v, dc, rho, lam_rate, zeta = solved.v, solved.dc, solved.rho, solved.lam_rate, solved.zeta
     d, nx, nc = qm.d, qm.nx, qm.nc
     k = qm.k_ref
     owner = sc.owner
@@ -385,8 +448,8 @@ def _segment(qm, spec, cls, sc, v, dc, rho, lam_rate, zeta, items, nz, res, cont
         contact=contact,
         detail=detail,
         actuator=actuator,
-        lcp_size=nz,
-        pivots=res.pivots if res is not None else 0,
+        lcp_size=lcp_size,
+        pivots=pivots,
         control=control,
         lam_rate=lam_rate,
         separated=sep_all,

@@ -21,7 +21,7 @@ import numpy as np
 
 from ...solvers.lcp import provably_unsolvable
 from .model import QSModel
-from .rates import FULL, Classes, Segment, StageCache, _items, _linear
+from .rates import FULL, Classes, Segment, StageCache, lcp_items, linear_part
 from .state import StageSpec
 from .statuses import SegmentStatus
 
@@ -33,11 +33,10 @@ def _lcp(qm: QSModel, spec: StageSpec, cls: Classes, sc: StageCache, control: st
     sep = np.zeros(qm.nc, bool)
     rc = qm.row_contact
     ks = cls.pressed[rc] * (qm.kn_rows + qm.kt_rows) if spec.friction else cls.pressed[rc] * qm.kn_rows
-    lin = _linear(qm, sc, spec, ks, _items(qm, cls, plan, sep, None), control)
-    if isinstance(lin, Segment):
+    lin = linear_part(qm, sc, spec, ks, lcp_items(qm, cls, plan, sep, None), control)
+    if lin is None:
         return None
-    _, _, _, W, M, _ = lin
-    return M, W[:, 0]
+    return lin.M, lin.W[:, 0]
 
 
 def no_continuation(qm: QSModel, spec: StageSpec, cls: Classes, sc: StageCache) -> bool:
