@@ -240,7 +240,7 @@ def _labels(
     (what was analysed: a normal uncertainty reduces ``mu``), else from ``model`` when given
     (``None`` where unknown)."""
     rows = getattr(r, names)
-    own = getattr(r, values, None)
+    own = getattr(r, values)  # a declared field of the record (None where unknown)
     if own is not None and len(own) == len(rows):
         return list(own)
     if model is not None:

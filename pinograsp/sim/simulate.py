@@ -19,19 +19,20 @@ from ..core.giveway import DEFAULT_CONTACT_STIFFNESS, giveway_thresholds
 from ..core.model import GraspModel
 from ..core.validate import force, load_within, number_in
 from ..errors import InvalidInputError
+from ..scenes.schema import Scene
 from .integrator import FRICTIONS, PRELOADS, Engine, SimOptions, preload, ramp, refine
 from .result import SimulationResult, SimulationStatus
 
 
 def _inputs(
-    scene_or_model: Any, direction: object, command: object
-) -> tuple[Any, np.ndarray, np.ndarray, float]:
+    scene_or_model: Scene | GraspModel, direction: object, command: object
+) -> tuple[GraspModel, np.ndarray, np.ndarray, float]:
     """The GraspModel, unit direction (6,), command (na,) and default upper load of the inputs."""
     if isinstance(scene_or_model, GraspModel):
         grasp, upper = scene_or_model, 1e3
         if command is None:
             raise InvalidInputError("command", "a GraspModel needs a command (a scene has its preload)")
-    elif hasattr(scene_or_model, "model") and hasattr(scene_or_model, "analysis"):
+    elif isinstance(scene_or_model, Scene):
         scene = scene_or_model
         grasp, upper = scene.model, float(scene.analysis.upper)
         if command is None or isinstance(command, str):
@@ -43,12 +44,12 @@ def _inputs(
     return grasp, wrench_direction(grasp, direction), grasp.command_vector(command), upper
 
 
-def _scene_defaults(scene_or_model: Any) -> dict[str, Any]:
+def _scene_defaults(scene_or_model: Scene | GraspModel) -> dict[str, Any]:
     """A scene's contact stiffness and give-way thresholds (its analysis settings, the ones its
     analysis uses: docs/giveway.md) as simulation options; nothing for a bare model."""
-    settings = getattr(scene_or_model, "settings", None)
-    if isinstance(scene_or_model, GraspModel) or settings is None:
+    if not isinstance(scene_or_model, Scene):
         return {}
+    settings = scene_or_model.settings
     out: dict[str, Any] = {"stiffness": settings.contact_stiffness}
     if settings.giveway_slip is not None:
         out["slip"] = settings.giveway_slip
@@ -146,7 +147,7 @@ def _upper(grasp: GraspModel, cmd: np.ndarray, d: np.ndarray, upper: object) -> 
 
 
 def simulate_max_wrench(
-    scene_or_model: Any,
+    scene_or_model: Scene | GraspModel,
     direction: object,
     command: object = None,
     *,
