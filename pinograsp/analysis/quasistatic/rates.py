@@ -26,6 +26,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ...core.response_result import ContactState
 from ...solvers.lcp import canonical, lemke, principal_pivoting
 from .model import QSModel
 from .state import StageSpec, State
@@ -66,7 +67,7 @@ class Segment:
     dlam_c: np.ndarray = field(default_factory=lambda: np.zeros(0))
     dhold: np.ndarray = field(default_factory=lambda: np.zeros(0))
     dslip: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    contact: tuple[str, ...] = ()
+    contact: tuple[ContactState, ...] = ()
     detail: tuple[tuple[int, ...], ...] = ()
     actuator: tuple[str, ...] = ()
     lcp_size: int = 0
@@ -429,7 +430,9 @@ def _segment(
         sliding[i].append(f)
     sep_all = cls.open | opening
     sep_l = sep_all.tolist()
-    contact = tuple("separated" if sep_l[i] else ("sliding" if sliding[i] else "sticking") for i in range(nc))
+    contact: tuple[ContactState, ...] = tuple(
+        "separated" if sep_l[i] else ("sliding" if sliding[i] else "sticking") for i in range(nc)
+    )
     detail = tuple(() if sep_l[i] else tuple(sliding[i]) for i in range(nc))
     moving = np.zeros(qm.na, bool)
     moving[acts] = zeta[nzero + len(faces) :] > ftol

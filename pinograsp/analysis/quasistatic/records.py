@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import replace
+from types import MappingProxyType
 
 import numpy as np
 
@@ -13,7 +15,7 @@ from .path import StageRun
 from .preload import released_states
 from .prepared import Prepared
 from .rates import EVENT_RTOL, StageSpec, State, force_scale
-from .result import LoadingPath, PathStatus
+from .result import LoadingPath, PathStatus, StopReason
 from .statuses import RunStatus
 
 
@@ -46,21 +48,41 @@ def _arrays(p: Prepared, states: list[State], stacked: dict | None = None) -> di
     }
 
 
-def _status(run: StageRun, p: Prepared, spec: StageSpec) -> tuple[str, float, str]:
+#: The stop reason of each way a stage can end (:data:`~.result.StopReason`).
+STOP_REASONS: Mapping[RunStatus, StopReason] = MappingProxyType(
+    {
+        RunStatus.END: "load",
+        RunStatus.UNBOUNDED: "ray",
+        RunStatus.LIMIT: "limit",
+        RunStatus.UNSTABLE: "unstable",
+        RunStatus.SEGMENT_LIMIT: "segment_limit",
+        RunStatus.SINGULAR: "singular",
+        RunStatus.RAY_TERMINATION: "ray_termination",
+        RunStatus.PIVOT_LIMIT: "pivot_limit",
+        RunStatus.INACCURATE: "inaccurate",
+        RunStatus.LANDED: "landed",
+        RunStatus.UNLOADED: "unloaded",
+        RunStatus.MECHANISM: "mechanism",
+    }
+)
+
+
+def _status(run: StageRun, p: Prepared, spec: StageSpec) -> tuple[PathStatus, float, StopReason]:
     """(status, limit, stop reason) of a load stage."""
     last = run.states[-1].t
+    reason = STOP_REASONS[run.status]
     if run.status in (RunStatus.LIMIT, RunStatus.UNSTABLE):
         scale = force_scale(p.qm, p.start, spec) / max(float(np.abs(p.qm.w_scaled(spec.dw)).max()), 1e-300)
         if last <= EVENT_RTOL * scale:
-            return "below_resolution", 0.0, run.status.value
-        return "finite", float(last), run.status.value
+            return "below_resolution", 0.0, reason
+        return "finite", float(last), reason
     if run.status == RunStatus.UNBOUNDED:
-        return "unbounded", float("inf"), "ray"
+        return "unbounded", float("inf"), reason
     if run.status == RunStatus.END:
-        return "reached", float(last), "load"
+        return "reached", float(last), reason
     if run.status == RunStatus.SEGMENT_LIMIT:
-        return "segment_limit", float(last), "segment_limit"
-    return "no_solution", float(last), run.status.value
+        return "segment_limit", float(last), reason
+    return "no_solution", float(last), reason
 
 
 def _seg_rates(p: Prepared, seg, x0: np.ndarray | None) -> dict[str, np.ndarray]:
@@ -114,7 +136,7 @@ def build_path(
         command=p.fc * p.signs,
         variant=p.variant,
         tangential_ratio=p.ratio,
-        status=status,  # type: ignore[arg-type]
+        status=status,
         limit=limit,
         stop_reason=reason,
         loads=run_loads,
@@ -175,7 +197,7 @@ def continuation_record(
         cont,
         status=status,
         limit=limit,
-        stop_reason=tail.value,  # how the path past the limit ended (after its last landing)
+        stop_reason=STOP_REASONS[tail],  # how the path past the limit ended (after its last landing)
         snaps=snaps,
         ray=ray,
     )

@@ -24,6 +24,28 @@ from .giveway import Thresholds, Trace, walk
 #: problem has no solution Lemke's method can find (``no_solution``), or the segment-count
 #: limit was reached (``segment_limit``). ``reached``: a path to a given load got there.
 PathStatus = Literal["finite", "unbounded", "below_resolution", "no_solution", "segment_limit", "reached"]
+#: Why a path stopped: a limit (``"limit"``; ``"unstable"``: certified, no continuation), the
+#: last segment a ray (``"ray"``), the load asked for (``"load"``), the segment-count limit,
+#: a rate problem without a solution (``"ray_termination"``, ``"pivot_limit"``,
+#: ``"inaccurate"``, ``"singular"``), a failed audit (``"audit"``); past a limit also
+#: ``"unbounded"``, ``"mechanism"``, ``"unloaded"``, ``"landed"``, ``"end"``.
+StopReason = Literal[
+    "limit",
+    "unstable",
+    "ray",
+    "load",
+    "segment_limit",
+    "ray_termination",
+    "pivot_limit",
+    "inaccurate",
+    "singular",
+    "audit",
+    "unbounded",
+    "mechanism",
+    "unloaded",
+    "landed",
+    "end",
+]
 
 #: Default stiffness of the simulation's stiffest contact [N/m] (``pg.simulate_max_wrench``).
 SIM_STIFFNESS = 1e6
@@ -94,7 +116,7 @@ class LoadingPath:
     tangential_ratio: float
     status: PathStatus
     limit: float
-    stop_reason: str
+    stop_reason: StopReason
     loads: np.ndarray
     object_displacements: np.ndarray
     joint_displacements: np.ndarray
@@ -344,4 +366,4 @@ class LoadingPath:
         )
 
 
-__all__ = ["SIM_STIFFNESS", "LoadingPath", "PathStatus"]
+__all__ = ["SIM_STIFFNESS", "LoadingPath", "PathStatus", "StopReason"]
