@@ -494,3 +494,36 @@ def test_open_configuration_of_a_mimic_follower_follows_its_leader():
     assert 0.0 < q[0] < 0.020833 - 0.003  # closed past the old 3 mm stop
     report = pg.detect_contacts(hand, q, ball)
     assert sorted(c.link for c in report.contacts) == ["l_gripper_l_finger_tip", "l_gripper_r_finger_tip"]
+
+
+def test_failed_profile_directions_are_marked_not_gaps(pinch, monkeypatch):
+    """Issue 33: a direction whose query raised (no verdict) was a silent gap — drawn as an
+    unbounded wedge, in fact (NaN is not finite). Now it is a red cross at the plot edge with a
+    legend entry, and only inf radii are wedges."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from pinograsp.analysis import method_quasistatic
+    from pinograsp.errors import SolverError
+
+    real = method_quasistatic.QuasistaticMethod.max_load
+
+    def failing(self, session, query):
+        if query.direction[1] > 0.9:  # +fy
+            raise SolverError("no verdict here", solver="lemke", status="no_solution")
+        return real(self, session, query)
+
+    monkeypatch.setattr(method_quasistatic.QuasistaticMethod, "max_load", failing)
+    cmd = {"left": 1.0, "right": 1.0}
+    p = pg.resistance_profile(pinch, cmd, ("fx", "fy"), n=8)
+    assert [f[0] for f in p.failures] == [2] and np.isnan(p.magnitudes[2])
+    ax = pg.plot_profile(p)
+    (cross,) = [ln for ln in ax.lines if ln.get_gid() == "pinograsp-failed"]
+    np.testing.assert_allclose(cross.get_xdata(), [np.pi / 2])
+    np.testing.assert_allclose(cross.get_ydata(), ax.get_ylim()[1])
+    assert "no verdict (failed)" in [t.get_text() for t in ax.get_legend().get_texts()]
+    wedges = [c for c in ax.patches if c.get_gid() == "pinograsp-unbounded"]
+    assert p.statuses.count("unbounded") == 2 and len(wedges) == 2  # ±fx only: the failure is no wedge
+    plt.close(ax.figure)

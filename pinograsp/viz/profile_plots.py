@@ -212,6 +212,8 @@ def _sample_intervals(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 #: ``gid`` of the markers of ``above_limit`` directions in a profile plot.
 GID_ABOVE_LIMIT = "pinograsp-above-limit"
+#: ``gid`` of the markers of failed directions (no verdict: the query raised) in a profile plot.
+GID_FAILED = "pinograsp-failed"
 
 
 def _run_middles(unbounded: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
@@ -317,7 +319,7 @@ def plot_profile(
     from matplotlib.patches import Patch
 
     handles: list[Artist] = []
-    any_unbounded = any_above = False
+    any_unbounded = any_above = any_failed = False
     for i, (p, r, name) in enumerate(zip(profiles, radii, names)):
         color = colors[i] if colors is not None else f"C{i % 10}"
         a = np.mod(np.asarray(p.angles, dtype=float), 2 * np.pi)
@@ -335,7 +337,12 @@ def plot_profile(
                 a[above], r[above], ls="none", marker="^", ms=7, mfc="none", mec=color, gid=GID_ABOVE_LIMIT
             )
             any_above = True
-        unb = ~np.isfinite(r)
+        failed = np.isnan(r)  # no verdict (the direction's query raised): marked, never a wedge
+        if failed.any():
+            ax.plot(a[failed], np.full(int(failed.sum()), rmax), ls="none", marker="x", ms=8, mew=2,
+                    color="crimson", gid=GID_FAILED, clip_on=False)  # fmt: skip
+            any_failed = True
+        unb = np.isinf(r)
         if unb.any():
             any_unbounded = True
             _draw_unbounded(ax, a, unb, color, _HATCHES[i % len(_HATCHES)], rmax)
@@ -349,6 +356,12 @@ def plot_profile(
                 [], [], ls="none", marker="^", mfc="none", mec="0.3", label="above upper (≥, a lower bound)"
             )
         )
+    if any_failed:
+        from matplotlib.lines import Line2D
+
+        handles.append(
+            Line2D([], [], ls="none", marker="x", mew=2, color="crimson", label="no verdict (failed)")
+        )
     ax.set_ylim(0.0, rmax)
     b1, b2 = plane
     ax.set_thetagrids(
@@ -356,9 +369,7 @@ def plot_profile(
         [f"+{b1}", "", f"+{b2}", "", f"−{b1}", "", f"−{b2}", ""],
     )
     # radial tick labels on the unlabelled grid ray farthest from every unbounded wedge
-    unb_angles = np.concatenate(
-        [np.mod(p.angles, 2 * np.pi)[~np.isfinite(r)] for p, r in zip(profiles, radii)]
-    )
+    unb_angles = np.concatenate([np.mod(p.angles, 2 * np.pi)[np.isinf(r)] for p, r in zip(profiles, radii)])
     ax.set_rlabel_position(_rlabel_angle(unb_angles))
     ax.grid(True, alpha=0.4)
     if title is None:
@@ -368,4 +379,4 @@ def plot_profile(
     return ax
 
 
-__all__ = ["MIXED_UNIT", "direction_unit", "plot_profile"]
+__all__ = ["GID_ABOVE_LIMIT", "GID_FAILED", "MIXED_UNIT", "direction_unit", "plot_profile"]
