@@ -50,3 +50,26 @@ def test_no_preload_row_shows_the_contacts_detected():
     hand, obj, q = grasp_configuration(spec)
     model = grasp_model_from_scene(hand, q, obj, mu=spec.mu, stiffness=spec.stiffness, patches=False)
     assert model.nc > 0 and df.loc[0, "n_contacts"] == model.nc
+
+
+def test_rigid_mimic_group_stopped_by_one_touch_warns_with_the_way_out():
+    """Issue 33: a URDF mimic hand (one motor, its followers rigidly coupled) auto-closes as one
+    rigid body: one link touches, no preload can squeeze the object, and nothing pointed to the
+    description that works. Exact input: the TIAGo Pro left gripper (example-robot-data; one
+    motor, five mimic followers) on a 15 mm ball 20 mm off its centre line."""
+    import warnings
+
+    from scripts.reproduce.ownhands.__main__ import _object, load_hand
+
+    hand = load_hand("tiago_pro_left")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        q = hand.close_on(_object("ball", 0.015, np.array([0.0, 0.02, 0.13])))
+        centred = hand.close_on(_object("ball", 0.015, np.array([0.0, 0.0, 0.13])))
+    ours = [str(w.message) for w in caught if issubclass(w.category, pg.PinograspWarning)]
+    assert len(ours) == 1 and "gripper_left_fingertip_right_link touched: 1 of their" in ours[0]
+    assert "Tendon and underactuated fingers" in ours[0]
+    rep = pg.detect_contacts(hand, q, _object("ball", 0.015, np.array([0.0, 0.02, 0.13])))
+    assert [c.link for c in rep.contacts] == ["gripper_left_fingertip_right_link"]
+    two = pg.detect_contacts(hand, centred, _object("ball", 0.015, np.array([0.0, 0.0, 0.13])))
+    assert len(two.contacts) == 2  # centred: both fingertips touch, no warning

@@ -10,12 +10,13 @@ forward-kinematics pass per trial configuration (:class:`~pinograsp.robots.kinem
 
 from __future__ import annotations
 
+import warnings
 from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..core.validate import contact_tolerance, count, finite_number, number_in
-from ..errors import InvalidInputError, NoContactError, PenetrationError
+from ..errors import InvalidInputError, NoContactError, PenetrationError, PinograspWarning
 from .collision import (
     DEFAULT_MAX_PENETRATION,
     DEFAULT_TOLERANCE,
@@ -200,4 +201,38 @@ def close_on(
         links = (hand.link_of_geometry(k) for k in range(len(dist)))
         inside = inside_surfaces(HandConfiguration.at(hand, q), obj)
         raise NoContactError(closest_per_link(links, dist), tol, inside)
+    _warn_rigid_group(hand, stops, dist, tol)
     return q
+
+
+#: A rigidly coupled group of at least this many joints stopped by one touch is worth a warning
+#: (a whole hand or finger on one motor through URDF mimics).
+RIGID_GROUP = 3
+
+
+def _warn_rigid_group(hand: HandLike, stops: _Stops, dist: np.ndarray, tol: float) -> None:
+    """Warn (:class:`PinograspWarning`) when the grasp has a single touching link and it
+    belongs to a rigidly coupled group of joints (URDF mimics or the description's couplings on
+    one motor) that stopped as a whole at that first touch, its other links off the object: a
+    real underactuated hand keeps closing its other phalanges, the rigid model cannot."""
+    if len({hand.link_of_geometry(int(k)) for k in np.flatnonzero(dist <= tol)}) != 1:
+        return  # several links touch: other fingers oppose the one that stopped
+    for g in np.unique(stops.group):
+        members = np.flatnonzero(stops.group == g)
+        if len(members) < RIGID_GROUP:
+            continue
+        carried = [k for k in range(len(dist)) if int(stops.geo_joint[k]) - 1 in members]
+        links = {hand.link_of_geometry(k) for k in carried}
+        touching = {hand.link_of_geometry(k) for k in carried if dist[k] <= tol}
+        if len(touching) == 1 and len(links) > 1:
+            names = ", ".join(hand.joint_names[j] for j in members)
+            warnings.warn(
+                f"auto-close: joints {names} are coupled rigidly (URDF mimics or couplings of one "
+                f"motor) and stopped together when {next(iter(touching))} touched: 1 of their "
+                f"{len(links)} links touches, so the grasp has one contact there and no preload can "
+                "squeeze the object. A real underactuated hand keeps closing its other phalanges: "
+                "describe the coupling as a tendon or differential (docs/hands.md, 'Tendon and "
+                "underactuated fingers'), or give each finger its own motor",
+                PinograspWarning,
+                stacklevel=3,
+            )
