@@ -41,7 +41,9 @@ def test_convergence_rule_on_records() -> None:
     held = {"status": "held", "load": None}
     assert rs.change(held, held) == 0.0
     assert rs.change(held, {"status": "gradual", "load": 3.0}) == float("inf")
-    assert rs.change({"status": "gave_way", "load": 2.0}, {"status": "gradual", "load": 2.1}) == pytest.approx(0.05)
+    assert rs.change(
+        {"status": "gave_way", "load": 2.0}, {"status": "gradual", "load": 2.1}
+    ) == pytest.approx(0.05)
 
 
 @pytest.mark.slow

@@ -143,7 +143,7 @@ def hand_directions() -> tuple[list[dict[str, Any]], list[dict[str, Any]]]:
     for name in vh.HANDS:
         rows = json.loads((vh.CACHE / f"{name}.json").read_text())["rows"]
         scene = pg.load_scene(name)
-        for (label, d), row in zip(vh.VM._directions(scene, len(rows)), rows):
+        for (_, d), row in zip(vh.VM._directions(scene, len(rows)), rows):
             pred = vh._predict_live(scene, d)
             sim = {**row["sim"], "upper": float(scene.analysis.upper)}
             cmp = vq.classify(pred, sim)
@@ -188,7 +188,9 @@ def ordered(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
 def select() -> list[dict[str, Any]]:
     qb, qg = qs_directions()
     hb, hg = hand_directions()
-    return ordered(example_directions() + qb + hb + _spaced(qg, CONTROLS["qs"]) + _spaced(hg, CONTROLS["hands"]))
+    return ordered(
+        example_directions() + qb + hb + _spaced(qg, CONTROLS["qs"]) + _spaced(hg, CONTROLS["hands"])
+    )
 
 
 # ---------------------------------------------------------------- the simulations
@@ -206,7 +208,9 @@ def simulate(row: dict[str, Any], ramp_time: float) -> dict[str, Any]:
         case = _CASES.setdefault("all", {f"qs/{c.key}": c for c in cases()})[key]
         scene, model, command = case.build()
         d = np.asarray(case.direction)
-        r = pg.simulate_max_wrench(scene if scene is not None else model, d, None if scene else command, **opts)
+        r = pg.simulate_max_wrench(
+            scene if scene is not None else model, d, None if scene else command, **opts
+        )
     elif src == "hands":
         r = pg.simulate_max_wrench(pg.load_scene(key.split("/")[1]), np.asarray(row["direction"]), **opts)
     else:
@@ -298,10 +302,24 @@ def assess(row: dict[str, Any]) -> dict[str, Any] | None:
     elif v0 == "agrees":
         trend = "appears"
     elif rel0 is not None and rel1 is not None:
-        trend = "shrinks" if abs(rel1) < abs(rel0) - 0.02 else "grows" if abs(rel1) > abs(rel0) + 0.02 else "stays"
+        trend = (
+            "shrinks"
+            if abs(rel1) < abs(rel0) - 0.02
+            else "grows"
+            if abs(rel1) > abs(rel0) + 0.02
+            else "stays"
+        )
     else:
         trend = "stays" if v0 == v1 else "changes class"
-    return {"converged": conv, "at": at, "v002": v0, "rel002": rel0, "verdict": v1, "rel": rel1, "trend": trend}
+    return {
+        "converged": conv,
+        "at": at,
+        "v002": v0,
+        "rel002": rel0,
+        "verdict": v1,
+        "rel": rel1,
+        "trend": trend,
+    }
 
 
 def _sim_text(s: dict[str, Any] | None) -> str:
@@ -361,7 +379,9 @@ def counts(rows: list[dict[str, Any]]) -> dict[str, Any]:
             "agree_when_converged": sum(a["verdict"] == "agrees" for _, a in conv),
             "still_disagree_when_converged": sum(a["verdict"] != "agrees" for _, a in conv),
             "agree_at_002": sum(a["v002"] == "agrees" for _, a in done),
-            "trends": {t: sum(a["trend"] == t for _, a in done) for t in sorted({a["trend"] for _, a in done})},
+            "trends": {
+                t: sum(a["trend"] == t for _, a in done) for t in sorted({a["trend"] for _, a in done})
+            },
         }
     return out
 
