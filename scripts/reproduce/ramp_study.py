@@ -24,7 +24,7 @@ written from that file alone.
 
 Usage::
 
-    nice -n 10 python -m scripts.reproduce.ramp_study run [--budget 2000]
+    nice -n 10 python -m scripts.reproduce.ramp_study run [--budget 1500] [--slow-budget 300]
     python -m scripts.reproduce.ramp_study report        # from the JSON, no simulation
 """
 
@@ -231,12 +231,14 @@ def spent(state: dict[str, Any]) -> float:
     return sum(s["wall_time"] for r in state["rows"] for k, s in r["sims"].items() if not s.get("cached"))
 
 
-def run(budget: float) -> None:
+def run(budget: float, slow_budget: float = 0.0) -> None:
+    """Simulate up to ``budget`` CPU seconds at :data:`RAMPS`, then the 1.0 s runs up to
+    ``budget + slow_budget``."""
     old = {r["key"]: r["sims"] for r in json.loads(DATA.read_text())["rows"]} if DATA.exists() else {}
     rows = select()  # the runs already made are kept (resume)
     for r in rows:
         r["sims"].update(old.get(r["key"], {}))
-    state = {"meta": {"ramps": list(RAMPS), "slow": SLOW, "budget": budget}, "rows": rows}
+    state = {"meta": {"ramps": list(RAMPS), "slow": SLOW, "budget": budget + slow_budget}, "rows": rows}
     _save(state)
     plan = [(r, rt) for r in state["rows"] for rt in RAMPS]
     for r, rt in plan:
@@ -253,7 +255,13 @@ def run(budget: float) -> None:
               f" ({s['wall_time']:.1f} s)", flush=True)  # fmt: skip
     for r in state["rows"]:
         a, b = r["sims"].get(_key(0.1)), r["sims"].get(_key(0.3))
-        if a and b and _key(SLOW) not in r["sims"] and change(a, b) > CONVERGED and spent(state) < budget:
+        if (
+            a
+            and b
+            and _key(SLOW) not in r["sims"]
+            and change(a, b) > CONVERGED
+            and spent(state) < budget + slow_budget
+        ):
             r["sims"][_key(SLOW)] = simulate(r, SLOW)
             _save(state)
             print(f"[{spent(state):6.0f} s] {r['key']:40s} {SLOW:<5g} {r['sims'][_key(SLOW)]}", flush=True)
@@ -431,10 +439,11 @@ def report() -> None:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("what", choices=("run", "report"))
-    ap.add_argument("--budget", type=float, default=2000.0, help="simulation CPU seconds")
+    ap.add_argument("--budget", type=float, default=1500.0, help="simulation CPU seconds at 0.02-0.3 s")
+    ap.add_argument("--slow-budget", type=float, default=300.0, help="more CPU seconds for the 1.0 s runs")
     args = ap.parse_args()
     if args.what == "run":
-        run(args.budget)
+        run(args.budget, args.slow_budget)
     report()
 
 
