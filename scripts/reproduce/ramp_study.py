@@ -326,7 +326,7 @@ def assess(row: dict[str, Any]) -> dict[str, Any] | None:
         "rel002": rel0,
         "verdict": v1,
         "rel": rel1,
-        "trend": trend,
+        "trend": trend if conv is not None else f"unsettled ({trend})",
     }
 
 
