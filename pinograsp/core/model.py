@@ -201,9 +201,7 @@ class GraspModel:
         ``below_resolution``. Point contacts carry no torsional friction; add a contact off the
         chord (or model the patch with several points) to hold it.
         """
-        nt = 2 if self.planar else 3
-        scale = np.ones(self.nw)
-        scale[nt:] = 1.0 / self.length_scale  # rotations in length units
+        scale = self.wrench_weights  # rotations in length units
         A = self.G.T * scale[None, :]
         _, sv, vt = np.linalg.svd(A)
         rank = int(np.sum(sv > 1e-9 * max(float(sv.max(initial=0.0)), 1e-300)))
