@@ -159,3 +159,15 @@ def test_flat_bar_mirror_directions_and_push_hold():
         assert plus.magnitude == pytest.approx(10.0, rel=1e-4) and minus.magnitude == pytest.approx(
             10.0, rel=2e-3
         )
+
+
+def test_builtin_snap_scene_gives_way_past_its_landing_snaps():
+    """The built-in ``case2_snap`` scene: its default answer depends on snaps that land."""
+    s = pg.load_scene("case2_snap")
+    mw = s.max_resistible_wrench("push")
+    assert mw.magnitude == pytest.approx(18.98165, rel=1e-5) and mw.first_limit == pytest.approx(
+        2.8332, rel=1e-4
+    )
+    assert [round(a, 4) for a, _ in mw.giveway.snaps][0] == pytest.approx(2.8332, rel=1e-4)
+    first = s.max_resistible_wrench("push", limit="first")
+    assert first.magnitude == mw.first_limit

@@ -29,6 +29,7 @@ RELEASED = {
     "ability": "slides",
     "allegro_left": "slides",
     "case2": "separates",
+    "case2_snap": "separates",
     "case3": "separates",
     "talos_torus": "slides",
 }
