@@ -28,7 +28,8 @@ from ..batch.grasps import GraspSpec, ObjectSpec, build_grasp, grasp_configurati
 from ..core.settings import DEFAULT_METHOD
 from ..core.validate import MAX_SAMPLES, choice, count, finite_number, positive_number, whole_number
 from ..errors import InvalidInputError
-from .approach import ApproachFrame, approach_pose, surface_samples
+from ..robots.collision import DEFAULT_TOLERANCE
+from .approach import ApproachFrame, OpenHand, approach_pose, surface_samples
 from .records import GraspPlan, GraspPlans, PlanTiming, RankBy
 from .search import Candidate, Steps, distinct, local_search, neighbours, placed, ranked, score_batch
 from .verify import verify_plan
@@ -65,19 +66,23 @@ def _preload(preload: object, actuators: Sequence[str]) -> tuple[Any, float | No
 
 
 def sample_specs(
-    base: GraspSpec, frame: ApproachFrame, n: int, seed: int, standoff: tuple[float, float]
+    base: GraspSpec, frame: ApproachFrame, n: int, seed: int, standoff: tuple[float, float], hand: Any
 ) -> list[GraspSpec]:
-    """``n`` records of ``base`` at sampled approach poses (ids ``c0``, ``c1``, ...)."""
+    """``n`` records of ``base`` at sampled approach poses (ids ``c0``, ``c1``, ...), each
+    stopped at the open hand's first touch (:meth:`~.approach.OpenHand.first_touch`)."""
     rng = np.random.default_rng(seed)
     points, normals = surface_samples(base.object, n, rng)
     rolls = rng.uniform(0.0, 2 * math.pi, n)
     depths = (1.0 - rng.uniform(standoff[0], standoff[1], n)) * frame.reach
-    return [
-        placed(
-            base, approach_pose(frame, points[i], normals[i], float(rolls[i]), float(depths[i])), id=f"c{i}"
-        )
-        for i in range(n)
-    ]
+    pull = rng.uniform(0.5, 1.0, n)
+    tolerance = DEFAULT_TOLERANCE if base.tolerance is None else float(base.tolerance)
+    open_hand = OpenHand(hand, base.q_open, base.object, frame, tolerance)
+    out = []
+    for i in range(n):
+        p, nrm, roll = open_hand.centred(points[i], normals[i], float(pull[i])), normals[i], float(rolls[i])
+        depth = open_hand.first_touch(p, nrm, roll, float(depths[i]))
+        out.append(placed(base, approach_pose(frame, p, nrm, roll, depth), id=f"c{i}"))
+    return out
 
 
 def _spearman(cands: Sequence[Candidate]) -> float:
@@ -141,6 +146,16 @@ def _progress(progress: Callable[[int, int], None] | None, total: int) -> Callab
     return batch
 
 
+def _pruning(score: DisturbanceScore, incumbent: Candidate, rank_by: RankBy) -> DisturbanceScore:
+    """The score of an incumbent's moves: ranked by the passive score, a move stops at its first
+    value below the incumbent's worst case (it cannot rank higher), its directions taken from the
+    incumbent's worst up."""
+    if rank_by != "passive" or not incumbent.ok:
+        return score
+    first = tuple(sorted(incumbent.values, key=lambda k: incumbent.values[k]))
+    return replace(score, floor=incumbent.score, first=first)
+
+
 def _whole(*values: object) -> list[int]:
     """The counts of ``plan_grasps`` checked: ``n, top, seed, verify, refine, rounds`` (``n``,
     ``top`` >= 1; ``verify`` in ``[0, top]``; the others >= 0)."""
@@ -155,9 +170,9 @@ def _whole(*values: object) -> list[int]:
 
 def _setup(
     hand: str, obj: object, preload: object, method: str, fields: dict[str, Any]
-) -> tuple[GraspSpec, ApproachFrame, list[str], float | None]:
+) -> tuple[GraspSpec, ApproachFrame, list[str], float | None, Any]:
     """The base record (object in its own frame, preload), the hand's approach frame, its
-    driving actuators and the preload budget (``None`` without one)."""
+    driving actuators, the preload budget (``None`` without one) and the hand."""
     if {"object", "command", "id", "q"} & set(fields):
         raise InvalidInputError("fields", "'object', 'command', 'id' and 'q' are set by plan_grasps")
     probe = GraspSpec(hand, _object(obj), preload_method=method, **fields)
@@ -165,7 +180,7 @@ def _setup(
     drivers = [a.name for a in hand_model.actuators if a.kind != "locked"]
     command, budget = _preload(preload, drivers)
     base = replace(probe, command=command)
-    return base, ApproachFrame.of_hand(hand_model, base.q_open), drivers, budget
+    return base, ApproachFrame.of_hand(hand_model, base.q_open), drivers, budget, hand_model
 
 
 def plan_grasps(
@@ -228,15 +243,17 @@ def plan_grasps(
     step_t, step_r = _pair("step", step)
     standoff_range, dup = _pair("standoff", standoff, lo_ok=True), _pair("duplicate", duplicate, lo_ok=True)
     score = DisturbanceScore(cast(Any, disturbances), method, upper, steps)
-    base, frame, drivers, budget = _setup(hand, obj, preload, method, fields)
+    base, frame, drivers, budget, hand_model = _setup(hand, obj, preload, method, fields)
     run = {"executor": executor, "workers": workers}
     batch = _progress(progress, n + rounds * refine * (12 + len(drivers) * (len(drivers) - 1) * bool(budget)))
-    specs = sample_specs(base, frame, n, seed, standoff_range)
+    specs = sample_specs(base, frame, n, seed, standoff_range, hand_model)
     t1 = time.perf_counter()
     cands = score_batch(specs, score, "sampled", None, run, batch(n))
     t2 = time.perf_counter()
     seeds = distinct(ranked(cands, rank_by), refine, frame.centre, *dup)
-    rescore = lambda s, parents: score_batch(s, score, "refined", parents, run, batch(len(s)))  # noqa: E731
+    rescore = lambda s, parents, inc: score_batch(  # noqa: E731
+        s, _pruning(score, inc, rank_by), "refined", parents, run, batch(len(s))
+    )
     moves_of = lambda c, s: neighbours(c, s, frame.centre, budget, drivers)  # noqa: E731
     refined = local_search(seeds, rescore, Steps(step_t, step_r, 0.25), rounds, rank_by, moves_of)
     t3 = time.perf_counter()
