@@ -94,8 +94,8 @@ class OpenHand:
         obj: The object's :class:`ObjectSpec` (its pose is ignored).
         frame: The hand's approach frame.
         tolerance: The contact tolerance [m]: the approach stops with the nearest geometry
-            between 0.6 and 0.8 of it from the object (a touching palm is a contact; a touching
-            finger is not yet stopped by the auto-close, which stops below half of it).
+            between 1.6 and 2 of it from the object, just outside the contact detection: a palm
+            that no finger can press against is not a contact (no preload could load it).
     """
 
     def __init__(self, hand: Any, q_open: object, obj: ObjectSpec, frame: ApproachFrame, tolerance: float):
@@ -132,15 +132,15 @@ class OpenHand:
 
     def first_touch(self, point: np.ndarray, normal: np.ndarray, roll: float, depth: float) -> float:
         """The depth [m] at which the open hand, coming in along ``-normal`` from where the
-        bounding spheres are apart, first comes within ``0.8 * tolerance`` of the object, or
+        bounding spheres are apart, first comes within ``2 * tolerance`` of the object, or
         ``depth`` if it gets there first (conservative advancement: each step is the current
-        clearance less ``0.6 * tolerance``, so the hand never enters the object; at most 64
+        clearance less ``1.6 * tolerance``, so the hand never enters the object; at most 64
         steps, then the last clear depth)."""
         frame, tol = self.frame, self.tolerance
         depth_now = -(float(np.linalg.norm(point - self.object_centre)) + self.object_radius + self.hand_radius)
         for _ in range(64):
-            advance = self.clearance(approach_pose(frame, point, normal, roll, depth_now)) - 0.6 * tol
-            if advance <= 0.2 * tol:
+            advance = self.clearance(approach_pose(frame, point, normal, roll, depth_now)) - 1.6 * tol
+            if advance <= 0.4 * tol:
                 return depth_now
             if depth_now + advance >= depth:
                 return depth
@@ -216,6 +216,25 @@ def surface_samples(obj: ObjectSpec, n: int, rng: np.random.Generator) -> tuple[
     if obj.shape == "cylinder":
         return _cylinder_points(float(cast(float, obj.radius)), float(cast(float, obj.length)), rng, n)
     return _mesh_points(obj, rng, n)
+
+
+def aligned_roll(normal: np.ndarray, pick: int) -> float:
+    """The roll [rad] about ``normal`` (object frame, unit, (3,)) that turns the hand's reference
+    axis onto one of the object frame's axes seen across the normal: the axes not within 60° of
+    the normal, each with both signs, in order x, y, z; ``pick`` chooses among them (modulo their
+    number). A box face's edges, a cylinder's axis or its circumference."""
+    n = normal / np.linalg.norm(normal)
+    u = _perpendicular(n)
+    v = np.cross(n, u)
+    options = []
+    for e in np.eye(3):
+        d = e - float(e @ n) * n
+        if np.linalg.norm(d) > 0.5:
+            options += [d, -d]
+    if not options:  # unreachable: two of three orthogonal axes are always > 60° from a unit normal
+        return 0.0
+    d = options[pick % len(options)]
+    return math.atan2(float(d @ v), float(d @ u))
 
 
 def approach_pose(

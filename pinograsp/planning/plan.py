@@ -29,7 +29,7 @@ from ..core.settings import DEFAULT_METHOD
 from ..core.validate import MAX_SAMPLES, choice, count, finite_number, positive_number, whole_number
 from ..errors import InvalidInputError
 from ..robots.collision import DEFAULT_TOLERANCE
-from .approach import ApproachFrame, OpenHand, approach_pose, surface_samples
+from .approach import ApproachFrame, OpenHand, aligned_roll, approach_pose, surface_samples
 from .records import GraspPlan, GraspPlans, PlanTiming, RankBy
 from .search import Candidate, Steps, distinct, local_search, neighbours, placed, ranked, score_batch
 from .verify import verify_plan
@@ -74,12 +74,14 @@ def sample_specs(
     points, normals = surface_samples(base.object, n, rng)
     rolls = rng.uniform(0.0, 2 * math.pi, n)
     depths = (1.0 - rng.uniform(standoff[0], standoff[1], n)) * frame.reach
-    pull = rng.uniform(0.5, 1.0, n)
+    pull = (rng.uniform(0.0, 1.0, n) < 0.5).astype(float)  # half through the middle
+    aligned, pick = rng.uniform(0.0, 1.0, n) < 0.5, rng.integers(0, 12, n)  # 12: uniform over 4 or 6 options
     tolerance = DEFAULT_TOLERANCE if base.tolerance is None else float(base.tolerance)
     open_hand = OpenHand(hand, base.q_open, base.object, frame, tolerance)
     out = []
     for i in range(n):
-        p, nrm, roll = open_hand.centred(points[i], normals[i], float(pull[i])), normals[i], float(rolls[i])
+        p, nrm = open_hand.centred(points[i], normals[i], float(pull[i])), normals[i]
+        roll = aligned_roll(nrm, int(pick[i])) if aligned[i] else float(rolls[i])
         depth = open_hand.first_touch(p, nrm, roll, float(depths[i]))
         out.append(placed(base, approach_pose(frame, p, nrm, roll, depth), id=f"c{i}"))
     return out
@@ -144,6 +146,15 @@ def _progress(progress: Callable[[int, int], None] | None, total: int) -> Callab
         return report
 
     return batch
+
+
+def _warm() -> None:
+    """Import the scoring's modules here, so that forked local workers inherit them instead of
+    importing them again for every batch."""
+    import importlib
+
+    for name in ("preload", "max_wrench", "metrics", "response"):
+        importlib.import_module(f"pinograsp.analysis.{name}")
 
 
 def _pruning(score: DisturbanceScore, incumbent: Candidate, rank_by: RankBy) -> DisturbanceScore:
@@ -238,6 +249,7 @@ def plan_grasps(
         InvalidInputError, UnknownNameError, MissingDependencyError (pandas; MuJoCo with ``verify``).
     """
     t0 = time.perf_counter()
+    _warm()
     n, top, seed, verify, refine, rounds = _whole(n, top, seed, verify, refine, rounds)
     rank_by = cast(RankBy, choice("rank_by", rank_by, ("passive", "epsilon")))
     step_t, step_r = _pair("step", step)
