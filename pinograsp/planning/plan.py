@@ -30,6 +30,7 @@ from ..core.validate import MAX_SAMPLES, choice, count, finite_number, positive_
 from ..errors import InvalidInputError
 from ..robots.collision import DEFAULT_TOLERANCE
 from .approach import ApproachFrame, OpenHand, aligned_roll, approach_pose, surface_samples
+from .screen import PRESSED, PreloadScreen
 from .records import GraspPlan, GraspPlans, PlanTiming, RankBy
 from .search import Candidate, Steps, distinct, local_search, neighbours, placed, ranked, score_batch
 from .verify import verify_plan
@@ -148,6 +149,30 @@ def _progress(progress: Callable[[int, int], None] | None, total: int) -> Callab
     return batch
 
 
+def _score_sampled(
+    specs: list[GraspSpec], score: DisturbanceScore, run: dict[str, Any], progress: Any
+) -> list[Candidate]:
+    """The sampled candidates scored; with an ``"auto"`` preload, those whose closed contacts
+    cannot even balance each other with every contact pressing (:mod:`.screen`, a linear
+    program) are ``no_grasp (no_preload)`` without the preload design."""
+    if not specs or specs[0].command != "auto":
+        return score_batch(specs, score, "sampled", None, run, progress)
+    from ..batch.evaluate import evaluate_grasps
+
+    probe = [replace(s, command=1.0) for s in specs]  # a command only to build the contacts
+    rows = evaluate_grasps(probe, score=PreloadScreen(), **run).to_dict("records")
+    keep = [i for i, r in enumerate(rows) if r["status"] == "ok" and r["pressed"] > PRESSED]
+    scored = dict(zip(keep, score_batch([specs[i] for i in keep], score, "sampled", None, run, progress)))
+    out = []
+    for i, (spec, row) in enumerate(zip(specs, rows)):
+        if i in scored:
+            out.append(scored[i])
+            continue
+        status, reason = (row["status"], row["reason"]) if row["status"] != "ok" else ("no_grasp", "no_preload")
+        out.append(Candidate(spec, status, reason, {}, 0.0, 0.0, {}, "sampled", 0.0))
+    return out
+
+
 def _warm() -> None:
     """Import the scoring's modules here, so that forked local workers inherit them instead of
     importing them again for every batch."""
@@ -260,7 +285,7 @@ def plan_grasps(
     batch = _progress(progress, n + rounds * refine * (12 + len(drivers) * (len(drivers) - 1) * bool(budget)))
     specs = sample_specs(base, frame, n, seed, standoff_range, hand_model)
     t1 = time.perf_counter()
-    cands = score_batch(specs, score, "sampled", None, run, batch(n))
+    cands = _score_sampled(specs, score, run, batch(n))
     t2 = time.perf_counter()
     seeds = distinct(ranked(cands, rank_by), refine, frame.centre, *dup)
     rescore = lambda s, parents, inc: score_batch(  # noqa: E731
