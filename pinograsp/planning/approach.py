@@ -49,40 +49,45 @@ class ApproachFrame:
 
         The grasp centre is the centre of the box bounding the moving geometries' centres at five
         configurations of the free closing sweep (each closing joint from ``q_open`` to its limit
-        in the closing direction): a hand whose open fingers lie flat (the Barrett) gets its palm
-        normal as approach axis, and a thumb opposing two fingers does not pull the centre to
-        the fingers' side."""
-        moving: list[np.ndarray] = []
-        fixed: list[np.ndarray] = []
-        for cfg in _closing_sweep(hand, q_open):
-            for i, g in enumerate(hand.geometry.geometryObjects):
-                centre = np.array(cfg.geometry_data.oMg[i].translation)
-                if g.parentJoint > 0:
-                    moving.append(centre)
-                elif not moving:  # the fixed geometries once (they do not move)
-                    fixed.append(centre)
-        if not moving:
+        in the closing direction): a thumb opposing two fingers does not pull it to the fingers'
+        side. The approach axis is the mean direction in which the moving geometries set off
+        when the hand starts closing (2 % of the sweep) — the palm normal of a hand whose fingers
+        curl (Barrett, Ability, Allegro) — unless those motions mostly cancel (a gripper's
+        opposed jaws: less than 0.3 of their mean length), then from the palm to the centre."""
+        is_moving = np.array([g.parentJoint > 0 for g in hand.geometry.geometryObjects])
+        if not is_moving.any():
             raise InvalidInputError("hand", f"{hand.name}: no moving contact geometry to grasp with")
-        pts = np.array(moving)
+        sweep = [_centres(c) for c in _closing_sweep(hand, q_open, (0.0, 0.02, 0.25, 0.5, 0.75, 1.0))]
+        pts = np.concatenate([c[is_moving] for c in sweep[:1] + sweep[2:]])
         centre = (pts.min(axis=0) + pts.max(axis=0)) / 2
-        palm = np.mean(fixed, axis=0) if fixed else np.zeros(3)
+        palm = np.mean(sweep[0][~is_moving], axis=0) if (~is_moving).any() else np.zeros(3)
         axis = centre - palm
-        if not np.linalg.norm(axis) > 1e-9:
-            raise InvalidInputError("hand", f"{hand.name}: grasp centre at the palm; no approach axis")
         reach = float(np.linalg.norm(axis))
-        return cls(centre, axis / reach, _perpendicular(axis / reach), reach)
+        if not reach > 1e-9:
+            raise InvalidInputError("hand", f"{hand.name}: grasp centre at the palm; no approach axis")
+        start = (sweep[1] - sweep[0])[is_moving]  # how the moving geometries set off when closing
+        mean = start.mean(axis=0)
+        if np.linalg.norm(mean) > 0.3 * float(np.linalg.norm(start, axis=1).mean()):
+            axis = mean  # the fingers curl that way (a palm normal), not opposed as a gripper's jaws
+        axis = axis / np.linalg.norm(axis)
+        return cls(centre, axis, _perpendicular(axis), reach)
 
 
-def _closing_sweep(hand: Any, q_open: object, n: int = 5) -> list[Any]:
-    """Forward kinematics at ``n`` configurations from ``q_open`` to the joint limits along the
-    closing direction (each closing joint interpolated to its limit; the others at ``q_open``)."""
+def _centres(config: Any) -> np.ndarray:
+    """The collision geometries' centres at a computed configuration, hand base frame [m], (ngeom, 3)."""
+    return np.array([np.array(m.translation) for m in config.geometry_data.oMg])
+
+
+def _closing_sweep(hand: Any, q_open: object, fractions: tuple[float, ...]) -> list[Any]:
+    """Forward kinematics at ``fractions`` of the way from ``q_open`` to the joint limits along
+    the closing direction (each closing joint interpolated to its limit; the others at ``q_open``)."""
     from ..robots.kinematics import HandConfiguration
 
     q0 = np.clip(hand.configuration(None if q_open is None else dict(cast(Any, q_open))), hand.lower, hand.upper)
     d = hand.closing_direction() * hand.closing_signs
     end = np.where(d > 0, hand.upper, np.where(d < 0, hand.lower, q0))
     end = np.where(np.isfinite(end), end, q0 + np.sign(d) * math.pi)  # a continuous joint: half a turn
-    return [HandConfiguration.at(hand, q0 + t * (end - q0)) for t in np.linspace(0.0, 1.0, n)]
+    return [HandConfiguration.at(hand, q0 + t * (end - q0)) for t in fractions]
 
 
 class OpenHand:
@@ -94,8 +99,10 @@ class OpenHand:
         obj: The object's :class:`ObjectSpec` (its pose is ignored).
         frame: The hand's approach frame.
         tolerance: The contact tolerance [m]: the approach stops with the nearest geometry
-            between 1.6 and 2 of it from the object, just outside the contact detection: a palm
-            that no finger can press against is not a contact (no preload could load it).
+            between 1.6 and 1.8 of it from the object, just outside the contact detection (a
+            palm that no finger can press against is not a contact: no preload could load it),
+            or, touching, between 0.6 and 0.8 of it (a contact that the auto-close does not
+            stop, which stops below half of it).
     """
 
     def __init__(self, hand: Any, q_open: object, obj: ObjectSpec, frame: ApproachFrame, tolerance: float):
@@ -130,17 +137,21 @@ class OpenHand:
 
         return float(geometry_distances(self.config, self.object.with_pose(T)).min())
 
-    def first_touch(self, point: np.ndarray, normal: np.ndarray, roll: float, depth: float) -> float:
+    def first_touch(
+        self, point: np.ndarray, normal: np.ndarray, roll: float, depth: float, touch: bool = False
+    ) -> float:
         """The depth [m] at which the open hand, coming in along ``-normal`` from where the
-        bounding spheres are apart, first comes within ``2 * tolerance`` of the object, or
-        ``depth`` if it gets there first (conservative advancement: each step is the current
-        clearance less ``1.6 * tolerance``, so the hand never enters the object; at most 64
-        steps, then the last clear depth)."""
+        bounding spheres are apart, first comes within ``1.8 * tolerance`` of the object (with
+        ``touch``: ``0.8 * tolerance``, so that what touches first — a palm the fingers press
+        the object against — is a contact), or ``depth`` if it gets there first (conservative
+        advancement: each step is the current clearance less ``1.6`` (``0.6``) ``* tolerance``,
+        so the hand never enters the object; at most 64 steps, then the last clear depth)."""
         frame, tol = self.frame, self.tolerance
         depth_now = -(float(np.linalg.norm(point - self.object_centre)) + self.object_radius + self.hand_radius)
         for _ in range(64):
-            advance = self.clearance(approach_pose(frame, point, normal, roll, depth_now)) - 1.6 * tol
-            if advance <= 0.4 * tol:
+            gap = 0.6 * tol if touch else 1.6 * tol
+            advance = self.clearance(approach_pose(frame, point, normal, roll, depth_now)) - gap
+            if advance <= 0.2 * tol:
                 return depth_now
             if depth_now + advance >= depth:
                 return depth

@@ -77,13 +77,14 @@ def sample_specs(
     depths = (1.0 - rng.uniform(standoff[0], standoff[1], n)) * frame.reach
     pull = (rng.uniform(0.0, 1.0, n) < 0.5).astype(float)  # half through the middle
     aligned, pick = rng.uniform(0.0, 1.0, n) < 0.5, rng.integers(0, 12, n)  # 12: uniform over 4 or 6 options
+    touch = rng.uniform(0.0, 1.0, n) < 0.5
     tolerance = DEFAULT_TOLERANCE if base.tolerance is None else float(base.tolerance)
     open_hand = OpenHand(hand, base.q_open, base.object, frame, tolerance)
     out = []
     for i in range(n):
         p, nrm = open_hand.centred(points[i], normals[i], float(pull[i])), normals[i]
         roll = aligned_roll(nrm, int(pick[i])) if aligned[i] else float(rolls[i])
-        depth = open_hand.first_touch(p, nrm, roll, float(depths[i]))
+        depth = open_hand.first_touch(p, nrm, roll, float(depths[i]), bool(touch[i]))
         out.append(placed(base, approach_pose(frame, p, nrm, roll, depth), id=f"c{i}"))
     return out
 
