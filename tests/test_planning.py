@@ -133,3 +133,41 @@ def test_verify_simulates_every_direction_of_the_best_plan():
     assert len(checks) == 26
     finite = [c for c in checks if math.isfinite(c.predicted)]
     assert all(c.simulated >= 0.9 * c.predicted for c in finite), [c.to_dict() for c in checks]
+
+
+def test_readme_plan_example_prints_the_closed_form(tmp_path, monkeypatch, capsys):
+    """The README's "Plan a grasp" example: its best plan is the jaw-on-sphere closed form."""
+    import re
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    code = re.search(r"<!-- readme-example: plan -->\n```python\n(.*?)```", text, re.S).group(1)
+    monkeypatch.chdir(tmp_path)
+    ns: dict = {}
+    exec(compile(code, "README:plan", "exec"), ns)
+    plans, out = ns["plans"], capsys.readouterr().out
+    first, give_way = _closed_forms()
+    best = plans.plans[0]
+    which = first if math.isclose(best.score, min(first.values()), rel_tol=1e-6) else give_way
+    assert math.isclose(best.score, min(which.values()), rel_tol=1e-6)
+    assert f"best {best.score:.4g}" in out and best.worst.count("f") == 3  # a cube corner, as printed
+    assert pg.load_grasps(tmp_path / "plans.yaml").grasps[0].command == best.spec.command
+
+
+def test_sampled_approaches_never_start_inside_the_object():
+    """Each sampled approach's open hand is clear of the object: the Barrett on a box (whose open
+    fingers lie flat beside the palm) comes in along its palm normal to its first touch."""
+    from pinograsp.planning.approach import ApproachFrame, OpenHand
+    from pinograsp.planning.plan import sample_specs
+
+    box = pg.ObjectSpec("box", size=(0.05, 0.06, 0.08))
+    base = pg.GraspSpec("barrett_bh8_282", box)
+    hand = pg.Hand.builtin("barrett_bh8_282")
+    frame = ApproachFrame.of_hand(hand)
+    assert np.allclose(frame.axis, [0, 0, 1], atol=0.1)  # the palm normal
+    open_hand = OpenHand(hand, None, box, frame, 1e-3)
+    specs = sample_specs(base, frame, 40, 0, (0.0, 1.0), hand)
+    gaps = np.array([open_hand.clearance(s.object.pose) for s in specs])
+    assert gaps.min() > 0.5e-3  # outside the auto-close's stop distance: no finger starts stopped
+    # stopped touching (0.6-0.8 mm), just outside the 1 mm tolerance (1.6-1.8 mm) or at their depth
+    assert np.all((gaps < 0.8e-3 + 1e-9) | (gaps > 1.6e-3 - 1e-9))

@@ -70,14 +70,13 @@ def _val(v: Any) -> float:
 
 def plan_pair(hand: str, obj: str, n: int, workers: int, grasps: int) -> dict[str, Any]:
     """Plan one pair and collect its top-5 and its first ``grasps`` sampled grasps (as specs)."""
-    from pinograsp.planning.plan import _setup, sample_specs
-    from pinograsp.planning.search import score_batch
+    from pinograsp.planning.plan import _score_sampled, _setup, sample_specs
 
     plans = pg.plan_grasps(hand, OBJECTS[obj], n=n, top=5, workers=workers, seed=0)
     score = pg.DisturbanceScore()
     base, frame, _, _, hand_model = _setup(hand, OBJECTS[obj], "auto", plans.score_options["method"], {})
     specs = sample_specs(base, frame, n, 0, (0.0, 1.0), hand_model)
-    cands = score_batch(specs, score, "sampled", None, {"executor": "local", "workers": workers}, None)
+    cands = _score_sampled(specs, score, {"executor": "local", "workers": workers}, None)
     ok = [c for c in cands if c.ok][:grasps]
     t = plans.timing
     return {
