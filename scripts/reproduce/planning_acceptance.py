@@ -80,6 +80,7 @@ def plan_pair(hand: str, obj: str, n: int, workers: int, grasps: int) -> dict[st
     ok = [c for c in cands if c.ok][:grasps]
     t = plans.timing
     return {
+        "n": n, "workers": workers,
         "counts": plans.counts, "sampled": plans.sampled, "refined": plans.refined,
         "best_sampled": _num(plans.best_sampled), "best": _num(plans.best),
         "timing": {k: getattr(t, k) for k in ("sample", "score", "refine", "finish", "total")},
@@ -202,7 +203,7 @@ def report(data: dict[str, Any]) -> str:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--run", action="store_true", help="plan and simulate what the cache lacks")
-    ap.add_argument("--n", type=int, default=200, help="approaches sampled per pair (default 200)")
+    ap.add_argument("--n", type=int, default=100, help="approaches sampled per pair (default 100)")
     ap.add_argument("--grasps", type=int, default=50, help="sampled grasps of the correlation study")
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--cpu", type=float, default=2400.0, help="simulation CPU budget [s] of this run")
