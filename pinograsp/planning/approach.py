@@ -83,7 +83,9 @@ def _closing_sweep(hand: Any, q_open: object, fractions: tuple[float, ...]) -> l
     the closing direction (each closing joint interpolated to its limit; the others at ``q_open``)."""
     from ..robots.kinematics import HandConfiguration
 
-    q0 = np.clip(hand.configuration(None if q_open is None else dict(cast(Any, q_open))), hand.lower, hand.upper)
+    q0 = np.clip(
+        hand.configuration(None if q_open is None else dict(cast(Any, q_open))), hand.lower, hand.upper
+    )
     d = hand.closing_direction() * hand.closing_signs
     end = np.where(d > 0, hand.upper, np.where(d < 0, hand.lower, q0))
     end = np.where(np.isfinite(end), end, q0 + np.sign(d) * math.pi)  # a continuous joint: half a turn
@@ -147,7 +149,9 @@ class OpenHand:
         advancement: each step is the current clearance less ``1.6`` (``0.6``) ``* tolerance``,
         so the hand never enters the object; at most 64 steps, then the last clear depth)."""
         frame, tol = self.frame, self.tolerance
-        depth_now = -(float(np.linalg.norm(point - self.object_centre)) + self.object_radius + self.hand_radius)
+        depth_now = -(
+            float(np.linalg.norm(point - self.object_centre)) + self.object_radius + self.hand_radius
+        )
         for _ in range(64):
             gap = 0.6 * tol if touch else 1.6 * tol
             advance = self.clearance(approach_pose(frame, point, normal, roll, depth_now)) - gap

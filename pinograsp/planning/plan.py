@@ -30,8 +30,8 @@ from ..core.validate import MAX_SAMPLES, choice, count, finite_number, positive_
 from ..errors import InvalidInputError
 from ..robots.collision import DEFAULT_TOLERANCE
 from .approach import ApproachFrame, OpenHand, aligned_roll, approach_pose, surface_samples
-from .screen import PRESSED, PreloadScreen
 from .records import GraspPlan, GraspPlans, PlanTiming, RankBy
+from .screen import PRESSED, PreloadScreen
 from .search import Candidate, Steps, distinct, local_search, neighbours, placed, ranked, score_batch
 from .verify import verify_plan
 
@@ -169,7 +169,9 @@ def _score_sampled(
         if i in scored:
             out.append(scored[i])
             continue
-        status, reason = (row["status"], row["reason"]) if row["status"] != "ok" else ("no_grasp", "no_preload")
+        status, reason = (
+            (row["status"], row["reason"]) if row["status"] != "ok" else ("no_grasp", "no_preload")
+        )
         out.append(Candidate(spec, status, reason, {}, 0.0, 0.0, {}, "sampled", 0.0))
     return out
 

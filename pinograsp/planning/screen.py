@@ -37,7 +37,9 @@ def internal_force(model: Any) -> float:
     b_eq = np.r_[np.zeros(G.shape[0]), 1.0]
     a_ub = np.c_[-E, np.ones(E.shape[0])]  # t <= every normal force
     bounds = [(0.0, None)] * nb + [(None, 1.0)]
-    r = linprog(cost, A_ub=a_ub, b_ub=np.zeros(E.shape[0]), A_eq=a_eq, b_eq=b_eq, bounds=bounds, method="highs")
+    r = linprog(
+        cost, A_ub=a_ub, b_ub=np.zeros(E.shape[0]), A_eq=a_eq, b_eq=b_eq, bounds=bounds, method="highs"
+    )
     return max(0.0, float(-r.fun)) if r.status == 0 else 0.0
 
 

@@ -134,7 +134,7 @@ def run(args: argparse.Namespace) -> None:
                 print("plan", key, flush=True)
                 data["pairs"][key] = plan_pair(hand, obj, args.n, args.workers, args.grasps)
                 _save(data, args.cache)
-    spent = sum(s["cpu"] for p in data["pairs"].values() for k in ("plans", "grasps") for g in p[k] for s in g["sims"].values())
+    spent = _sim_cpu(data)
     for _, key, kind, i, label in _tasks(data, args.grasps):
         item = data["pairs"][key][kind][i]
         if label in item["sims"]:
@@ -158,6 +158,12 @@ def run(args: argparse.Namespace) -> None:
         print(f"{key} {kind}[{i}] {label}: {sim['status']} load {sim['load']} ({spent:.0f} s)", flush=True)
 
 
+def _sim_cpu(data: dict[str, Any]) -> float:
+    """CPU [s] of every simulation in the cache."""
+    pairs = data["pairs"].values()
+    return sum(s["cpu"] for p in pairs for k in ("plans", "grasps") for g in p[k] for s in g["sims"].values())
+
+
 def _spearman(x: list[float], y: list[float]) -> float:
     from scipy.stats import spearmanr
 
@@ -168,11 +174,19 @@ def _spearman(x: list[float], y: list[float]) -> float:
 
 def report(data: dict[str, Any]) -> str:
     """The markdown tables of docs/planning.md, "Acceptance"."""
-    a = ["| pair | predicted worst case of plans 1-5 [N] | plans predicted 0 | plans simulated (all directions) | directions simulated | holding at ≥ 90 % of predicted worst case along every direction |",
-         "|---|---|---:|---:|---:|---|"]  # fmt: skip
-    b = ["| pair | grasps simulated (6 faces each) | Spearman(passive, simulated) | Spearman(ε, simulated) |", "|---|---:|---:|---:|"]
-    c = ["| pair | sampled ok | best sampled | best after refinement | gain | refined candidates | time split (s) |",
-         "|---|---:|---:|---:|---:|---:|---|"]  # fmt: skip
+    a = [
+        "| pair | predicted worst case of plans 1-5 [N] | plans predicted 0 | plans simulated "
+        "(all directions) | directions simulated | holding at ≥ 90 % of it along every direction |",
+        "|---|---|---:|---:|---:|---|",
+    ]
+    b = [
+        "| pair | grasps simulated (6 faces each) | Spearman(passive, simulated) | Spearman(ε, simulated) |",
+        "|---|---:|---:|---:|",
+    ]
+    c = [
+        "| pair | sampled ok | best sampled | best after refinement | gain | refined | time split (s) |",
+        "|---|---:|---:|---:|---:|---:|---|",
+    ]
     for key, pair in data["pairs"].items():
         zero = sum(_val(p["score"]) == 0 for p in pair["plans"])
         full = [p for p in pair["plans"] if len(p["sims"]) == len(p["values"]) > 0]
@@ -191,13 +205,18 @@ def report(data: dict[str, Any]) -> str:
         bs, bb = _val(pair["best_sampled"]), _val(pair["best"])
         gain = "inf" if bb == math.inf and bs < math.inf else f"{bb / bs:.2f}×" if bs > 0 else "n/a"
         ok = pair["counts"].get("ok", 0)
+        split = ", ".join(f"{k} {t[k]:.1f}" for k in ("sample", "score", "refine", "total"))
         c.append(
-            f"| {key} | {ok} / {pair['sampled']} | {bs:.4g} | {bb:.4g} | {gain} | {pair['refined']} | "
-            f"sample {t['sample']:.1f}, score {t['score']:.1f}, refine {t['refine']:.1f}, total {t['total']:.1f} |"
+            f"| {key} | {ok} / {pair['sampled']} | {bs:.4g} | {bb:.4g} | {gain} | "
+            f"{pair['refined']} | {split} |"
         )
-    cpu = sum(s["cpu"] for p in data["pairs"].values() for k in ("plans", "grasps") for g in p[k] for s in g["sims"].values())
-    return "\n".join(["(a) Top-5 plans in simulation", "", *a, "", "(b) Rank correlation over sampled grasps (6 face directions)", "", *b,
-                      "", "(c) Refinement", "", *c, "", f"Simulation CPU in the cache: {cpu / 60:.1f} min."])  # fmt: skip
+    parts = [
+        "(a) Top-5 plans in simulation", "", *a, "",
+        "(b) Rank correlation over sampled grasps (6 face directions)", "", *b, "",
+        "(c) Refinement", "", *c, "",
+        f"Simulation CPU in the cache: {_sim_cpu(data) / 60:.1f} min.",
+    ]  # fmt: skip
+    return "\n".join(parts)
 
 
 def main() -> None:
