@@ -105,6 +105,24 @@ def test_disturbance_score_counts_multiples_of_a_wrench():
         pg.DisturbanceScore(disturbances="sphere")
 
 
+def test_disturbance_score_floor_stops_at_the_first_value_below_it():
+    model, command, _ = build_grasp(
+        pg.GraspSpec("parallel_jaw", SPHERE.with_pose((0, 0.045, 0), (0, 0, 0)), command=F)
+    )
+    full = pg.DisturbanceScore()(model, command)
+    labels = pg.DisturbanceScore().labels
+    vals = {a: full[f"max_{a}"] for a in labels}
+    order = sorted(labels, key=lambda a: vals[a])
+    cut = pg.DisturbanceScore(floor=math.inf, first=(order[0],))(model, command)
+    assert cut["pruned"] == 1.0 and cut["score"] == vals[order[0]]
+    assert [a for a in labels if not math.isnan(cut[f"max_{a}"])] == [order[0]]  # one path only
+    kept = pg.DisturbanceScore(floor=vals[order[0]])(model, command)  # nothing below the worst
+    assert kept["pruned"] == 0.0 and all(kept[f"max_{a}"] == vals[a] for a in labels)
+    assert "pruned" not in full
+    with pytest.raises(pg.InvalidInputError, match="first"):
+        pg.DisturbanceScore(first=("+fq",))
+
+
 def test_bad_arguments_are_named():
     with pytest.raises(pg.InvalidInputError, match="rank_by"):
         pg.plan_grasps("parallel_jaw", SPHERE, rank_by="force")
@@ -171,3 +189,31 @@ def test_sampled_approaches_never_start_inside_the_object():
     assert gaps.min() > 0.5e-3  # outside the auto-close's stop distance: no finger starts stopped
     # stopped touching (0.6-0.8 mm), just outside the 1 mm tolerance (1.6-1.8 mm) or at their depth
     assert np.all((gaps < 0.8e-3 + 1e-9) | (gaps > 1.6e-3 - 1e-9))
+
+
+def test_the_screen_only_drops_approaches_without_a_preload():
+    """The screen's linear program is a relaxation of the preload design: an approach it drops
+    has no "auto" preload (equilibrium_preload raises), and one that has a preload passes it."""
+    from dataclasses import replace
+
+    from pinograsp.planning.approach import ApproachFrame
+    from pinograsp.planning.plan import sample_specs
+    from pinograsp.planning.screen import PRESSED, internal_force
+
+    box = pg.ObjectSpec("box", size=(0.05, 0.06, 0.08))
+    hand = pg.Hand.builtin("barrett_bh8_282")
+    specs = sample_specs(
+        pg.GraspSpec("barrett_bh8_282", box), ApproachFrame.of_hand(hand), 10, 0, (0, 1), hand
+    )
+    verdicts = []
+    for spec in specs:
+        model, _, _ = build_grasp(replace(spec, command=1.0))
+        try:
+            build_grasp(spec)
+            found = True
+        except pg.NoPreloadError:
+            found = False
+        pressed = internal_force(model) > PRESSED
+        assert pressed or not found, spec.id
+        verdicts.append((pressed, found))
+    assert (False, False) in verdicts and (True, True) in verdicts  # both kinds occur here

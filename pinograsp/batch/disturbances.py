@@ -81,7 +81,8 @@ class DisturbanceScore:
         method: The analysis method (default: the package's default method).
         upper: Search limit [N or N·m along the unit direction].
         steps: Search steps (a loading-path method ignores it).
-        floor: Stop as soon as one value falls below it (a local search's incumbent score): the
+        floor: Stop as soon as one value falls below it (a local search's incumbent score, ``inf``
+            for an incumbent unbounded along every disturbance): the
             row then has ``pruned`` 1 and NaN for the disturbances not answered; its ``score`` is
             an upper bound of the true worst case. ``-inf`` (default): every disturbance is
             answered and there is no ``pruned`` column.
@@ -105,8 +106,8 @@ class DisturbanceScore:
         bounded = self.method not in PATH_METHODS
         object.__setattr__(self, "steps", n_steps(self.steps, bounded=bounded))
         floor = float(self.floor) if isinstance(self.floor, (int, float)) else math.nan
-        if math.isnan(floor) or floor == math.inf:
-            raise InvalidInputError("floor", f"expected a number or -inf, got {self.floor!r}")
+        if math.isnan(floor):
+            raise InvalidInputError("floor", f"expected a number or ±inf, got {self.floor!r}")
         object.__setattr__(self, "floor", floor)
         unknown = [a for a in self.first if a not in self.labels]
         if unknown:
