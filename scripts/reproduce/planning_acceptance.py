@@ -16,7 +16,7 @@ a cylinder, the shipped torus mesh). Per pair:
 Every simulation is appended to the JSON cache as it finishes (``--cache``), so the run stops
 and resumes anywhere, and the tables regenerate from the cache alone::
 
-    nice python -m scripts.reproduce.planning_acceptance --run --cpu 2400   # ≤ 40 min of simulations
+    nice python -m scripts.reproduce.planning_acceptance --run --cpu 2400   # ≤ 40 CPU-min of simulations
     python -m scripts.reproduce.planning_acceptance                        # the tables, from the cache
 
 The simulations run in a fixed priority order until the CPU budget is spent: the best plan of
@@ -37,6 +37,7 @@ from typing import Any
 import numpy as np
 
 import pinograsp as pg
+from pinograsp.batch.disturbances import cube_directions
 
 ROOT = Path(__file__).resolve().parents[2]
 CACHE = ROOT / "scripts" / "reproduce" / "data" / "planning_acceptance.json"
@@ -101,7 +102,7 @@ def plan_pair(hand: str, obj: str, n: int, workers: int, grasps: int) -> dict[st
 def _simulate(spec: dict[str, Any], label: str, upper: float) -> dict[str, Any]:
     from pinograsp.batch.grasps import GraspSpec, build_grasp
 
-    labels, dirs = pg.batch.disturbances.cube_directions()
+    labels, dirs = cube_directions()
     w = np.zeros(6)
     w[:3] = dirs[labels.index(label)][:3]
     model, command, _ = build_grasp(GraspSpec(**spec))
@@ -115,7 +116,7 @@ def _tasks(data: dict[str, Any], grasps: int) -> list[tuple[int, str, str, int, 
     """(tier, pair, kind, index, label) in priority order."""
     out = []
     for key, pair in data["pairs"].items():
-        labels = pg.batch.disturbances.cube_directions()[0]
+        labels = cube_directions()[0]
         for i, p in enumerate(pair["plans"]):
             if _val(p["score"]) == 0:  # predicted to give at once: nothing to verify
                 continue
@@ -135,27 +136,41 @@ def run(args: argparse.Namespace) -> None:
                 data["pairs"][key] = plan_pair(hand, obj, args.n, args.workers, args.grasps)
                 _save(data, args.cache)
     spent = _sim_cpu(data)
+    todo = []
     for _, key, kind, i, label in _tasks(data, args.grasps):
         item = data["pairs"][key][kind][i]
         if label in item["sims"]:
             continue
-        if spent >= args.cpu:
-            print(f"CPU budget spent ({spent:.0f} s)", flush=True)
-            break
         predicted = _val(item["values"][label])
         if kind == "plans":
             worst = _val(item["score"])
             upper = HOLD * worst if 0 < worst < math.inf else 50.0
         else:
             upper = 2 * predicted if 0 < predicted < math.inf else 50.0
-        try:
-            sim = _simulate(item["spec"], label, upper)
-        except Exception as exc:  # a model the simulation refuses: recorded, not lost
-            sim = {"upper": upper, "load": "nan", "status": f"error: {type(exc).__name__}", "cpu": 0.0}
-        item["sims"][label] = sim
-        spent += sim["cpu"]
-        _save(data, args.cache)
-        print(f"{key} {kind}[{i}] {label}: {sim['status']} load {sim['load']} ({spent:.0f} s)", flush=True)
+        todo.append((key, kind, i, label, item["spec"], upper))
+    import multiprocessing as mp
+
+    with mp.get_context("fork").Pool(args.jobs) as pool:  # results arrive in priority order
+        for (key, kind, i, label, _, _), sim in zip(todo, pool.imap(_task, todo)):
+            data["pairs"][key][kind][i]["sims"][label] = sim
+            spent += sim["cpu"]
+            _save(data, args.cache)
+            print(
+                f"{key} {kind}[{i}] {label}: {sim['status']} load {sim['load']} ({spent:.0f} s)", flush=True
+            )
+            if spent >= args.cpu:
+                print(f"CPU budget spent ({spent:.0f} s)", flush=True)
+                pool.terminate()
+                break
+
+
+def _task(task: tuple) -> dict[str, Any]:
+    """One simulation of the queue (in a pool worker)."""
+    _, _, _, label, spec, upper = task
+    try:
+        return _simulate(spec, label, upper)
+    except Exception as exc:  # a model the simulation refuses: recorded, not lost
+        return {"upper": upper, "load": "nan", "status": f"error: {type(exc).__name__}", "cpu": 0.0}
 
 
 def _sim_cpu(data: dict[str, Any]) -> float:
@@ -224,7 +239,8 @@ def main() -> None:
     ap.add_argument("--run", action="store_true", help="plan and simulate what the cache lacks")
     ap.add_argument("--n", type=int, default=100, help="approaches sampled per pair (default 100)")
     ap.add_argument("--grasps", type=int, default=50, help="sampled grasps of the correlation study")
-    ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--workers", type=int, default=2, help="planning workers")
+    ap.add_argument("--jobs", type=int, default=2, help="simulations run side by side")
     ap.add_argument("--cpu", type=float, default=2400.0, help="simulation CPU budget [s] of this run")
     ap.add_argument("--cache", type=Path, default=CACHE)
     args = ap.parse_args()
