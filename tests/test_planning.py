@@ -134,7 +134,19 @@ def test_bad_arguments_are_named():
 
 def test_cli_plan_writes_a_grasps_file_that_batch_rescores(tmp_path, capsys):
     out = tmp_path / "plans"
-    argv = ["plan", "parallel_jaw", "sphere:0.02", "--n", "6", "--top", "2", "--preload", "20"]
+    argv = [
+        "plan",
+        "parallel_jaw",
+        "sphere:0.02",
+        "--n",
+        "6",
+        "--top",
+        "2",
+        "--preload",
+        "20",
+        "--refine",
+        "1",
+    ]
     rc, _, err = run(capsys, *argv, "--out", str(out))
     assert rc == 0, err
     assert {p.name for p in out.iterdir()} == {"plans.yaml", "plans.json", "plan_1.png", "plan_2.png"}
