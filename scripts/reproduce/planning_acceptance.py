@@ -17,7 +17,7 @@ Every simulation is appended to the JSON cache as it finishes (``--cache``), so 
 and resumes anywhere, and the tables regenerate from the cache alone::
 
     nice python -m scripts.reproduce.planning_acceptance --run --cpu 2400   # ≤ 40 CPU-min of simulations
-    python -m scripts.reproduce.planning_acceptance                        # the tables, from the cache
+    python -m scripts.reproduce.planning_acceptance --write                # the tables, from the cache
 
 The simulations run in a fixed priority order until the CPU budget is spent: the best plan of
 every pair, then 10 sampled grasps of every pair, then plans 2-5, then the remaining grasps.
@@ -48,6 +48,7 @@ OBJECTS = {
     "torus": pg.ObjectSpec("mesh", file=str(ROOT / "pinograsp" / "data" / "meshes" / "torus.stl")),
 }
 FACES = ("+fx", "-fx", "+fy", "-fy", "+fz", "-fz")
+BEGIN, END = "<!-- planning-acceptance -->", "<!-- /planning-acceptance -->"
 HOLD = 0.9  # fraction of the predicted worst case a plan must hold along every direction
 
 
@@ -243,10 +244,16 @@ def main() -> None:
     ap.add_argument("--jobs", type=int, default=2, help="simulations run side by side")
     ap.add_argument("--cpu", type=float, default=2400.0, help="simulation CPU budget [s] of this run")
     ap.add_argument("--cache", type=Path, default=CACHE)
+    ap.add_argument("--write", action="store_true", help="put the tables into docs/planning.md")
     args = ap.parse_args()
     if args.run:
         run(args)
-    print(report(_load(args.cache)))
+    text = report(_load(args.cache))
+    print(text)
+    if args.write:
+        doc = ROOT / "docs" / "planning.md"
+        head, rest = doc.read_text().split(BEGIN, 1)
+        doc.write_text(head + BEGIN + "\n" + text + "\n" + END + rest.split(END, 1)[1])
 
 
 if __name__ == "__main__":
