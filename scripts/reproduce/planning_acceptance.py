@@ -183,8 +183,8 @@ def _sim_cpu(data: dict[str, Any]) -> float:
 def _spearman(x: list[float], y: list[float]) -> float:
     from scipy.stats import spearmanr
 
-    if len(x) < 3:
-        return math.nan
+    if len(x) < 3 or len(set(x)) < 2 or len(set(y)) < 2:
+        return math.nan  # a constant ranking has no correlation
     return float(spearmanr(x, y).statistic)
 
 
@@ -219,15 +219,28 @@ def report(data: dict[str, Any]) -> str:
         b.append(f"| {key} | {len(done)} | {_spearman(passive, sim):.2f} | {_spearman(eps, sim):.2f} |")
         t = pair["timing"]
         bs, bb = _val(pair["best_sampled"]), _val(pair["best"])
-        gain = "inf" if bb == math.inf and bs < math.inf else f"{bb / bs:.2f}×" if bs > 0 else "n/a"
+        if bb == bs:
+            gain = "none"
+        elif bb == math.inf:
+            gain = "to unbounded"
+        else:
+            gain = f"{bb / bs:.2f}×" if bs > 0 else "from 0"
         ok = pair["counts"].get("ok", 0)
         split = ", ".join(f"{k} {t[k]:.1f}" for k in ("sample", "score", "refine", "total"))
         c.append(
             f"| {key} | {ok} / {pair['sampled']} | {bs:.4g} | {bb:.4g} | {gain} | "
             f"{pair['refined']} | {split} |"
         )
+    gave = [
+        f"- {key}, plan {i + 1} (predicted worst {_val(p['score']):.4g} N): {label} gave way at "
+        f"{_val(sim['load']):.4g} N of {sim['upper']:.4g} N ({sim['status']})"
+        for key, pair in data["pairs"].items()
+        for i, p in enumerate(pair["plans"])
+        for label, sim in p["sims"].items()
+        if sim["load"] != "inf"
+    ]
     parts = [
-        "(a) Top-5 plans in simulation", "", *a, "",
+        "(a) Top-5 plans in simulation", "", *a, "", "Directions that gave way:", "", *gave, "",
         "(b) Rank correlation over sampled grasps (6 face directions)", "", *b, "",
         "(c) Refinement", "", *c, "",
         f"Simulation CPU in the cache: {_sim_cpu(data) / 60:.1f} min.",
