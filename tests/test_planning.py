@@ -105,6 +105,24 @@ def test_disturbance_score_counts_multiples_of_a_wrench():
         pg.DisturbanceScore(disturbances="sphere")
 
 
+def test_disturbance_score_floor_stops_at_the_first_value_below_it():
+    model, command, _ = build_grasp(
+        pg.GraspSpec("parallel_jaw", SPHERE.with_pose((0, 0.045, 0), (0, 0, 0)), command=F)
+    )
+    full = pg.DisturbanceScore()(model, command)
+    labels = pg.DisturbanceScore().labels
+    vals = {a: full[f"max_{a}"] for a in labels}
+    order = sorted(labels, key=lambda a: vals[a])
+    cut = pg.DisturbanceScore(floor=math.inf, first=(order[0],))(model, command)
+    assert cut["pruned"] == 1.0 and cut["score"] == vals[order[0]]
+    assert [a for a in labels if not math.isnan(cut[f"max_{a}"])] == [order[0]]  # one path only
+    kept = pg.DisturbanceScore(floor=vals[order[0]])(model, command)  # nothing below the worst
+    assert kept["pruned"] == 0.0 and all(kept[f"max_{a}"] == vals[a] for a in labels)
+    assert "pruned" not in full
+    with pytest.raises(pg.InvalidInputError, match="first"):
+        pg.DisturbanceScore(first=("+fq",))
+
+
 def test_bad_arguments_are_named():
     with pytest.raises(pg.InvalidInputError, match="rank_by"):
         pg.plan_grasps("parallel_jaw", SPHERE, rank_by="force")
@@ -116,7 +134,19 @@ def test_bad_arguments_are_named():
 
 def test_cli_plan_writes_a_grasps_file_that_batch_rescores(tmp_path, capsys):
     out = tmp_path / "plans"
-    argv = ["plan", "parallel_jaw", "sphere:0.02", "--n", "6", "--top", "2", "--preload", "20"]
+    argv = [
+        "plan",
+        "parallel_jaw",
+        "sphere:0.02",
+        "--n",
+        "6",
+        "--top",
+        "2",
+        "--preload",
+        "20",
+        "--refine",
+        "1",
+    ]
     rc, _, err = run(capsys, *argv, "--out", str(out))
     assert rc == 0, err
     assert {p.name for p in out.iterdir()} == {"plans.yaml", "plans.json", "plan_1.png", "plan_2.png"}
@@ -133,3 +163,69 @@ def test_verify_simulates_every_direction_of_the_best_plan():
     assert len(checks) == 26
     finite = [c for c in checks if math.isfinite(c.predicted)]
     assert all(c.simulated >= 0.9 * c.predicted for c in finite), [c.to_dict() for c in checks]
+
+
+def test_readme_plan_example_prints_the_closed_form(tmp_path, monkeypatch, capsys):
+    """The README's "Plan a grasp" example: its best plan is the jaw-on-sphere closed form."""
+    import re
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    code = re.search(r"<!-- readme-example: plan -->\n```python\n(.*?)```", text, re.S).group(1)
+    monkeypatch.chdir(tmp_path)
+    ns: dict = {}
+    exec(compile(code, "README:plan", "exec"), ns)
+    plans, out = ns["plans"], capsys.readouterr().out
+    first, give_way = _closed_forms()
+    best = plans.plans[0]
+    which = first if math.isclose(best.score, min(first.values()), rel_tol=1e-6) else give_way
+    assert math.isclose(best.score, min(which.values()), rel_tol=1e-6)
+    assert f"best {best.score:.4g}" in out and best.worst.count("f") == 3  # a cube corner, as printed
+    assert pg.load_grasps(tmp_path / "plans.yaml").grasps[0].command == best.spec.command
+
+
+def test_sampled_approaches_never_start_inside_the_object():
+    """Each sampled approach's open hand is clear of the object: the Barrett on a box (whose open
+    fingers lie flat beside the palm) comes in along its palm normal to its first touch."""
+    from pinograsp.planning.approach import ApproachFrame, OpenHand
+    from pinograsp.planning.plan import sample_specs
+
+    box = pg.ObjectSpec("box", size=(0.05, 0.06, 0.08))
+    base = pg.GraspSpec("barrett_bh8_282", box)
+    hand = pg.Hand.builtin("barrett_bh8_282")
+    frame = ApproachFrame.of_hand(hand)
+    assert np.allclose(frame.axis, [0, 0, 1], atol=0.1)  # the palm normal
+    open_hand = OpenHand(hand, None, box, frame, 1e-3)
+    specs = sample_specs(base, frame, 40, 0, (0.0, 1.0), hand)
+    gaps = np.array([open_hand.clearance(s.object.pose) for s in specs])
+    assert gaps.min() > 0.5e-3  # outside the auto-close's stop distance: no finger starts stopped
+    # stopped touching (0.6-0.8 mm), just outside the 1 mm tolerance (1.6-1.8 mm) or at their depth
+    assert np.all((gaps < 0.8e-3 + 1e-9) | (gaps > 1.6e-3 - 1e-9))
+
+
+def test_the_screen_only_drops_approaches_without_a_preload():
+    """The screen's linear program is a relaxation of the preload design: an approach it drops
+    has no "auto" preload (equilibrium_preload raises), and one that has a preload passes it."""
+    from dataclasses import replace
+
+    from pinograsp.planning.approach import ApproachFrame
+    from pinograsp.planning.plan import sample_specs
+    from pinograsp.planning.screen import PRESSED, internal_force
+
+    box = pg.ObjectSpec("box", size=(0.05, 0.06, 0.08))
+    hand = pg.Hand.builtin("barrett_bh8_282")
+    specs = sample_specs(
+        pg.GraspSpec("barrett_bh8_282", box), ApproachFrame.of_hand(hand), 10, 0, (0, 1), hand
+    )
+    verdicts = []
+    for spec in specs:
+        model, _, _ = build_grasp(replace(spec, command=1.0))
+        try:
+            build_grasp(spec)
+            found = True
+        except pg.NoPreloadError:
+            found = False
+        pressed = internal_force(model) > PRESSED
+        assert pressed or not found, spec.id
+        verdicts.append((pressed, found))
+    assert (False, False) in verdicts and (True, True) in verdicts  # both kinds occur here

@@ -83,12 +83,21 @@ class DisturbanceScore:
         method: The analysis method (default: the package's default method).
         upper: Search limit [N or N·m along the unit direction].
         steps: Search steps (a loading-path method ignores it).
+        floor: Stop as soon as one value falls below it (a local search's incumbent score, ``inf``
+            for an incumbent unbounded along every disturbance): the
+            row then has ``pruned`` 1 and NaN for the disturbances not answered; its ``score`` is
+            an upper bound of the true worst case. ``-inf`` (default): every disturbance is
+            answered and there is no ``pruned`` column.
+        first: Labels answered first, in this order (the incumbent's worst ones), so that a
+            pruned row stops early; the others follow in the set's order.
     """
 
     disturbances: str | tuple[tuple[float, ...], ...] = "cube26"
     method: Method | str = Method(DEFAULT_METHOD)
     upper: float = 50.0
     steps: int = 6
+    floor: float = -math.inf
+    first: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         _, w = disturbance_set(self.disturbances)
@@ -98,6 +107,14 @@ class DisturbanceScore:
         object.__setattr__(self, "upper", force("upper", self.upper, "N or N·m"))
         bounded = limits_bound(self.method)
         object.__setattr__(self, "steps", n_steps(self.steps, bounded=bounded))
+        floor = float(self.floor) if isinstance(self.floor, (int, float)) else math.nan
+        if math.isnan(floor):
+            raise InvalidInputError("floor", f"expected a number or ±inf, got {self.floor!r}")
+        object.__setattr__(self, "floor", floor)
+        unknown = [a for a in self.first if a not in self.labels]
+        if unknown:
+            raise InvalidInputError("first", f"{unknown} are not labels of the set; pick from {self.labels}")
+        object.__setattr__(self, "first", tuple(str(a) for a in self.first))
 
     @property
     def labels(self) -> tuple[str, ...]:
@@ -112,7 +129,8 @@ class DisturbanceScore:
     @property
     def columns(self) -> tuple[str, ...]:
         """The table's score columns."""
-        return ("score", "unbounded_fraction", "epsilon", *(f"max_{a}" for a in self.labels))
+        pruned = ("pruned",) if self.floor > -math.inf else ()
+        return ("score", "unbounded_fraction", "epsilon", *pruned, *(f"max_{a}" for a in self.labels))
 
     @property
     def no_grasp(self) -> dict[str, float]:
@@ -126,23 +144,31 @@ class DisturbanceScore:
 
         query = Query(self.method, self.upper, self.steps)
         session = Session(model)  # one per grasp: its preload stage is solved once
-        values: dict[str, float] = {}
-        first = True
-        for label, w in zip(self.labels, self.wrenches):
+        values = dict.fromkeys((f"max_{a}" for a in self.labels), math.nan)
+        labels, wrenches = self.labels, self.wrenches
+        order = [labels.index(a) for a in self.first]
+        order += [i for i in range(len(labels)) if i not in order]
+        first, pruned = True, False
+        for i in order:
+            w = wrenches[i]
             if model.planar and not np.any(w[[0, 1, 5]]):
-                values[f"max_{label}"] = math.nan
                 continue
             mw = max_resistible_wrench(
                 model, command, w, session=session, query=query, check_preload_first=first
             )
             first = False
             scale = float(np.linalg.norm(w[[0, 1, 5]] if model.planar else w))
-            values[f"max_{label}"] = 0.0 if mw.status == "below_resolution" else float(mw.magnitude) / scale
+            value = 0.0 if mw.status == "below_resolution" else float(mw.magnitude) / scale
+            values[f"max_{labels[i]}"] = value
+            if value < self.floor:
+                pruned = True
+                break
         known = [v for v in values.values() if not math.isnan(v)]
         unbounded = sum(v == math.inf for v in known)
         return {
             "score": min(known),
             "unbounded_fraction": unbounded / len(known),
             "epsilon": ferrari_canny(model),
+            **({"pruned": float(pruned)} if self.floor > -math.inf else {}),
             **values,
         }

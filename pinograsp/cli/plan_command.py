@@ -35,6 +35,8 @@ def add_plan(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--top", type=int, default=5, help="plans returned (default 5)")
     p.add_argument("--verify", type=int, default=0, help="simulate the first K plans (pinograsp[mujoco])")
     p.add_argument("--seed", type=int, default=0, help="seed of the sampling (default 0)")
+    p.add_argument("--refine", type=int, default=4, help="best candidates refined (default 4; 0: none)")
+    p.add_argument("--rounds", type=int, default=3, help="rounds of the refinement (default 3)")
     p.add_argument("--workers", type=int, default=1, help="local worker processes (0: one per CPU)")
     p.add_argument(
         "--preload", default="auto", help="auto (default), a command for every actuator, or budget=B"
@@ -90,6 +92,7 @@ def cmd_plan(args: argparse.Namespace) -> int:
         plans = pg.plan_grasps(
             args.hand, obj, n=args.n, top=args.top, preload=_preload(args.preload), seed=args.seed,
             workers=args.workers, rank_by=args.rank_by, verify=args.verify, mu=args.mu, progress=bar,
+            refine=args.refine, rounds=args.rounds,
         )  # fmt: skip
     finally:
         bar.close()

@@ -28,8 +28,10 @@ from ..batch.grasps import GraspSpec, ObjectSpec, build_grasp, grasp_configurati
 from ..core.settings import DEFAULT_METHOD
 from ..core.validate import MAX_SAMPLES, choice, count, finite_number, positive_number, whole_number
 from ..errors import InvalidInputError
-from .approach import ApproachFrame, approach_pose, surface_samples
+from ..robots.collision import DEFAULT_TOLERANCE
+from .approach import ApproachFrame, OpenHand, aligned_roll, approach_pose, surface_samples
 from .records import GraspPlan, GraspPlans, PlanTiming, RankBy
+from .screen import PRESSED, PreloadScreen
 from .search import Candidate, Steps, distinct, local_search, neighbours, placed, ranked, score_batch
 from .verify import verify_plan
 
@@ -65,19 +67,26 @@ def _preload(preload: object, actuators: Sequence[str]) -> tuple[Any, float | No
 
 
 def sample_specs(
-    base: GraspSpec, frame: ApproachFrame, n: int, seed: int, standoff: tuple[float, float]
+    base: GraspSpec, frame: ApproachFrame, n: int, seed: int, standoff: tuple[float, float], hand: Any
 ) -> list[GraspSpec]:
-    """``n`` records of ``base`` at sampled approach poses (ids ``c0``, ``c1``, ...)."""
+    """``n`` records of ``base`` at sampled approach poses (ids ``c0``, ``c1``, ...), each
+    stopped at the open hand's first touch (:meth:`~.approach.OpenHand.first_touch`)."""
     rng = np.random.default_rng(seed)
     points, normals = surface_samples(base.object, n, rng)
     rolls = rng.uniform(0.0, 2 * math.pi, n)
     depths = (1.0 - rng.uniform(standoff[0], standoff[1], n)) * frame.reach
-    return [
-        placed(
-            base, approach_pose(frame, points[i], normals[i], float(rolls[i]), float(depths[i])), id=f"c{i}"
-        )
-        for i in range(n)
-    ]
+    pull = (rng.uniform(0.0, 1.0, n) < 0.5).astype(float)  # half through the middle
+    aligned, pick = rng.uniform(0.0, 1.0, n) < 0.5, rng.integers(0, 12, n)  # 12: uniform over 4 or 6 options
+    touch = rng.uniform(0.0, 1.0, n) < 0.5
+    tolerance = DEFAULT_TOLERANCE if base.tolerance is None else float(base.tolerance)
+    open_hand = OpenHand(hand, base.q_open, base.object, frame, tolerance)
+    out = []
+    for i in range(n):
+        p, nrm = open_hand.centred(points[i], normals[i], float(pull[i])), normals[i]
+        roll = aligned_roll(nrm, int(pick[i])) if aligned[i] else float(rolls[i])
+        depth = open_hand.first_touch(p, nrm, roll, float(depths[i]), bool(touch[i]))
+        out.append(placed(base, approach_pose(frame, p, nrm, roll, depth), id=f"c{i}"))
+    return out
 
 
 def _spearman(cands: Sequence[Candidate]) -> float:
@@ -141,6 +150,51 @@ def _progress(progress: Callable[[int, int], None] | None, total: int) -> Callab
     return batch
 
 
+def _score_sampled(
+    specs: list[GraspSpec], score: DisturbanceScore, run: dict[str, Any], progress: Any
+) -> list[Candidate]:
+    """The sampled candidates scored; with an ``"auto"`` preload, those whose closed contacts
+    cannot even balance each other with every contact pressing (:mod:`.screen`, a linear
+    program) are ``no_grasp (no_preload)`` without the preload design."""
+    if not specs or specs[0].command != "auto":
+        return score_batch(specs, score, "sampled", None, run, progress)
+    from ..batch.evaluate import evaluate_grasps
+
+    probe = [replace(s, command=1.0) for s in specs]  # a command only to build the contacts
+    rows = evaluate_grasps(probe, score=PreloadScreen(), **run).to_dict("records")
+    keep = [i for i, r in enumerate(rows) if r["status"] == "ok" and r["pressed"] > PRESSED]
+    scored = dict(zip(keep, score_batch([specs[i] for i in keep], score, "sampled", None, run, progress)))
+    out = []
+    for i, (spec, row) in enumerate(zip(specs, rows)):
+        if i in scored:
+            out.append(scored[i])
+            continue
+        status, reason = (
+            (row["status"], row["reason"]) if row["status"] != "ok" else ("no_grasp", "no_preload")
+        )
+        out.append(Candidate(spec, status, reason, {}, 0.0, 0.0, {}, "sampled", 0.0))
+    return out
+
+
+def _warm() -> None:
+    """Import the scoring's modules here, so that forked local workers inherit them instead of
+    importing them again for every batch."""
+    import importlib
+
+    for name in ("preload", "max_wrench", "metrics", "response"):
+        importlib.import_module(f"pinograsp.analysis.{name}")
+
+
+def _pruning(score: DisturbanceScore, incumbent: Candidate, rank_by: RankBy) -> DisturbanceScore:
+    """The score of an incumbent's moves: ranked by the passive score, a move stops at its first
+    value below the incumbent's worst case (it cannot rank higher), its directions taken from the
+    incumbent's worst up."""
+    if rank_by != "passive" or not incumbent.ok:
+        return score
+    first = tuple(sorted(incumbent.values, key=lambda k: incumbent.values[k]))
+    return replace(score, floor=incumbent.score, first=first)
+
+
 def _whole(*values: object) -> list[int]:
     """The counts of ``plan_grasps`` checked: ``n, top, seed, verify, refine, rounds`` (``n``,
     ``top`` >= 1; ``verify`` in ``[0, top]``; the others >= 0)."""
@@ -155,9 +209,9 @@ def _whole(*values: object) -> list[int]:
 
 def _setup(
     hand: str, obj: object, preload: object, method: str, fields: dict[str, Any]
-) -> tuple[GraspSpec, ApproachFrame, list[str], float | None]:
+) -> tuple[GraspSpec, ApproachFrame, list[str], float | None, Any]:
     """The base record (object in its own frame, preload), the hand's approach frame, its
-    driving actuators and the preload budget (``None`` without one)."""
+    driving actuators, the preload budget (``None`` without one) and the hand."""
     if {"object", "command", "id", "q"} & set(fields):
         raise InvalidInputError("fields", "'object', 'command', 'id' and 'q' are set by plan_grasps")
     probe = GraspSpec(hand, _object(obj), preload_method=method, **fields)
@@ -165,7 +219,7 @@ def _setup(
     drivers = [a.name for a in hand_model.actuators if a.kind != "locked"]
     command, budget = _preload(preload, drivers)
     base = replace(probe, command=command)
-    return base, ApproachFrame.of_hand(hand_model, base.q_open), drivers, budget
+    return base, ApproachFrame.of_hand(hand_model, base.q_open), drivers, budget, hand_model
 
 
 def plan_grasps(
@@ -223,20 +277,23 @@ def plan_grasps(
         InvalidInputError, UnknownNameError, MissingDependencyError (pandas; MuJoCo with ``verify``).
     """
     t0 = time.perf_counter()
+    _warm()
     n, top, seed, verify, refine, rounds = _whole(n, top, seed, verify, refine, rounds)
     rank_by = cast(RankBy, choice("rank_by", rank_by, ("passive", "epsilon")))
     step_t, step_r = _pair("step", step)
     standoff_range, dup = _pair("standoff", standoff, lo_ok=True), _pair("duplicate", duplicate, lo_ok=True)
     score = DisturbanceScore(cast(Any, disturbances), method, upper, steps)
-    base, frame, drivers, budget = _setup(hand, obj, preload, method, fields)
+    base, frame, drivers, budget, hand_model = _setup(hand, obj, preload, method, fields)
     run = {"executor": executor, "workers": workers}
     batch = _progress(progress, n + rounds * refine * (12 + len(drivers) * (len(drivers) - 1) * bool(budget)))
-    specs = sample_specs(base, frame, n, seed, standoff_range)
+    specs = sample_specs(base, frame, n, seed, standoff_range, hand_model)
     t1 = time.perf_counter()
-    cands = score_batch(specs, score, "sampled", None, run, batch(n))
+    cands = _score_sampled(specs, score, run, batch(n))
     t2 = time.perf_counter()
     seeds = distinct(ranked(cands, rank_by), refine, frame.centre, *dup)
-    rescore = lambda s, parents: score_batch(s, score, "refined", parents, run, batch(len(s)))  # noqa: E731
+    rescore = lambda s, parents, inc: score_batch(  # noqa: E731
+        s, _pruning(score, inc, rank_by), "refined", parents, run, batch(len(s))
+    )
     moves_of = lambda c, s: neighbours(c, s, frame.centre, budget, drivers)  # noqa: E731
     refined = local_search(seeds, rescore, Steps(step_t, step_r, 0.25), rounds, rank_by, moves_of)
     t3 = time.perf_counter()

@@ -88,6 +88,8 @@ def score_batch(
     columns = [f"max_{a}" for a in score.labels]
     out = []
     for i, (spec, row) in enumerate(zip(specs, table.to_dict("records"))):
+        if row["status"] == "ok" and row.get("pruned", 0.0) == 1.0:  # worse than its incumbent
+            row = {**row, "status": "pruned", "reason": "below_incumbent"}
         ok = row["status"] == "ok"
         values = {c[4:]: float(row[c]) for c in columns} if ok else {}
         values = {k: v for k, v in values.items() if not math.isnan(v)}
@@ -125,16 +127,19 @@ def neighbours(
     c: Candidate, steps: Steps, centre: np.ndarray, budget: float | None, actuators: Sequence[str]
 ) -> list[GraspSpec]:
     """The local search's moves from ``c``: the object shifted by ``±translation`` and turned by
-    ``±rotation`` about the grasp centre along each hand axis (12 poses), and with a preload
-    budget ``transfer * budget`` moved from one actuator to another (``2 * C(na, 2)`` splits)."""
+    ``±rotation`` about the grasp centre along each hand axis (12 poses; an ``"auto"`` preload
+    keeps the incumbent's command instead of being designed again), and with a preload budget
+    ``transfer * budget`` moved from one actuator to another (``2 * C(na, 2)`` splits)."""
     T = c.spec.object.pose
+    # an "auto" preload is not designed again for a pose move: the incumbent's command is kept
+    fixed = {"command": tuple(c.command.items())} if c.spec.command == "auto" and c.command else {}
     out = []
     for k in range(3):
         for sign in (1.0, -1.0):
             e = np.zeros(3)
             e[k] = sign
-            out.append(placed(c.spec, moved(T, centre, steps.translation * e, np.zeros(3))))
-            out.append(placed(c.spec, moved(T, centre, np.zeros(3), steps.rotation * e)))
+            out.append(placed(c.spec, moved(T, centre, steps.translation * e, np.zeros(3)), **fixed))
+            out.append(placed(c.spec, moved(T, centre, np.zeros(3), steps.rotation * e), **fixed))
     if budget is not None and len(actuators) > 1:
         split = dict(c.spec.command) if isinstance(c.spec.command, tuple) else {}
         for a in actuators:
@@ -171,29 +176,24 @@ def distinct(
 
 def local_search(
     seeds: Sequence[Candidate],
-    evaluate: Callable[[list[GraspSpec], list[float]], list[Candidate]],
+    evaluate: Callable[[list[GraspSpec], list[float], Candidate], list[Candidate]],
     first: Steps,
     rounds: int,
     rank_by: RankBy,
     moves: Callable[[Candidate, Steps], list[GraspSpec]],
 ) -> list[Candidate]:
-    """Deterministic pattern search from each seed: every round scores all the incumbents' moves
-    in one batch; an incumbent moves to its best neighbour when that is strictly better, else its
-    steps are halved. Returns every candidate scored (incumbents never get worse)."""
+    """Deterministic pattern search from each seed: every round scores each incumbent's moves in
+    one batch (``evaluate(specs, sampled scores, incumbent)``, which may prune the moves that fall
+    below the incumbent); an incumbent moves to its best neighbour when that is strictly better,
+    else its steps are halved. Returns every candidate scored (incumbents never get worse)."""
     state = [(c, first) for c in seeds]
     scored: list[Candidate] = []
     for r in range(rounds):
-        batches = [
-            [replace(m, id=f"{c.spec.id}-r{r}.{i}") for i, m in enumerate(moves(c, s))] for c, s in state
-        ]
-        specs = [s for b in batches for s in b]
-        parents = [c.sampled_score for (c, _), b in zip(state, batches) for _ in b]
-        results = evaluate(specs, parents)
-        scored += results
-        at, new_state = 0, []
-        for (c, s), b in zip(state, batches):
-            mine = results[at : at + len(b)]
-            at += len(b)
+        new_state = []
+        for c, s in state:
+            b = [replace(m, id=f"{c.spec.id}-r{r}.{i}") for i, m in enumerate(moves(c, s))]
+            mine = evaluate(b, [c.sampled_score] * len(b), c)
+            scored += mine
             best = ranked([c, *mine], rank_by)[0]
             new_state.append((best, s) if best is not c else (c, s.halved()))
         state = new_state
