@@ -229,3 +229,18 @@ def test_the_screen_only_drops_approaches_without_a_preload():
         assert pressed or not found, spec.id
         verdicts.append((pressed, found))
     assert (False, False) in verdicts and (True, True) in verdicts  # both kinds occur here
+
+
+def test_plans_use_contact_patches_so_flat_jaws_grip():
+    """A parallel jaw's flat pads on a box are 4 corner points each (``patches=True``, the
+    planner's default): the best plans resist ``mu F`` = 0.5 x 20 N = 10 N along the pads (the
+    friction limit, to 0.2 %); with point contacts every plan is 0 (the box spins about the line
+    between the two points)."""
+    box = pg.ObjectSpec("box", size=(0.04, 0.04, 0.04))
+    kw = dict(n=20, top=3, preload=20.0, seed=0, workers=1, refine=0)
+    plans = pg.plan_grasps("parallel_jaw", box, **kw)
+    best = plans.plans[0]
+    assert len(best.points) == 8 and best.score == pytest.approx(10.0, rel=2e-3)
+    assert best.values["+fy"] == pytest.approx(10.0, rel=2e-3)
+    points = pg.plan_grasps("parallel_jaw", box, patches=False, **kw)
+    assert all(p.score == 0.0 and len(p.points) == 2 for p in points.plans)

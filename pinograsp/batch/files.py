@@ -38,6 +38,7 @@ GRASP_KEYS = (
     "max_steps",
     "mu",
     "stiffness",
+    "patches",
     "command",
     "max_command",
     "preload_method",
@@ -137,6 +138,8 @@ def _grasp_fields(f: SceneFile, g: Mapping, key: str) -> dict[str, Any]:
             kw[k] = f.number(v, kk, nonneg=True)
         elif k == "max_steps":
             kw[k] = f.integer(v, kk)
+        elif k == "patches":
+            kw[k] = f.boolean(v, kk)
         elif k == "mu":
             kw[k] = f.number(v, kk, nonneg=True)
         elif k == "command":

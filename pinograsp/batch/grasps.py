@@ -168,6 +168,9 @@ class GraspSpec:
         max_steps: Step limit of the auto-close (a count).
         mu: Friction coefficient of every contact.
         stiffness: Normal stiffness of every contact [N/m].
+        patches: Flat and line contacts as patches of corner points (docs/hands.md, "Contact
+            patches"); ``False`` (default for a batch record: one point per touching geometry,
+            so that existing tables keep their numbers).
         command: ``"auto"`` (``pg.equilibrium_preload``: its commands when ``"found"``, and
             also when ``"slides"`` or ``"separates"``, with a :class:`~pinograsp.errors.PinograspWarning`
             in the row's ``warnings``; else a ``no_preload`` row), a number (every actuator) or
@@ -195,6 +198,7 @@ class GraspSpec:
     max_steps: int = 2000
     mu: float = 0.5
     stiffness: float = 1.0
+    patches: bool = False
     command: Literal["auto"] | float | tuple[tuple[str, float], ...] = "auto"
     max_command: float = 1.0
     preload_method: Method | str = Method(DEFAULT_METHOD)
@@ -235,6 +239,8 @@ class GraspSpec:
                 raise InvalidInputError("max_penetration", f"must be >= 0 [m], got {self.max_penetration!r}")
             object.__setattr__(self, "max_penetration", depth)
         object.__setattr__(self, "max_steps", whole_number("max_steps", self.max_steps))
+        if not isinstance(self.patches, bool):
+            raise InvalidInputError("patches", f"expected True or False, got {self.patches!r}")
         mu = finite_number("mu", self.mu)
         if mu < 0:
             raise InvalidInputError("mu", f"must be >= 0, got {self.mu!r}")
@@ -383,9 +389,8 @@ def build_grasp(spec: GraspSpec) -> tuple[Any, dict[str, float], dict[str, float
     hand, obj, q = grasp_configuration(spec)
     contact = _contact_options(spec)
     try:
-        # one point per touching geometry (contact patches are not a GraspSpec option yet)
         model = grasp_model_from_scene(
-            hand, q, obj, mu=spec.mu, stiffness=spec.stiffness, patches=False, **contact
+            hand, q, obj, mu=spec.mu, stiffness=spec.stiffness, patches=spec.patches, **contact
         )
     except ModelError as exc:
         if exc.argument != "contacts":

@@ -270,7 +270,8 @@ def plan_grasps(
         standoff: Range of the sampled distance of the palm from the surface, in units of the
             hand's reach (palm to grasp centre): 0 the palm on the surface, 1 the grasp centre.
         duplicate: Two grasps closer than ``(translation [m], rotation [rad])`` are one.
-        **fields: Other ``pg.GraspSpec`` fields shared by every candidate (``mu``, ``q_open``,
+        **fields: Other ``pg.GraspSpec`` fields shared by every candidate (``patches``, default
+            True here: flat and line contacts as corner points; ``mu``, ``q_open``,
             ``max_command``, ``tolerance``, ...).
 
     Raises:
@@ -283,7 +284,8 @@ def plan_grasps(
     step_t, step_r = _pair("step", step)
     standoff_range, dup = _pair("standoff", standoff, lo_ok=True), _pair("duplicate", duplicate, lo_ok=True)
     score = DisturbanceScore(cast(Any, disturbances), method, upper, steps)
-    base, frame, drivers, budget, hand_model = _setup(hand, obj, preload, method, fields)
+    # flat and line contacts as patches (a flat pad on a face is one arbitrary point otherwise)
+    base, frame, drivers, budget, hand_model = _setup(hand, obj, preload, method, {"patches": True, **fields})
     run = {"executor": executor, "workers": workers}
     batch = _progress(progress, n + rounds * refine * (12 + len(drivers) * (len(drivers) - 1) * bool(budget)))
     specs = sample_specs(base, frame, n, seed, standoff_range, hand_model)

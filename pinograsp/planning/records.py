@@ -238,7 +238,17 @@ def grasp_entry(spec: GraspSpec) -> dict[str, Any]:
     hand = d["hand"]
     out: dict[str, Any] = {"id": d["id"], "hand": str(Path(hand).resolve()) if os.sep in hand else hand}
     out["object"] = _object(spec)
-    for key in ("q", "command", "mu", "stiffness", "step", "max_steps", "max_command", "preload_method"):
+    for key in (
+        "q",
+        "command",
+        "mu",
+        "stiffness",
+        "patches",
+        "step",
+        "max_steps",
+        "max_command",
+        "preload_method",
+    ):
         out[key] = d[key]
     out["preload_method"] = str(getattr(spec.preload_method, "value", spec.preload_method))
     if d["q_open"] is not None:
