@@ -214,7 +214,8 @@ def _setup(
     driving actuators, the preload budget (``None`` without one) and the hand."""
     if {"object", "command", "id", "q"} & set(fields):
         raise InvalidInputError("fields", "'object', 'command', 'id' and 'q' are set by plan_grasps")
-    probe = GraspSpec(hand, _object(obj), preload_method=method, **fields)
+    # flat and line contacts as patches (a flat pad on a face is one arbitrary point otherwise)
+    probe = GraspSpec(hand, _object(obj), preload_method=method, **{"patches": True, **fields})
     hand_model = load_hand(probe)
     drivers = [a.name for a in hand_model.actuators if a.kind != "locked"]
     command, budget = _preload(preload, drivers)
@@ -284,8 +285,7 @@ def plan_grasps(
     step_t, step_r = _pair("step", step)
     standoff_range, dup = _pair("standoff", standoff, lo_ok=True), _pair("duplicate", duplicate, lo_ok=True)
     score = DisturbanceScore(cast(Any, disturbances), method, upper, steps)
-    # flat and line contacts as patches (a flat pad on a face is one arbitrary point otherwise)
-    base, frame, drivers, budget, hand_model = _setup(hand, obj, preload, method, {"patches": True, **fields})
+    base, frame, drivers, budget, hand_model = _setup(hand, obj, preload, method, fields)
     run = {"executor": executor, "workers": workers}
     batch = _progress(progress, n + rounds * refine * (12 + len(drivers) * (len(drivers) - 1) * bool(budget)))
     specs = sample_specs(base, frame, n, seed, standoff_range, hand_model)
