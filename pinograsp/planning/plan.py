@@ -271,9 +271,8 @@ def plan_grasps(
         standoff: Range of the sampled distance of the palm from the surface, in units of the
             hand's reach (palm to grasp centre): 0 the palm on the surface, 1 the grasp centre.
         duplicate: Two grasps closer than ``(translation [m], rotation [rad])`` are one.
-        **fields: Other ``pg.GraspSpec`` fields shared by every candidate (``patches``, default
-            True here: flat and line contacts as corner points; ``mu``, ``q_open``,
-            ``max_command``, ``tolerance``, ...).
+        **fields: Other ``pg.GraspSpec`` fields shared by every candidate (``patches``, True
+            here: flat contacts as corners; ``mu``, ``q_open``, ``max_command``, ...).
 
     Raises:
         InvalidInputError, UnknownNameError, MissingDependencyError (pandas; MuJoCo with ``verify``).
