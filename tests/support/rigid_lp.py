@@ -75,7 +75,8 @@ class RigidLpMethod(MethodBase):
         cf = np.zeros((m.nc, 3))
         cf[:, : m.d] = c.reshape(m.nc, m.d)
         zero = np.zeros
-        return PassiveResponse(
+        return PassiveResponse.of_model(
+            m,
             resistible=ok,
             status="resisted" if ok else "not_resisted",
             method=self.name,
@@ -96,12 +97,6 @@ class RigidLpMethod(MethodBase):
             audit=None,
             solver="highs",
             n_solves=1,
-            contact_names=m.contact_names,
-            joint_names=m.joint_names,
-            actuator_names=m.actuator_names,
-            contact_mu=np.array(m.mu, dtype=float),
-            actuator_kinds=tuple(m.kinds),
-            edge_counts=m.edge_counts,
         )
 
     def max_load(self, session: SessionLike, query: LimitQuery) -> MaxWrench:
