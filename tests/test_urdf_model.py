@@ -184,3 +184,15 @@ def test_mismatched_configuration_length_names_the_joints():
     with pytest.raises(pg.InvalidInputError, match="expected 4 joint values") as err:
         pg.grasp_model_from_scene(hand, np.zeros(3), pg.RigidObject.box([0.04, 0.04, 0.04]))
     assert "uf_j11" in str(err.value)
+
+
+def test_urdf_collision_mesh_triangles_are_bounded(monkeypatch):
+    """Issue 33: meshes referenced from a URDF have a triangle limit, as object meshes do
+    (``MAX_MESH_TRIANGLES``); the error names the mesh, its triangles and what to do."""
+    from pinograsp.robots import urdf
+
+    monkeypatch.setattr(urdf, "MAX_MESH_TRIANGLES", 10)
+    with pytest.raises(pg.UrdfError, match=r"triangles, more than 10 \(MAX_MESH_TRIANGLES\): decimate"):
+        pg.Hand.builtin("ezgripper")
+    monkeypatch.undo()
+    assert pg.Hand.builtin("ezgripper").nq > 0  # within the limit: loads

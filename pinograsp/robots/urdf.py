@@ -25,6 +25,7 @@ import pinocchio as pin
 from ..core.paths import ALLOWED_PATHS_ENV, allowed_roots, escapes, inside
 from ..errors import InvalidInputError, ModelError, ModelFileError, UnknownNameError, UrdfError
 from .description import HandDescription, example_robot_data_dir
+from .objects import MAX_MESH_TRIANGLES
 
 
 @dataclass(frozen=True)
@@ -323,6 +324,23 @@ def _contact_geometry(
     return contact_geom
 
 
+def _check_triangles(path: Path, geom: pin.GeometryModel) -> None:
+    """Refuse a collision mesh of more triangles than an object mesh may have
+    (:data:`~pinograsp.robots.objects.MAX_MESH_TRIANGLES`): every contact query walks it.
+
+    Raises:
+        UrdfError: The mesh, its link and its triangle count, and what to do.
+    """
+    for g in geom.geometryObjects:
+        n = int(getattr(g.geometry, "num_tris", 0))  # a BVH mesh's triangles; primitives have none
+        if n > MAX_MESH_TRIANGLES:
+            raise UrdfError(
+                path,
+                f"collision mesh {g.meshPath or g.name!r} of {g.name!r} has {n} triangles, more than "
+                f"{MAX_MESH_TRIANGLES} (MAX_MESH_TRIANGLES): decimate it or use a convex hull",
+            )
+
+
 def load_urdf_hand(
     path: Path, desc: HandDescription, package_dirs: Sequence[str | Path] | str | Path | None = None
 ) -> UrdfHand:
@@ -337,6 +355,7 @@ def load_urdf_hand(
     dirs = package_folders(path, package_dirs)
     check_mesh_paths(path, xml, dirs)
     model, geom = _build_models(path, dirs, xml)
+    _check_triangles(path, geom)
     model, geom, mimics = _reduce(path, model, geom, desc, xml.mimics)
     base_id = _move_base(path, model, geom, desc.base_link)
     return UrdfHand(model, _contact_geometry(model, geom, desc.contact_links, base_id, xml), mimics, xml)
