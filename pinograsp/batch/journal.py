@@ -20,6 +20,7 @@ from collections.abc import Iterable, Sequence
 from pathlib import Path
 from typing import Any, Literal
 
+from ..core.paths import probe_writable
 from ..errors import InvalidInputError, MissingDependencyError
 
 #: Suffix of the journal next to the table.
@@ -64,15 +65,7 @@ def check_output(path: object, name: str = "out") -> Path:
         raise InvalidInputError(name, str(exc).split(": ", 1)[-1]) from None
     if p.is_dir():
         raise InvalidInputError(name, f"{str(p)!r} is a folder, not a file")
-    try:
-        p.parent.mkdir(parents=True, exist_ok=True)
-        fd, probe = tempfile.mkstemp(prefix=f".{p.name}.", suffix=".probe", dir=p.parent)
-        os.close(fd)
-        os.unlink(probe)
-    except OSError as exc:
-        raise InvalidInputError(
-            name, f"cannot write {str(p)!r}: {exc.strerror or exc}; choose a writable folder"
-        ) from None
+    probe_writable(name, p, str(p))
     return p
 
 

@@ -8,7 +8,6 @@ import json
 import math
 import os
 import sys
-import tempfile
 import time
 from collections.abc import Callable
 from pathlib import Path
@@ -16,6 +15,7 @@ from typing import Any, TextIO
 
 import pinograsp as pg
 
+from ..core.paths import probe_writable
 from ..core.serialize import jsonable, vector_text
 
 
@@ -57,15 +57,7 @@ class Output:
         p = Path(value)
         if p.is_dir() or not p.name:
             raise pg.InvalidInputError(option, f"{value!r} is a folder, not a file")
-        try:
-            p.parent.mkdir(parents=True, exist_ok=True)
-            fd, probe = tempfile.mkstemp(prefix=f".{p.name}.", suffix=".probe", dir=p.parent)
-            os.close(fd)
-            os.unlink(probe)
-        except OSError as exc:
-            raise pg.InvalidInputError(
-                option, f"cannot write {value!r}: {exc.strerror or exc}; choose a writable folder"
-            ) from None
+        probe_writable(option, p, str(value))
         return p
 
     def path(self, name: str) -> Path | None:

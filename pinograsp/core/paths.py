@@ -14,8 +14,11 @@ nothing but the upload's own folder.
 from __future__ import annotations
 
 import os
+import tempfile
 from collections.abc import Iterable
 from pathlib import Path
+
+from ..errors import InvalidInputError
 
 #: Environment variable listing extra folders that references may point into (``os.pathsep``).
 ALLOWED_PATHS_ENV = "PINOGRASP_ALLOWED_PATHS"
@@ -43,3 +46,22 @@ def escapes(relative: str) -> bool:
     """Whether a relative reference (``a/b.stl``, ``../x``) leaves its base folder by ``..``."""
     norm = os.path.normpath(relative.replace("\\", "/"))
     return os.path.isabs(norm) or norm == ".." or norm.startswith(".." + os.sep) or norm.startswith("../")
+
+
+def probe_writable(name: str, path: Path, shown: str) -> None:
+    """Check, before any work, that a file can be written at ``path``: its folder is made and a
+    probe file created and removed there (``shown``: the path as the user gave it, quoted in
+    the error).
+
+    Raises:
+        InvalidInputError: Naming ``name``: the folder cannot be made or written.
+    """
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, probe = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".probe", dir=path.parent)
+        os.close(fd)
+        os.unlink(probe)
+    except OSError as exc:
+        raise InvalidInputError(
+            name, f"cannot write {shown!r}: {exc.strerror or exc}; choose a writable folder"
+        ) from None
