@@ -34,11 +34,13 @@ MIN_SLIP = 1e-3
 #: Default translation threshold as a multiple of one contact spring's elastic deflection at
 #: ``upper``: elastic deflection alone is never a give-way.
 ELASTIC_FACTOR = 20.0
-#: Largest object rotation [rad] and translation [fraction of the length scale] at which the
-#: linearised contact kinematics are trusted (the position error of a contact point is about
-#: ``rotation**2 / 2`` of its lever: 0.5 % at 0.1 rad): past them a path is not "resisted", it
-#: ends with a give-way verdict ``"linearisation"`` (docs/giveway.md, "Large displacements").
-LINEAR_ROTATION = 0.1
+#: Largest object rotation [rad] and translation [fraction of the length scale] of a resisted
+#: path. The load stage re-linearises about the turned object every few milliradians (the
+#: contact arms turn and the forces' geometric stiffness enters: docs/quasistatic.md, "Large
+#: rotations") up to ``LINEAR_ROTATION``; the hand's kinematics stay linear (as in the
+#: simulation), trusted up to ``LINEAR_TRANSLATION`` of the length scale. Past them a path is
+#: not "resisted", it ends with a give-way verdict ``"linearisation"`` (docs/giveway.md).
+LINEAR_ROTATION = 1.0
 LINEAR_TRANSLATION = 0.25
 
 #: Why the grasp gave way where it did: the path reached a limit load and snapped without

@@ -9,12 +9,14 @@ from dataclasses import replace
 import numpy as np
 
 from ...core.axes import wrench_direction
+from ...core.giveway import DEFAULT_CONTACT_STIFFNESS
 from ...core.model import GraspModel
 from ...core.settings import Settings
 from ...core.validate import MAX_FORCE, MAX_PATH_SEGMENTS, count, load_within, number_in
 from ...errors import InvalidInputError
 from ...solvers.threads import single_threaded
 from .continuation import continue_past_limit
+from .geometry import GeometryUpdates
 from .path import MAX_SEGMENTS, StageRun, follow
 from .prepared import Prepared, checked_settings, path_of_variant, prepare
 from .records import build_path, continuation_record
@@ -74,7 +76,7 @@ def loading_path(
     if up_to is not None:  # a load: the domains of every load (docs/errors.md, "Input domains")
         up_to = number_in("up_to", up_to, 0.0, MAX_FORCE, "N or N·m")
         load_within(model, model.command_vector(command), "up_to", up_to * d6)
-    return run_path(p, d6, int(max_segments), up_to, continuation, t0)
+    return run_path(p, d6, int(max_segments), up_to, continuation, t0, stiffness=s.contact_stiffness)
 
 
 def unit_again(d6: np.ndarray) -> np.ndarray:
@@ -92,21 +94,26 @@ def run_path(
     continuation: bool,
     t0: float,
     lean: bool = False,
+    until: float = float("inf"),
+    stiffness: float = DEFAULT_CONTACT_STIFFNESS,
 ) -> LoadingPath:
     """The load stage of a prepared grasp along the unit direction ``d6`` (6,) as a
     :class:`LoadingPath` (see :func:`loading_path`); ``lean``: without its events, stiffness
-    and energy balance (see :func:`build_path`)."""
+    and energy balance (see :func:`build_path`); ``until``: no geometry update above this load,
+    ``stiffness``: the contact stiffness [N/m] at which the object turns
+    (``geometry.GeometryUpdates``)."""
     d_red = p.model.reduce_wrench(d6)
     t_end = float("inf") if up_to is None else float(up_to)
     spec = StageSpec(np.zeros(p.qm.nx), d_red, p.fc, np.zeros(p.qm.na), t_end, held=False, friction=True)
+    geo = GeometryUpdates(scale=float(np.max(p.model.k)) / float(stiffness), until=until)
     run = (
-        follow(p.qm, p.start, spec, max_segments)
+        follow(p.qm, p.start, spec, max_segments, geo)
         if t_end > 0
         else StageRun(states=[p.start.copy()], status=RunStatus.END)
     )
     cont = None
     if run.status == RunStatus.LIMIT and up_to is None and continuation:
-        more = continue_past_limit(p.qm, run, spec, max_segments)
+        more = continue_past_limit(p.qm, run, spec, max_segments, geo)
         if more is not None:
             cont = continuation_record(p, d6, more, spec, lean)
     lp = build_path(p, d6, run, spec, time.perf_counter() - t0, lean)

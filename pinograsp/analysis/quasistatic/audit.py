@@ -25,6 +25,33 @@ def stacks(states: list[State]) -> dict[str, np.ndarray]:
     }
 
 
+def _residuals(qm, states, C, Fa, Lc, W, VS):
+    """:func:`~.model.balance_residuals` of the states, each against the geometry of the
+    segment that reached it (``State.geo``: a model re-linearised at the turned object)."""
+    obj, joints, slack = balance_residuals(qm, C, Fa, Lc, W)
+    geos = {id(s.geo): s.geo for s in states if s.geo is not None}
+    for key, g in geos.items():
+        rows = np.array([s.geo is not None and id(s.geo) == key for s in states])
+        x = VS[rows, : qm.nx] / qm.S[: qm.nx]
+        obj[rows] = balance_residuals(g, C[rows], Fa[rows], Lc[rows], W[rows], x)[0]
+    return obj, joints, slack
+
+
+def _geometric_work(qm, states, VS, dx):
+    """Per segment, the work of the terms a geometry update adds to the object's balance (its
+    invariant ``e_ref`` and geometric stiffness: ``geometry.moved``), so that the energy
+    balance of a segment on a re-linearised model closes as on the model's own; 0 elsewhere."""
+    out = np.zeros(len(dx))
+    for k in range(len(dx)):
+        g = states[k + 1].geo
+        if g is None or g.KGp is None or g.vs_ref is None or g.e_ref is None:
+            continue
+        x_mid = 0.5 * (VS[k, : qm.nx] + VS[k + 1, : qm.nx]) / qm.S[: qm.nx]
+        x_ref = g.vs_ref[: qm.nx] / qm.S[: qm.nx]
+        out[k] = float((g.e_ref - g.KGp @ (x_mid - x_ref)) @ dx[k])
+    return out
+
+
 def path_audit(
     p: Prepared,
     states: list[State],
@@ -43,7 +70,7 @@ def path_audit(
     Lc = st["lam"].reshape(len(states), qm.ncp)
     VS = st["vs"]
     SL = st["slip"]
-    obj, joints, slack = balance_residuals(qm, C, Fa, Lc, t[:, None] * d_red)
+    obj, joints, slack = _residuals(qm, states, C, Fa, Lc, t[:, None] * d_red, VS)
     eq = np.linalg.norm(obj * qm.weights, axis=1)
     hand = np.abs(joints).max(axis=1) if qm.nq else np.zeros(len(states))
     fr = np.maximum(0.0, -slack.min(axis=1, initial=0.0)) if qm.nf else np.zeros(len(states))
@@ -64,7 +91,7 @@ def path_audit(
     else:
         w_act = 0.0
     diss = -np.sum(0.5 * (C[1:] + C[:-1]) * np.diff(SL, axis=0), axis=1)
-    energy = w_load + w_act - np.diff(elastic) - diss
+    energy = w_load + w_act - np.diff(elastic) - diss - _geometric_work(qm, states, VS, dx)
     return {"equilibrium": eq, "hand": hand, "friction": fr, "energy": np.asarray(energy, float)}
 
 

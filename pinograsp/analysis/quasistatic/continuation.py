@@ -16,6 +16,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from .geometry import GeometryUpdates
 from .model import QSModel
 from .path import LIMIT_RTOL, StageRun, Trigger, advance, follow, next_event, plan_of, planned
 from .rates import Segment, StageCache, StageSpec, classify
@@ -77,17 +78,22 @@ def _descend(qm: QSModel, out: StageRun, seg: Segment, spec: StageSpec, sc: Stag
     return RunStatus.SEGMENT_LIMIT
 
 
-def continue_past_limit(qm: QSModel, run: StageRun, spec: StageSpec, max_segments: int) -> StageRun | None:
+def continue_past_limit(
+    qm: QSModel, run: StageRun, spec: StageSpec, max_segments: int, geometry: GeometryUpdates | None = None
+) -> StageRun | None:
     """The path from the limit state of ``run`` (status ``"limit"``) beyond it: descents
     under displacement control and, after each landing, the load-controlled path to its next
     limit, up to :data:`MAX_SNAPS` snaps. ``status``: ``LANDED`` (``tail``: the status of the
     last load-controlled part), ``UNLOADED`` (the load falls to zero), ``MECHANISM`` (no
     stiffness left) or a failure; ``snaps`` holds ``(limit index, landing index)`` pairs. None
-    when the limit is not a softening one (a mechanism along the load: nothing to land on)."""
+    when the limit is not a softening one (a mechanism along the load: nothing to land on).
+    The descents keep the geometry of the limit (``run.model``); the load-controlled parts
+    after a landing update it as :func:`~.path.follow` does with ``geometry``."""
+    qm = run.model if run.model is not None else qm
     seg = run.segments[-1]
     if seg.control != "displacement":
         return None
-    out = StageRun(states=[run.states[-1].copy()])
+    out = StageRun(states=[run.states[-1].copy()], model=qm)
     sc = StageCache.of(qm, spec)
     for _ in range(MAX_SNAPS):
         top = len(out.states) - 1
@@ -96,7 +102,10 @@ def continue_past_limit(qm: QSModel, run: StageRun, spec: StageSpec, max_segment
             out.status = status
             return out
         out.snaps.append((top, len(out.states) - 1))
-        rest = follow(qm, out.states[-1], spec, max_segments)
+        rest = follow(qm, out.states[-1], spec, max_segments, geometry)
+        if rest.model is not None and rest.model is not qm:
+            qm, out.model = rest.model, rest.model
+            sc = StageCache.of(qm, spec)
         out.states += rest.states[1:]
         out.segments += rest.segments
         out.triggers += rest.triggers

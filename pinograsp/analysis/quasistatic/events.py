@@ -84,6 +84,8 @@ def trigger_text(qm: QSModel, tr: Trigger) -> str:
         return f"face {int(qm.face_index[tr.index])} of {m.contact_names[i]} reached"
     if tr.kind == TriggerKind.COMMAND:
         return f"{m.actuator_names[tr.index]} back at its command"
+    if tr.kind == TriggerKind.GEOMETRY:
+        return "geometry updated at the turned object"
     return "end of stage"
 
 

@@ -174,6 +174,17 @@ class QSModel:
     ncd: int = 0
     #: The model's wrench metric (``GraspModel.wrench_weights``: ``1 / S`` on the object rows).
     weights: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    #: Geometry updated at a turned object (``geometry.moved``; None: the model's own rest
+    #: geometry): the scaled geometric stiffness ``K_G`` (nv, nv) and its physical object block
+    #: (nx, nx) [N·m/rad], the object's rotation at the update (3, 3), the scaled displacements
+    #: there (nv,), the contacts' normal gaps there (nc,) [m] and the equilibrium invariant
+    #: ``G c + w`` there (nx,) [N, N·m].
+    KG: np.ndarray | None = None
+    KGp: np.ndarray | None = None
+    rot: np.ndarray | None = None
+    vs_ref: np.ndarray | None = None
+    gap_ref: np.ndarray | None = None
+    e_ref: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "nv", self.nx + self.nq)
@@ -184,6 +195,14 @@ class QSModel:
     def w_scaled(self, w: np.ndarray) -> np.ndarray:
         """A reduced wrench (nx,) [N, N·m] as scaled equilibrium rows (nx,) [N]."""
         return np.asarray(w, float) / self.S[: self.nx]
+
+    def gaps(self, vs: np.ndarray) -> np.ndarray:
+        """Normal gap of each contact (nc,) [m] (``-delta``) at the scaled displacements ``vs``
+        (nv,): ``g_n = A_n^T vs``, incrementally from the last geometry update when there is one."""
+        An = self.A[:, :: self.d]
+        if self.vs_ref is None or self.gap_ref is None:
+            return An.T @ vs
+        return An.T @ (vs - self.vs_ref) + self.gap_ref
 
 
 def _faces(
@@ -282,16 +301,22 @@ def build_qs_model(model: GraspModel, tangential_ratio: float = 1.0) -> QSModel:
 
 
 def balance_residuals(
-    qm: QSModel, c: np.ndarray, f: np.ndarray, lam: np.ndarray, w: np.ndarray
+    qm: QSModel, c: np.ndarray, f: np.ndarray, lam: np.ndarray, w: np.ndarray, x: np.ndarray | None = None
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The balance of states, one row each (the one place the path's residuals are written):
     the object's ``G c + w`` (k, nx) [N, N·m] (weight it with ``model.wrench_weights``), the
     joints' ``J^T c - R f - C^T lam`` over their levers (k, nq) [N], and the slack of every
     polygon face ``Phi c`` (k, nf) [N] (negative: outside its polygon). ``c`` (k, nc*d),
-    ``f`` (k, na), ``lam`` (k, ncp), ``w`` (k, nx) reduced loads."""
+    ``f`` (k, na), ``lam`` (k, ncp), ``w`` (k, nx) reduced loads; ``x`` (k, nx) the object
+    displacements [m, rad], read by a model with updated geometry (its linear invariant)."""
     m = qm.model
     k = len(c)
-    obj = c @ np.asarray(m.G).T + w
+    if qm.KGp is None or qm.vs_ref is None or qm.e_ref is None or x is None:
+        obj = c @ np.asarray(m.G).T + w
+    else:  # the invariant of a geometry update (``geometry.moved``)
+        x_ref = qm.vs_ref[: qm.nx] / qm.S[: qm.nx]
+        G = qm.A[: qm.nx] * qm.S[: qm.nx, None]
+        obj = c @ G.T + (x - x_ref) @ qm.KGp.T + w - qm.e_ref
     if qm.nq:
         joints = (c @ np.asarray(m.J) - f @ np.asarray(m.R).T - lam @ np.asarray(m.C)) / qm.lever
     else:

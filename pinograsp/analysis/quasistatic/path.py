@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .geometry import GeometryUpdates, moved, spin, step_to_update
 from .model import QSModel
 from .rates import (
     FULL,
@@ -75,6 +76,8 @@ class StageRun:
         snaps: Past a limit: ``(limit breakpoint, landing breakpoint)`` of each snap.
         tail: With ``status == LANDED``: the status of the part after the last landing.
         friction_on: A preload closing: the contacts that closed with friction (nc,) bool.
+        model: The model the last segment used (re-linearised at a turned object after a
+            geometry update; the stage's own model otherwise).
     """
 
     states: list[State]
@@ -87,6 +90,7 @@ class StageRun:
     snaps: list[tuple[int, int]] = field(default_factory=list)
     tail: RunStatus | None = None
     friction_on: np.ndarray | None = None
+    model: QSModel | None = None
 
 
 def planned(
@@ -187,9 +191,11 @@ def _solve_segment(
         return seg
     if seg.status == SegmentStatus.OK:
         along = float(r0 @ seg.dvs[: qm.nx]) / size  # displacement along the load per unit load
-        if along * SOFT_RTOL * qm.k_ref < size:
+        if along * SOFT_RTOL * qm.k_ref < size and (along > 0.0 or qm.KG is None):
             return seg
-        # nearly a mechanism along the load: decide under displacement control
+        # nearly a mechanism along the load, or (with a geometric stiffness) a negative
+        # compliance — a limit passed within the last geometry step: decide under
+        # displacement control
     alt = planned(qm, st, spec, cls, "displacement", plan, run, sc)
     if alt.status != SegmentStatus.OK:
         if seg.status == alt.status == SegmentStatus.RAY_TERMINATION and no_continuation(qm, spec, cls, sc):
@@ -224,7 +230,7 @@ def next_event(
     An = qm.A[:, ::d]
     same = cls.src is st  # what classify computed of this state
     if cls.open.any():  # only open contacts touch
-        gap = cls.gap if same and cls.gap is not None else An.T @ st.vs  # -delta
+        gap = cls.gap if same and cls.gap is not None else qm.gaps(st.vs)  # -delta
         dgap = An.T @ seg.dvs
         sel = (cls.open & (-dgap * qm.kn > rtol)).nonzero()[0]
         kinds += [TriggerKind.TOUCHES] * len(sel)
@@ -278,10 +284,18 @@ def advance(st: State, seg: Segment, t: float, t_end: float | None = None) -> St
     return out
 
 
-def follow(qm: QSModel, start: State, spec: StageSpec, max_segments: int = MAX_SEGMENTS) -> StageRun:
-    """Follow ``spec`` from ``start`` until its end, a limit, a ray or a failure."""
+def follow(
+    qm: QSModel,
+    start: State,
+    spec: StageSpec,
+    max_segments: int = MAX_SEGMENTS,
+    geometry: GeometryUpdates | None = None,
+) -> StageRun:
+    """Follow ``spec`` from ``start`` until its end, a limit, a ray or a failure; with
+    ``geometry``, re-linearised about the turned object every ``geometry.step`` of rotation
+    (``geometry.moved``; :attr:`StageRun.model` is the last model used)."""
     st = start.copy()
-    run = StageRun(states=[st])
+    run = StageRun(states=[st], model=qm)
     sc = StageCache.of(qm, spec)
     while True:
         cls = classify(qm, st, spec, sc)
@@ -301,17 +315,28 @@ def follow(qm: QSModel, start: State, spec: StageSpec, max_segments: int = MAX_S
             run.status = run_status(seg.status)
             return run
         t, trig = next_event(qm, st, spec, cls, seg, sc)
+        if geometry is not None:
+            t_geo = step_to_update(qm, st, seg.dvs, geometry, seg.lam_rate)
+            if t_geo < t:
+                t, trig = t_geo, (Trigger(TriggerKind.GEOMETRY, -1),)
         if not np.isfinite(t):
             run.status = RunStatus.UNBOUNDED
             return run
         ends = any(tr.kind == TriggerKind.END for tr in trig)
         st = advance(st, seg, t, spec.t_end if ends else None)
+        st.geo = qm if qm.KG is not None else None
         run.states.append(st)
         run.triggers.append(trig)
         if ends:
             st.c = classify(qm, st, spec, sc).forces  # contacts that reached zero: exactly 0
             run.status = RunStatus.END
             return run
+        if geometry is not None and trig[0].kind == TriggerKind.GEOMETRY:
+            b = spin(qm, seg.dvs)
+            ahead = b * (geometry.step / float(np.linalg.norm(b)))
+            qm = moved(qm, st, spec.w0 + st.t * spec.dw, ahead, geometry.scale)
+            sc = StageCache.of(qm, spec)
+            run.model = qm
         if len(run.segments) >= max_segments:
             run.status = RunStatus.SEGMENT_LIMIT
             return run

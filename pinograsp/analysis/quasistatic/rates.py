@@ -171,7 +171,7 @@ def classify(qm: QSModel, st: State, spec: StageSpec, sc: StageCache | None = No
     tol = EVENT_RTOL * fscale
     d = qm.d
     cn = st.c[::d]
-    gap = qm.A[:, ::d].T @ st.vs
+    gap = qm.gaps(st.vs)
     delta = -gap
     low = cn <= tol
     if spec.friction and qm.nf and (~low).any():
@@ -320,13 +320,16 @@ def linear_part(
         con_rhs = np.zeros((sc.B.shape[1], 1 + nz))
         if len(acts):
             con_rhs[cols, 1 + n1 + np.arange(len(acts))] = -1.0
-        full = affine_full(qm, sc, (A * ks) @ A.T, rhs_top, con_rhs, control)
+        K = (A * ks) @ A.T if qm.KG is None else (A * ks) @ A.T - qm.KG
+        full = affine_full(qm, sc, K, rhs_top, con_rhs, control)
         if full is None:
             return None
         V, lam = full
         dC = -ks[:, None] * (A.T @ V) + F
     # multipliers per column: k B rho = K V - r0 lam - A F = -A dC - r0 lam
     Rho = -(sc.BpA @ dC + np.outer(sc.Bpr0, lam)) / k
+    if qm.KG is not None:  # the geometric stiffness's share of the constraint forces
+        Rho -= sc.B_pinv @ (qm.KG @ V) / k
     W = np.zeros((nz, 1 + nz))
     W[:n0] = dC[zero * d]
     if len(faces):

@@ -3,8 +3,12 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from .model import QSModel
 
 
 @dataclass(frozen=True)
@@ -36,6 +40,8 @@ class State:
         f: Actuator forces (na,); lam_c: coupling reactions (ncp,); hold: holder wrench (nx,).
         slip: Accumulated tangential slip ``a`` (nc*d,; normal rows 0) [m].
         t: Path parameter of the stage (the load factor in the load stage).
+        geo: The model with updated geometry whose segment reached this state (None: the
+            model's own geometry; ``geometry.moved``), read by the audits.
     """
 
     vs: np.ndarray
@@ -45,6 +51,7 @@ class State:
     hold: np.ndarray
     slip: np.ndarray
     t: float = 0.0
+    geo: QSModel | None = None
 
     def copy(self) -> State:
         """An independent copy."""
@@ -56,6 +63,7 @@ class State:
             self.hold.copy(),
             self.slip.copy(),
             self.t,
+            self.geo,
         )
 
 

@@ -79,6 +79,8 @@ class TriggerKind(_Text):
     COMMAND = "command"
     #: The stage's end.
     END = "end"
+    #: The object turned a geometry step: the model is re-linearised (``geometry.moved``).
+    GEOMETRY = "geometry"
     #: Past a limit: the load is back at the limit load.
     LANDED = "landed"
     #: Past a limit: the load reached zero.

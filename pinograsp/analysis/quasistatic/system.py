@@ -8,7 +8,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.linalg.lapack import dpotrf, dpotrs
+from scipy.linalg.lapack import dgetrf, dgetrs, dpotrf, dpotrs
 
 from .model import RANK_RTOL, QSModel
 from .state import StageSpec
@@ -114,17 +114,22 @@ def affine_reduced(qm, sc, ks, Fm, Vp, control):
         return None
     AZs = AZ * ks[:, None]
     Kr = AZ.T @ AZs
-    L, info = dpotrf(Kr, lower=1, clean=0)
-    if info != 0:
-        return None
-    diag = L.diagonal()
-    if float(diag.min()) ** 2 <= CHOL_RTOL * float(diag.max()) ** 2:
-        return None
     rhs = AZ.T @ Fm
     rhs[:, 0] += sc.Ztr0
-    Y, info = dpotrs(L, rhs, lower=1)
-    if info != 0:
-        return None
+    if qm.KG is None:
+        L, info = dpotrf(Kr, lower=1, clean=0)
+        if info != 0:
+            return None
+        diag = L.diagonal()
+        if float(diag.min()) ** 2 <= CHOL_RTOL * float(diag.max()) ** 2:
+            return None
+        Y, info = dpotrs(L, rhs, lower=1)
+        if info != 0:
+            return None
+    else:
+        Y = _solve_geometric(Kr - sc.Z.T @ qm.KG @ sc.Z, rhs + sc.Z.T @ (qm.KG @ Vp))
+        if Y is None:
+            return None
     nz1 = Y.shape[1]
     lam = np.zeros(nz1)
     if control == "load":
@@ -139,6 +144,19 @@ def affine_reduced(qm, sc, ks, Fm, Vp, control):
         Y = np.outer(Y[:, 0], lam) + np.concatenate([np.zeros((Y.shape[0], 1)), Y[:, 1:]], axis=1)
         Vp = np.outer(Vp[:, 0], lam) + np.concatenate([np.zeros((Vp.shape[0], 1)), Vp[:, 1:]], axis=1)
     return sc.Z @ Y + Vp, lam, AZ @ Y
+
+
+def _solve_geometric(K: np.ndarray, rhs: np.ndarray) -> np.ndarray | None:
+    """``K^-1 rhs`` for the tangent stiffness with a geometric part (not symmetric: an LU
+    factor); None when it is (nearly) singular, by the Cholesky path's relative pivot bar."""
+    lu, piv, info = dgetrf(K)
+    if info != 0:
+        return None
+    diag = np.abs(lu.diagonal())
+    if float(diag.min()) <= CHOL_RTOL * float(diag.max()):
+        return None
+    Y, info = dgetrs(lu, piv, rhs)
+    return None if info != 0 else Y
 
 
 def affine_full(qm, sc, K, rhs_top, con_rhs, control):

@@ -1,0 +1,191 @@
+"""Geometry updates along the load stage: the object's finite rotation (docs/quasistatic.md,
+"Large rotations").
+
+The model's grasp map ``G`` holds the lever arms ``a_i`` of the contacts at rest. When the
+object turns by ``R``, its material contact points move by ``(R - I) a_i`` — to first order
+``theta x a_i`` (what ``G^T`` gives), to second order also ``-|theta|^2 a_perp / 2`` towards the
+rotation axis — and the contact forces act at ``R a_i``. The simulation
+(:func:`~pinograsp.simulate_max_wrench`) turns the object exactly, with the hand linearised and
+the contact normals fixed in the world; at the give-way rotations of a loosely held object
+(2–29 degrees) the second-order motion (millimetres) dwarfs the springs' deflections (microns)
+and the linear path holds loads the turned grasp does not.
+
+So the load stage re-linearises about the turned object every :data:`GEOMETRY_STEP` of
+rotation: a new :class:`~.model.QSModel` whose ``A`` has the arms ``R_mid a_i`` (``R_mid``:
+the rotation half a step ahead along the last segment's spin, a midpoint rule, so that the
+second-order motion over a step is captured), and the **geometric stiffness** of the current
+forces, ``d(sum_i R a_i x f_i)/dtheta = sum_i [f_i]x [R a_i]x`` (the moment of the contact
+forces about the turning object changes as their arms turn: a squeezed object destabilised as
+it turns), which enters the tangent stiffness as ``A k A^T - K_G``. Rates within a step are
+those of that linear model; its equilibrium invariant ``G c + K_G (x - x_ref) + w`` is what
+the audit checks per state (``e_ref``: its value at the update). Hand kinematics stay linear,
+as in the simulation. Paths whose object turns less than one step are unchanged.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from ...core.axes import PLANAR_AXES
+from ...core.giveway import LINEAR_ROTATION
+from .model import QSModel, constraints_of
+from .state import State
+
+#: Object rotation [rad] between two geometry updates of the load stage (chosen by measurement:
+#: docs/quasistatic.md, "Large rotations").
+GEOMETRY_STEP = 0.005
+#: Total object rotation [rad] beyond which the geometry is no longer updated (the path then
+#: ends its resisted range there: :data:`~pinograsp.core.giveway.LINEAR_ROTATION`).
+GEOMETRY_MAX = LINEAR_ROTATION
+
+
+@dataclass(frozen=True)
+class GeometryUpdates:
+    """When the load stage re-linearises about the turned object.
+
+    Attributes:
+        scale: Physical displacement per model displacement (``max(k) / contact_stiffness``:
+            the path's displacements are those of the model's own ``k``; the object turns by
+            ``scale`` times its model rotation at the chosen contact stiffness).
+        step: Object rotation between updates [rad].
+        max_rotation: No update beyond this total rotation [rad].
+        until: No update above this load [N or N·m] (the largest load of interest).
+    """
+
+    scale: float = 1.0
+    step: float = GEOMETRY_STEP
+    max_rotation: float = GEOMETRY_MAX
+    until: float = float("inf")
+
+
+def _axes6(qm: QSModel) -> list[int]:
+    """The 6D axis of each of the model's object coordinates."""
+    return list(PLANAR_AXES) if qm.model.planar else list(range(qm.nx))
+
+
+def spin(qm: QSModel, dvs: np.ndarray) -> np.ndarray:
+    """The object rotation (3,) [rad], world frame, of a scaled displacement (change) ``dvs``."""
+    out = np.zeros(3)
+    for j, a in enumerate(_axes6(qm)):
+        if a >= 3:
+            out[a - 3] = dvs[j] / qm.S[j]
+    return out
+
+
+def rotation_matrix(theta: np.ndarray) -> np.ndarray:
+    """``exp([theta]x)`` (3, 3) of a rotation vector ``theta`` (3,) [rad] (Rodrigues)."""
+    angle = float(np.linalg.norm(theta))
+    if angle == 0.0:
+        return np.eye(3)
+    k = theta / angle
+    K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
+    return np.eye(3) + np.sin(angle) * K + (1.0 - np.cos(angle)) * (K @ K)
+
+
+def turned(qm: QSModel, vs: np.ndarray, scale: float) -> np.ndarray:
+    """The object's physical rotation (3, 3) at the scaled displacements ``vs`` (nv,) of a
+    path on ``qm``: the rotation at its last update composed with the spin since (``scale``:
+    :attr:`GeometryUpdates.scale`)."""
+    ref = qm.vs_ref if qm.vs_ref is not None else np.zeros_like(vs)
+    base = qm.rot if qm.rot is not None else np.eye(3)
+    return rotation_matrix(scale * spin(qm, vs - ref)) @ base
+
+
+def grasp_map(qm: QSModel, R: np.ndarray) -> np.ndarray:
+    """The grasp map (nx, nc*d) [1, m] with the contact arms turned by ``R`` (3, 3) (normals
+    fixed in the world, as in the simulation)."""
+    m = qm.model
+    d = qm.d
+    arms = (np.asarray(m.points, float) - np.asarray(m.reference_point, float)) @ R.T
+    F = np.asarray(m.frames, float)[:, :, :d]
+    G6 = np.zeros((6, qm.ncd))
+    G6[:3] = np.concatenate(list(F), axis=1)
+    G6[3:] = np.concatenate([np.cross(arms[i][:, None], F[i], axis=0) for i in range(qm.nc)], axis=1)
+    return G6[_axes6(qm)]
+
+
+def geometric_stiffness(qm: QSModel, R: np.ndarray, c: np.ndarray) -> np.ndarray:
+    """``d(G(R) c)/dtheta`` (nx, nx) [N·m/rad on the rotation block, 0 elsewhere] of contact forces
+    ``c`` (nc*d,) [N] at arms turned by ``R``: ``sum_i [f_i]x [R a_i]x`` (``f_i`` world)."""
+    m = qm.model
+    d = qm.d
+    arms = (np.asarray(m.points, float) - np.asarray(m.reference_point, float)) @ R.T
+    F = np.asarray(m.frames, float)[:, :, :d]
+    f = np.einsum("iad,id->ia", F, c.reshape(qm.nc, d))
+    K3 = np.einsum("ia,ib->ab", arms, f) - float(np.einsum("ia,ia->", arms, f)) * np.eye(3)
+    axes = _axes6(qm)
+    out = np.zeros((qm.nx, qm.nx))
+    for j, a in enumerate(axes):
+        for k, b in enumerate(axes):
+            if a >= 3 and b >= 3:
+                out[j, k] = K3[a - 3, b - 3]
+    return out
+
+
+def moved(qm: QSModel, st: State, w: np.ndarray, ahead: np.ndarray, scale: float) -> QSModel:
+    """The model re-linearised at the state ``st`` of a path on ``qm`` under the reduced load
+    ``w`` (nx,): arms turned half of ``ahead`` (3,) [rad] beyond the current rotation
+    (:func:`turned`), the geometric stiffness of ``st.c`` there (per model radian: ``scale``
+    times the physical one), and the references of the incremental gaps and of the
+    equilibrium invariant at ``st``."""
+    R = turned(qm, st.vs, scale)
+    R_mid = rotation_matrix(0.5 * ahead) @ R
+    G = grasp_map(qm, R_mid)
+    S = qm.S
+    A = qm.A.copy()
+    A[: qm.nx] = G / S[: qm.nx, None]
+    KGp = scale * geometric_stiffness(qm, R_mid, st.c)
+    KG = np.zeros((qm.nv, qm.nv))
+    KG[: qm.nx, : qm.nx] = KGp / np.outer(S[: qm.nx], S[: qm.nx])
+    rigid = qm.nbd | qm.locked
+    return replace(
+        qm,
+        A=A,
+        free=constraints_of(A, qm.Rn, qm.Cn, rigid, qm.nx, held=False),
+        held=constraints_of(A, qm.Rn, qm.Cn, rigid, qm.nx, held=True),
+        KG=KG,
+        KGp=KGp,
+        rot=R,
+        vs_ref=st.vs.copy(),
+        gap_ref=qm.gaps(st.vs),
+        e_ref=G @ st.c + w,
+    )
+
+
+def step_to_update(qm: QSModel, st: State, dvs: np.ndarray, geo: GeometryUpdates, load_rate: float) -> float:
+    """The step along a segment with rates ``dvs`` from ``st`` at which the object has turned
+    ``geo.step`` since the last update (``inf``: never, or not within ``geo``'s limits)."""
+    ref = qm.vs_ref if qm.vs_ref is not None else np.zeros_like(st.vs)
+    a = geo.scale * spin(qm, st.vs - ref)
+    b = geo.scale * spin(qm, dvs)
+    bb = float(b @ b)
+    if bb == 0.0:
+        return float("inf")
+    if st.t > geo.until:
+        return float("inf")
+    base = qm.rot if qm.rot is not None else np.eye(3)
+    total = float(np.arccos(np.clip((np.trace(base) - 1.0) / 2.0, -1.0, 1.0)))
+    if total >= geo.max_rotation:
+        return float("inf")
+    ab, aa = float(a @ b), float(a @ a)
+    disc = ab * ab - bb * (aa - geo.step**2)
+    t = (-ab + np.sqrt(max(disc, 0.0))) / bb
+    if load_rate > 0 and np.isfinite(geo.until):
+        t = t if st.t + t * load_rate <= geo.until else float("inf")
+    return max(float(t), 0.0)
+
+
+__all__ = [
+    "GEOMETRY_MAX",
+    "GEOMETRY_STEP",
+    "GeometryUpdates",
+    "geometric_stiffness",
+    "grasp_map",
+    "moved",
+    "rotation_matrix",
+    "spin",
+    "step_to_update",
+    "turned",
+]
