@@ -59,11 +59,12 @@ def _descend(qm: QSModel, out: StageRun, seg: Segment, spec: StageSpec, sc: Stag
             t, trig = max((peak - st.t) / lam_rate, 0.0), (Trigger(TriggerKind.LANDED, -1),)
         elif lam_rate < 0 and st.t / -lam_rate <= t:
             out.states.append(advance(st, seg, st.t / -lam_rate))
+            out.states[-1].geo = qm if qm.KG is not None else None
             out.triggers.append((Trigger(TriggerKind.UNLOADED, -1),))
             return RunStatus.UNLOADED
         if not np.isfinite(t):
             return RunStatus.MECHANISM if lam_rate <= 0 else RunStatus.UNBOUNDED
-        st = advance(st, seg, t)
+        st = advance(st, seg, t, geo=qm if qm.KG is not None else None)
         out.states.append(st)
         out.triggers.append(trig)
         if trig and trig[0].kind == TriggerKind.LANDED:

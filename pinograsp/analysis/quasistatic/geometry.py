@@ -124,19 +124,23 @@ def geometric_stiffness(qm: QSModel, R: np.ndarray, c: np.ndarray) -> np.ndarray
     return out
 
 
-def moved(qm: QSModel, st: State, w: np.ndarray, ahead: np.ndarray, scale: float) -> QSModel:
+def moved(
+    qm: QSModel, st: State, w: np.ndarray, ahead: np.ndarray, scale: float, dc: np.ndarray | None = None
+) -> QSModel:
     """The model re-linearised at the state ``st`` of a path on ``qm`` under the reduced load
     ``w`` (nx,): arms turned half of ``ahead`` (3,) [rad] beyond the current rotation
-    (:func:`turned`), the geometric stiffness of ``st.c`` there (per model radian: ``scale``
-    times the physical one), and the references of the incremental gaps and of the
-    equilibrium invariant at ``st``."""
+    (:func:`turned`), the geometric stiffness there of the contact forces half-way along the
+    predicted force change ``dc`` (nc*d,) over the step (per model radian: ``scale`` times the
+    physical one), and the references of the incremental gaps and of the equilibrium
+    invariant at ``st``."""
     R = turned(qm, st.vs, scale)
     R_mid = rotation_matrix(0.5 * ahead) @ R
     G = grasp_map(qm, R_mid)
     S = qm.S
     A = qm.A.copy()
     A[: qm.nx] = G / S[: qm.nx, None]
-    KGp = scale * geometric_stiffness(qm, R_mid, st.c)
+    c_mid = st.c if dc is None else st.c + 0.5 * dc
+    KGp = scale * geometric_stiffness(qm, R_mid, c_mid)
     KG = np.zeros((qm.nv, qm.nv))
     KG[: qm.nx, : qm.nx] = KGp / np.outer(S[: qm.nx], S[: qm.nx])
     rigid = qm.nbd | qm.locked

@@ -268,8 +268,9 @@ def next_event(
     return t, trig
 
 
-def advance(st: State, seg: Segment, t: float, t_end: float | None = None) -> State:
-    """The state after a step ``t`` along ``seg``."""
+def advance(st: State, seg: Segment, t: float, t_end: float | None = None, geo: QSModel | None = None) -> State:
+    """The state after a step ``t`` along ``seg`` (``geo``: the updated geometry the segment
+    was solved on, ``State.geo``)."""
     out = State(
         st.vs + t * seg.dvs,
         st.c + t * seg.dc,
@@ -278,6 +279,7 @@ def advance(st: State, seg: Segment, t: float, t_end: float | None = None) -> St
         st.hold + t * seg.dhold,
         st.slip + t * seg.dslip,
         st.t + t * seg.lam_rate,
+        geo,
     )
     if t_end is not None:
         out.t = t_end
@@ -323,8 +325,7 @@ def follow(
             run.status = RunStatus.UNBOUNDED
             return run
         ends = any(tr.kind == TriggerKind.END for tr in trig)
-        st = advance(st, seg, t, spec.t_end if ends else None)
-        st.geo = qm if qm.KG is not None else None
+        st = advance(st, seg, t, spec.t_end if ends else None, qm if qm.KG is not None else None)
         run.states.append(st)
         run.triggers.append(trig)
         if ends:
@@ -332,9 +333,9 @@ def follow(
             run.status = RunStatus.END
             return run
         if geometry is not None and trig[0].kind == TriggerKind.GEOMETRY:
-            b = spin(qm, seg.dvs)
-            ahead = b * (geometry.step / float(np.linalg.norm(b)))
-            qm = moved(qm, st, spec.w0 + st.t * spec.dw, ahead, geometry.scale)
+            b = spin(qm, seg.dvs) * geometry.scale
+            per = geometry.step / float(np.linalg.norm(b))  # path parameter per step at this rate
+            qm = moved(qm, st, spec.w0 + st.t * spec.dw, b * per, geometry.scale, seg.dc * per)
             sc = StageCache.of(qm, spec)
             run.model = qm
         if len(run.segments) >= max_segments:
