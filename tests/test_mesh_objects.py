@@ -174,14 +174,18 @@ def test_the_torus_scene_loads_and_answers():
     into = scene.max_resistible_wrench("into_palm")
     side = scene.max_resistible_wrench("sideways")
     assert into.status == "finite" and side.status == "finite"
-    # the give-way loads: into the palm 1.50 N (simulation 1.42 N); sideways 4.20 N, past the
-    # first limit 1.49 N (the simulation starts slipping at 4.1 N and sways to 13.4 N)
-    assert 1.0 < into.magnitude < 2.0 and 4.0 < side.magnitude < 4.5 and side.first_limit < 2.0
-    # pulled out: no limit (the motor holds, λ* unbounded), but the object sways 1 mm at 3.69 N
-    # on the soft single-motor linkage (a gradual give-way)
+    # the give-way loads: into the palm 1.50 N (simulation 1.42 N); sideways the path survives
+    # a snap at its first limit 1.49 N and the turned grasp holds to 14.3 N (rotation), where
+    # the simulation at a slow ramp gives way at 10.9 N with the circular cone and at 2.35 N
+    # with the model's pyramid (a disagreement: docs/validation_quasistatic.md)
+    assert 1.0 < into.magnitude < 2.0 and side.first_limit < 2.0 and len(side.giveway.snaps) == 1
+    assert side.magnitude == pytest.approx(14.266, rel=1e-3) and side.giveway.reason == "rotation"
+    # pulled out: no limit (the motor holds, λ* unbounded), but the object sways 1 mm at 3.26 N
+    # on the soft single-motor linkage (a gradual give-way; 3.69 N with the geometry of the
+    # touching pose; the simulation at a slow ramp: 2.57 N pyramid, 2.59 N cone)
     out = scene.max_resistible_wrench("pull_out")
     assert out.first_limit == np.inf and out.giveway.reason == "translation"
-    assert out.magnitude == pytest.approx(3.6943, rel=1e-3)
+    assert out.magnitude == pytest.approx(3.2597, rel=1e-3)
 
 
 @pytest.mark.slow

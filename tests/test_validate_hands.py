@@ -100,8 +100,8 @@ def test_the_live_column_is_the_default_answer_itself():
 @pytest.mark.parametrize(
     ("name", "default", "first"),
     [  # (same class, finite pairs, within 10 %) of the default answer and of λ*, 24 directions
-        ("ezgripper", (24, 23, 5), (13, 12, 5)),
-        ("talos_gripper", (7, 0, 0), (7, 0, 0)),
+        ("ezgripper", (24, 23, 5), (15, 14, 5)),
+        ("talos_gripper", (15, 8, 4), (7, 0, 0)),
         ("hey5", (24, 15, 10), (24, 15, 10)),
     ],
 )

@@ -237,14 +237,16 @@ def _peak(cont: LoadingPath) -> dict:
     return cont.state_on(j, 0.0)
 
 
-def locate_giveway(p: Prepared, lp: LoadingPath, d6: np.ndarray, s: Settings, upper: float) -> Located:
+def locate_giveway(
+    p: Prepared, lp: LoadingPath, d6: np.ndarray, s: Settings, upper: float, th: Thresholds | None = None
+) -> Located:
     """Where the path ``lp`` (with its continuation) gives way under the settings' thresholds
     (docs/giveway.md): the first threshold crossing, snaps that land within the thresholds
     followed; a crossing above ``upper`` on a path that ends in a ray is ``"unbounded"`` (no
     limit, and held within the thresholds up to ``upper``).
     Status ``"no_solution"``/``"segment_limit"`` when the path stopped first (magnitude: the
-    load reached)."""
-    th = _thresholds(p, d6, s, upper)
+    load reached); ``th``: the thresholds when the caller has them."""
+    th = _thresholds(p, d6, s, upper) if th is None else th
     stopped = lp.status in ("no_solution", "segment_limit")
     cont = lp.continuation if lp.status in ("finite", "below_resolution") else None
     follow = cont is not None and bool(cont.snaps)
@@ -326,6 +328,7 @@ def max_wrench_prepared(
     [N or N·m]: the largest load of interest (it scales the default give-way thresholds; a
     path stopped without a verdict at or above it is ``"above_limit"``)."""
     giveway = s.limit == "giveway"
+    th = _thresholds(p, d6, s, upper)
     # loading_path's validation done once (the direction normalised again as it would be)
     lp = (
         path
@@ -340,11 +343,12 @@ def max_wrench_prepared(
             lean=True,
             until=2.0 * upper,
             stiffness=s.contact_stiffness,
+            reach=(th.rotation, th.slip),
         )
     )
     record = None
     if giveway:
-        loc = locate_giveway(p, lp, d6, s, upper)
+        loc = locate_giveway(p, lp, d6, s, upper, th)
         status, magnitude, state, record = loc.status, loc.magnitude, loc.state, loc.giveway
         at = float(state["load"])
     else:

@@ -16,7 +16,7 @@ from ...core.validate import MAX_FORCE, MAX_PATH_SEGMENTS, count, load_within, n
 from ...errors import InvalidInputError
 from ...solvers.threads import single_threaded
 from .continuation import continue_past_limit
-from .geometry import GeometryUpdates
+from .geometry import GEOMETRY_MAX, GeometryUpdates
 from .path import MAX_SEGMENTS, StageRun, follow
 from .prepared import Prepared, checked_settings, path_of_variant, prepare
 from .records import build_path, continuation_record
@@ -96,16 +96,23 @@ def run_path(
     lean: bool = False,
     until: float = float("inf"),
     stiffness: float = DEFAULT_CONTACT_STIFFNESS,
+    reach: tuple[float, float] = (float("inf"), float("inf")),
 ) -> LoadingPath:
     """The load stage of a prepared grasp along the unit direction ``d6`` (6,) as a
     :class:`LoadingPath` (see :func:`loading_path`); ``lean``: without its events, stiffness
     and energy balance (see :func:`build_path`); ``until``: no geometry update above this load,
-    ``stiffness``: the contact stiffness [N/m] at which the object turns
+    ``stiffness``: the contact stiffness [N/m] at which the object turns, ``reach``: no update
+    past this rotation [rad] and translation [m] of the object (the give-way thresholds)
     (``geometry.GeometryUpdates``)."""
     d_red = p.model.reduce_wrench(d6)
     t_end = float("inf") if up_to is None else float(up_to)
     spec = StageSpec(np.zeros(p.qm.nx), d_red, p.fc, np.zeros(p.qm.na), t_end, held=False, friction=True)
-    geo = GeometryUpdates(scale=float(np.max(p.model.k)) / float(stiffness), until=until)
+    geo = GeometryUpdates(
+        scale=float(np.max(p.model.k)) / float(stiffness),
+        until=until,
+        max_rotation=min(GEOMETRY_MAX, reach[0]),
+        max_translation=reach[1],
+    )
     run = (
         follow(p.qm, p.start, spec, max_segments, geo)
         if t_end > 0

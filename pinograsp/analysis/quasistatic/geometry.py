@@ -30,7 +30,7 @@ import numpy as np
 
 from ...core.axes import PLANAR_AXES
 from ...core.giveway import LINEAR_ROTATION
-from .model import QSModel, constraints_of
+from .model import Constraints, QSModel
 from .state import State
 
 #: Object rotation [rad] between two geometry updates of the load stage (chosen by measurement:
@@ -52,12 +52,32 @@ class GeometryUpdates:
         step: Object rotation between updates [rad].
         max_rotation: No update beyond this total rotation [rad].
         until: No update above this load [N or N·m] (the largest load of interest).
+        max_translation: No update beyond this translation of the object [m] (with
+            ``max_rotation``: the give-way thresholds, past which the path's answer is decided).
+        min_step, max_step: Bounds of the adapted step [rad] (:meth:`adapted`).
     """
 
     scale: float = 1.0
     step: float = GEOMETRY_STEP
     max_rotation: float = GEOMETRY_MAX
     until: float = float("inf")
+    max_translation: float = float("inf")
+    min_step: float = GEOMETRY_STEP / 20
+    max_step: float = GEOMETRY_STEP
+
+    def adapted(self, step: float, before: float, after: float) -> float:
+        """The next step [rad] after one of ``step``, from the compliance along the load
+        ``before`` and ``after`` the update ([m/N] in any positive scale): where the grasp
+        softens, a quarter of the rotation left to the limit that the stiffness ``1 /
+        compliance`` falling at this rate predicts, at most :attr:`step` (the steps shrink as a
+        limit comes near, so that it is located within a small step); where it does not (an
+        object turning steadily as it holds), twice the step, at most ``max_step``."""
+        if not (np.isfinite(before) and np.isfinite(after)) or before <= 0.0 or after <= 0.0:
+            return self.min_step
+        s0, s1 = 1.0 / before, 1.0 / after
+        if s1 >= s0:  # not softening: the step may grow
+            return float(min(self.max_step, 2.0 * step))
+        return float(min(self.step, max(self.min_step, 0.25 * step * s1 / (s0 - s1))))
 
 
 def _axes6(qm: QSModel) -> list[int]:
@@ -100,9 +120,16 @@ def grasp_map(qm: QSModel, R: np.ndarray) -> np.ndarray:
     d = qm.d
     arms = (np.asarray(m.points, float) - np.asarray(m.reference_point, float)) @ R.T
     F = np.asarray(m.frames, float)[:, :, :d]
-    G6 = np.zeros((6, qm.ncd))
-    G6[:3] = np.concatenate(list(F), axis=1)
-    G6[3:] = np.concatenate([np.cross(arms[i][:, None], F[i], axis=0) for i in range(qm.nc)], axis=1)
+    a = arms[:, :, None]  # (nc, 3, 1)
+    moments = np.stack(  # a_i x each column of F_i, (nc, 3, d)
+        [
+            a[:, 1] * F[:, 2] - a[:, 2] * F[:, 1],
+            a[:, 2] * F[:, 0] - a[:, 0] * F[:, 2],
+            a[:, 0] * F[:, 1] - a[:, 1] * F[:, 0],
+        ],
+        axis=1,
+    )
+    G6 = np.concatenate([F, moments], axis=1).transpose(1, 0, 2).reshape(6, qm.ncd)
     return G6[_axes6(qm)]
 
 
@@ -124,6 +151,12 @@ def geometric_stiffness(qm: QSModel, R: np.ndarray, c: np.ndarray) -> np.ndarray
     return out
 
 
+def _with_arms(con: Constraints, A: np.ndarray) -> Constraints:
+    """``con`` for the re-linearised ``A`` (nv, nc*d): the constraint columns, their basis and
+    pseudo-inverses do not depend on the contact geometry, only their products with ``A``."""
+    return replace(con, AZ=A.T @ con.Z, AtBt=A.T @ con.Bt_pinv, BpA=con.B_pinv @ A)
+
+
 def moved(
     qm: QSModel, st: State, w: np.ndarray, ahead: np.ndarray, scale: float, dc: np.ndarray | None = None
 ) -> QSModel:
@@ -143,12 +176,11 @@ def moved(
     KGp = scale * geometric_stiffness(qm, R_mid, c_mid)
     KG = np.zeros((qm.nv, qm.nv))
     KG[: qm.nx, : qm.nx] = KGp / np.outer(S[: qm.nx], S[: qm.nx])
-    rigid = qm.nbd | qm.locked
     return replace(
         qm,
         A=A,
-        free=constraints_of(A, qm.Rn, qm.Cn, rigid, qm.nx, held=False),
-        held=constraints_of(A, qm.Rn, qm.Cn, rigid, qm.nx, held=True),
+        free=_with_arms(qm.free, A),
+        held=_with_arms(qm.held, A),
         KG=KG,
         KGp=KGp,
         rot=R,
@@ -158,9 +190,11 @@ def moved(
     )
 
 
-def step_to_update(qm: QSModel, st: State, dvs: np.ndarray, geo: GeometryUpdates, load_rate: float) -> float:
+def step_to_update(
+    qm: QSModel, st: State, dvs: np.ndarray, geo: GeometryUpdates, load_rate: float, step: float
+) -> float:
     """The step along a segment with rates ``dvs`` from ``st`` at which the object has turned
-    ``geo.step`` since the last update (``inf``: never, or not within ``geo``'s limits)."""
+    ``step`` [rad] since the last update (``inf``: never, or not within ``geo``'s limits)."""
     ref = qm.vs_ref if qm.vs_ref is not None else np.zeros_like(st.vs)
     a = geo.scale * spin(qm, st.vs - ref)
     b = geo.scale * spin(qm, dvs)
@@ -171,10 +205,10 @@ def step_to_update(qm: QSModel, st: State, dvs: np.ndarray, geo: GeometryUpdates
         return float("inf")
     base = qm.rot if qm.rot is not None else np.eye(3)
     total = float(np.arccos(np.clip((np.trace(base) - 1.0) / 2.0, -1.0, 1.0)))
-    if total >= geo.max_rotation:
+    if total >= geo.max_rotation or geo.scale * float(np.linalg.norm(st.vs[:3])) >= geo.max_translation:
         return float("inf")
     ab, aa = float(a @ b), float(a @ a)
-    disc = ab * ab - bb * (aa - geo.step**2)
+    disc = ab * ab - bb * (aa - step**2)
     t = (-ab + np.sqrt(max(disc, 0.0))) / bb
     if load_rate > 0 and np.isfinite(geo.until):
         t = t if st.t + t * load_rate <= geo.until else float("inf")

@@ -153,6 +153,14 @@ def _reason(th: Thresholds, x0: np.ndarray, q0: np.ndarray, x: np.ndarray, q: np
     return "limit" if hit is None else hit[1]
 
 
+def _peak_before_descent(cont: Trace, land: int) -> int | None:
+    """After the last landing: the breakpoint of the largest load when the path falls after
+    it (a limit whose snap did not land: the grasp gives way there, and a threshold crossed
+    on the falling load beyond it is not a load it resisted); None when it does not fall."""
+    peak = land + int(np.argmax(cont.loads[land:]))
+    return peak if peak < len(cont.loads) - 1 else None
+
+
 def walk(
     main: Trace, cont: Trace | None, snaps: tuple[tuple[int, int], ...], th: Thresholds
 ) -> tuple[Point | None, tuple[tuple[int, int], ...]]:
@@ -169,7 +177,7 @@ def walk(
     for n, (top, land) in enumerate(snaps):
         if any(_beyond(th, x0, q0, cont.x[j], cont.q[j]) for j in range(top, land + 1)):
             return Point(float(cont.loads[top]), "limit", 1, top, 0.0), snaps[:n]
-        end = snaps[n + 1][0] if n + 1 < len(snaps) else None
+        end = snaps[n + 1][0] if n + 1 < len(snaps) else _peak_before_descent(cont, land)
         hit = first_crossing(cont, th, x0, q0, land, end, 1)
         if hit is not None:
             return hit, snaps[: n + 1]

@@ -286,6 +286,15 @@ def advance(st: State, seg: Segment, t: float, t_end: float | None = None, geo: 
     return out
 
 
+def _along(qm: QSModel, sc: StageCache, seg: Segment) -> float:
+    """The object's displacement along the load per unit load on ``seg`` (scaled; ``nan``
+    where the load does not grow)."""
+    _, _, r0, size, _ = sc.rates
+    if not seg.lam_rate > 0 or size == 0:
+        return float("nan")
+    return float(r0 @ seg.dvs[: qm.nx]) / size / seg.lam_rate
+
+
 def follow(
     qm: QSModel,
     start: State,
@@ -299,6 +308,8 @@ def follow(
     st = start.copy()
     run = StageRun(states=[st], model=qm)
     sc = StageCache.of(qm, spec)
+    step = geometry.step if geometry is not None else 0.0
+    before = None  # the compliance along the load just before the last update
     while True:
         cls = classify(qm, st, spec, sc)
         st.c = cls.forces  # contacts at zero force: exactly 0, anchors forgotten
@@ -316,9 +327,11 @@ def follow(
         if seg.status != SegmentStatus.OK:
             run.status = run_status(seg.status)
             return run
+        if geometry is not None and before is not None:
+            step, before = geometry.adapted(step, before, _along(qm, sc, seg)), None
         t, trig = next_event(qm, st, spec, cls, seg, sc)
         if geometry is not None:
-            t_geo = step_to_update(qm, st, seg.dvs, geometry, seg.lam_rate)
+            t_geo = step_to_update(qm, st, seg.dvs, geometry, seg.lam_rate, step)
             if t_geo < t:
                 t, trig = t_geo, (Trigger(TriggerKind.GEOMETRY, -1),)
         if not np.isfinite(t):
@@ -334,7 +347,8 @@ def follow(
             return run
         if geometry is not None and trig[0].kind == TriggerKind.GEOMETRY:
             b = spin(qm, seg.dvs) * geometry.scale
-            per = geometry.step / float(np.linalg.norm(b))  # path parameter per step at this rate
+            per = step / float(np.linalg.norm(b))  # path parameter per step at this rate
+            before = _along(qm, sc, seg)
             qm = moved(qm, st, spec.w0 + st.t * spec.dw, b * per, geometry.scale, seg.dc * per)
             sc = StageCache.of(qm, spec)
             run.model = qm
