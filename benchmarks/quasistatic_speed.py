@@ -25,6 +25,23 @@ def _plane(n: int = 24) -> list[np.ndarray]:
     ]
 
 
+#: The built-in hands measured with ``--hands`` (24 directions in each scene's plane, at its
+#: ``upper``: the load of interest, which bounds the geometry updates).
+HANDS = ("allegro_left", "ezgripper", "ability", "talos_gripper")
+
+
+def hand_grasps() -> list[tuple[str, object, object, list[np.ndarray], float]]:
+    """(label, model, command, directions, upper) of the built-in hands."""
+    from pinograsp.core.axes import plane_directions
+
+    out = []
+    for name in HANDS:
+        s = pg.load_scene(name)
+        dirs = list(plane_directions(s.model, s.analysis.plane, 24))
+        out.append((name, s.model, s.model.command_vector(s.preload(None)), dirs, float(s.analysis.upper)))
+    return out
+
+
 def grasps(quick: bool) -> list[tuple[str, object, object, list[np.ndarray]]]:
     """(label, model, command, directions)."""
     out = [("pinch", pg.examples.pinch(), 1.0, [d[[0, 1, 5]] for d in _plane()])]
@@ -47,14 +64,14 @@ def grasps(quick: bool) -> list[tuple[str, object, object, list[np.ndarray]]]:
     return out
 
 
-def measure(model, command, dirs) -> dict:
+def measure(model, command, dirs, upper: float = 1e3) -> dict:
     t0 = time.process_time()
-    pg.quasistatic_max_wrench(model, command, dirs[0])  # the preload path, once
+    pg.quasistatic_max_wrench(model, command, dirs[0], upper=upper)  # the preload path, once
     first = time.process_time() - t0
     times, segs, events, lcp, statuses = [], [], [], [], collections.Counter()
     for d in dirs:
         t0 = time.process_time()
-        r = pg.quasistatic_max_wrench(model, command, d)
+        r = pg.quasistatic_max_wrench(model, command, d, upper=upper)
         times.append(time.process_time() - t0)
         lp = pg.loading_path(model, command, d)
         segs.append(lp.segments)
@@ -75,14 +92,16 @@ def measure(model, command, dirs) -> dict:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--quick", action="store_true", help="fewer random grasps and directions")
+    ap.add_argument("--hands", action="store_true", help="also the built-in hands at their scene's upper")
     args = ap.parse_args()
     print(
         "| grasp | contacts | directions | median ms/dir | max ms | first (with preload) ms "
         "| segments med/max | events med/max | largest LCP | statuses |"
     )
     print("|---|---:|---:|---:|---:|---:|---|---|---:|---|")
-    for label, m, fc, dirs in grasps(args.quick):
-        r = measure(m, fc, dirs)
+    rows = [(*g, 1e3) for g in grasps(args.quick)] + (hand_grasps() if args.hands else [])
+    for label, m, fc, dirs, upper in rows:
+        r = measure(m, fc, dirs, upper)
         print(
             f"| {label} | {m.nc} | {len(dirs)} | {r['median'] * 1e3:.2f} | {r['max'] * 1e3:.1f} | "
             f"{r['first'] * 1e3:.1f} | {r['segments'][0]}/{r['segments'][1]} | "
