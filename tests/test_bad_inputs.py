@@ -42,7 +42,8 @@ def test_bad_input(case, tmp_path):
 
 
 def test_the_quasistatic_path_keeps_only_the_domains_that_apply_to_it():
-    """``method="quasistatic"`` (the method table, core/methods.py: not bounded by upper and steps) does not bisect: ``steps`` is not
+    """``method="quasistatic"`` (the method table, core/methods.py: not bounded by upper and
+    steps) does not bisect: ``steps`` is not
     bounded by MAX_STEPS, ``upper`` is not checked against the grasp; a load the path must
     reach (``up_to``) keeps the load domain (docs/errors.md, "Input domains")."""
     from pinograsp.core import examples

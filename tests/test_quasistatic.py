@@ -416,7 +416,9 @@ def test_case2_minus_x_limit_is_a_tiny_snap():
     held = lp.load_at_displacement(1e-3)  # 71.64 N before the geometry was followed
     assert held == pytest.approx(72.18, rel=1e-3) and held > 50.0
     mw = s.max_resistible_wrench("-fx")
-    assert mw.status == "unbounded" and [a for a, _ in mw.giveway.snaps] == pytest.approx([12.4902, 13.8414], rel=1e-4)
+    assert mw.status == "unbounded" and [a for a, _ in mw.giveway.snaps] == pytest.approx(
+        [12.4902, 13.8414], rel=1e-4
+    )
 
 
 def test_case2_finger2_preload_drifts_past_a_neutral_limit():

@@ -16,7 +16,6 @@ from pinograsp.analysis.quasistatic.path import follow
 from pinograsp.analysis.quasistatic.preload import stage_sound, zero_state
 from pinograsp.analysis.quasistatic.prepared import checked_settings, prepare
 from pinograsp.analysis.quasistatic.state import StageSpec
-from pinograsp.solvers.lcp import provably_unsolvable as lcp_has_no_solution
 
 SIMS = Path(__file__).resolve().parents[1] / "scripts" / "reproduce" / "validate_hands"
 QS = "quasistatic"

@@ -67,8 +67,10 @@ def run(hands: list[str]) -> None:
 def _verdict(mw: pg.MaxWrench, row: dict) -> tuple[str, float | None]:
     """Same class and, for a finite pair, simulated / predicted − 1."""
     upper = row["upper"]
-    held = mw.status == "unbounded" or mw.status == "above_limit" or (
-        mw.status == "finite" and mw.magnitude >= upper
+    held = (
+        mw.status == "unbounded"
+        or mw.status == "above_limit"
+        or (mw.status == "finite" and mw.magnitude >= upper)
     )
     sim_held = row["status"] == "held"
     if held and sim_held:
@@ -106,8 +108,9 @@ def report() -> list[str]:
             if not ok or (rel is not None and abs(rel) > vh.WITHIN):
                 sim = "held" if row["status"] == "held" else f"{row['status']} {row['load']:.4g}"
                 what = verdict if rel is None else f"{100 * rel:+.1f} %"
-                notes.append(f"- {name} {label}: simulated {sim}, default {mw.magnitude:.4g} "
-                             f"({mw.status}, {mw.giveway.reason if mw.giveway else ''}) — {what}")  # fmt: skip
+                why = mw.giveway.reason if mw.giveway else ""
+                head = f"- {name} {label}: simulated {sim}, default {mw.magnitude:.4g}"
+                notes.append(f"{head} ({mw.status}, {why}) — {what}")
         med = f"{100 * float(np.median(rels)):.1f} %" if rels else "—"
         lines.append(f"| {name} | {n} | {same} | {within} / {len(rels)} | {med} |")
         tot = [tot[0] + n, tot[1] + same, tot[2] + within, tot[3] + len(rels)]

@@ -36,7 +36,18 @@ import pinograsp as pg
 from .validate_mujoco import _label  # the same direction labels as the scene validation
 
 #: Built-in scenes validated (all of them).
-SCENES = ("pinch", "wedge", "case1", "case2", "case3", "fig1", "parallel_jaw_bar", "parallel_jaw_box", "talos_torus", "case2_snap")
+SCENES = (
+    "pinch",
+    "wedge",
+    "case1",
+    "case2",
+    "case3",
+    "fig1",
+    "parallel_jaw_bar",
+    "parallel_jaw_box",
+    "talos_torus",
+    "case2_snap",
+)
 #: Directions per scene plane.
 N_PLANE = 24
 #: Upper load of the random sets [N or N·m], as in the issue.

@@ -36,7 +36,8 @@ CASES: list[Case] = []
 
 
 #: The bisection's domains (steps <= 60, upper within the grasp's force scale) are the searching
-#: methods'; the default quasi-static path does not bisect (the method table, core/methods.py: not bounded by upper and steps).
+#: methods'; the default quasi-static path does not bisect (the method table, core/methods.py:
+#: not bounded by upper and steps).
 IT = "iterative"
 
 

@@ -174,7 +174,9 @@ def response_prepared(p: Prepared, w6: np.ndarray, s: Settings, t0: float) -> Pa
     if size == 0.0:  # the preloaded state
         lp = run_path(p, wrench_direction(p.model, "fx"), MAX_SEGMENTS, 0.0, True, t0)
         return response_at(p, lp, 0.0, w6, "resisted", s, t0)
-    lp = run_path(p, wrench_direction(p.model, w6 / size), MAX_SEGMENTS, size, True, t0, stiffness=s.contact_stiffness)
+    lp = run_path(
+        p, wrench_direction(p.model, w6 / size), MAX_SEGMENTS, size, True, t0, stiffness=s.contact_stiffness
+    )
     if lp.status in ("reached", "unbounded"):
         return response_at(p, lp, size, w6, "resisted", s, t0)
     status = "not_resisted" if lp.status in ("finite", "below_resolution") else "failed"

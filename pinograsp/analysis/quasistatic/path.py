@@ -268,7 +268,9 @@ def next_event(
     return t, trig
 
 
-def advance(st: State, seg: Segment, t: float, t_end: float | None = None, geo: QSModel | None = None) -> State:
+def advance(
+    st: State, seg: Segment, t: float, t_end: float | None = None, geo: QSModel | None = None
+) -> State:
     """The state after a step ``t`` along ``seg`` (``geo``: the updated geometry the segment
     was solved on, ``State.geo``)."""
     out = State(
