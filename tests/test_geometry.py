@@ -123,3 +123,18 @@ def test_adapted_steps_shrink_towards_a_limit_and_grow_back():
     assert g.adapted(g.step, 1.0, 1.25) == pytest.approx(g.step, rel=1e-12)
     assert g.adapted(g.step, 1.0, 2.0) == pytest.approx(0.25 * g.step, rel=1e-12)
     assert g.adapted(g.step, 1.0, -1.0) == g.min_step  # past the limit
+
+
+def test_states_reached_with_the_geometry_updated_pass_their_audit():
+    """The response at a turned state is audited against the linear model that reached it
+    (equilibrium invariant, incremental gaps): residuals at rounding level, as elsewhere."""
+    m, d = _case()
+    mw = pg.max_resistible_wrench(m, 1.0, d, upper=50.0)
+    assert mw.giveway.turned > 0.05 and mw.response.audit.ok
+    for load in (5.0, 10.0, 12.0):
+        r = pg.quasistatic_response(m, 1.0, load * d)
+        assert r.status == "resisted" and r.audit.ok
+        assert r.audit.equilibrium < 1e-9 * load and r.audit.complementarity < 1e-9 * load
+    lp = pg.loading_path(m, 1.0, d)
+    assert lp.geometries and any(g is not None for g in lp.geometries)
+    assert max(lp.audit["equilibrium"]) < 1e-9 * max(lp.loads)

@@ -20,7 +20,7 @@ from ...core.validate import force, load_within
 from ...solvers.threads import single_threaded
 from .api import run_path, unit_again
 from .giveway import Thresholds, Trace, walk
-from .model import balance_residuals
+from .model import QSModel, balance_residuals
 from .path import MAX_SEGMENTS
 from .prepared import Prepared, checked_settings, path_of_variant, prepare
 from .result import LoadingPath
@@ -44,8 +44,10 @@ def _state_audit(
     f = st["actuator_forces"]
     q = st["joint_displacements"]
     x6 = st["object_displacements"]
+    qm = st.get("geometry") or p.qm  # a state reached with the geometry updated: its invariant
+    x = m.reduce_wrench(x6)
     rows = balance_residuals(
-        p.qm, cc[None], (f * p.signs)[None], st["coupling_forces"][None], m.reduce_wrench(w6)[None]
+        qm, cc[None], (f * p.signs)[None], st["coupling_forces"][None], m.reduce_wrench(w6)[None], x[None]
     )
     net, hand, slack = (r[0] for r in rows)
     tol = settings.tolerance * max(float(np.abs(c).max(initial=0.0)), float(np.abs(w6).max()), 1e-300)
@@ -71,7 +73,7 @@ def _state_audit(
     audit = Audit(
         equilibrium=float(np.linalg.norm(net * p.qm.weights)),
         hand=float(np.abs(hand).max(initial=0.0)),
-        complementarity=_complementarity(p, m.reduce_wrench(x6), q, c, f),
+        complementarity=_complementarity(p, x, q, c, f, qm),
         friction=float(max(0.0, -slack.min(initial=0.0))),
         tolerance=tol,
         energy=energy,
@@ -132,12 +134,18 @@ def response_at(
     )
 
 
-def _complementarity(p: Prepared, x: np.ndarray, q: np.ndarray, c: np.ndarray, f: np.ndarray) -> float:
+def _complementarity(
+    p: Prepared, x: np.ndarray, q: np.ndarray, c: np.ndarray, f: np.ndarray, geo: QSModel | None = None
+) -> float:
     """Largest violation [N] of the normal spring law ``c_n = k max(delta, 0)`` and of the
-    ratchets' ``f >= f_c`` (forces as contact forces: torques over their lever)."""
+    ratchets' ``f >= f_c`` (forces as contact forces: torques over their lever); ``geo``: the
+    re-linearised model that reached the state (its gaps, ``QSModel.gaps``)."""
     m, qm = p.model, p.qm
-    g = np.asarray(m.G).T @ x - (np.asarray(m.J) @ q if m.nq else 0.0)
-    delta = -g[:: m.d]
+    if geo is not None and geo.vs_ref is not None:
+        delta = -geo.gaps(np.concatenate([x * qm.S[: qm.nx], q * qm.S[qm.nx :]]))
+    else:
+        g = np.asarray(m.G).T @ x - (np.asarray(m.J) @ q if m.nq else 0.0)
+        delta = -g[:: m.d]
     law = np.abs(c[:, 0] - m.k * np.maximum(delta, 0.0)).max(initial=0.0)
     over = (np.abs(f) - p.fc) * qm.r_norm
     ratchet = float(np.maximum(-over[qm.nbd], 0.0).max(initial=0.0)) if qm.na else 0.0

@@ -159,6 +159,7 @@ def build_path(
         length_scale=float(m.length_scale),
         model_stiffness=float(np.max(m.k)),
         wall_time=wall,
+        geometries=tuple(s.geo for s in states) if any(s.geo is not None for s in states) else (),
         **arrays,  # type: ignore[arg-type]  # the array fields by name
     )
 

@@ -8,7 +8,7 @@ segment continues as a ray with the rates in :attr:`LoadingPath.ray`.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 
@@ -18,6 +18,9 @@ from ...core.validate import GIVEWAY, PHYSICAL_STIFFNESS, number_in
 from ...errors import InvalidInputError, MissingDependencyError
 from .events import PathEvent
 from .giveway import Thresholds, Trace, walk
+
+if TYPE_CHECKING:
+    from .model import QSModel
 
 #: How a loading path ended: at a limit load (``finite``; ``below_resolution`` when that is
 #: 0), with no event ahead (``unbounded``), or stopped without a verdict: the local rate
@@ -146,6 +149,9 @@ class LoadingPath:
     continuation: LoadingPath | None = field(default=None)
     snaps: tuple[tuple[int, int], ...] = ()
     ties: int = 0
+    #: The re-linearised model that reached each breakpoint (``State.geo``; None: the model's
+    #: own geometry), read by the audit of a state; not data (not in ``to_dict``).
+    geometries: tuple[QSModel | None, ...] = field(default=(), repr=False, compare=False)
 
     # ----------------------------------------------------------------- views
     @property
@@ -198,6 +204,9 @@ class LoadingPath:
                 out[name] = (1.0 - s) * arr[j] + s * arr[j + 1]
             else:
                 out[name] = arr[j].copy()
+        if self.geometries:  # the geometry of the segment the load lies on
+            between = lam <= last and j + 1 < len(self.loads) and lam > self.loads[j]
+            out["geometry"] = self.geometries[j + 1 if between else j]
         # the states of the segment leaving breakpoint j (at the last one: the state found at
         # the limit, on the ray, or the one that reached it)
         out["contact_states"] = self.contact_states[j]
@@ -261,6 +270,9 @@ class LoadingPath:
         if not on_ray and j + 1 < len(self.loads) and s > 0.0:
             load = (1.0 - s) * self.loads[j] + s * self.loads[j + 1]
         out["load"] = float(load)
+        if self.geometries:  # the geometry of the segment the point lies on
+            between = not on_ray and j + 1 < len(self.loads) and s > 0.0
+            out["geometry"] = self.geometries[j + 1 if between else j]
         out["contact_states"] = self.contact_states[j]
         out["sliding_faces"] = self.sliding_faces[j]
         out["actuator_modes"] = self.actuator_modes[j]
