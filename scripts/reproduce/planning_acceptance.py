@@ -232,6 +232,67 @@ def _spearman(x: list[float], y: list[float]) -> float:
     return float(spearmanr(x, y).statistic)
 
 
+def _studied(pair: dict[str, Any]) -> tuple[list[dict[str, Any]], int]:
+    """The grasps of (b) simulated along all 6 faces, and how many more the simulation refused
+    (an error along some face, e.g. a preload it finds out of equilibrium)."""
+    full = [g for g in pair["grasps"] if len(g["sims"]) == len(FACES)]
+    done = [g for g in full if not any(s["status"].startswith("error") for s in g["sims"].values())]
+    return done, len(full) - len(done)
+
+
+def disagreements(data: dict[str, Any]) -> list[dict[str, Any]]:
+    """Per pair with both rankings: the simulated grasp whose passive rank and ε rank differ
+    most (ranks 1 = best, ties averaged; ties in the difference: the first in sample order),
+    with its simulated rank and the ranking closer to it."""
+    from scipy.stats import rankdata
+
+    out = []
+    for key, pair in data["pairs"].items():
+        done, _ = _studied(pair)
+        passive = [min(_val(g["values"][k]) for k in FACES) for g in done]
+        eps = [g["epsilon"] for g in done]
+        sim = [min(_val(s["load"]) for s in g["sims"].values()) for g in done]
+        if len(done) < 3 or len(set(passive)) < 2 or len(set(eps)) < 2:
+            continue
+        rp, re, rs = (rankdata([-x for x in v]) for v in (passive, eps, sim))
+        i = int(np.argmax(np.abs(rp - re)))
+        dp, de = abs(rp[i] - rs[i]), abs(re[i] - rs[i])
+        side = "passive" if dp < de else "ε" if de < dp else "neither"
+        hand, obj = key.split(" × ")
+        out.append({"pair": key, "index": pair["grasps"].index(done[i]), "id": done[i]["id"],
+                    "n": len(done), "passive": passive[i], "epsilon": eps[i], "simulated": sim[i],
+                    "ranks": (rp[i], re[i], rs[i]), "side": side,
+                    "file": f"img/planning_disagree_{hand}_{obj}.png"})  # fmt: skip
+    return out
+
+
+def render(data: dict[str, Any]) -> None:
+    """Draw each disagreement's grasp with ``pg.plot_plan`` (its 6 face values and their
+    simulations) into docs/img/."""
+    from pinograsp.planning.plan import _finish
+    from pinograsp.planning.records import PlanCheck
+    from pinograsp.planning.search import Candidate
+
+    for d in disagreements(data):
+        g = data["pairs"][d["pair"]]["grasps"][d["index"]]
+        values = {k: _val(g["values"][k]) for k in FACES}
+        spec = spec_of(g["spec"])
+        cand = Candidate(spec, "ok", "", values, min(values.values()), g["epsilon"], dict(spec.command),
+                         "sampled", min(values.values()))  # fmt: skip
+        (plan,), _ = _finish([cand], pg.DisturbanceScore(), 0)
+        checks = []
+        for k in FACES:
+            sim = _val(g["sims"][k]["load"])
+            ratio = sim / values[k] if 0 < values[k] < math.inf else math.nan
+            checks.append(PlanCheck(k, values[k], sim, g["sims"][k]["status"], ratio))
+        pg.plot_plan(replace(plan, checks=tuple(checks)), ROOT / "docs" / d["file"])
+        print("wrote", d["file"], flush=True)
+
+
+def _rank(r: float) -> str:
+    return f"{r:.0f}" if r == int(r) else f"{r:.1f}"
+
+
 def report(data: dict[str, Any]) -> str:
     """The markdown tables of docs/planning.md, "Acceptance"."""
     a = [
@@ -240,9 +301,9 @@ def report(data: dict[str, Any]) -> str:
         "|---|---|---:|---:|---:|---|",
     ]
     b = [
-        "| pair | approaches sampled | grasps found | grasps simulated (6 faces each) | "
-        "Spearman(passive, simulated) | Spearman(ε, simulated) |",
-        "|---|---:|---:|---:|---:|---:|",
+        "| pair | approaches sampled | grasps found | grasps simulated (6 faces each) | refused by the "
+        "simulation | Spearman(passive, simulated) | Spearman(ε, simulated) |",
+        "|---|---:|---:|---:|---:|---:|---:|",
     ]
     c = [
         "| pair | sampled ok | best sampled | best after refinement | gain | refined | time split (s) |",
@@ -257,13 +318,14 @@ def report(data: dict[str, Any]) -> str:
         a.append(
             f"| {key} | {', '.join(worst)} | {zero} | {len(full)} | {dirs} | {len(held)} / {len(full)} |"
         )
-        done = [g for g in pair["grasps"] if len(g["sims"]) == len(FACES)]
+        done, refused = _studied(pair)
         sim = [min(_val(s["load"]) for s in g["sims"].values()) for g in done]
         passive = [min(_val(g["values"][k]) for k in FACES) for g in done]
         eps = [g["epsilon"] for g in done]
         found = f"{pair.get('approaches', pair['sampled'])} | {len(pair['grasps'])}"
         b.append(
-            f"| {key} | {found} | {len(done)} | {_spearman(passive, sim):.2f} | {_spearman(eps, sim):.2f} |"
+            f"| {key} | {found} | {len(done)} | {refused} | {_spearman(passive, sim):.2f} | "
+            f"{_spearman(eps, sim):.2f} |"
         )
         t = pair["timing"]
         bs, bb = _val(pair["best_sampled"]), _val(pair["best"])
@@ -287,9 +349,20 @@ def report(data: dict[str, Any]) -> str:
         for label, sim in p["sims"].items()
         if sim["load"] != "inf"
     ]
+    worst = [
+        f"- {d['pair']}, grasp {d['id']}: passive score {d['passive']:.3g} N (rank {_rank(d['ranks'][0])} "
+        f"of {d['n']}), ε {d['epsilon']:.3g} (rank {_rank(d['ranks'][1])}), simulated worst "
+        f"{d['simulated']:.3g} N (rank {_rank(d['ranks'][2])}): the simulation sides with the {d['side']} "
+        "ranking. "
+        f"![{d['pair']}, grasp {d['id']}]({d['file']})"
+        for d in disagreements(data)
+    ]
     parts = [
         "(a) Top-5 plans in simulation", "", *a, "", "Directions that gave way:", "", *gave, "",
         "(b) Rank correlation over sampled grasps (6 face directions)", "", *b, "",
+        "Where the passive and the ε rankings disagree most (the grasp of each pair whose two ranks "
+        "differ most; ranks among the simulated grasps, 1 = best; bars: the 6 predicted face values, "
+        "dots: where the simulation gave way, triangles: held):", "", *worst, "",
         "(c) Refinement", "", *c, "",
         f"Simulation CPU in the cache: {_sim_cpu(data) / 60:.1f} min.",
     ]  # fmt: skip
@@ -312,9 +385,12 @@ def main() -> None:
     ap.add_argument("--cpu", type=float, default=2400.0, help="simulation CPU budget [s] of this run")
     ap.add_argument("--cache", type=Path, default=CACHE)
     ap.add_argument("--write", action="store_true", help="put the tables into docs/planning.md")
+    ap.add_argument("--pictures", action="store_true", help="draw the disagreements into docs/img/")
     args = ap.parse_args()
     if args.run:
         run(args)
+    if args.pictures:
+        render(_load(args.cache))
     text = report(_load(args.cache))
     print(text)
     if args.write:
