@@ -224,9 +224,16 @@ def _sim_cpu(data: dict[str, Any]) -> float:
     return sum(s["cpu"] for p in pairs for k in ("plans", "grasps") for g in p[k] for s in g["sims"].values())
 
 
+def _sig(values: list[float]) -> list[float]:
+    """Values to 3 significant digits: values equal to that are ties in a ranking (0.49999 and
+    0.5 N, both the friction limit, are one value, not two ranks)."""
+    return [float(f"{v:.3g}") for v in values]
+
+
 def _spearman(x: list[float], y: list[float]) -> float:
     from scipy.stats import spearmanr
 
+    x, y = _sig(x), _sig(y)
     if len(x) < 3 or len(set(x)) < 2 or len(set(y)) < 2:
         return math.nan  # a constant ranking has no correlation
     return float(spearmanr(x, y).statistic)
@@ -254,7 +261,7 @@ def disagreements(data: dict[str, Any]) -> list[dict[str, Any]]:
         sim = [min(_val(s["load"]) for s in g["sims"].values()) for g in done]
         if len(done) < 3 or len(set(passive)) < 2 or len(set(eps)) < 2:
             continue
-        rp, re, rs = (rankdata([-x for x in v]) for v in (passive, eps, sim))
+        rp, re, rs = (rankdata([-x for x in _sig(v)]) for v in (passive, eps, sim))
         i = int(np.argmax(np.abs(rp - re)))
         dp, de = abs(rp[i] - rs[i]), abs(re[i] - rs[i])
         side = "passive" if dp < de else "ε" if de < dp else "neither"
@@ -280,6 +287,7 @@ def render(data: dict[str, Any]) -> None:
         cand = Candidate(spec, "ok", "", values, min(values.values()), g["epsilon"], dict(spec.command),
                          "sampled", min(values.values()))  # fmt: skip
         (plan,), _ = _finish([cand], pg.DisturbanceScore(), 0)
+        plan = replace(plan, rank=round(d["ranks"][0]))  # the title's rank: by the passive score
         checks = []
         for k in FACES:
             sim = _val(g["sims"][k]["load"])
