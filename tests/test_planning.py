@@ -244,3 +244,26 @@ def test_plans_use_contact_patches_so_flat_jaws_grip():
     assert best.values["+fy"] == pytest.approx(10.0, rel=2e-3)
     points = pg.plan_grasps("parallel_jaw", box, patches=False, **kw)
     assert all(p.score == 0.0 and len(p.points) == 2 for p in points.plans)
+
+
+def test_plot_plan_marks_each_simulated_load(plans):
+    """A verified plan's picture: a dot at each load where the simulation gave way, a triangle
+    on the bar where it held (the checks here are made up: only the drawing is tested)."""
+    pytest.importorskip("matplotlib")
+    from dataclasses import replace
+
+    from pinograsp.planning.records import PlanCheck
+
+    best = plans.plans[0]
+    labels = list(best.values)
+    checks = (
+        PlanCheck(labels[0], best.values[labels[0]], 3.5, "gave_way", math.nan),
+        PlanCheck(labels[1], best.values[labels[1]], math.inf, "held", math.nan),
+    )
+    fig = pg.plot_plan(replace(best, checks=checks))
+    ax = fig.axes[-1]
+    dots, triangles = ax.lines[0], ax.lines[1]
+    assert dots.get_xdata().tolist() == [0] and dots.get_ydata().tolist() == [3.5]
+    assert triangles.get_xdata().tolist() == [1]
+    assert triangles.get_ydata()[0] == pytest.approx(ax.patches[1].get_height())
+    assert "simulated worst 3.5" in ax.get_title()

@@ -19,7 +19,10 @@ gives at most one contact (the closest point pair); where it touches along a fac
 Non-convex meshes (object or hand) are Coal BVH *surfaces*: a shape entirely inside one is not
 detected. For a mesh-mesh pair Coal gives no normal (and 0 when the surfaces cross): the normal
 is the nearest points' direction, found after backing the hand off when crossing
-(:func:`_mesh_pair`, docs/hands.md "Mesh objects"). A touching pair without a unit normal raises
+(:func:`_mesh_pair`, docs/hands.md "Mesh objects"). A shape overlapping a surface keeps Coal's
+normal only where it lies in the normal cone of the surface feature it touches
+(:mod:`pinograsp.robots.mesh_normals`: Coal's one-triangle answer can be tangent to a curved
+mesh). A touching pair without a unit normal raises
 :class:`~pinograsp.errors.ContactDetectionError`; an overlapping one without a normal is
 reported as penetrating.
 
@@ -47,6 +50,7 @@ from ..errors import (
 )
 from .hand_protocol import HandLike
 from .kinematics import HandConfiguration
+from .mesh_normals import cone_normal, face_normal
 from .patches import DEFAULT_PATCH_POINTS, ContactPatch, contact_patches, patch_points_option, single_points
 
 if TYPE_CHECKING:
@@ -185,15 +189,6 @@ def _coal_distance(
     )
 
 
-def _face_normal(g: coal.CollisionGeometry, T: coal.Transform3s, face: int) -> np.ndarray:
-    """Unit normal (by the triangle's winding: outward for a consistently wound closed mesh) of
-    triangle ``face`` of a BVH, in the frame of ``T``, (3,)."""
-    tri = g.tri_indices(face)
-    a, b, c = (np.asarray(g.vertex(tri[i]), dtype=float) for i in range(3))
-    n = np.cross(b - a, c - a)
-    return np.asarray(T.getRotation()) @ (n / np.linalg.norm(n))
-
-
 def _mesh_pair(
     g1: coal.CollisionGeometry,
     T1: coal.Transform3s,
@@ -220,7 +215,7 @@ def _mesh_pair(
     if d > 0 and size > MESH_WITNESS_MIN:
         return d, p1, p2, gap / size
     first, cap, steps = MESH_BACKOFF
-    n_face = -_face_normal(g2, T2, face)  # into g2
+    n_face = -face_normal(g2, T2, face)  # into g2
     R, t = np.asarray(T1.getRotation()), np.asarray(T1.getTranslation())
 
     def apart(shift: float, u: np.ndarray) -> tuple[float, np.ndarray, np.ndarray] | None:
@@ -267,6 +262,8 @@ def pair_distances_at(config: HandConfiguration, obj: RigidObject) -> tuple[Pair
         d, p1, p2, n = _signed_distance(
             go.geometry, coal.Transform3s(oMg.rotation, oMg.translation), obj.geometry, T_obj
         )
+        if d <= 0 and np.any(n) and is_surface(obj.geometry) and not is_surface(go.geometry):
+            n = cone_normal(n, obj.geometry, T_obj, p2)  # Coal's one-triangle normal may be tangent
         out.append(PairDistance(hand.link_of_geometry(k), go.name, k, d, p1, p2, n))
     return tuple(out)
 

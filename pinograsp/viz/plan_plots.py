@@ -17,8 +17,10 @@ from .figures import save_figure
 def plot_plan(plan: GraspPlan, path: str | os.PathLike[str] | None = None, *, dpi: int = 110) -> Any:
     """Draw one plan: the scene (hand at ``plan.q``, object at ``plan.object_pose``, contacts)
     and a bar per disturbance of its value (unbounded bars drawn to 1.2 × the largest finite
-    value, hatched; the worst one in red). Returns the matplotlib ``Figure``; with ``path``
-    (``.png``, ``.pdf``, ...) also writes it.
+    value, hatched; the worst one in red). A verified plan (``plan.checks``) also shows each
+    simulated load: a black dot where the simulation gave way, a black triangle on the bar
+    where it held. Returns the matplotlib ``Figure``; with ``path`` (``.png``, ``.pdf``, ...)
+    also writes it.
     """
     from matplotlib.figure import Figure
 
@@ -33,7 +35,8 @@ def plot_plan(plan: GraspPlan, path: str | os.PathLike[str] | None = None, *, dp
     ax = fig.add_subplot(1, 2, 2)
     labels = list(plan.values)
     v = np.array([plan.values[k] for k in labels])
-    finite = v[np.isfinite(v)]
+    sims = {c.label: c.simulated for c in plan.checks if c.label in plan.values}
+    finite = np.array([x for x in (*v, *sims.values()) if math.isfinite(x)])
     cap = 1.2 * float(finite.max()) if finite.size and finite.max() > 0 else 1.0
     shown = np.where(np.isfinite(v), v, cap)
     colours = ["tab:red" if k == plan.worst else "tab:blue" for k in labels]
@@ -42,9 +45,18 @@ def plot_plan(plan: GraspPlan, path: str | os.PathLike[str] | None = None, *, dp
         if not math.isfinite(x):
             b.set_hatch("//")
             b.set_alpha(0.5)
+    title = f"score {plan.score:.3g} (worst {plan.worst}), epsilon {plan.epsilon:.3g}"
+    if sims:
+        x = [labels.index(k) for k in sims]
+        gave = [(i, sims[k]) for i, k in zip(x, sims) if math.isfinite(sims[k])]
+        held = [i for i, k in zip(x, sims) if not math.isfinite(sims[k])]
+        ax.plot([i for i, _ in gave], [y for _, y in gave], "ko", ms=5, label="simulated: gave way")
+        ax.plot(held, shown[held], "k^", ms=6, label="simulated: held")
+        ax.legend(fontsize=7, loc="upper right")
+        title += f"; simulated worst {min(sims.values()):.3g}"
     ax.set_xticks(range(len(v)), labels, rotation=90, fontsize=7)
     ax.set_ylabel("largest resisted multiple of the disturbance [N for unit forces]")
-    ax.set_title(f"score {plan.score:.3g} (worst {plan.worst}), epsilon {plan.epsilon:.3g}", fontsize=9)
+    ax.set_title(title, fontsize=9)
     fig.tight_layout()
     if path is not None:
         save_figure(fig, Path(path), dpi=dpi)
