@@ -104,3 +104,19 @@ def test_sharp_edge_keeps_a_normal_inside_its_wedge(cube):
     bisector = np.array([0.0, -1.0, -1.0]) / np.sqrt(2.0)
     assert np.allclose(cone_normal(along, g, T, point), bisector)
     assert 0 < CONE_MARGIN < np.radians(10)
+
+
+def test_the_old_normals_preload_is_refused_not_held(monkeypatch):
+    """With Coal's tangent normal (the bug above) the quasi-static preload "settled" with contact
+    forces of 1.3e14 N from commands of ~1 N·m and every direction came out ``above_limit``
+    (held to 50 N) with no audit failure: a runaway, now refused at the preload
+    (``PRELOAD_AMPLIFICATION``: at most 1e6 times the commands' largest force)."""
+    import pinograsp.robots.collision as col
+    from pinograsp.analysis.quasistatic.preload import PRELOAD_AMPLIFICATION
+
+    monkeypatch.setattr(col, "cone_normal", lambda n, *a, **k: n)
+    model, command, _ = build_grasp(PLAN_2)
+    assert abs(model.frames[1][:, 0] @ np.array([1.0, 0.0, 0.0])) > 0.999  # the tangent normal
+    with pytest.raises(pg.PreloadNotInEquilibriumError, match="times the commands' largest force") as info:
+        pg.max_resistible_wrench(model, command, "fx", upper=50.0)
+    assert "bh_finger_32_link" in str(info.value) and PRELOAD_AMPLIFICATION == 1e6

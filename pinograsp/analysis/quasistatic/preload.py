@@ -256,4 +256,28 @@ def preload_path(
     st.t = 0.0
     st.slip[:] = 0.0
     st.hold[:] = 0.0
+    _check_amplification(qm, fc, st)
     return st, runs
+
+
+#: Largest contact force of a preload per unit of its commands' largest force (a command's
+#: force at the contacts: torque over its lever). A wedge amplifies the command by 1/tan of its
+#: half-angle (100 at 0.6°); past 1e6 the "equilibrium" is a runaway of a grasp that has none
+#: (a contact normal nearly tangent to the surface it presses: 1e14 N from 1 N·m was seen).
+PRELOAD_AMPLIFICATION = 1e6
+
+
+def _check_amplification(qm: QSModel, fc: np.ndarray, st: State) -> None:
+    """Refuse a preloaded state whose contact forces exceed :data:`PRELOAD_AMPLIFICATION`
+    times the commands' largest force (:class:`~pinograsp.errors.PreloadNotInEquilibriumError`)."""
+    scale = float(np.abs(fc * qm.r_norm).max(initial=0.0))
+    top = float(np.abs(st.c).max(initial=0.0))
+    if scale > 0 and top > PRELOAD_AMPLIFICATION * scale:
+        worst = int(np.argmax(np.abs(st.c))) // qm.d
+        raise PreloadNotInEquilibriumError(
+            fc.tolist(),
+            f"method 'quasistatic': the preloaded state has contact forces up to {top:.3g} N at "
+            f"{qm.model.contact_names[worst]!r}, {top / scale:.3g} times the commands' largest "
+            f"force ({scale:.3g} N; at most {PRELOAD_AMPLIFICATION:g} is an equilibrium): the "
+            "preload has none — check that contact's normal against the surface it presses",
+        )
