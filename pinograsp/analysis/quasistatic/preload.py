@@ -256,7 +256,9 @@ def preload_path(
     st.t = 0.0
     st.slip[:] = 0.0
     st.hold[:] = 0.0
-    _check_amplification(qm, fc, st)
+    scale, top = float(np.abs(fc * qm.r_norm).max(initial=0.0)), float(np.abs(st.c).max(initial=0.0))
+    if scale > 0 and top > PRELOAD_AMPLIFICATION * scale:  # a runaway, not an equilibrium
+        raise _runaway(qm, fc, st, top, scale)
     return st, runs
 
 
@@ -267,17 +269,16 @@ def preload_path(
 PRELOAD_AMPLIFICATION = 1e6
 
 
-def _check_amplification(qm: QSModel, fc: np.ndarray, st: State) -> None:
-    """Refuse a preloaded state whose contact forces exceed :data:`PRELOAD_AMPLIFICATION`
-    times the commands' largest force (:class:`~pinograsp.errors.PreloadNotInEquilibriumError`)."""
-    scale = float(np.abs(fc * qm.r_norm).max(initial=0.0))
-    top = float(np.abs(st.c).max(initial=0.0))
-    if scale > 0 and top > PRELOAD_AMPLIFICATION * scale:
-        worst = int(np.argmax(np.abs(st.c))) // qm.d
-        raise PreloadNotInEquilibriumError(
-            fc.tolist(),
-            f"method 'quasistatic': the preloaded state has contact forces up to {top:.3g} N at "
-            f"{qm.model.contact_names[worst]!r}, {top / scale:.3g} times the commands' largest "
-            f"force ({scale:.3g} N; at most {PRELOAD_AMPLIFICATION:g} is an equilibrium): the "
-            "preload has none — check that contact's normal against the surface it presses",
-        )
+def _runaway(
+    qm: QSModel, fc: np.ndarray, st: State, top: float, scale: float
+) -> PreloadNotInEquilibriumError:
+    """The error of a preloaded state whose contact forces, up to ``top`` [N], exceed
+    :data:`PRELOAD_AMPLIFICATION` times the commands' largest force ``scale`` [N]."""
+    worst = int(np.argmax(np.abs(st.c))) // qm.d
+    return PreloadNotInEquilibriumError(
+        fc.tolist(),
+        f"method 'quasistatic': the preloaded state has contact forces up to {top:.3g} N at "
+        f"{qm.model.contact_names[worst]!r}, {top / scale:.3g} times the commands' largest "
+        f"force ({scale:.3g} N; at most {PRELOAD_AMPLIFICATION:g} is an equilibrium): the "
+        "preload has none — check that contact's normal against the surface it presses",
+    )
