@@ -186,11 +186,11 @@ def _solve_segment(
         ]
         hints = (np.union1d(prev.active, new), prev.active) if new else (prev.active,)
     seg = planned(qm, st, spec, cls, "load", plan, run, sc, hints)
-    _, _, _, size, loaded = sc.rates
+    _, _, r0, size, loaded = sc.rates
     if not loaded:
         return seg
     if seg.status == SegmentStatus.OK:
-        along = _along(qm, sc, seg)  # displacement along the load per unit load
+        along = float(r0 @ seg.dvs[: qm.nx]) / size  # _along of a load-controlled segment, inline
         if along * SOFT_RTOL * qm.k_ref < size and (along > 0.0 or qm.KG is None):
             return seg
         # nearly a mechanism along the load, or (with a geometric stiffness) a negative
