@@ -29,9 +29,12 @@ def _residuals(qm, states, C, Fa, Lc, W, VS):
     """:func:`~.model.balance_residuals` of the states, each against the geometry of the
     segment that reached it (``State.geo``: a model re-linearised at the turned object)."""
     obj, joints, slack = balance_residuals(qm, C, Fa, Lc, W)
-    geos = {id(s.geo): s.geo for s in states if s.geo is not None}
-    for key, g in geos.items():
-        rows = np.array([s.geo is not None and id(s.geo) == key for s in states])
+    groups: dict[int, list[int]] = {}  # the states of each geometry, in one pass
+    for j, s in enumerate(states):
+        if s.geo is not None:
+            groups.setdefault(id(s.geo), []).append(j)
+    for rows in groups.values():
+        g = states[rows[0]].geo
         x = VS[rows, : qm.nx] / qm.S[: qm.nx]
         obj[rows] = balance_residuals(g, C[rows], Fa[rows], Lc[rows], W[rows], x)[0]
     return obj, joints, slack
