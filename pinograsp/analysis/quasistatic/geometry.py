@@ -85,12 +85,18 @@ def _axes6(qm: QSModel) -> list[int]:
     return list(PLANAR_AXES) if qm.model.planar else list(range(qm.nx))
 
 
+def _rotation_rows(qm: QSModel) -> tuple[np.ndarray, np.ndarray]:
+    """The model's object coordinates that are rotations (k,) and their world axes (k,)."""
+    axes = np.array(_axes6(qm))
+    rows = (axes >= 3).nonzero()[0]
+    return rows, axes[rows] - 3
+
+
 def spin(qm: QSModel, dvs: np.ndarray) -> np.ndarray:
     """The object rotation (3,) [rad], world frame, of a scaled displacement (change) ``dvs``."""
+    rows, axes = _rotation_rows(qm)
     out = np.zeros(3)
-    for j, a in enumerate(_axes6(qm)):
-        if a >= 3:
-            out[a - 3] = dvs[j] / qm.S[j]
+    out[axes] = dvs[rows] / qm.S[rows]
     return out
 
 
@@ -113,13 +119,14 @@ def turned(qm: QSModel, vs: np.ndarray, scale: float) -> np.ndarray:
     return rotation_matrix(scale * spin(qm, vs - ref)) @ base
 
 
-def grasp_map(qm: QSModel, R: np.ndarray) -> np.ndarray:
-    """The grasp map (nx, nc*d) [1, m] with the contact arms turned by ``R`` (3, 3) (normals
-    fixed in the world, as in the simulation)."""
+def _arms(qm: QSModel, R: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The contact arms turned by ``R`` (nc, 3) [m] and the contact frames (nc, 3, d)."""
     m = qm.model
-    d = qm.d
     arms = (np.asarray(m.points, float) - np.asarray(m.reference_point, float)) @ R.T
-    F = np.asarray(m.frames, float)[:, :, :d]
+    return arms, np.asarray(m.frames, float)[:, :, : qm.d]
+
+
+def _grasp_map(qm: QSModel, arms: np.ndarray, F: np.ndarray) -> np.ndarray:
     a = arms[:, :, None]  # (nc, 3, 1)
     moments = np.stack(  # a_i x each column of F_i, (nc, 3, d)
         [
@@ -133,22 +140,25 @@ def grasp_map(qm: QSModel, R: np.ndarray) -> np.ndarray:
     return G6[_axes6(qm)]
 
 
+def _geometric_stiffness(qm: QSModel, arms: np.ndarray, F: np.ndarray, c: np.ndarray) -> np.ndarray:
+    f = np.einsum("iad,id->ia", F, c.reshape(qm.nc, qm.d))
+    K3 = np.einsum("ia,ib->ab", arms, f) - float(np.einsum("ia,ia->", arms, f)) * np.eye(3)
+    rows, axes = _rotation_rows(qm)
+    out = np.zeros((qm.nx, qm.nx))
+    out[np.ix_(rows, rows)] = K3[np.ix_(axes, axes)]
+    return out
+
+
+def grasp_map(qm: QSModel, R: np.ndarray) -> np.ndarray:
+    """The grasp map (nx, nc*d) [1, m] with the contact arms turned by ``R`` (3, 3) (normals
+    fixed in the world, as in the simulation)."""
+    return _grasp_map(qm, *_arms(qm, R))
+
+
 def geometric_stiffness(qm: QSModel, R: np.ndarray, c: np.ndarray) -> np.ndarray:
     """``d(G(R) c)/dtheta`` (nx, nx) [N·m/rad on the rotation block, 0 elsewhere] of contact forces
     ``c`` (nc*d,) [N] at arms turned by ``R``: ``sum_i [f_i]x [R a_i]x`` (``f_i`` world)."""
-    m = qm.model
-    d = qm.d
-    arms = (np.asarray(m.points, float) - np.asarray(m.reference_point, float)) @ R.T
-    F = np.asarray(m.frames, float)[:, :, :d]
-    f = np.einsum("iad,id->ia", F, c.reshape(qm.nc, d))
-    K3 = np.einsum("ia,ib->ab", arms, f) - float(np.einsum("ia,ia->", arms, f)) * np.eye(3)
-    axes = _axes6(qm)
-    out = np.zeros((qm.nx, qm.nx))
-    for j, a in enumerate(axes):
-        for k, b in enumerate(axes):
-            if a >= 3 and b >= 3:
-                out[j, k] = K3[a - 3, b - 3]
-    return out
+    return _geometric_stiffness(qm, *_arms(qm, R), c)
 
 
 def _with_arms(con: Constraints, A: np.ndarray) -> Constraints:
@@ -168,12 +178,13 @@ def moved(
     invariant at ``st``."""
     R = turned(qm, st.vs, scale)
     R_mid = rotation_matrix(0.5 * ahead) @ R
-    G = grasp_map(qm, R_mid)
+    arms, F = _arms(qm, R_mid)
+    G = _grasp_map(qm, arms, F)
     S = qm.S
     A = qm.A.copy()
     A[: qm.nx] = G / S[: qm.nx, None]
     c_mid = st.c if dc is None else st.c + 0.5 * dc
-    KGp = scale * geometric_stiffness(qm, R_mid, c_mid)
+    KGp = scale * _geometric_stiffness(qm, arms, F, c_mid)
     KG = np.zeros((qm.nv, qm.nv))
     KG[: qm.nx, : qm.nx] = KGp / np.outer(S[: qm.nx], S[: qm.nx])
     return replace(
@@ -190,6 +201,18 @@ def moved(
     )
 
 
+def _may_update(qm: QSModel, st: State, geo: GeometryUpdates) -> bool:
+    """Whether ``geo`` allows an update at ``st`` (below ``until``, within the rotation and
+    translation bounds)."""
+    if st.t > geo.until:
+        return False
+    base = qm.rot if qm.rot is not None else np.eye(3)
+    total = float(np.arccos(np.clip((np.trace(base) - 1.0) / 2.0, -1.0, 1.0)))
+    return not (
+        total >= geo.max_rotation or geo.scale * float(np.linalg.norm(st.vs[:3])) >= geo.max_translation
+    )
+
+
 def step_to_update(
     qm: QSModel, st: State, dvs: np.ndarray, geo: GeometryUpdates, load_rate: float, step: float
 ) -> float:
@@ -201,11 +224,7 @@ def step_to_update(
     bb = float(b @ b)
     if bb == 0.0:
         return float("inf")
-    if st.t > geo.until:
-        return float("inf")
-    base = qm.rot if qm.rot is not None else np.eye(3)
-    total = float(np.arccos(np.clip((np.trace(base) - 1.0) / 2.0, -1.0, 1.0)))
-    if total >= geo.max_rotation or geo.scale * float(np.linalg.norm(st.vs[:3])) >= geo.max_translation:
+    if not _may_update(qm, st, geo):
         return float("inf")
     ab, aa = float(a @ b), float(a @ a)
     disc = ab * ab - bb * (aa - step**2)
