@@ -102,6 +102,26 @@ def summary_table(rows: list[dict], methods: list[str], friction: str) -> list[s
     return lines
 
 
+#: The simulation references by name: the two friction models at the default ramp, and the
+#: pyramid at the slowest settled ramp of the ramp study (``SETTLED``).
+SETTLED = "settled"
+LABELS = {
+    "pyramid": "the model's pyramid",
+    "cone": "the circular cone",
+    SETTLED: "the model's pyramid at the slowest settled ramp",
+}
+
+
+def reference(friction: str) -> str:
+    """How a reference was simulated, for the tables' titles."""
+    if friction == SETTLED:
+        return (
+            '`friction="pyramid"`, the ramp study\'s slowest settled `ramp_time` where it ran'
+            " ([`validation_ramp.md`](validation_ramp.md)), else 0.02 s"
+        )
+    return f'`friction="{friction}"`'
+
+
 def headline_lines(heads: list[dict]) -> list[str]:
     """One line per method and friction model (``validate_quasistatic.headline`` records)."""
     out = []
@@ -114,7 +134,7 @@ def headline_lines(heads: list[dict]) -> list[str]:
             if f
             else "no finite pairs"
         )
-        out.append(f'- **{title(h["method"])}**, `friction="{h["friction"]}"`: {same}; {fin}')
+        out.append(f"- **{title(h['method'])}**, {reference(h['friction'])}: {same}; {fin}")
     return out
 
 
@@ -274,8 +294,12 @@ def render(
     if heads:
         lines += ["", "### Headline", "", *headline_lines(heads)]
     for f in frictions:
-        label = "the model's pyramid" if f == "pyramid" else "the circular cone"
-        lines += ["", f'### Simulation with {label} (`friction="{f}"`)', "", *summary_table(rows, methods, f)]
+        lines += [
+            "",
+            f"### Simulation with {LABELS[f]} ({reference(f)})",
+            "",
+            *summary_table(rows, methods, f),
+        ]
     speed = [m for m in methods if m != "first_limit"]
     lines += ["", "### Time per direction", "", *speed_table(rows, speed)]
     lines += ["", "### Disagreements (generated)", *disagreements(rows, methods)]
