@@ -144,3 +144,32 @@ def test_case_keys_are_unique_and_directions_unit() -> None:
     assert len({c.key for c in cs}) == len(cs)
     assert max(abs(np.linalg.norm(c.direction) - 1.0) for c in cs) < 1e-12
     assert sum(c.set != "scenes" for c in cs) == 108  # 72 random + 18 backdrivable + 18 low mu
+
+
+def test_settled_reference_takes_the_slowest_settled_ramp(tmp_path, monkeypatch) -> None:
+    """``--friction settled``: a direction the ramp study re-simulated is compared with its run
+    at the slowest settled ramp (0.3 s here: 0.1 -> 0.3 s moved 2 %), any other with its 0.02 s
+    pyramid record; the study's hand directions are ignored."""
+    import json
+
+    from scripts.reproduce import ramp_study
+
+    study = tmp_path / "ramp_study.json"
+    runs = {"0.02": _sim("gradual", 1.5), "0.1": _sim("gradual", 2.9), "0.3": _sim("gradual", 2.958)}
+    answer = {"status": "finite", "magnitude": 3.0, "reason": "rotation", "first_limit": 1.2}
+    rows = [
+        {"key": "qs/scenes/a/15°", "role": "disagreement", "upper": 50.0, "answer": answer, "sims": runs},
+        {"key": "hands/b/15°", "role": "disagreement", "upper": 50.0, "answer": answer, "sims": runs},
+    ]
+    study.write_text(json.dumps({"meta": {}, "rows": rows}))
+    monkeypatch.setattr(ramp_study, "DATA", study)
+    refs = {
+        "scenes/a/15°": {"pyramid": _sim("gradual", 1.5), "cone": _sim("gradual", 1.6)},
+        "scenes/c/30°": {"pyramid": _sim("gave_way", 7.0)},
+        "hands/b/15°": {"cone": _sim("gradual", 1.0)},
+    }
+    vq.settled_refs(refs)
+    assert refs["scenes/a/15°"]["settled"]["load"] == 2.958
+    assert refs["scenes/a/15°"]["settled"]["ramp_time"] == 0.3
+    assert refs["scenes/c/30°"]["settled"] is refs["scenes/c/30°"]["pyramid"]
+    assert "settled" not in refs["hands/b/15°"]  # no pyramid record: no settled reference
