@@ -95,16 +95,55 @@ def test_a_line_contact_gives_its_two_end_points():
     "shape, pose",
     [
         (coal.Sphere(0.01), T([-0.0252, 0, 0])),
-        (coal.Cylinder(0.01, 0.04), T([-0.0252, 0, 0])),  # its side (curved) along the face
-        (coal.Capsule(0.01, 0.04), T([-0.0252, 0, 0])),
+        (coal.Capsule(0.01, 0.04), T([-0.0352, 0, 0], rot([0, 1, 0], np.pi / 2))),  # its round end
+        (coal.Cylinder(0.01, 0.04), T([-0.0252, 0, 0], rot([0, 1, 0], 0.05))),  # tilted 2 mm over its length
     ],
 )
 def test_curved_touches_stay_single_points(shape, pose):
     assert pair_patch(shape, pose, BAR, T([0, 0, 0]), TOL, 4) is None
 
 
-def test_a_pad_on_a_curved_object_stays_a_single_point():
-    assert pair_patch(PAD, T(*PAD_POSE), coal.Cylinder(0.015, 0.2), T([0, 0, 0]), TOL, 4) is None
+def test_a_curved_side_on_a_straight_side_stays_a_single_point():
+    # a cylinder on a sphere, and two cylinders with crossing axes: Coal's patch is one point
+    cyl = coal.Cylinder(0.01, 0.04)
+    assert pair_patch(cyl, T([0, 0, 0]), coal.Sphere(0.01), T([0.0202, 0, 0]), TOL, 4) is None
+    crossing = T([0.0202, 0, 0], rot([1, 0, 0], np.pi / 2))
+    assert pair_patch(cyl, T([0, 0, 0]), coal.Cylinder(0.01, 0.04), crossing, TOL, 4) is None
+
+
+@pytest.mark.parametrize("shape", [coal.Cylinder(0.01, 0.04), coal.Capsule(0.01, 0.04)])
+def test_a_straight_side_on_a_face_is_a_line_of_its_generator(shape):
+    # the side along the bar's face x = -15 mm (axis z): the generator z +-20 mm, midway at -15.1 mm
+    kind, pts, n = pair_patch(shape, T([-0.0252, 0, 0]), BAR, T([0, 0, 0]), TOL, 4)
+    assert kind == "line" and pts.shape == (2, 3)
+    np.testing.assert_allclose(n, [1, 0, 0], atol=1e-9)
+    np.testing.assert_allclose(pts, [[-0.0151, 0, -0.02], [-0.0151, 0, 0.02]], atol=1e-9)
+
+
+def test_a_cone_side_on_a_face_is_its_generator():
+    # cone radius r, height h (apex at +h/2): the generator from (r, 0, -h/2) to (0, 0, h/2)
+    r, h = 0.02, 0.1
+    n = np.array([h, 0, r]) / np.hypot(h, r)
+    pad = T(np.array([r / 2, 0, 0]) + n * (0.01 + 2e-4), rot([0, 1, 0], -np.arctan2(r, h)))
+    kind, pts, normal = pair_patch(coal.Cone(r, h), T([0, 0, 0]), coal.Box(0.02, 0.06, 0.2), pad, TOL, 4)
+    assert kind == "line"
+    np.testing.assert_allclose(normal, n, atol=1e-9)
+    ends = np.array([[r, 0, -h / 2], [0, 0, h / 2]]) + 1e-4 * n  # midway across the 0.2 mm gap
+    # (Coal's support of the cone stops 0.1 mm short of the base rim, on the generator)
+    np.testing.assert_allclose(sorted(pts.tolist(), key=lambda p: p[2]), ends, atol=1e-4)
+    off = (pts - ends[0]) - np.outer((pts - ends[0]) @ (ends[1] - ends[0]), ends[1] - ends[0]) / np.sum(
+        (ends[1] - ends[0]) ** 2
+    )
+    np.testing.assert_allclose(off, 0.0, atol=1e-5)
+
+
+def test_a_pad_on_a_cylinder_side_is_the_generator_under_the_pad():
+    # the 20 mm tall pad on a 200 mm cylinder (axis z): the generator clipped to the pad, z +-10 mm
+    kind, pts, n = pair_patch(PAD, T([-0.0205, 0, 0]), coal.Cylinder(0.015, 0.2), T([0, 0, 0]), TOL, 4)
+    assert kind == "line"
+    np.testing.assert_allclose(n, [1, 0, 0], atol=1e-9)
+    np.testing.assert_allclose(sorted(pts[:, 2]), [-0.01, 0.01], atol=1e-9)
+    np.testing.assert_allclose(pts[:, :2], [[-0.01525, 0], [-0.01525, 0]], atol=1e-9)
 
 
 # ---------------------------------------------------------------------------- the hand

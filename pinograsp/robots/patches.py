@@ -19,10 +19,21 @@ face would resist neither torsion nor tilt. This module turns such a touch into 
    rounded to :data:`ORDER_RESOLUTION`, compared lexicographically), so the points and their
    order do not change under a rigid motion of the whole scene nor with the geometries' order.
 
-**Curved** touches stay single points (the closest pair, as with patches off): a sphere,
-ellipsoid or capsule; the side of a cylinder or cone (the normal more than
-:data:`CAP_ANGLE` from its axis) — on either the hand or the object. Triangle-mesh (BVH)
-geometries get a one-point patch from Coal, so they stay single points too.
+**Curved** touches stay single points (the closest pair, as with patches off): a sphere or
+ellipsoid; a capsule's round end; a cylinder, cone or capsule side whose touch Coal does not
+give as a segment along a generator (a sphere on it, a crossing axis, a tilt beyond the
+tolerance). A **straight side** (cylinder, cone, capsule: curved across, straight along a
+generator) on a surface that is flat along that generator within the tolerance is a **line**:
+Coal's patch gives the generator clipped to the other shape's feature, its two end points.
+
+**Meshes** (a convex mesh ``Convex``, or a triangle mesh ``BVH`` through its convex hull, built
+once per geometry): the patch is Coal's with the patch tolerance narrowed to
+:data:`MESH_FLATNESS` times the contact tolerance, so that a tessellated curved surface (a
+rounded finger, a sphere mesh) touches with a point or a facet, and a flat face with its
+polygon. A patch found on a triangle mesh's hull is kept only where each point lies within the
+contact tolerance of the mesh itself and the hull's normal is within :data:`CAP_ANGLE` of the
+detected normal (a hull facet that bridges a concavity, as over a torus's hole, is not the
+surface): otherwise the closest-point contact stays.
 """
 
 from __future__ import annotations
@@ -55,6 +66,9 @@ CAP_ANGLE = float(np.arccos(0.99))
 
 #: Points Coal samples on a curved edge (a cylinder cap's rim) before the reduction.
 CURVED_SAMPLES = 12
+#: Mesh patches: the patch tolerance is this fraction of the contact tolerance (0.1 mm at the
+#: default 1 mm), the depth within which a mesh's vertices count as one flat feature.
+MESH_FLATNESS = 0.1
 
 
 class TouchingPair(Protocol):
@@ -73,8 +87,11 @@ class TouchingPair(Protocol):
 
 
 PatchKind = Literal["point", "line", "face"]
-_ROUND = ("Sphere", "Ellipsoid", "Capsule")
-_AXIAL = ("Cylinder", "Cone")
+_ROUND = ("Sphere", "Ellipsoid")
+_AXIAL = ("Cylinder", "Cone", "Capsule")
+TouchShape = Literal["curved", "straight", "flat"]
+#: A point on a triangle mesh's surface, for the check that a hull patch lies on the mesh.
+_PROBE = coal.Sphere(1e-12)
 
 
 @dataclass(frozen=True)
@@ -127,16 +144,54 @@ def _to_matrix(T: coal.Transform3s) -> tuple[np.ndarray, np.ndarray]:
     return np.array(T.getRotation(), dtype=float), np.array(T.getTranslation(), dtype=float)
 
 
-def is_curved(geometry: coal.CollisionGeometry, T: coal.Transform3s, normal: np.ndarray) -> bool:
-    """Whether ``geometry`` at pose ``T`` touches along ``normal`` with a curved surface
-    (sphere, ellipsoid, capsule; the side of a cylinder or cone)."""
+def touch_shape(geometry: coal.CollisionGeometry, T: coal.Transform3s, normal: np.ndarray) -> TouchShape:
+    """How ``geometry`` at pose ``T`` touches along ``normal``: ``"curved"`` (a sphere, an
+    ellipsoid, a capsule's round end), ``"straight"`` (the side of a cylinder, cone or capsule:
+    straight along a generator, the normal more than :data:`CAP_ANGLE` from the axis) or
+    ``"flat"`` (everything else: faces, edges, a cylinder or cone cap, meshes)."""
     kind = type(geometry).__name__
     if kind in _ROUND:
-        return True
+        return "curved"
     if kind in _AXIAL:
         axis = _to_matrix(T)[0][:, 2]
-        return bool(abs(float(axis @ normal)) < np.cos(CAP_ANGLE))
-    return False
+        if abs(float(axis @ normal)) < np.cos(CAP_ANGLE):
+            return "straight"
+        return "curved" if kind == "Capsule" else "flat"
+    return "flat"
+
+
+def is_curved(geometry: coal.CollisionGeometry, T: coal.Transform3s, normal: np.ndarray) -> bool:
+    """Whether ``geometry`` at pose ``T`` touches along ``normal`` with a curved surface, a
+    straight side included (:func:`touch_shape` is not ``"flat"``)."""
+    return touch_shape(geometry, T, normal) != "flat"
+
+
+def is_mesh(geometry: coal.CollisionGeometry) -> bool:
+    """Whether a Coal geometry is a mesh: a triangle mesh (BVH) or a convex mesh."""
+    name = type(geometry).__name__
+    return name.startswith("BVH") or name.startswith("Convex")
+
+
+def solid_of(geometry: coal.CollisionGeometry) -> coal.CollisionGeometry:
+    """The geometry Coal's patch code is given: a triangle mesh's convex hull (built once and
+    kept on the mesh), any other geometry itself."""
+    if not type(geometry).__name__.startswith("BVH"):
+        return geometry
+    if geometry.convex is None:
+        geometry.buildConvexHull(False, "Qt")
+    return geometry.convex
+
+
+def on_surface(
+    geometry: coal.CollisionGeometry, T: coal.Transform3s, points: np.ndarray, tolerance: float
+) -> bool:
+    """Whether every point (k, 3) [m] lies within ``tolerance`` [m] of a triangle mesh's surface."""
+    req, R = coal.DistanceRequest(), np.eye(3)
+    for p in points:
+        res = coal.DistanceResult()
+        if coal.distance(_PROBE, coal.Transform3s(R, p), geometry, T, req, res) > tolerance:
+            return False
+    return True
 
 
 def coal_patch(
@@ -145,10 +200,13 @@ def coal_patch(
     g2: coal.CollisionGeometry,
     T2: coal.Transform3s,
     tolerance: float,
+    patch_tolerance: float | None = None,
 ) -> tuple[np.ndarray, np.ndarray] | None:
-    """Coal's contact patch of two shapes within ``tolerance`` [m]: points (k, 3) [m] in the
-    contact plane and the normal from ``g1`` into ``g2`` (3,); ``None`` if Coal finds none."""
+    """Coal's contact patch of two shapes within ``tolerance`` [m] (the patch's own tolerance
+    ``patch_tolerance`` [m], default ``tolerance``): points (k, 3) [m] in the contact plane and
+    the normal from ``g1`` into ``g2`` (3,); ``None`` if Coal finds none."""
     tol = max(float(tolerance), MERGE_DISTANCE)
+    ptol = tol if patch_tolerance is None else max(float(patch_tolerance), MERGE_DISTANCE)
     req = coal.CollisionRequest()
     req.security_margin = tol
     req.num_max_contacts = 1
@@ -156,7 +214,7 @@ def coal_patch(
     coal.collide(g1, T1, g2, T2, req, res)
     if res.numContacts() == 0:
         return None
-    preq = coal.ContactPatchRequest(1, CURVED_SAMPLES, tol)
+    preq = coal.ContactPatchRequest(1, CURVED_SAMPLES, ptol)
     pres = coal.ContactPatchResult(preq)
     coal.computeContactPatch(g1, T1, g2, T2, res, preq, pres)
     if pres.numContactPatches() == 0:
@@ -230,25 +288,52 @@ def pair_patch(
     T2: coal.Transform3s,
     tolerance: float,
     max_points: int,
+    detected: np.ndarray | None = None,
 ) -> tuple[PatchKind, np.ndarray, np.ndarray] | None:
     """The patch of hand geometry ``g1`` at ``T1`` on object ``g2`` at ``T2`` (world frame).
 
+    Args:
+        detected: The detected contact normal (3,): a patch found on a triangle mesh's hull
+            must agree with it within :data:`CAP_ANGLE`.
+
     Returns:
         ``(kind, points (k, 3) [m], normal (3,))`` with the points in canonical order, or
-        ``None`` when the touch is a single point (curved, a corner, a mesh, or no Coal patch):
-        the caller keeps its closest-point contact.
+        ``None`` when the touch is a single point (curved, a corner, a tessellated curve, a
+        hull facet off the mesh, or no Coal patch): the caller keeps its closest-point contact.
     """
-    found = coal_patch(g1, T1, g2, T2, tolerance)
+    meshes = [g for g in (g1, g2) if is_mesh(g)]
+    ptol = MESH_FLATNESS * tolerance if meshes else None
+    found = coal_patch(solid_of(g1), T1, solid_of(g2), T2, tolerance, ptol)
     if found is None:
         return None
     points, normal = found
-    if is_curved(g1, T1, normal) or is_curved(g2, T2, normal):
+    shapes = (touch_shape(g1, T1, normal), touch_shape(g2, T2, normal))
+    if "curved" in shapes:
         return None
     R, t = _to_matrix(T1)
     kind, idx = select_points(points, (points - t) @ R, max_points)
-    if kind == "point":
-        return None
-    return kind, points[idx], normal
+    if kind == "point" or ("straight" in shapes and kind != "line"):
+        return None  # a straight side touches along a generator or at a point, never a face
+    points = points[idx]
+    for g, T in ((g1, T1), (g2, T2)):
+        if type(g).__name__.startswith("BVH") and not _on_mesh(g, T, points, normal, tolerance, detected):
+            return None
+    return kind, points, normal
+
+
+def _on_mesh(
+    g: coal.CollisionGeometry,
+    T: coal.Transform3s,
+    points: np.ndarray,
+    normal: np.ndarray,
+    tolerance: float,
+    detected: np.ndarray | None,
+) -> bool:
+    """Whether a patch found on the hull of triangle mesh ``g`` is on the mesh: its normal
+    within :data:`CAP_ANGLE` of the detected one and its points within ``tolerance`` of it."""
+    if detected is not None and float(normal @ detected) < np.cos(CAP_ANGLE):
+        return False
+    return on_surface(g, T, points, tolerance)
 
 
 def contact_patches(
@@ -276,7 +361,7 @@ def contact_patches(
         oMg = config.geometry_data.oMg[c.index]
         T1 = coal.Transform3s(oMg.rotation, oMg.translation)
         found = pair_patch(
-            geometries[c.index].geometry, T1, obj.geometry, obj.transform, tolerance, max_points
+            geometries[c.index].geometry, T1, obj.geometry, obj.transform, tolerance, max_points, c.normal
         )
         if found is None:
             out.append(ContactPatch(c.link, c.geometry, "point", c.point[None, :], c.normal, (c.link,)))
