@@ -29,8 +29,8 @@ Coal's patch gives the generator clipped to the other shape's feature, its two e
 **Meshes** (a convex mesh ``Convex``, or a triangle mesh ``BVH`` through its convex hull, built
 once per geometry): the patch is Coal's with the patch tolerance narrowed to
 :data:`MESH_FLATNESS` times the contact tolerance, so that a tessellated curved surface (a
-rounded finger, a sphere mesh) touches with a point or a facet, and a flat face with its
-polygon. A patch found on a triangle mesh's hull is kept only where each point lies within the
+rounded finger, a sphere mesh) touches with a point (a patch narrower than the contact
+tolerance is a point), and a flat face with its polygon. A patch found on a triangle mesh's hull is kept only where each point lies within the
 contact tolerance of the mesh itself and the hull's normal is within :data:`CAP_ANGLE` of the
 detected normal (a hull facet that bridges a concavity, as over a torus's hole, is not the
 surface): otherwise the closest-point contact stays.
@@ -315,6 +315,8 @@ def pair_patch(
     if kind == "point" or ("straight" in shapes and kind != "line"):
         return None  # a straight side touches along a generator or at a point, never a face
     points = points[idx]
+    if meshes and float(np.max(np.linalg.norm(points[:, None] - points[None], axis=2))) < tolerance:
+        return None  # a mesh patch narrower than the tolerance: a facet of a tessellated curve
     for g, T in ((g1, T1), (g2, T2)):
         if type(g).__name__.startswith("BVH") and not _on_mesh(g, T, points, normal, tolerance, detected):
             return None
