@@ -27,13 +27,14 @@ generator) on a surface that is flat along that generator within the tolerance i
 Coal's patch gives the generator clipped to the other shape's feature, its two end points.
 
 **Meshes** (a convex mesh ``Convex``, or a triangle mesh ``BVH`` through its convex hull, built
-once per geometry): the patch is Coal's with the patch tolerance narrowed to
-:data:`MESH_FLATNESS` times the contact tolerance, so that a tessellated curved surface (a
-rounded finger, a sphere mesh) touches with a point (a patch narrower than the contact
-tolerance is a point), and a flat face with its polygon. A patch found on a triangle mesh's hull is kept only where each point lies within the
-contact tolerance of the mesh itself and the hull's normal is within :data:`CAP_ANGLE` of the
-detected normal (a hull facet that bridges a concavity, as over a torus's hole, is not the
-surface): otherwise the closest-point contact stays.
+once per geometry) are flat only where they are: the hull's vertices within the contact
+tolerance of the contact plane (on each mesh) must lie within :data:`MESH_FLATNESS` times the
+tolerance of one plane (0.1 mm at the default 1 mm). A tessellated curved surface (a rounded
+finger, a sphere or torus mesh) fails this and stays one point; a flat mesh face gives Coal's
+polygon, as a primitive face does. A mesh patch narrower than the tolerance is a point. A patch
+found on a triangle mesh's hull is kept only where each point lies within the contact tolerance
+of the mesh itself and the hull's normal is within :data:`CAP_ANGLE` of the detected normal (a
+hull facet that bridges a concavity, as over a torus's hole, is not the surface).
 """
 
 from __future__ import annotations
@@ -66,8 +67,8 @@ CAP_ANGLE = float(np.arccos(0.99))
 
 #: Points Coal samples on a curved edge (a cylinder cap's rim) before the reduction.
 CURVED_SAMPLES = 12
-#: Mesh patches: the patch tolerance is this fraction of the contact tolerance (0.1 mm at the
-#: default 1 mm), the depth within which a mesh's vertices count as one flat feature.
+#: Mesh patches: a mesh's vertices within the contact tolerance of the contact plane are a flat
+#: feature when they lie within this fraction of the tolerance of one plane (0.1 mm at 1 mm).
 MESH_FLATNESS = 0.1
 
 
@@ -194,19 +195,37 @@ def on_surface(
     return True
 
 
+def _hull_vertices(geometry: coal.CollisionGeometry) -> np.ndarray:
+    """The vertices (m, 3) [m] of a mesh's hull (:func:`solid_of`) in its own frame."""
+    return np.asarray(solid_of(geometry).points(), dtype=float).reshape(-1, 3)
+
+
+def is_flat(
+    geometry: coal.CollisionGeometry, T: coal.Transform3s, direction: np.ndarray, tolerance: float
+) -> bool:
+    """Whether a mesh touches along ``direction`` (3,) (out of it, towards the other shape) with a
+    flat feature: its hull vertices within ``tolerance`` [m] of its support plane lie within
+    ``MESH_FLATNESS * tolerance`` of one plane (three or fewer always do)."""
+    vertices = _hull_vertices(geometry)
+    depth = vertices @ (_to_matrix(T)[0].T @ direction)
+    band = vertices[depth >= depth.max() - tolerance]
+    if len(band) <= 3:
+        return True
+    centred = band - band.mean(axis=0)
+    normal = np.linalg.svd(centred, full_matrices=False)[2][2]
+    return float(np.max(np.abs(centred @ normal))) <= MESH_FLATNESS * tolerance
+
+
 def coal_patch(
     g1: coal.CollisionGeometry,
     T1: coal.Transform3s,
     g2: coal.CollisionGeometry,
     T2: coal.Transform3s,
     tolerance: float,
-    patch_tolerance: float | None = None,
 ) -> tuple[np.ndarray, np.ndarray] | None:
-    """Coal's contact patch of two shapes within ``tolerance`` [m] (the patch's own tolerance
-    ``patch_tolerance`` [m], default ``tolerance``): points (k, 3) [m] in the contact plane and
-    the normal from ``g1`` into ``g2`` (3,); ``None`` if Coal finds none."""
+    """Coal's contact patch of two shapes within ``tolerance`` [m]: points (k, 3) [m] in the
+    contact plane and the normal from ``g1`` into ``g2`` (3,); ``None`` if Coal finds none."""
     tol = max(float(tolerance), MERGE_DISTANCE)
-    ptol = tol if patch_tolerance is None else max(float(patch_tolerance), MERGE_DISTANCE)
     req = coal.CollisionRequest()
     req.security_margin = tol
     req.num_max_contacts = 1
@@ -214,7 +233,7 @@ def coal_patch(
     coal.collide(g1, T1, g2, T2, req, res)
     if res.numContacts() == 0:
         return None
-    preq = coal.ContactPatchRequest(1, CURVED_SAMPLES, ptol)
+    preq = coal.ContactPatchRequest(1, CURVED_SAMPLES, tol)
     pres = coal.ContactPatchResult(preq)
     coal.computeContactPatch(g1, T1, g2, T2, res, preq, pres)
     if pres.numContactPatches() == 0:
@@ -301,15 +320,18 @@ def pair_patch(
         ``None`` when the touch is a single point (curved, a corner, a tessellated curve, a
         hull facet off the mesh, or no Coal patch): the caller keeps its closest-point contact.
     """
-    meshes = [g for g in (g1, g2) if is_mesh(g)]
-    ptol = MESH_FLATNESS * tolerance if meshes else None
-    found = coal_patch(solid_of(g1), T1, solid_of(g2), T2, tolerance, ptol)
+    meshes = is_mesh(g1) or is_mesh(g2)
+    if meshes and detected is not None and not _flat_pair(g1, T1, g2, T2, detected, tolerance):
+        return None  # a tessellated curve along the detected normal: no Coal patch needed
+    found = coal_patch(solid_of(g1), T1, solid_of(g2), T2, tolerance)
     if found is None:
         return None
     points, normal = found
     shapes = (touch_shape(g1, T1, normal), touch_shape(g2, T2, normal))
     if "curved" in shapes:
         return None
+    if meshes and not _flat_pair(g1, T1, g2, T2, normal, tolerance):
+        return None  # a tessellated curve
     R, t = _to_matrix(T1)
     kind, idx = select_points(points, (points - t) @ R, max_points)
     if kind == "point" or ("straight" in shapes and kind != "line"):
@@ -321,6 +343,20 @@ def pair_patch(
         if type(g).__name__.startswith("BVH") and not _on_mesh(g, T, points, normal, tolerance, detected):
             return None
     return kind, points, normal
+
+
+def _flat_pair(
+    g1: coal.CollisionGeometry,
+    T1: coal.Transform3s,
+    g2: coal.CollisionGeometry,
+    T2: coal.Transform3s,
+    normal: np.ndarray,
+    tolerance: float,
+) -> bool:
+    """Whether each mesh of the pair touches along ``normal`` (``g1`` into ``g2``) with a flat feature."""
+    return (not is_mesh(g1) or is_flat(g1, T1, normal, tolerance)) and (
+        not is_mesh(g2) or is_flat(g2, T2, -normal, tolerance)
+    )
 
 
 def _on_mesh(
