@@ -352,7 +352,7 @@ def test_tessellated_curves_stay_single_points(tmp_path, convex):
 
 def test_a_pad_on_the_torus_mesh_stays_one_point():
     """The shipped torus (a non-convex triangle mesh): the jaws of talos_torus touch its tube with
-    one point each, with and without patches."""
+    one point each."""
     scene = pg.load_scene("talos_torus")
     on = pg.detect_contacts(scene.hand, scene.q, scene.object)
     assert set(on.points_per_patch) == {1}
