@@ -95,16 +95,55 @@ def test_a_line_contact_gives_its_two_end_points():
     "shape, pose",
     [
         (coal.Sphere(0.01), T([-0.0252, 0, 0])),
-        (coal.Cylinder(0.01, 0.04), T([-0.0252, 0, 0])),  # its side (curved) along the face
-        (coal.Capsule(0.01, 0.04), T([-0.0252, 0, 0])),
+        (coal.Capsule(0.01, 0.04), T([-0.0352, 0, 0], rot([0, 1, 0], np.pi / 2))),  # its round end
+        (coal.Cylinder(0.01, 0.04), T([-0.0252, 0, 0], rot([0, 1, 0], 0.05))),  # tilted 2 mm over its length
     ],
 )
 def test_curved_touches_stay_single_points(shape, pose):
     assert pair_patch(shape, pose, BAR, T([0, 0, 0]), TOL, 4) is None
 
 
-def test_a_pad_on_a_curved_object_stays_a_single_point():
-    assert pair_patch(PAD, T(*PAD_POSE), coal.Cylinder(0.015, 0.2), T([0, 0, 0]), TOL, 4) is None
+def test_a_curved_side_on_a_straight_side_stays_a_single_point():
+    # a cylinder on a sphere, and two cylinders with crossing axes: Coal's patch is one point
+    cyl = coal.Cylinder(0.01, 0.04)
+    assert pair_patch(cyl, T([0, 0, 0]), coal.Sphere(0.01), T([0.0202, 0, 0]), TOL, 4) is None
+    crossing = T([0.0202, 0, 0], rot([1, 0, 0], np.pi / 2))
+    assert pair_patch(cyl, T([0, 0, 0]), coal.Cylinder(0.01, 0.04), crossing, TOL, 4) is None
+
+
+@pytest.mark.parametrize("shape", [coal.Cylinder(0.01, 0.04), coal.Capsule(0.01, 0.04)])
+def test_a_straight_side_on_a_face_is_a_line_of_its_generator(shape):
+    # the side along the bar's face x = -15 mm (axis z): the generator z +-20 mm, midway at -15.1 mm
+    kind, pts, n = pair_patch(shape, T([-0.0252, 0, 0]), BAR, T([0, 0, 0]), TOL, 4)
+    assert kind == "line" and pts.shape == (2, 3)
+    np.testing.assert_allclose(n, [1, 0, 0], atol=1e-9)
+    np.testing.assert_allclose(pts, [[-0.0151, 0, -0.02], [-0.0151, 0, 0.02]], atol=1e-9)
+
+
+def test_a_cone_side_on_a_face_is_its_generator():
+    # cone radius r, height h (apex at +h/2): the generator from (r, 0, -h/2) to (0, 0, h/2)
+    r, h = 0.02, 0.1
+    n = np.array([h, 0, r]) / np.hypot(h, r)
+    pad = T(np.array([r / 2, 0, 0]) + n * (0.01 + 2e-4), rot([0, 1, 0], -np.arctan2(r, h)))
+    kind, pts, normal = pair_patch(coal.Cone(r, h), T([0, 0, 0]), coal.Box(0.02, 0.06, 0.2), pad, TOL, 4)
+    assert kind == "line"
+    np.testing.assert_allclose(normal, n, atol=1e-9)
+    ends = np.array([[r, 0, -h / 2], [0, 0, h / 2]]) + 1e-4 * n  # midway across the 0.2 mm gap
+    # (Coal's support of the cone stops 0.1 mm short of the base rim, on the generator)
+    np.testing.assert_allclose(sorted(pts.tolist(), key=lambda p: p[2]), ends, atol=1e-4)
+    off = (pts - ends[0]) - np.outer((pts - ends[0]) @ (ends[1] - ends[0]), ends[1] - ends[0]) / np.sum(
+        (ends[1] - ends[0]) ** 2
+    )
+    np.testing.assert_allclose(off, 0.0, atol=1e-5)
+
+
+def test_a_pad_on_a_cylinder_side_is_the_generator_under_the_pad():
+    # the 20 mm tall pad on a 200 mm cylinder (axis z): the generator clipped to the pad, z +-10 mm
+    kind, pts, n = pair_patch(PAD, T([-0.0205, 0, 0]), coal.Cylinder(0.015, 0.2), T([0, 0, 0]), TOL, 4)
+    assert kind == "line"
+    np.testing.assert_allclose(n, [1, 0, 0], atol=1e-9)
+    np.testing.assert_allclose(sorted(pts[:, 2]), [-0.01, 0.01], atol=1e-9)
+    np.testing.assert_allclose(pts[:, :2], [[-0.01525, 0], [-0.01525, 0]], atol=1e-9)
 
 
 # ---------------------------------------------------------------------------- the hand
@@ -212,3 +251,108 @@ def test_twist_limit_matches_the_simulation():
     qs = pg.max_resistible_wrench(scene.model, scene.command, "mx", upper=50.0, steps=14)
     sim = pg.simulate_max_wrench(scene, "mx", upper=50.0, friction="pyramid")
     assert sim.status == "gave_way" and sim.load == pytest.approx(qs.magnitude, rel=1e-2)
+
+
+# ---------------------------------------------------------------------------- lines on cylinders
+@pytest.fixture(scope="module")
+def cylinder():
+    """The parallel jaw on a 30 mm cylinder, 40 mm long, its axis along the jaws' long side (y)."""
+    hand = pg.Hand.builtin("parallel_jaw")
+    pose = np.eye(4)
+    pose[:3, :3] = rot([1, 0, 0], -np.pi / 2)  # the cylinder's z axis along y
+    pose[:3, 3] = [0.0, 0.040, 0.0]
+    obj = pg.RigidObject.cylinder(0.015, 0.040, pose=pose)
+    return hand, hand.close_on(obj), obj
+
+
+def test_a_cylinder_between_flat_jaws_touches_each_along_a_line(cylinder):
+    hand, q, obj = cylinder
+    report = pg.detect_contacts(hand, q, obj)
+    assert report.points_per_patch == (2, 2) and [p.kind for p in report.patches] == ["line", "line"]
+    for p in report.patches:  # the generator x = -+15 mm, its ends y = 40 -+ 20 mm: L = 40 mm apart
+        np.testing.assert_allclose(sorted(p.points[:, 1]), [0.02, 0.06], atol=1e-9)
+        np.testing.assert_allclose(np.abs(p.points[:, 0]), 0.015, atol=2e-4)  # the auto-close gap
+        np.testing.assert_allclose(p.points[:, 2], 0.0, atol=1e-6)  # Coal's normal ~3e-5 rad off x
+    assert pg.detect_contacts(hand, q, obj, patches=False).points_per_patch == (1, 1)
+
+
+def test_a_line_resists_the_twist_about_the_jaw_normal(cylinder):
+    """Twist about the squeeze axis x: the 4 end points, F/4 each, slide across their radius
+    L/2 = 20 mm: mu F L / 2 = 0.2 N m (sum_i mu (F/4) r_i h_i, h_i = 1 along the y edge of the
+    8-edge pyramid); one point per jaw on the axis: 0. MuJoCo (pyramid): 0.1999 N m."""
+    hand, q, obj = cylinder
+    m = pg.grasp_model_from_scene(hand, q, obj, mu=MU)
+    assert m.nc == 4
+    twist = _twist_limit(m, F / 4, obj.center_of_mass)
+    assert twist == pytest.approx(MU * F * 0.040 / 2, rel=1e-9)
+    upper, steps = 50.0, 14
+    for d in ("mx", "-mx"):
+        mw = pg.max_resistible_wrench(m, F, d, upper=upper, steps=steps)
+        assert mw.status == "finite" and mw.magnitude == pytest.approx(
+            twist, abs=upper / 2**steps + 1e-4 * twist
+        )
+    off = pg.grasp_model_from_scene(hand, q, obj, mu=MU, patches=False)
+    assert pg.max_resistible_wrench(off, F, "mx", upper=upper, steps=steps).magnitude == 0.0
+
+
+def test_line_points_invariant_under_a_rigid_motion_and_relabelling(cylinder):
+    hand, q, obj = cylinder
+    config = HandConfiguration.at(hand, q)
+    report = pg.detect_contacts(hand, q, obj)
+    back = contact_patches(config, obj, tuple(reversed(report.contacts)), report.tolerance)
+    for p, r in zip(report.patches, reversed(back)):
+        assert p.names == r.names and p.kind == r.kind == "line"
+        np.testing.assert_array_equal(p.points, r.points)
+    rng = np.random.default_rng(3)
+    cyl, jaw = coal.Cylinder(0.015, 0.040), coal.Box(0.010, 0.060, 0.020)
+    Rc, jaw_pose = rot([1, 0, 0], -np.pi / 2), [-0.0202, 0.0, 0.0]
+    base = pair_patch(jaw, T(jaw_pose), cyl, T([0, 0, 0], Rc), TOL, 4)
+    assert base[0] == "line"
+    for _ in range(5):
+        R = rot(rng.normal(size=3), rng.uniform(0, 2 * np.pi))
+        t = rng.uniform(-0.5, 0.5, 3)
+        moved = pair_patch(jaw, T(R @ jaw_pose + t, R), cyl, T(t, R @ Rc), TOL, 4)
+        assert moved[0] == "line"
+        np.testing.assert_allclose(moved[1], base[1] @ R.T + t, atol=1e-9)
+        np.testing.assert_allclose(moved[2], R @ base[2], atol=1e-9)
+
+
+# ---------------------------------------------------------------------------- meshes
+def _mesh_object(tmp_path, mesh, convex):
+    path = tmp_path / "shape.stl"
+    mesh.export(path)
+    return pg.RigidObject.from_mesh(path, convex=convex)
+
+
+@pytest.mark.parametrize("convex", [True, False])
+def test_a_mesh_box_on_a_flat_jaw_gives_the_primitive_box_corners(tmp_path, convex):
+    trimesh = pytest.importorskip("trimesh")
+    mesh = _mesh_object(tmp_path, trimesh.creation.box([0.030, 0.030, 0.150]), convex)
+    assert mesh.kind == ("convex" if convex else "mesh")
+    prim = pair_patch(PAD, T(*PAD_POSE), BAR, T([0, 0, 0]), TOL, 4)
+    got = pair_patch(PAD, T(*PAD_POSE), mesh.geometry, mesh.transform, TOL, 4, np.array([1.0, 0, 0]))
+    assert got[0] == prim[0] == "face"
+    np.testing.assert_allclose(got[1], prim[1], atol=1e-9)  # same corners, same canonical order
+    np.testing.assert_allclose(got[2], prim[2], atol=1e-8)  # Coal's hull normal to ~3e-9
+
+
+@pytest.mark.parametrize("convex", [True, False])
+def test_tessellated_curves_stay_single_points(tmp_path, convex):
+    """A sphere mesh and a cylinder mesh (side on) under the flat pad: their vertices within 1 mm
+    of the pad plane are not coplanar within 0.1 mm (the facets bend), so one point each."""
+    trimesh = pytest.importorskip("trimesh")
+    for mesh, x in (
+        (trimesh.creation.icosphere(3, 0.015), 0.0152),
+        (trimesh.creation.cylinder(0.015, 0.1), 0.0152),
+    ):
+        obj = _mesh_object(tmp_path, mesh, convex)
+        pad = T([-0.005 - x, 0, 0])
+        assert pair_patch(PAD, pad, obj.geometry, obj.transform, TOL, 4, np.array([1.0, 0, 0])) is None
+
+
+def test_a_pad_on_the_torus_mesh_stays_one_point():
+    """The shipped torus (a non-convex triangle mesh): the jaws of talos_torus touch its tube with
+    one point each."""
+    scene = pg.load_scene("talos_torus")
+    on = pg.detect_contacts(scene.hand, scene.q, scene.object)
+    assert set(on.points_per_patch) == {1}

@@ -19,10 +19,22 @@ face would resist neither torsion nor tilt. This module turns such a touch into 
    rounded to :data:`ORDER_RESOLUTION`, compared lexicographically), so the points and their
    order do not change under a rigid motion of the whole scene nor with the geometries' order.
 
-**Curved** touches stay single points (the closest pair, as with patches off): a sphere,
-ellipsoid or capsule; the side of a cylinder or cone (the normal more than
-:data:`CAP_ANGLE` from its axis) — on either the hand or the object. Triangle-mesh (BVH)
-geometries get a one-point patch from Coal, so they stay single points too.
+**Curved** touches stay single points (the closest pair, as with patches off): a sphere or
+ellipsoid; a capsule's round end; a cylinder, cone or capsule side whose touch Coal does not
+give as a segment along a generator (a sphere on it, a crossing axis, a tilt beyond the
+tolerance). A **straight side** (cylinder, cone, capsule: curved across, straight along a
+generator) on a surface that is flat along that generator within the tolerance is a **line**:
+Coal's patch gives the generator clipped to the other shape's feature, its two end points.
+
+**Meshes** (a convex mesh ``Convex``, or a triangle mesh ``BVH`` through its convex hull, built
+once per geometry) are flat only where they are: the hull's vertices within the contact
+tolerance of the contact plane (on each mesh) must lie within :data:`MESH_FLATNESS` times the
+tolerance of one plane (0.1 mm at the default 1 mm). A tessellated curved surface (a rounded
+finger, a sphere or torus mesh) fails this and stays one point; a flat mesh face gives Coal's
+polygon, as a primitive face does. A mesh patch narrower than the tolerance is a point. A patch
+found on a triangle mesh's hull is kept only where each point lies within the contact tolerance
+of the mesh itself and the hull's normal is within :data:`CAP_ANGLE` of the detected normal (a
+hull facet that bridges a concavity, as over a torus's hole, is not the surface).
 """
 
 from __future__ import annotations
@@ -55,6 +67,9 @@ CAP_ANGLE = float(np.arccos(0.99))
 
 #: Points Coal samples on a curved edge (a cylinder cap's rim) before the reduction.
 CURVED_SAMPLES = 12
+#: Mesh patches: a mesh's vertices within the contact tolerance of the contact plane are a flat
+#: feature when they lie within this fraction of the tolerance of one plane (0.1 mm at 1 mm).
+MESH_FLATNESS = 0.1
 
 
 class TouchingPair(Protocol):
@@ -73,8 +88,11 @@ class TouchingPair(Protocol):
 
 
 PatchKind = Literal["point", "line", "face"]
-_ROUND = ("Sphere", "Ellipsoid", "Capsule")
-_AXIAL = ("Cylinder", "Cone")
+_ROUND = ("Sphere", "Ellipsoid")
+_AXIAL = ("Cylinder", "Cone", "Capsule")
+TouchShape = Literal["curved", "straight", "flat"]
+#: A point on a triangle mesh's surface, for the check that a hull patch lies on the mesh.
+_PROBE = coal.Sphere(1e-12)
 
 
 @dataclass(frozen=True)
@@ -127,16 +145,75 @@ def _to_matrix(T: coal.Transform3s) -> tuple[np.ndarray, np.ndarray]:
     return np.array(T.getRotation(), dtype=float), np.array(T.getTranslation(), dtype=float)
 
 
-def is_curved(geometry: coal.CollisionGeometry, T: coal.Transform3s, normal: np.ndarray) -> bool:
-    """Whether ``geometry`` at pose ``T`` touches along ``normal`` with a curved surface
-    (sphere, ellipsoid, capsule; the side of a cylinder or cone)."""
+def touch_shape(geometry: coal.CollisionGeometry, T: coal.Transform3s, normal: np.ndarray) -> TouchShape:
+    """How ``geometry`` at pose ``T`` touches along ``normal``: ``"curved"`` (a sphere, an
+    ellipsoid, a capsule's round end), ``"straight"`` (the side of a cylinder, cone or capsule:
+    straight along a generator, the normal more than :data:`CAP_ANGLE` from the axis) or
+    ``"flat"`` (everything else: faces, edges, a cylinder or cone cap, meshes)."""
     kind = type(geometry).__name__
     if kind in _ROUND:
-        return True
+        return "curved"
     if kind in _AXIAL:
         axis = _to_matrix(T)[0][:, 2]
-        return bool(abs(float(axis @ normal)) < np.cos(CAP_ANGLE))
-    return False
+        if abs(float(axis @ normal)) < np.cos(CAP_ANGLE):
+            return "straight"
+        return "curved" if kind == "Capsule" else "flat"
+    return "flat"
+
+
+def is_curved(geometry: coal.CollisionGeometry, T: coal.Transform3s, normal: np.ndarray) -> bool:
+    """Whether ``geometry`` at pose ``T`` touches along ``normal`` with a curved surface, a
+    straight side included (:func:`touch_shape` is not ``"flat"``)."""
+    return touch_shape(geometry, T, normal) != "flat"
+
+
+def is_mesh(geometry: coal.CollisionGeometry) -> bool:
+    """Whether a Coal geometry is a mesh: a triangle mesh (BVH) or a convex mesh."""
+    name = type(geometry).__name__
+    return name.startswith("BVH") or name.startswith("Convex")
+
+
+def solid_of(geometry: coal.CollisionGeometry) -> coal.CollisionGeometry:
+    """The geometry Coal's patch code is given: a triangle mesh's convex hull (built once and
+    kept on the mesh), any other geometry itself."""
+    if not type(geometry).__name__.startswith("BVH"):
+        return geometry
+    if geometry.convex is None:
+        geometry.buildConvexHull(False, "Qt")
+    return geometry.convex
+
+
+def on_surface(
+    geometry: coal.CollisionGeometry, T: coal.Transform3s, points: np.ndarray, tolerance: float
+) -> bool:
+    """Whether every point (k, 3) [m] lies within ``tolerance`` [m] of a triangle mesh's surface."""
+    req, R = coal.DistanceRequest(), np.eye(3)
+    for p in points:
+        res = coal.DistanceResult()
+        if coal.distance(_PROBE, coal.Transform3s(R, p), geometry, T, req, res) > tolerance:
+            return False
+    return True
+
+
+def _hull_vertices(geometry: coal.CollisionGeometry) -> np.ndarray:
+    """The vertices (m, 3) [m] of a mesh's hull (:func:`solid_of`) in its own frame."""
+    return np.asarray(solid_of(geometry).points(), dtype=float).reshape(-1, 3)
+
+
+def is_flat(
+    geometry: coal.CollisionGeometry, T: coal.Transform3s, direction: np.ndarray, tolerance: float
+) -> bool:
+    """Whether a mesh touches along ``direction`` (3,) (out of it, towards the other shape) with a
+    flat feature: its hull vertices within ``tolerance`` [m] of its support plane lie within
+    ``MESH_FLATNESS * tolerance`` of one plane (three or fewer always do)."""
+    vertices = _hull_vertices(geometry)
+    depth = vertices @ (_to_matrix(T)[0].T @ direction)
+    band = vertices[depth >= depth.max() - tolerance]
+    if len(band) <= 3:
+        return True
+    centred = band - band.mean(axis=0)
+    normal = np.linalg.svd(centred, full_matrices=False)[2][2]
+    return float(np.max(np.abs(centred @ normal))) <= MESH_FLATNESS * tolerance
 
 
 def coal_patch(
@@ -230,25 +307,71 @@ def pair_patch(
     T2: coal.Transform3s,
     tolerance: float,
     max_points: int,
+    detected: np.ndarray | None = None,
 ) -> tuple[PatchKind, np.ndarray, np.ndarray] | None:
     """The patch of hand geometry ``g1`` at ``T1`` on object ``g2`` at ``T2`` (world frame).
 
+    Args:
+        detected: The detected contact normal (3,): a patch found on a triangle mesh's hull
+            must agree with it within :data:`CAP_ANGLE`.
+
     Returns:
         ``(kind, points (k, 3) [m], normal (3,))`` with the points in canonical order, or
-        ``None`` when the touch is a single point (curved, a corner, a mesh, or no Coal patch):
-        the caller keeps its closest-point contact.
+        ``None`` when the touch is a single point (curved, a corner, a tessellated curve, a
+        hull facet off the mesh, or no Coal patch): the caller keeps its closest-point contact.
     """
-    found = coal_patch(g1, T1, g2, T2, tolerance)
+    meshes = is_mesh(g1) or is_mesh(g2)
+    if meshes and detected is not None and not _flat_pair(g1, T1, g2, T2, detected, tolerance):
+        return None  # a tessellated curve along the detected normal: no Coal patch needed
+    found = coal_patch(solid_of(g1), T1, solid_of(g2), T2, tolerance)
     if found is None:
         return None
     points, normal = found
-    if is_curved(g1, T1, normal) or is_curved(g2, T2, normal):
+    shapes = (touch_shape(g1, T1, normal), touch_shape(g2, T2, normal))
+    if "curved" in shapes:
         return None
+    if meshes and not _flat_pair(g1, T1, g2, T2, normal, tolerance):
+        return None  # a tessellated curve
     R, t = _to_matrix(T1)
     kind, idx = select_points(points, (points - t) @ R, max_points)
-    if kind == "point":
-        return None
-    return kind, points[idx], normal
+    if kind == "point" or ("straight" in shapes and kind != "line"):
+        return None  # a straight side touches along a generator or at a point, never a face
+    points = points[idx]
+    if meshes and float(np.max(np.linalg.norm(points[:, None] - points[None], axis=2))) < tolerance:
+        return None  # a mesh patch narrower than the tolerance: a facet of a tessellated curve
+    for g, T in ((g1, T1), (g2, T2)):
+        if type(g).__name__.startswith("BVH") and not _on_mesh(g, T, points, normal, tolerance, detected):
+            return None
+    return kind, points, normal
+
+
+def _flat_pair(
+    g1: coal.CollisionGeometry,
+    T1: coal.Transform3s,
+    g2: coal.CollisionGeometry,
+    T2: coal.Transform3s,
+    normal: np.ndarray,
+    tolerance: float,
+) -> bool:
+    """Whether each mesh of the pair touches along ``normal`` (``g1`` into ``g2``) with a flat feature."""
+    return (not is_mesh(g1) or is_flat(g1, T1, normal, tolerance)) and (
+        not is_mesh(g2) or is_flat(g2, T2, -normal, tolerance)
+    )
+
+
+def _on_mesh(
+    g: coal.CollisionGeometry,
+    T: coal.Transform3s,
+    points: np.ndarray,
+    normal: np.ndarray,
+    tolerance: float,
+    detected: np.ndarray | None,
+) -> bool:
+    """Whether a patch found on the hull of triangle mesh ``g`` is on the mesh: its normal
+    within :data:`CAP_ANGLE` of the detected one and its points within ``tolerance`` of it."""
+    if detected is not None and float(normal @ detected) < np.cos(CAP_ANGLE):
+        return False
+    return on_surface(g, T, points, tolerance)
 
 
 def contact_patches(
@@ -276,7 +399,7 @@ def contact_patches(
         oMg = config.geometry_data.oMg[c.index]
         T1 = coal.Transform3s(oMg.rotation, oMg.translation)
         found = pair_patch(
-            geometries[c.index].geometry, T1, obj.geometry, obj.transform, tolerance, max_points
+            geometries[c.index].geometry, T1, obj.geometry, obj.transform, tolerance, max_points, c.normal
         )
         if found is None:
             out.append(ContactPatch(c.link, c.geometry, "point", c.point[None, :], c.normal, (c.link,)))
