@@ -24,6 +24,7 @@ as in the simulation. Paths whose object turns less than one step are unchanged.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -85,11 +86,20 @@ def _axes6(qm: QSModel) -> list[int]:
     return list(PLANAR_AXES) if qm.model.planar else list(range(qm.nx))
 
 
-def _rotation_rows(qm: QSModel) -> tuple[np.ndarray, np.ndarray]:
-    """The model's object coordinates that are rotations (k,) and their world axes (k,)."""
-    axes = np.array(_axes6(qm))
+@functools.cache
+def _rows_of(planar: bool, nx: int) -> tuple[np.ndarray, np.ndarray]:
+    axes = np.array(list(PLANAR_AXES) if planar else list(range(nx)))
     rows = (axes >= 3).nonzero()[0]
-    return rows, axes[rows] - 3
+    rows.setflags(write=False)
+    out = axes[rows] - 3
+    out.setflags(write=False)
+    return rows, out
+
+
+def _rotation_rows(qm: QSModel) -> tuple[np.ndarray, np.ndarray]:
+    """The model's object coordinates that are rotations (k,) and their world axes (k,)
+    (read-only: two shapes of model, planar or not, so kept once)."""
+    return _rows_of(bool(qm.model.planar), qm.nx)
 
 
 def spin(qm: QSModel, dvs: np.ndarray) -> np.ndarray:
@@ -195,6 +205,7 @@ def moved(
         KG=KG,
         KGp=KGp,
         rot=R,
+        turn=float(np.arccos(np.clip((np.trace(R) - 1.0) / 2.0, -1.0, 1.0))),
         vs_ref=st.vs.copy(),
         gap_ref=qm.gaps(st.vs),
         e_ref=G @ st.c + w,
@@ -206,10 +217,8 @@ def _may_update(qm: QSModel, st: State, geo: GeometryUpdates) -> bool:
     translation bounds)."""
     if st.t > geo.until:
         return False
-    base = qm.rot if qm.rot is not None else np.eye(3)
-    total = float(np.arccos(np.clip((np.trace(base) - 1.0) / 2.0, -1.0, 1.0)))
     return not (
-        total >= geo.max_rotation or geo.scale * float(np.linalg.norm(st.vs[:3])) >= geo.max_translation
+        qm.turn >= geo.max_rotation or geo.scale * float(np.linalg.norm(st.vs[:3])) >= geo.max_translation
     )
 
 

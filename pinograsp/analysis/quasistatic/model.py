@@ -176,12 +176,14 @@ class QSModel:
     weights: np.ndarray = field(default_factory=lambda: np.zeros(0))
     #: Geometry updated at a turned object (``geometry.moved``; None: the model's own rest
     #: geometry): the scaled geometric stiffness ``K_G`` (nv, nv) and its physical object block
-    #: (nx, nx) [N·m/rad], the object's rotation at the update (3, 3), the scaled displacements
+    #: (nx, nx) [N·m/rad], the object's rotation at the update (3, 3) and its angle, the scaled displacements
     #: there (nv,), the contacts' normal gaps there (nc,) [m] and the equilibrium invariant
     #: ``G c + w`` there (nx,) [N, N·m].
     KG: np.ndarray | None = None
     KGp: np.ndarray | None = None
     rot: np.ndarray | None = None
+    #: The angle of ``rot`` [rad] (0 at the rest geometry).
+    turn: float = 0.0
     vs_ref: np.ndarray | None = None
     gap_ref: np.ndarray | None = None
     e_ref: np.ndarray | None = None

@@ -352,7 +352,7 @@ def follow(
             per = step / float(np.linalg.norm(b))  # path parameter per step at this rate
             before = _along(qm, sc, seg)
             qm = moved(qm, st, spec.w0 + st.t * spec.dw, b * per, geometry.scale, seg.dc * per)
-            sc = StageCache.of(qm, spec)
+            sc = sc.rebased(qm, spec)
             run.model = qm
         if len(run.segments) >= max_segments:
             run.status = RunStatus.SEGMENT_LIMIT

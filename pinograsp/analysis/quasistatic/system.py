@@ -5,7 +5,7 @@ mechanisms and redundant constraints, a least-norm SVD solve of the whole border
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from scipy.linalg.lapack import dgetrf, dgetrs, dpotrf, dpotrs
@@ -53,6 +53,8 @@ class StageCache:
     #: rate [N], the scaled load rate (nx,), its norm [N], whether the stage loads the object
     #: (what the segment loop reads of the spec; :func:`stage_rates`).
     rates: tuple[float, float, np.ndarray, float, bool] = (0.0, 0.0, np.zeros(0), 0.0, False)
+    #: ``Z^T K_G Z`` of a model with a geometric stiffness (None without: speed only).
+    ZtKGZ: np.ndarray | None = None
 
     @classmethod
     def of(cls, qm: QSModel, spec: StageSpec) -> StageCache:
@@ -87,6 +89,19 @@ class StageCache:
             cz=None if crow is None else Z[:nx].T @ crow,
             r0max=float(np.abs(r0).max(initial=0.0)),
             rates=stage_rates(qm, spec),
+            ZtKGZ=None if qm.KG is None else Z.T @ qm.KG @ Z,
+        )
+
+    def rebased(self, qm: QSModel, spec: StageSpec) -> StageCache:
+        """This cache for ``qm``, the same model re-linearised at a turned object
+        (``geometry.moved``): only the products with ``A`` and the geometric stiffness change."""
+        con = qm.held if spec.held else qm.free
+        return replace(
+            self,
+            AZ=con.AZ,
+            AtBt=con.AtBt,
+            BpA=con.BpA,
+            ZtKGZ=None if qm.KG is None else self.Z.T @ qm.KG @ self.Z,
         )
 
 
@@ -127,7 +142,8 @@ def affine_reduced(qm, sc, ks, Fm, Vp, control):
         if info != 0:
             return None
     else:
-        Y = _solve_geometric(Kr - sc.Z.T @ qm.KG @ sc.Z, rhs + sc.Z.T @ (qm.KG @ Vp))
+        ZtKGZ = sc.ZtKGZ if sc.ZtKGZ is not None else sc.Z.T @ qm.KG @ sc.Z
+        Y = _solve_geometric(Kr - ZtKGZ, rhs + sc.Z.T @ (qm.KG @ Vp))
         if Y is None:
             return None
     nz1 = Y.shape[1]
