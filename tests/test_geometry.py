@@ -138,3 +138,33 @@ def test_states_reached_with_the_geometry_updated_pass_their_audit():
     lp = pg.loading_path(m, 1.0, d)
     assert lp.geometries and any(g is not None for g in lp.geometries)
     assert max(lp.audit["equilibrium"]) < 1e-9 * max(lp.loads)
+
+
+def test_the_stage_cache_of_an_updated_model_is_the_rebuilt_one():
+    """``StageCache.rebased`` (kept per update: speed only) holds exactly what
+    ``StageCache.of`` builds for the re-linearised model."""
+    from dataclasses import fields
+
+    from pinograsp.analysis.quasistatic.geometry import moved
+    from pinograsp.analysis.quasistatic.state import StageSpec, State
+    from pinograsp.analysis.quasistatic.system import StageCache
+
+    m, d = _case()
+    qm = build_qs_model(m)
+    spec = StageSpec(np.zeros(qm.nx), m.reduce_wrench(d), np.ones(qm.na), np.zeros(qm.na),
+                     float("inf"), held=False, friction=True)  # fmt: skip
+    rng = np.random.default_rng(3)
+    st = State(rng.normal(size=qm.nv) * 1e-3, rng.normal(size=qm.ncd), np.ones(qm.na),
+               np.zeros(qm.ncp), np.zeros(qm.nx), np.zeros(qm.ncd), 2.0)  # fmt: skip
+    sc = StageCache.of(qm, spec)
+    qm2 = moved(qm, st, spec.dw * 2.0, np.array([0.002, -0.001, 0.003]), 1.0)
+    assert qm2.KG is not None and qm2.turn == pytest.approx(np.arccos((np.trace(qm2.rot) - 1.0) / 2.0))
+    fresh, kept = StageCache.of(qm2, spec), sc.rebased(qm2, spec)
+    for f in fields(StageCache):
+        a, b = getattr(fresh, f.name), getattr(kept, f.name)
+        if isinstance(a, np.ndarray):
+            assert np.array_equal(a, b), f.name
+        elif f.name == "rates":
+            assert all(np.array_equal(x, y) for x, y in zip(a, b))
+        elif f.name != "col_of":
+            assert a == b, f.name
