@@ -20,6 +20,16 @@ import pytest
 import pinograsp as pg
 
 DATA = Path(__file__).parent / "data" / "ability_box_plan5.json"
+_TEXT = (
+    "kinds",
+    "contact_names",
+    "joint_names",
+    "actuator_names",
+    "coupling_names",
+    "all_actuator_names",
+    "bidirectional",
+)
+
 DIRECTION = np.array([-1.0, 1.0, -1.0, 0.0, 0.0, 0.0]) / np.sqrt(3.0)
 
 
@@ -35,18 +45,9 @@ def grasp() -> tuple[pg.GraspModel, dict[str, float]]:
     return model, raw["command"]
 
 
-_TEXT = (
-    "kinds",
-    "contact_names",
-    "joint_names",
-    "actuator_names",
-    "coupling_names",
-    "all_actuator_names",
-    "bidirectional",
-)
-
-
-def _preloaded_normal_forces(model: pg.GraspModel, command: dict[str, float], release_time: float) -> np.ndarray:
+def _preloaded_normal_forces(
+    model: pg.GraspModel, command: dict[str, float], release_time: float
+) -> np.ndarray:
     """The simulated preload's normal forces (nc,) [N] (pyramid friction, the acceptance's upper)."""
     from pinograsp.sim.integrator import Engine, preload
     from pinograsp.sim.simulate import _options
@@ -57,7 +58,12 @@ def _preloaded_normal_forces(model: pg.GraspModel, command: dict[str, float], re
     d, red = run.data, run.red
     anchors = run.law.anchors.copy()
     f, _, _ = run.law.forces(
-        d.qpos[red.hand_qpos], d.qvel[red.hand_dof], d.qpos[:3] - run.rest[:3], run.rot, d.qvel[:3], run.rot @ d.qvel[3:6]
+        d.qpos[red.hand_qpos],
+        d.qvel[red.hand_dof],
+        d.qpos[:3] - run.rest[:3],
+        run.rot,
+        d.qvel[:3],
+        run.rot @ d.qvel[3:6],
     )
     run.law.anchors = anchors
     return np.einsum("ij,ij->i", f, run.law.normals)
