@@ -54,6 +54,9 @@ class SimOptions:
         relax: Close the motors without friction (the model's friction is free inside the
             cone, not wound up by the closing; docs/simulation.md).
         friction: ``"cone"`` (exact Coulomb) or ``"pyramid"`` (the model's linearised cone).
+        release_time: Duration [s] over which a held object is released: the wrench that held
+            it at the end of the closing is applied to it and removed smoothly (the loading
+            path's release stage, docs/quasistatic.md); 0: released at once.
     """
 
     upper: float
@@ -73,6 +76,7 @@ class SimOptions:
     filter_time: float = 0.0
     relax: bool = True
     friction: str = "cone"
+    release_time: float = 0.0
 
 
 class Engine:
@@ -157,18 +161,25 @@ class Engine:
 
 def preload(run: Engine) -> None:
     """Close the motors (smooth ramp over half of ``preload_time``, then steady; without
-    friction when ``relax``), release the object when it was held, settle for half of
+    friction when ``relax``), release the object when it was held (at once, or over
+    ``release_time`` with the holding wrench removed smoothly), settle for half of
     ``preload_time`` with friction and check that the preload alone holds the object."""
     o = run.opts
     n = max(2, round(o.preload_time / o.timestep))
     zero = np.zeros(6)
+    held = zero
     for i in range(n):
         s = min(1.0, 2.0 * i / n)
         run.law.relax = o.relax
-        run.step(s * s * (3.0 - 2.0 * s), zero)
+        held = -run.step(s * s * (3.0 - 2.0 * s), zero)
         if o.preload == "held":
             run.hold_object()
     run.law.relax = o.relax
+    if o.preload == "held" and o.release_time > 0.0:  # the holding wrench removed smoothly
+        m = max(1, round(o.release_time / o.timestep))
+        for i in range(1, m + 1):
+            s = i / m
+            run.step(1.0, held * (1.0 - s * s * (3.0 - 2.0 * s)))
     for _ in range(n // 2):
         run.step(1.0, zero)
     moved, turned = run.displacement(run.rest[:3], np.eye(3))

@@ -105,6 +105,7 @@ def _options(grasp: GraspModel, direction: np.ndarray, upper: float, kw: dict[st
         filter_time=float(kw.pop("filter_time", 2.0 * math.pi * math.sqrt(mass / stiffness))),
         relax=bool(kw.pop("relax", True)),
         friction=friction,
+        release_time=number_in("release_time", kw.pop("release_time", 0.0), 0.0, 10.0, "s"),
     )
     if kw:
         raise InvalidInputError("options", f"unknown simulation option(s) {sorted(kw)}")
@@ -126,7 +127,7 @@ MAX_SIM_STEPS = 10**7
 
 def _step_budget(o: SimOptions) -> None:
     """Refuse, before any step, options whose run would take more than MAX_SIM_STEPS steps."""
-    ramp = o.ramp_time * math.log(1.0 / o.start) + o.hold_time + o.preload_time
+    ramp = o.ramp_time * math.log(1.0 / o.start) + o.hold_time + o.preload_time + o.release_time
     halvings = math.ceil(math.log2(max(math.log(1.0 / o.start) / o.tolerance, 2.0)))
     n = ramp / o.timestep * (1 + halvings)
     if not n <= MAX_SIM_STEPS:
@@ -178,7 +179,9 @@ def simulate_max_wrench(
             ``ramp_time``, ``start``, ``hold_time``, ``slip`` [m], ``rotation`` [rad],
             ``tolerance``, ``mass`` [kg], ``damping``, ``preload`` (``"held"`` or
             ``"settled"``), ``relax``, ``friction`` (``"cone"`` or ``"pyramid"``),
-            ``preload_time``, ``filter_time``, ``trace_every``.
+            ``preload_time``, ``release_time`` [s] (a held object released over this time,
+            the holding wrench removed smoothly; default 0: at once), ``filter_time``,
+            ``trace_every``.
 
     Returns:
         The :class:`SimulationResult`.

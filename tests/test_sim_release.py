@@ -1,0 +1,103 @@
+"""The simulation's release of a held object (``release_time``, docs/simulation.md) against the
+loading path's release stage, on the grasp where the two first disagreed: issue 34's Ability
+hand × box, plan 5 (docs/planning.md, "Acceptance"), stored as its GraspModel arrays in
+``tests/data/ability_box_plan5.json`` (built from the plan's cached spec).
+
+Its frictionless held closing leaves a holding wrench of ~16 N. Released at once (the default),
+the object jumps, the fingers overshoot and their ratchets keep it: the preloaded normal forces
+end up to 11 % above the path's, and the grasp gives way at 41-44 N along -fx+fy-fz; released
+over 0.05 s, the preload is the path's to 1 % and the grasp holds the acceptance's 45 N.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import pinograsp as pg
+
+DATA = Path(__file__).parent / "data" / "ability_box_plan5.json"
+_TEXT = (
+    "kinds",
+    "contact_names",
+    "joint_names",
+    "actuator_names",
+    "coupling_names",
+    "all_actuator_names",
+    "bidirectional",
+)
+
+DIRECTION = np.array([-1.0, 1.0, -1.0, 0.0, 0.0, 0.0]) / np.sqrt(3.0)
+
+
+@pytest.fixture(scope="module")
+def grasp() -> tuple[pg.GraspModel, dict[str, float]]:
+    raw = json.loads(DATA.read_text())
+    m = raw["model"]
+    arrays = {k: np.asarray(v, dtype=float) for k, v in m.items() if isinstance(v, list) and k not in _TEXT}
+    beta = np.asarray(m["beta_contact"], dtype=int)
+    texts = {k: tuple(m[k]) for k in _TEXT}
+    scalars = {k: m[k] for k in ("planar", "edges", "length_scale", "normal_uncertainty")}
+    model = pg.GraspModel(**{**arrays, "beta_contact": beta, **texts, **scalars})
+    return model, raw["command"]
+
+
+def _preloaded_normal_forces(
+    model: pg.GraspModel, command: dict[str, float], release_time: float
+) -> np.ndarray:
+    """The simulated preload's normal forces (nc,) [N] (pyramid friction, the acceptance's upper)."""
+    from pinograsp.sim.integrator import Engine, preload
+    from pinograsp.sim.simulate import _options
+
+    opts = _options(model, DIRECTION, 45.0, {"friction": "pyramid", "release_time": release_time})
+    run = Engine(model, model.command_vector(command), opts)
+    preload(run)
+    d, red = run.data, run.red
+    anchors = run.law.anchors.copy()
+    f, _, _ = run.law.forces(
+        d.qpos[red.hand_qpos],
+        d.qvel[red.hand_dof],
+        d.qpos[:3] - run.rest[:3],
+        run.rot,
+        d.qvel[:3],
+        run.rot @ d.qvel[3:6],
+    )
+    run.law.anchors = anchors
+    return np.einsum("ij,ij->i", f, run.law.normals)
+
+
+def test_the_fixture_is_the_plans_grasp(grasp):
+    model, command = grasp
+    assert (model.nc, model.nq, model.na) == (6, 10, 6)
+    mw = pg.max_resistible_wrench(model, command, DIRECTION, upper=100)
+    assert mw.status == "finite" and mw.magnitude == pytest.approx(66.323, abs=0.01)  # the path's limit
+
+
+def test_a_gradual_release_gives_the_paths_preload(grasp):
+    pytest.importorskip("mujoco")
+    model, command = grasp
+    path = pg.loading_path(model, command, DIRECTION, up_to=1e-9).contact_forces[0][:, 0]
+    gradual = _preloaded_normal_forces(model, command, 0.05)
+    at_once = _preloaded_normal_forces(model, command, 0.0)
+    np.testing.assert_allclose(gradual, path, rtol=0.01)  # measured: within 0.5 %
+    assert np.max(at_once / path - 1.0) > 0.05  # measured: +7.8 % thumb base, +11 % ring
+
+
+def test_release_time_out_of_range_is_named(grasp):
+    pytest.importorskip("mujoco")
+    model, command = grasp
+    with pytest.raises(pg.InvalidInputError, match="release_time"):
+        pg.simulate_max_wrench(model, DIRECTION, command, upper=45.0, release_time=-0.1)
+
+
+@pytest.mark.slow
+def test_released_gradually_the_plan_holds_its_acceptance_load(grasp):
+    pytest.importorskip("mujoco")
+    model, command = grasp
+    kw = {"upper": 45.0, "friction": "pyramid", "ramp_time": 0.3}
+    assert pg.simulate_max_wrench(model, DIRECTION, command, release_time=0.05, **kw).status == "held"
+    at_once = pg.simulate_max_wrench(model, DIRECTION, command, **kw)
+    assert at_once.status != "held" and at_once.load < 45.0  # measured: 43.8 N
