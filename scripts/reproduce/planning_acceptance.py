@@ -379,6 +379,9 @@ def report(data: dict[str, Any]) -> str:
 
 #: Slower ramps tried on a plan direction that gave way below 90 % of its prediction (the ramp
 #: study, docs/validation_ramp.md: the default 0.02 s answers gradual give-ways by its dynamics).
+#: Release time [s] of the held object in the last slow re-check: gradual, as the model's
+#: preload path releases it (docs/simulation.md, ``release_time``; the default 0 drops it).
+RELEASE = 0.05
 SLOW_RAMPS = (0.3, 1.0)
 
 
@@ -404,6 +407,12 @@ def slow_check(data: dict[str, Any]) -> list[str]:
                     seen.append(f"{rt:g} s: {'held' if r.load is None else f'{r.status} {r.load:.4g} N'}")
                     if r.load is None:
                         break
+                if r.load is not None:  # the held object released as the model releases it
+                    r = pg.simulate_max_wrench(
+                        model, w, command, upper=sim["upper"], ramp_time=SLOW_RAMPS[0], release_time=RELEASE
+                    )
+                    what = "held" if r.load is None else f"{r.status} {r.load:.4g} N"
+                    seen.append(f"{SLOW_RAMPS[0]:g} s, release over {RELEASE:g} s: {what}")
                 out.append(f"- {key}, plan {i + 1}, {label} (check load {sim['upper']:.4g} N; 0.02 s: "
                            f"{sim['status']} {load:.4g} N): " + "; ".join(seen))  # fmt: skip
     return out
