@@ -48,6 +48,15 @@ import numpy as np
 
 from ..core.serialize import jsonable
 from ..core.validate import count
+from .patch_lines import (
+    MESH_LINE_ASPECT,
+    MESH_LINE_LENGTH,
+    generator,
+    midline,
+    parallel_sides,
+    principal_extent,
+    samples,
+)
 
 if TYPE_CHECKING:
     from .kinematics import HandConfiguration
@@ -91,6 +100,9 @@ PatchKind = Literal["point", "line", "face"]
 _ROUND = ("Sphere", "Ellipsoid")
 _AXIAL = ("Cylinder", "Cone", "Capsule")
 TouchShape = Literal["curved", "straight", "flat"]
+#: How a mesh touches along a direction: a flat feature, a long top set (maybe a straight side),
+#: or a tessellated curve (:func:`mesh_touch`).
+MeshTouch = Literal["flat", "long", "curved"]
 #: A point on a triangle mesh's surface, for the check that a hull patch lies on the mesh.
 _PROBE = coal.Sphere(1e-12)
 
@@ -200,20 +212,28 @@ def _hull_vertices(geometry: coal.CollisionGeometry) -> np.ndarray:
     return np.asarray(solid_of(geometry).points(), dtype=float).reshape(-1, 3)
 
 
-def is_flat(
+def mesh_touch(
     geometry: coal.CollisionGeometry, T: coal.Transform3s, direction: np.ndarray, tolerance: float
-) -> bool:
-    """Whether a mesh touches along ``direction`` (3,) (out of it, towards the other shape) with a
-    flat feature: its hull vertices within ``tolerance`` [m] of its support plane lie within
-    ``MESH_FLATNESS * tolerance`` of one plane (three or fewer always do)."""
+) -> MeshTouch:
+    """How a mesh touches along ``direction`` (3,) (out of it, towards the other shape).
+
+    ``"flat"``: its hull vertices within ``tolerance`` [m] of its support plane lie within
+    ``MESH_FLATNESS * tolerance`` of one plane (three or fewer always do). Otherwise ``"long"``
+    when its top vertices (within ``MESH_FLATNESS * tolerance`` of the support plane) extend at
+    least ``MESH_LINE_LENGTH * tolerance`` (a tessellated straight side, or a flat face whose
+    neighbours bend within the tolerance), else ``"curved"`` (a vertex or facet of a curve).
+    """
     vertices = _hull_vertices(geometry)
     depth = vertices @ (_to_matrix(T)[0].T @ direction)
     band = vertices[depth >= depth.max() - tolerance]
     if len(band) <= 3:
-        return True
+        return "flat"
     centred = band - band.mean(axis=0)
     normal = np.linalg.svd(centred, full_matrices=False)[2][2]
-    return float(np.max(np.abs(centred @ normal))) <= MESH_FLATNESS * tolerance
+    if float(np.max(np.abs(centred @ normal))) <= MESH_FLATNESS * tolerance:
+        return "flat"
+    top = vertices[depth >= depth.max() - MESH_FLATNESS * tolerance]
+    return "long" if principal_extent(top) >= MESH_LINE_LENGTH * tolerance else "curved"
 
 
 def coal_patch(
@@ -222,9 +242,12 @@ def coal_patch(
     g2: coal.CollisionGeometry,
     T2: coal.Transform3s,
     tolerance: float,
+    patch_tolerance: float | None = None,
 ) -> tuple[np.ndarray, np.ndarray] | None:
     """Coal's contact patch of two shapes within ``tolerance`` [m]: points (k, 3) [m] in the
-    contact plane and the normal from ``g1`` into ``g2`` (3,); ``None`` if Coal finds none."""
+    contact plane and the normal from ``g1`` into ``g2`` (3,); ``None`` if Coal finds none.
+    ``patch_tolerance`` [m] (default ``tolerance``): how far from the contact plane a feature
+    still belongs to the patch."""
     tol = max(float(tolerance), MERGE_DISTANCE)
     req = coal.CollisionRequest()
     req.security_margin = tol
@@ -233,7 +256,8 @@ def coal_patch(
     coal.collide(g1, T1, g2, T2, req, res)
     if res.numContacts() == 0:
         return None
-    preq = coal.ContactPatchRequest(1, CURVED_SAMPLES, tol)
+    ptol = tol if patch_tolerance is None else max(float(patch_tolerance), MERGE_DISTANCE)
+    preq = coal.ContactPatchRequest(1, CURVED_SAMPLES, ptol)
     pres = coal.ContactPatchResult(preq)
     coal.computeContactPatch(g1, T1, g2, T2, res, preq, pres)
     if pres.numContactPatches() == 0:
@@ -321,8 +345,10 @@ def pair_patch(
         hull facet off the mesh, or no Coal patch): the caller keeps its closest-point contact.
     """
     meshes = is_mesh(g1) or is_mesh(g2)
-    if meshes and detected is not None and not _flat_pair(g1, T1, g2, T2, detected, tolerance):
-        return None  # a tessellated curve along the detected normal: no Coal patch needed
+    if meshes and detected is not None:
+        touch = _mesh_pair(g1, T1, g2, T2, detected, tolerance)
+        if touch != "flat":  # a tessellated curve (no Coal patch needed), or maybe a straight side
+            return None if touch == "curved" else _mesh_line(g1, T1, g2, T2, tolerance, detected)
     found = coal_patch(solid_of(g1), T1, solid_of(g2), T2, tolerance)
     if found is None:
         return None
@@ -330,8 +356,12 @@ def pair_patch(
     shapes = (touch_shape(g1, T1, normal), touch_shape(g2, T2, normal))
     if "curved" in shapes:
         return None
-    if meshes and not _flat_pair(g1, T1, g2, T2, normal, tolerance):
-        return None  # a tessellated curve
+    if shapes == ("straight", "straight"):  # Coal gives one point: the line of parallel sides
+        return _sides_line(g1, T1, g2, T2, points.mean(axis=0), normal, tolerance)
+    if meshes:
+        touch = _mesh_pair(g1, T1, g2, T2, normal, tolerance)
+        if touch != "flat":
+            return None if touch == "curved" else _mesh_line(g1, T1, g2, T2, tolerance, detected)
     R, t = _to_matrix(T1)
     kind, idx = select_points(points, (points - t) @ R, max_points)
     if kind == "point" or ("straight" in shapes and kind != "line"):
@@ -345,18 +375,87 @@ def pair_patch(
     return kind, points, normal
 
 
-def _flat_pair(
+def _mesh_pair(
     g1: coal.CollisionGeometry,
     T1: coal.Transform3s,
     g2: coal.CollisionGeometry,
     T2: coal.Transform3s,
     normal: np.ndarray,
     tolerance: float,
-) -> bool:
-    """Whether each mesh of the pair touches along ``normal`` (``g1`` into ``g2``) with a flat feature."""
-    return (not is_mesh(g1) or is_flat(g1, T1, normal, tolerance)) and (
-        not is_mesh(g2) or is_flat(g2, T2, -normal, tolerance)
-    )
+) -> MeshTouch:
+    """How the pair touches along ``normal`` (``g1`` into ``g2``), by :func:`mesh_touch` of its
+    meshes: ``"curved"`` if one is; ``"flat"`` if each is flat; ``"long"`` if one is long and
+    the other flat (a flat mesh, or a primitive whose :func:`touch_shape` is ``"flat"``: a
+    straight side on a flat face); else ``"curved"`` (one point)."""
+    touches = [
+        mesh_touch(g, T, d, tolerance) if is_mesh(g) else None
+        for g, T, d in ((g1, T1, normal), (g2, T2, -normal))
+    ]
+    if "curved" in touches:
+        return "curved"
+    if "long" not in touches:
+        return "flat"
+    partner = [
+        t if t is not None else touch_shape(g, T, normal) for t, g, T in zip(touches, (g1, g2), (T1, T2))
+    ]
+    return "long" if sorted(partner) == ["flat", "long"] else "curved"
+
+
+def _line(
+    ends: np.ndarray, normal: np.ndarray, T1: coal.Transform3s
+) -> tuple[PatchKind, np.ndarray, np.ndarray] | None:
+    """A line patch of two end points (2, 3) [m] in canonical order; ``None`` if they coincide."""
+    R, t = _to_matrix(T1)
+    kind, idx = select_points(ends, (ends - t) @ R, 2)
+    return ("line", ends[idx], normal) if kind == "line" else None
+
+
+def _sides_line(
+    g1: coal.CollisionGeometry,
+    T1: coal.Transform3s,
+    g2: coal.CollisionGeometry,
+    T2: coal.Transform3s,
+    point: np.ndarray,
+    normal: np.ndarray,
+    tolerance: float,
+) -> tuple[PatchKind, np.ndarray, np.ndarray] | None:
+    """The line of two straight sides touching at ``point`` (3,) [m] with parallel generators
+    (:func:`~pinograsp.robots.patch_lines.parallel_sides`), or ``None`` (crossing: a point)."""
+    sides = (generator(g1, *_to_matrix(T1), point), generator(g2, *_to_matrix(T2), point))
+    ends = parallel_sides(sides, point, normal, tolerance)
+    return None if ends is None else _line(ends, normal, T1)
+
+
+def _mesh_line(
+    g1: coal.CollisionGeometry,
+    T1: coal.Transform3s,
+    g2: coal.CollisionGeometry,
+    T2: coal.Transform3s,
+    tolerance: float,
+    detected: np.ndarray | None,
+) -> tuple[PatchKind, np.ndarray, np.ndarray] | None:
+    """The line of a mesh pair that is not flat but has a long top set (a tessellated straight
+    side): the middle line of Coal's patch of the features within ``MESH_FLATNESS * tolerance``
+    of the contact plane, kept when it is at least ``MESH_LINE_LENGTH * tolerance`` long and
+    ``MESH_LINE_ASPECT`` times longer than wide, and each triangle mesh lies within
+    ``tolerance`` of :data:`~pinograsp.robots.patch_lines.LINE_SAMPLES` points along it;
+    otherwise ``None`` (one point)."""
+    found = coal_patch(solid_of(g1), T1, solid_of(g2), T2, tolerance, MESH_FLATNESS * tolerance)
+    if found is None:
+        return None
+    points, normal = found
+    if "curved" in (touch_shape(g1, T1, normal), touch_shape(g2, T2, normal)):
+        return None
+    if _mesh_pair(g1, T1, g2, T2, normal, tolerance) == "curved":
+        return None
+    ends, length, width = midline(points, normal)
+    if length < MESH_LINE_LENGTH * tolerance or MESH_LINE_ASPECT * width > length:
+        return None
+    probe = samples(ends)
+    for g, T in ((g1, T1), (g2, T2)):
+        if type(g).__name__.startswith("BVH") and not _on_mesh(g, T, probe, normal, tolerance, detected):
+            return None
+    return _line(ends, normal, T1)
 
 
 def _on_mesh(

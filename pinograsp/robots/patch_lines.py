@@ -1,0 +1,135 @@
+"""Line contacts that Coal's contact patch gives as one point (docs/hands.md, "Contact patches").
+
+:mod:`pinograsp.robots.patches` turns a touch into Coal's contact patch. Two line contacts come
+out of Coal as a single point; this module builds their lines:
+
+1. **Two straight sides with parallel generators** (cylinder, cone or capsule sides: a cylinder
+   on a cylinder, a capsule finger along a cylindrical object). The line runs through the closest
+   pair's midpoint along the two generators' mean direction (in the contact plane), over the
+   overlap of the two generators projected on it. It is a line only while the gap stays within
+   the tolerance over that overlap: the generators' angle, and each generator's slope out of the
+   contact plane, times the overlap length, at most the tolerance. Crossing sides stay a point.
+2. **A tessellated straight side** (a cylinder exported as a mesh) on a flat face: the mesh is
+   not flat near the contact (its facets bend away across the generator), yet its top vertices
+   lie along a line. :func:`midline` reduces the patch of those top features to its middle line;
+   :mod:`~pinograsp.robots.patches` keeps it when it is long (:data:`MESH_LINE_LENGTH` times the
+   tolerance) and narrow (:data:`MESH_LINE_ASPECT`), and the real mesh lies within the tolerance
+   of :data:`LINE_SAMPLES` points along it.
+
+Everything here is plain geometry on arrays (no Coal calls), in the base frame unless said.
+"""
+
+from __future__ import annotations
+
+import coal
+import numpy as np
+
+#: A mesh line is at least this many contact tolerances long (5 mm at the default 1 mm); a
+#: shorter top set of a mesh is a facet or vertex of a tessellated curve (one point).
+MESH_LINE_LENGTH = 5.0
+#: A mesh line is at least this many times longer than it is wide (the width of the features
+#: within the flatness of the contact plane, e.g. a cylinder mesh's facet under a flat pad).
+MESH_LINE_ASPECT = 4.0
+#: Points along a mesh line (its ends included) that must lie within the tolerance of the mesh.
+LINE_SAMPLES = 9
+#: Straight sides and the radius of the end of their generator nearest the apex, per unit radius
+#: (a cone narrows to its apex at +z; a cylinder's and a capsule's straight part do not).
+_TOP_RADIUS = {"Cylinder": 1.0, "Capsule": 1.0, "Cone": 0.0}
+
+
+def generator(
+    geometry: coal.CollisionGeometry, R: np.ndarray, t: np.ndarray, point: np.ndarray
+) -> np.ndarray:
+    """The straight generator of a cylinder, cone or capsule side under ``point`` (3,) [m]: its
+    two ends (2, 3) [m], bottom (local z = -half length) then top, at the azimuth of ``point``
+    about the axis (a capsule: its straight part, between the round ends).
+
+    Args:
+        geometry: A ``coal.Cylinder``, ``coal.Cone`` or ``coal.Capsule``.
+        R: Its rotation (3, 3); ``t``: its position (3,) [m] (base frame).
+        point: A point near its side [m] (base frame), e.g. the contact point.
+    """
+    local = R.T @ (np.asarray(point, dtype=float) - t)
+    radial = np.array([local[0], local[1], 0.0])
+    norm = float(np.linalg.norm(radial))
+    e = radial / norm if norm > 0.0 else np.array([1.0, 0.0, 0.0])
+    r, h = float(geometry.radius), float(geometry.halfLength)
+    top = _TOP_RADIUS[type(geometry).__name__]
+    ends = np.array([r * e - [0.0, 0.0, h], top * r * e + [0.0, 0.0, h]])
+    return ends @ R.T + t
+
+
+def _unit(v: np.ndarray) -> np.ndarray:
+    return v / np.linalg.norm(v)
+
+
+def parallel_sides(
+    sides: tuple[np.ndarray, np.ndarray], point: np.ndarray, normal: np.ndarray, tolerance: float
+) -> np.ndarray | None:
+    """The line contact of two straight sides, or ``None`` when they touch at a point.
+
+    Args:
+        sides: The two generators under the contact, each (2, 3) [m] (:func:`generator`).
+        point: The closest pair's midpoint (3,) [m], in the contact plane.
+        normal: The contact normal (3,), unit.
+        tolerance: Contact tolerance [m]: the largest gap along the line.
+
+    Returns:
+        The line's two end points (2, 3) [m] in the contact plane (unordered), or ``None`` when
+        the generators cross or leave the contact plane by more than ``tolerance`` over their
+        overlap, when the overlap is a point, or when ``point`` is off the overlap (a rim).
+    """
+    d1, d2 = (_unit(s[1] - s[0]) for s in sides)
+    mean = d1 + (1.0 if float(d1 @ d2) >= 0.0 else -1.0) * d2
+    axis = mean - (mean @ normal) * normal
+    if not np.linalg.norm(axis) > 0.0:
+        return None
+    axis = _unit(axis)
+    spans = [np.sort((s - point) @ axis) for s in sides]
+    lo, hi = max(s[0] for s in spans), min(s[1] for s in spans)
+    length = hi - lo
+    if not length > 0.0 or lo > tolerance or hi < -tolerance:
+        return None
+    slope = max(float(np.linalg.norm(np.cross(d1, d2))), abs(float(d1 @ normal)), abs(float(d2 @ normal)))
+    if slope * length > tolerance:
+        return None
+    return np.array([point + lo * axis, point + hi * axis])
+
+
+def midline(points: np.ndarray, normal: np.ndarray) -> tuple[np.ndarray, float, float]:
+    """The middle line of a patch polygon along its longest principal direction.
+
+    Args:
+        points: Patch vertices (k, 3) [m], in the contact plane.
+        normal: The contact normal (3,), unit.
+
+    Returns:
+        ``(ends (2, 3) [m], length [m], width [m])``: the ends of the bounding rectangle's middle
+        line along the principal direction (in the contact plane), its length and the rectangle's
+        width across it (0 for a line, both 0 for one point).
+    """
+    centre = points.mean(axis=0)
+    flat = (points - centre) - np.outer((points - centre) @ normal, normal)
+    if len(points) < 2 or not np.max(np.linalg.norm(flat, axis=1)) > 0.0:
+        return np.array([centre, centre]), 0.0, 0.0
+    axis = np.linalg.svd(flat, full_matrices=False)[2][0]
+    axis = _unit(axis - (axis @ normal) * normal)
+    across = np.cross(normal, axis)
+    s, w = flat @ axis, flat @ across
+    mid = centre + 0.5 * (w.max() + w.min()) * across
+    ends = np.array([mid + s.min() * axis, mid + s.max() * axis])
+    return ends, float(s.max() - s.min()), float(w.max() - w.min())
+
+
+def samples(ends: np.ndarray, n: int = LINE_SAMPLES) -> np.ndarray:
+    """``n`` evenly spaced points (n, 3) [m] from ``ends[0]`` to ``ends[1]``, both included."""
+    return ends[0] + np.linspace(0.0, 1.0, n)[:, None] * (ends[1] - ends[0])
+
+
+def principal_extent(points: np.ndarray) -> float:
+    """Extent [m] of points (k, 3) along their principal direction (0 for fewer than 2)."""
+    if len(points) < 2:
+        return 0.0
+    centred = points - points.mean(axis=0)
+    s = centred @ np.linalg.svd(centred, full_matrices=False)[2][0]
+    return float(s.max() - s.min())
