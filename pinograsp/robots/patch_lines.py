@@ -12,7 +12,8 @@ out of Coal as a single point; this module builds their lines:
 2. **A tessellated straight side** (a cylinder exported as a mesh) on a flat face: the mesh is
    not flat near the contact (its facets bend away across the generator), yet its top vertices
    lie along a line. :func:`midline` reduces the patch of those top features to its middle line;
-   :mod:`~pinograsp.robots.patches` keeps it when it is long (:data:`MESH_LINE_LENGTH` times the
+   :mod:`~pinograsp.robots.patches` keeps it when the mesh's top vertices span a good part of
+   the mesh (:data:`MESH_LINE_FRACTION`), the line is long (:data:`MESH_LINE_LENGTH` times the
    tolerance) and narrow (:data:`MESH_LINE_ASPECT`), and the real mesh lies within the tolerance
    of :data:`LINE_SAMPLES` points along it.
 
@@ -24,9 +25,13 @@ from __future__ import annotations
 import coal
 import numpy as np
 
-#: A mesh line is at least this many contact tolerances long (5 mm at the default 1 mm); a
-#: shorter top set of a mesh is a facet or vertex of a tessellated curve (one point).
-MESH_LINE_LENGTH = 5.0
+#: A mesh line is at least this many contact tolerances long (10 mm at the default 1 mm); a
+#: shorter one is a facet edge of a tessellated curve (one point).
+MESH_LINE_LENGTH = 10.0
+#: A mesh's top set (its vertices within the flatness of the contact plane) spans at least this
+#: fraction of the mesh's largest extent to be a straight side: a tessellated curve (a torus,
+#: a rounded finger) bends away after one facet, a small fraction of its size.
+MESH_LINE_FRACTION = 0.25
 #: A mesh line is at least this many times longer than it is wide (the width of the features
 #: within the flatness of the contact plane, e.g. a cylinder mesh's facet under a flat pad).
 MESH_LINE_ASPECT = 4.0

@@ -50,6 +50,7 @@ from ..core.serialize import jsonable
 from ..core.validate import count
 from .patch_lines import (
     MESH_LINE_ASPECT,
+    MESH_LINE_FRACTION,
     MESH_LINE_LENGTH,
     generator,
     midline,
@@ -220,8 +221,9 @@ def mesh_touch(
     ``"flat"``: its hull vertices within ``tolerance`` [m] of its support plane lie within
     ``MESH_FLATNESS * tolerance`` of one plane (three or fewer always do). Otherwise ``"long"``
     when its top vertices (within ``MESH_FLATNESS * tolerance`` of the support plane) extend at
-    least ``MESH_LINE_LENGTH * tolerance`` (a tessellated straight side, or a flat face whose
-    neighbours bend within the tolerance), else ``"curved"`` (a vertex or facet of a curve).
+    least ``MESH_LINE_LENGTH * tolerance`` and ``MESH_LINE_FRACTION`` of the hull's largest
+    extent (a tessellated straight side, or a flat face whose neighbours bend within the
+    tolerance), else ``"curved"`` (a vertex or facet of a tessellated curve).
     """
     vertices = _hull_vertices(geometry)
     depth = vertices @ (_to_matrix(T)[0].T @ direction)
@@ -233,7 +235,8 @@ def mesh_touch(
     if float(np.max(np.abs(centred @ normal))) <= MESH_FLATNESS * tolerance:
         return "flat"
     top = vertices[depth >= depth.max() - MESH_FLATNESS * tolerance]
-    return "long" if principal_extent(top) >= MESH_LINE_LENGTH * tolerance else "curved"
+    least = max(MESH_LINE_LENGTH * tolerance, MESH_LINE_FRACTION * float(np.max(np.ptp(vertices, axis=0))))
+    return "long" if principal_extent(top) >= least else "curved"
 
 
 def coal_patch(
