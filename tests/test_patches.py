@@ -338,15 +338,18 @@ def test_a_mesh_box_on_a_flat_jaw_gives_the_primitive_box_corners(tmp_path, conv
 
 @pytest.mark.parametrize("convex", [True, False])
 def test_tessellated_curves_stay_single_points(tmp_path, convex):
-    """A sphere mesh and a cylinder mesh (side on) under the flat pad: their vertices within 1 mm
-    of the pad plane are not coplanar within 0.1 mm (the facets bend), so one point each."""
+    """A sphere mesh, and an ellipsoid mesh (15 x 15 x 45 mm) with its long axis along the pad:
+    their vertices within 1 mm of the pad plane are not coplanar within 0.1 mm (the facets
+    bend), and their top vertices (within 0.1 mm) span a few facets (the ellipsoid, of radius of
+    curvature c^2 / a = 135 mm along z: 6.2 mm, under both 10 mm and a quarter of its 90 mm), so
+    one point each."""
     trimesh = pytest.importorskip("trimesh")
     for mesh, x in (
         (trimesh.creation.icosphere(3, 0.015), 0.0152),
-        (trimesh.creation.cylinder(0.015, 0.1), 0.0152),
+        (trimesh.creation.icosphere(4, 0.015).apply_scale([1.0, 1.0, 3.0]), 0.0152),  # 135 mm along z
     ):
         obj = _mesh_object(tmp_path, mesh, convex)
-        pad = T([-0.005 - x, 0, 0])
+        pad = T([-0.005 - x, 0, 0], rot([1, 0, 0], np.pi / 2))  # the pad's 60 mm along z
         assert pair_patch(PAD, pad, obj.geometry, obj.transform, TOL, 4, np.array([1.0, 0, 0])) is None
 
 
@@ -356,3 +359,124 @@ def test_a_pad_on_the_torus_mesh_stays_one_point():
     scene = pg.load_scene("talos_torus")
     on = pg.detect_contacts(scene.hand, scene.q, scene.object)
     assert set(on.points_per_patch) == {1}
+
+
+# ---------------------------------------------------------------------------- lines Coal gives as a point
+CYL_A, CYL_B = coal.Cylinder(0.010, 0.040), coal.Cylinder(0.015, 0.060)  # L1 = 40 mm, L2 = 60 mm
+
+
+@pytest.mark.parametrize("shape", [CYL_A, coal.Capsule(0.010, 0.040)])
+@pytest.mark.parametrize("offset", [0.0, 0.010, 0.035])
+def test_parallel_sides_touch_along_the_overlap_of_their_lengths(shape, offset):
+    """Axes along z, 0.2 mm apart at x: the first side spans z +-20 mm (a capsule: its straight
+    part), the second 60 mm centred at ``offset``; the line is their overlap, midway (x = 10.1 mm)."""
+    got = pair_patch(shape, T([0, 0, 0]), CYL_B, T([0.0252, 0, offset]), TOL, 4)
+    assert got is not None and got[0] == "line"
+    lo, hi = max(-0.02, offset - 0.03), min(0.02, offset + 0.03)
+    np.testing.assert_allclose(got[1], [[0.0101, 0, lo], [0.0101, 0, hi]], atol=1e-9)
+    np.testing.assert_allclose(got[2], [1, 0, 0], atol=1e-9)
+
+
+def test_parallel_sides_that_only_share_an_end_touch_at_a_point():
+    # the second cylinder starts where the first ends (z = 20 mm): no overlap
+    assert pair_patch(CYL_A, T([0, 0, 0]), CYL_B, T([0.0252, 0, 0.05]), TOL, 4) is None
+
+
+@pytest.mark.parametrize("axis", [[1, 0, 0], [0, 1, 0]])  # about the normal (crossing), across it
+def test_a_tilted_pair_is_a_line_within_the_tolerance_and_a_point_beyond(axis):
+    """The second 40 mm cylinder tilted by theta: a line while sin(theta) * overlap <= 1 mm
+    (theta <= ~0.025 rad over 40 mm); its ends at +-20 cos(theta / 2) mm along the mean axis."""
+    for theta, line in ((0.02, True), (0.03, False)):
+        R = rot(axis, theta)
+        got = pair_patch(CYL_A, T([0, 0, 0]), CYL_A, T([0.0202, 0, 0], R), TOL, 4)
+        if not line:
+            assert got is None, theta
+            continue
+        assert got is not None and got[0] == "line", theta
+        length = np.linalg.norm(got[1][1] - got[1][0])
+        assert np.sin(theta) * length <= TOL
+        if axis == [1, 0, 0]:  # the mean axis turned theta / 2 about x
+            assert length == pytest.approx(0.04 * np.cos(theta / 2), rel=1e-9)
+
+
+def test_crossing_straight_sides_stay_one_point():
+    crossing = T([0.0252, 0, 0], rot([1, 0, 0], np.pi / 2))
+    assert pair_patch(CYL_A, T([0, 0, 0]), CYL_B, crossing, TOL, 4) is None
+    assert pair_patch(coal.Capsule(0.01, 0.04), T([0, 0, 0]), CYL_B, crossing, TOL, 4) is None
+
+
+def test_parallel_sides_invariant_under_a_rigid_motion_and_relabelling():
+    rng = np.random.default_rng(11)
+    pose = [0.0252, 0.0, 0.01]
+    base = pair_patch(CYL_A, T([0, 0, 0]), CYL_B, T(pose), TOL, 4)
+    swapped = pair_patch(CYL_B, T(pose), CYL_A, T([0, 0, 0]), TOL, 4)  # the other as the hand
+    by_z = np.argsort(swapped[1][:, 2])  # the hand's frame orders them; the same two points
+    np.testing.assert_allclose(swapped[1][by_z], base[1], atol=1e-9)
+    np.testing.assert_allclose(swapped[2], -base[2], atol=1e-9)
+    for _ in range(5):
+        R = rot(rng.normal(size=3), rng.uniform(0, 2 * np.pi))
+        t = rng.uniform(-0.5, 0.5, 3)
+        moved = pair_patch(CYL_A, T(t, R), CYL_B, T(R @ pose + t, R), TOL, 4)
+        assert moved[0] == "line"
+        np.testing.assert_allclose(moved[1], base[1] @ R.T + t, atol=1e-9)  # same points, same order
+        np.testing.assert_allclose(moved[2], R @ base[2], atol=1e-9)
+
+
+def _cylinder_mesh(tmp_path, convex, turn, sections=32, length=0.1):
+    """A trimesh cylinder (radius 15 mm, axis z) turned ``turn`` about its axis."""
+    trimesh = pytest.importorskip("trimesh")
+    mesh = trimesh.creation.cylinder(0.015, length, sections=sections)
+    mesh.apply_transform(trimesh.transformations.rotation_matrix(turn, [0, 0, 1]))
+    return _mesh_object(tmp_path, mesh, convex)
+
+
+@pytest.mark.parametrize("convex", [True, False])
+@pytest.mark.parametrize("turn", [0.0, np.pi / 32])  # a vertex line, a facet under the pad
+def test_a_cylinder_mesh_on_a_flat_jaw_gives_the_primitive_line(tmp_path, convex, turn):
+    """The pad 0.2 mm from the tessellated side (32 sections) and from the primitive cylinder:
+    the same end points z = +-10 mm (the pad's 20 mm), on the same line, to the tessellation's
+    accuracy: a facet lies r (1 - cos(pi / 32)) = 0.072 mm inside the circle."""
+    obj = _cylinder_mesh(tmp_path, convex, turn)
+    x = 0.015 * np.cos(turn)  # the mesh's side under the pad
+    got = pair_patch(
+        PAD, T([-0.005 - x - 2e-4, 0, 0]), obj.geometry, obj.transform, TOL, 4, np.array([1.0, 0, 0])
+    )
+    prim = pair_patch(PAD, T([-0.0202, 0, 0]), coal.Cylinder(0.015, 0.1), T([0, 0, 0]), TOL, 4)
+    assert got is not None and got[0] == prim[0] == "line"
+    np.testing.assert_allclose(got[1][:, 1:], prim[1][:, 1:], atol=1e-9)  # same y, z: same order
+    np.testing.assert_allclose(got[1][:, 0], -x - 1e-4, atol=1e-9)  # midway across the 0.2 mm gap
+    np.testing.assert_allclose(got[1][:, 0], prim[1][:, 0], atol=0.015 * (1 - np.cos(np.pi / 32)) + 1e-9)
+    np.testing.assert_allclose(got[2], prim[2], atol=1e-8)
+
+
+@pytest.mark.parametrize("convex", [True, False])
+def test_a_cylinder_mesh_finger_along_a_face_is_its_generator(tmp_path, convex):
+    """The tessellated cylinder as the hand geometry, along the 150 mm bar: its whole 100 mm."""
+    fing = _cylinder_mesh(tmp_path, convex, 0.0)
+    got = pair_patch(fing.geometry, T([-0.0302, 0, 0]), BAR, T([0, 0, 0]), TOL, 4, np.array([1.0, 0, 0]))
+    assert got is not None and got[0] == "line"
+    np.testing.assert_allclose(got[1], [[-0.0151, 0, -0.05], [-0.0151, 0, 0.05]], atol=1e-9)
+
+
+def test_a_short_cylinder_mesh_stays_one_point(tmp_path):
+    """A 8 mm long tessellated cylinder: its line would be under 10 tolerances (10 mm)."""
+    obj = _cylinder_mesh(tmp_path, False, 0.0, length=0.008)
+    assert (
+        pair_patch(PAD, T([-0.0202, 0, 0]), obj.geometry, obj.transform, TOL, 4, np.array([1.0, 0, 0]))
+        is None
+    )
+
+
+def test_mesh_line_invariant_under_a_rigid_motion(tmp_path):
+    obj = _cylinder_mesh(tmp_path, False, np.pi / 32)
+    pad = np.array([-0.005 - 0.015 * np.cos(np.pi / 32) - 2e-4, 0.0, 0.0])
+    n = np.array([1.0, 0, 0])
+    base = pair_patch(PAD, T(pad), obj.geometry, T([0, 0, 0]), TOL, 4, n)
+    rng = np.random.default_rng(5)
+    for _ in range(4):
+        R = rot(rng.normal(size=3), rng.uniform(0, 2 * np.pi))
+        t = rng.uniform(-0.5, 0.5, 3)
+        moved = pair_patch(PAD, T(R @ pad + t, R), obj.geometry, T(t, R), TOL, 4, R @ n)
+        assert moved[0] == "line"
+        np.testing.assert_allclose(moved[1], base[1] @ R.T + t, atol=1e-8)
+        np.testing.assert_allclose(moved[2], R @ base[2], atol=1e-8)
