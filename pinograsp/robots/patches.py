@@ -24,14 +24,21 @@ ellipsoid; a capsule's round end; a cylinder, cone or capsule side whose touch C
 give as a segment along a generator (a sphere on it, a crossing axis, a tilt beyond the
 tolerance). A **straight side** (cylinder, cone, capsule: curved across, straight along a
 generator) on a surface that is flat along that generator within the tolerance is a **line**:
-Coal's patch gives the generator clipped to the other shape's feature, its two end points.
+Coal's patch gives the generator clipped to the other shape's feature, its two end points. Two
+straight sides with parallel generators (within the tolerance over their overlap) are a line
+too, which Coal gives as one point: :func:`~pinograsp.robots.patch_shapes.parallel_sides`
+builds it over the generators' overlap.
 
 **Meshes** (a convex mesh ``Convex``, or a triangle mesh ``BVH`` through its convex hull, built
 once per geometry) are flat only where they are: the hull's vertices within the contact
 tolerance of the contact plane (on each mesh) must lie within :data:`MESH_FLATNESS` times the
 tolerance of one plane (0.1 mm at the default 1 mm). A tessellated curved surface (a rounded
 finger, a sphere or torus mesh) fails this and stays one point; a flat mesh face gives Coal's
-polygon, as a primitive face does. A mesh patch narrower than the tolerance is a point. A patch
+polygon, as a primitive face does. A mesh patch narrower than the tolerance is a point. A
+**tessellated straight side** (a cylinder mesh) on a flat face is a line: its top vertices
+(within the flatness of the plane) span at least ten tolerances and a quarter of the mesh, the
+middle line of Coal's patch of those top features is that long and four times longer than
+wide, and the mesh lies within the tolerance along it (:mod:`~pinograsp.robots.patch_shapes`). A patch
 found on a triangle mesh's hull is kept only where each point lies within the contact tolerance
 of the mesh itself and the hull's normal is within :data:`CAP_ANGLE` of the detected normal (a
 hull facet that bridges a concavity, as over a torus's hole, is not the surface).
@@ -48,15 +55,19 @@ import numpy as np
 
 from ..core.serialize import jsonable
 from ..core.validate import count
-from .patch_lines import (
+from .patch_shapes import (
+    MESH_FLATNESS,
     MESH_LINE_ASPECT,
-    MESH_LINE_FRACTION,
     MESH_LINE_LENGTH,
+    MeshTouch,
     generator,
+    is_mesh,
+    mesh_touch,
     midline,
+    on_surface,
     parallel_sides,
-    principal_extent,
     samples,
+    solid_of,
 )
 
 if TYPE_CHECKING:
@@ -77,9 +88,6 @@ CAP_ANGLE = float(np.arccos(0.99))
 
 #: Points Coal samples on a curved edge (a cylinder cap's rim) before the reduction.
 CURVED_SAMPLES = 12
-#: Mesh patches: a mesh's vertices within the contact tolerance of the contact plane are a flat
-#: feature when they lie within this fraction of the tolerance of one plane (0.1 mm at 1 mm).
-MESH_FLATNESS = 0.1
 
 
 class TouchingPair(Protocol):
@@ -101,11 +109,6 @@ PatchKind = Literal["point", "line", "face"]
 _ROUND = ("Sphere", "Ellipsoid")
 _AXIAL = ("Cylinder", "Cone", "Capsule")
 TouchShape = Literal["curved", "straight", "flat"]
-#: How a mesh touches along a direction: a flat feature, a long top set (maybe a straight side),
-#: or a tessellated curve (:func:`mesh_touch`).
-MeshTouch = Literal["flat", "long", "curved"]
-#: A point on a triangle mesh's surface, for the check that a hull patch lies on the mesh.
-_PROBE = coal.Sphere(1e-12)
 
 
 @dataclass(frozen=True)
@@ -178,65 +181,6 @@ def is_curved(geometry: coal.CollisionGeometry, T: coal.Transform3s, normal: np.
     """Whether ``geometry`` at pose ``T`` touches along ``normal`` with a curved surface, a
     straight side included (:func:`touch_shape` is not ``"flat"``)."""
     return touch_shape(geometry, T, normal) != "flat"
-
-
-def is_mesh(geometry: coal.CollisionGeometry) -> bool:
-    """Whether a Coal geometry is a mesh: a triangle mesh (BVH) or a convex mesh."""
-    name = type(geometry).__name__
-    return name.startswith("BVH") or name.startswith("Convex")
-
-
-def solid_of(geometry: coal.CollisionGeometry) -> coal.CollisionGeometry:
-    """The geometry Coal's patch code is given: a triangle mesh's convex hull (built once and
-    kept on the mesh), any other geometry itself."""
-    if not type(geometry).__name__.startswith("BVH"):
-        return geometry
-    if geometry.convex is None:
-        geometry.buildConvexHull(False, "Qt")
-    return geometry.convex
-
-
-def on_surface(
-    geometry: coal.CollisionGeometry, T: coal.Transform3s, points: np.ndarray, tolerance: float
-) -> bool:
-    """Whether every point (k, 3) [m] lies within ``tolerance`` [m] of a triangle mesh's surface."""
-    req, R = coal.DistanceRequest(), np.eye(3)
-    for p in points:
-        res = coal.DistanceResult()
-        if coal.distance(_PROBE, coal.Transform3s(R, p), geometry, T, req, res) > tolerance:
-            return False
-    return True
-
-
-def _hull_vertices(geometry: coal.CollisionGeometry) -> np.ndarray:
-    """The vertices (m, 3) [m] of a mesh's hull (:func:`solid_of`) in its own frame."""
-    return np.asarray(solid_of(geometry).points(), dtype=float).reshape(-1, 3)
-
-
-def mesh_touch(
-    geometry: coal.CollisionGeometry, T: coal.Transform3s, direction: np.ndarray, tolerance: float
-) -> MeshTouch:
-    """How a mesh touches along ``direction`` (3,) (out of it, towards the other shape).
-
-    ``"flat"``: its hull vertices within ``tolerance`` [m] of its support plane lie within
-    ``MESH_FLATNESS * tolerance`` of one plane (three or fewer always do). Otherwise ``"long"``
-    when its top vertices (within ``MESH_FLATNESS * tolerance`` of the support plane) extend at
-    least ``MESH_LINE_LENGTH * tolerance`` and ``MESH_LINE_FRACTION`` of the hull's largest
-    extent (a tessellated straight side, or a flat face whose neighbours bend within the
-    tolerance), else ``"curved"`` (a vertex or facet of a tessellated curve).
-    """
-    vertices = _hull_vertices(geometry)
-    depth = vertices @ (_to_matrix(T)[0].T @ direction)
-    band = vertices[depth >= depth.max() - tolerance]
-    if len(band) <= 3:
-        return "flat"
-    centred = band - band.mean(axis=0)
-    normal = np.linalg.svd(centred, full_matrices=False)[2][2]
-    if float(np.max(np.abs(centred @ normal))) <= MESH_FLATNESS * tolerance:
-        return "flat"
-    top = vertices[depth >= depth.max() - MESH_FLATNESS * tolerance]
-    least = max(MESH_LINE_LENGTH * tolerance, MESH_LINE_FRACTION * float(np.max(np.ptp(vertices, axis=0))))
-    return "long" if principal_extent(top) >= least else "curved"
 
 
 def coal_patch(
@@ -423,7 +367,7 @@ def _sides_line(
     tolerance: float,
 ) -> tuple[PatchKind, np.ndarray, np.ndarray] | None:
     """The line of two straight sides touching at ``point`` (3,) [m] with parallel generators
-    (:func:`~pinograsp.robots.patch_lines.parallel_sides`), or ``None`` (crossing: a point)."""
+    (:func:`~pinograsp.robots.patch_shapes.parallel_sides`), or ``None`` (crossing: a point)."""
     sides = (generator(g1, *_to_matrix(T1), point), generator(g2, *_to_matrix(T2), point))
     ends = parallel_sides(sides, point, normal, tolerance)
     return None if ends is None else _line(ends, normal, T1)
@@ -441,7 +385,7 @@ def _mesh_line(
     side): the middle line of Coal's patch of the features within ``MESH_FLATNESS * tolerance``
     of the contact plane, kept when it is at least ``MESH_LINE_LENGTH * tolerance`` long and
     ``MESH_LINE_ASPECT`` times longer than wide, and each triangle mesh lies within
-    ``tolerance`` of :data:`~pinograsp.robots.patch_lines.LINE_SAMPLES` points along it;
+    ``tolerance`` of :data:`~pinograsp.robots.patch_shapes.LINE_SAMPLES` points along it;
     otherwise ``None`` (one point)."""
     found = coal_patch(solid_of(g1), T1, solid_of(g2), T2, tolerance, MESH_FLATNESS * tolerance)
     if found is None:

@@ -1,7 +1,10 @@
-"""Line contacts that Coal's contact patch gives as one point (docs/hands.md, "Contact patches").
+"""The shapes of a touch: mesh features, straight generators and lines (docs/hands.md, "Contact patches").
 
-:mod:`pinograsp.robots.patches` turns a touch into Coal's contact patch. Two line contacts come
-out of Coal as a single point; this module builds their lines:
+:mod:`pinograsp.robots.patches` turns a touch into Coal's contact patch. This module holds the
+geometry it reads the touching shapes with: whether a mesh is flat, long or curved near the
+contact (:func:`mesh_touch`, on the mesh's convex hull, :func:`solid_of`; :func:`on_surface`
+checks points against the mesh itself), and the two line contacts that come out of Coal as a
+single point:
 
 1. **Two straight sides with parallel generators** (cylinder, cone or capsule sides: a cylinder
    on a cylinder, a capsule finger along a cylindrical object). The line runs through the closest
@@ -17,13 +20,19 @@ out of Coal as a single point; this module builds their lines:
    tolerance) and narrow (:data:`MESH_LINE_ASPECT`), and the real mesh lies within the tolerance
    of :data:`LINE_SAMPLES` points along it.
 
-Everything here is plain geometry on arrays (no Coal calls), in the base frame unless said.
+Base frame unless said; the only Coal calls are the hull's construction and point distances.
 """
 
 from __future__ import annotations
 
+from typing import Literal
+
 import coal
 import numpy as np
+
+#: Mesh patches: a mesh's vertices within the contact tolerance of the contact plane are a flat
+#: feature when they lie within this fraction of the tolerance of one plane (0.1 mm at 1 mm).
+MESH_FLATNESS = 0.1
 
 #: A mesh line is at least this many contact tolerances long (10 mm at the default 1 mm); a
 #: shorter one is a facet edge of a tessellated curve (one point).
@@ -40,6 +49,71 @@ LINE_SAMPLES = 9
 #: Straight sides and the radius of the end of their generator nearest the apex, per unit radius
 #: (a cone narrows to its apex at +z; a cylinder's and a capsule's straight part do not).
 _TOP_RADIUS = {"Cylinder": 1.0, "Capsule": 1.0, "Cone": 0.0}
+#: How a mesh touches along a direction: a flat feature, a long top set (maybe a straight side),
+#: or a tessellated curve (:func:`mesh_touch`).
+MeshTouch = Literal["flat", "long", "curved"]
+
+#: A point on a triangle mesh's surface, for the check that a hull patch lies on the mesh.
+_PROBE = coal.Sphere(1e-12)
+
+
+def is_mesh(geometry: coal.CollisionGeometry) -> bool:
+    """Whether a Coal geometry is a mesh: a triangle mesh (BVH) or a convex mesh."""
+    name = type(geometry).__name__
+    return name.startswith("BVH") or name.startswith("Convex")
+
+
+def solid_of(geometry: coal.CollisionGeometry) -> coal.CollisionGeometry:
+    """The geometry Coal's patch code is given: a triangle mesh's convex hull (built once and
+    kept on the mesh), any other geometry itself."""
+    if not type(geometry).__name__.startswith("BVH"):
+        return geometry
+    if geometry.convex is None:
+        geometry.buildConvexHull(False, "Qt")
+    return geometry.convex
+
+
+def on_surface(
+    geometry: coal.CollisionGeometry, T: coal.Transform3s, points: np.ndarray, tolerance: float
+) -> bool:
+    """Whether every point (k, 3) [m] lies within ``tolerance`` [m] of a triangle mesh's surface."""
+    req, R = coal.DistanceRequest(), np.eye(3)
+    for p in points:
+        res = coal.DistanceResult()
+        if coal.distance(_PROBE, coal.Transform3s(R, p), geometry, T, req, res) > tolerance:
+            return False
+    return True
+
+
+def _hull_vertices(geometry: coal.CollisionGeometry) -> np.ndarray:
+    """The vertices (m, 3) [m] of a mesh's hull (:func:`solid_of`) in its own frame."""
+    return np.asarray(solid_of(geometry).points(), dtype=float).reshape(-1, 3)
+
+
+def mesh_touch(
+    geometry: coal.CollisionGeometry, T: coal.Transform3s, direction: np.ndarray, tolerance: float
+) -> MeshTouch:
+    """How a mesh touches along ``direction`` (3,) (out of it, towards the other shape).
+
+    ``"flat"``: its hull vertices within ``tolerance`` [m] of its support plane lie within
+    ``MESH_FLATNESS * tolerance`` of one plane (three or fewer always do). Otherwise ``"long"``
+    when its top vertices (within ``MESH_FLATNESS * tolerance`` of the support plane) extend at
+    least ``MESH_LINE_LENGTH * tolerance`` and ``MESH_LINE_FRACTION`` of the hull's largest
+    extent (a tessellated straight side, or a flat face whose neighbours bend within the
+    tolerance), else ``"curved"`` (a vertex or facet of a tessellated curve).
+    """
+    vertices = _hull_vertices(geometry)
+    depth = vertices @ (np.array(T.getRotation(), dtype=float).T @ direction)
+    band = vertices[depth >= depth.max() - tolerance]
+    if len(band) <= 3:
+        return "flat"
+    centred = band - band.mean(axis=0)
+    normal = np.linalg.svd(centred, full_matrices=False)[2][2]
+    if float(np.max(np.abs(centred @ normal))) <= MESH_FLATNESS * tolerance:
+        return "flat"
+    top = vertices[depth >= depth.max() - MESH_FLATNESS * tolerance]
+    least = max(MESH_LINE_LENGTH * tolerance, MESH_LINE_FRACTION * float(np.max(np.ptp(vertices, axis=0))))
+    return "long" if principal_extent(top) >= least else "curved"
 
 
 def generator(
