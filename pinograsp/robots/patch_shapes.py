@@ -97,10 +97,11 @@ def mesh_touch(
 
     ``"flat"``: its hull vertices within ``tolerance`` [m] of its support plane lie within
     ``MESH_FLATNESS * tolerance`` of one plane (three or fewer always do). Otherwise ``"long"``
-    when its top vertices (within ``MESH_FLATNESS * tolerance`` of the support plane) extend at
-    least ``MESH_LINE_LENGTH * tolerance`` and ``MESH_LINE_FRACTION`` of the hull's largest
-    extent (a tessellated straight side, or a flat face whose neighbours bend within the
-    tolerance), else ``"curved"`` (a vertex or facet of a tessellated curve).
+    when its top vertices (within ``MESH_FLATNESS * tolerance`` of the support plane) lie along
+    a strip at least ``MESH_LINE_LENGTH * tolerance`` and ``MESH_LINE_FRACTION`` of the hull's
+    largest extent long and ``MESH_LINE_ASPECT`` times longer than wide (a tessellated straight
+    side), else ``"curved"`` (a vertex or facet of a tessellated curve, a flat ring of vertices
+    such as a torus's top, a wide face whose neighbours bend within the tolerance).
     """
     vertices = _hull_vertices(geometry)
     depth = vertices @ (np.array(T.getRotation(), dtype=float).T @ direction)
@@ -111,9 +112,11 @@ def mesh_touch(
     normal = np.linalg.svd(centred, full_matrices=False)[2][2]
     if float(np.max(np.abs(centred @ normal))) <= MESH_FLATNESS * tolerance:
         return "flat"
-    top = vertices[depth >= depth.max() - MESH_FLATNESS * tolerance]
-    least = max(MESH_LINE_LENGTH * tolerance, MESH_LINE_FRACTION * float(np.max(np.ptp(vertices, axis=0))))
-    return "long" if principal_extent(top) >= least else "curved"
+    span, width = principal_extents(vertices[depth >= depth.max() - MESH_FLATNESS * tolerance])
+    if span < MESH_LINE_LENGTH * tolerance or MESH_LINE_ASPECT * width > span:
+        return "curved"  # one facet of a curve, or not along a line (a flat ring, a wide face)
+    size = float(np.max(vertices.max(axis=0) - vertices.min(axis=0)))
+    return "long" if span >= MESH_LINE_FRACTION * size else "curved"
 
 
 def generator(
@@ -205,10 +208,13 @@ def samples(ends: np.ndarray, n: int = LINE_SAMPLES) -> np.ndarray:
     return ends[0] + np.linspace(0.0, 1.0, n)[:, None] * (ends[1] - ends[0])
 
 
-def principal_extent(points: np.ndarray) -> float:
-    """Extent [m] of points (k, 3) along their principal direction (0 for fewer than 2)."""
+def principal_extents(points: np.ndarray) -> tuple[float, float]:
+    """Extents [m] of points (k, 3) along their first and second principal directions (the
+    length and the width of a strip; 0 for fewer points than directions)."""
     if len(points) < 2:
-        return 0.0
+        return 0.0, 0.0
     centred = points - points.mean(axis=0)
-    s = centred @ np.linalg.svd(centred, full_matrices=False)[2][0]
-    return float(s.max() - s.min())
+    axes = np.linalg.svd(centred, full_matrices=False)[2]
+    s = centred @ axes[:2].T
+    width = float(np.ptp(s[:, 1])) if len(axes) > 1 else 0.0
+    return float(np.ptp(s[:, 0])), width
