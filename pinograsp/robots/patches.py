@@ -334,12 +334,11 @@ def _mesh_pair(
     meshes: ``"curved"`` if one is; ``"flat"`` if each is flat; ``"long"`` if one is long and
     the other flat (a flat mesh, or a primitive whose :func:`touch_shape` is ``"flat"``: a
     straight side on a flat face); else ``"curved"`` (one point)."""
-    touches = [
-        mesh_touch(g, T, d, tolerance) if is_mesh(g) else None
-        for g, T, d in ((g1, T1, normal), (g2, T2, -normal))
-    ]
-    if "curved" in touches:
-        return "curved"
+    touches: list[str | None] = []
+    for g, T, d in ((g1, T1, normal), (g2, T2, -normal)):
+        touches.append(mesh_touch(g, T, d, tolerance) if is_mesh(g) else None)
+        if touches[-1] == "curved":  # the other mesh need not be measured
+            return "curved"
     if "long" not in touches:
         return "flat"
     partner = [
