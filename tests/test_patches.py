@@ -9,6 +9,9 @@ in the direction perpendicular to the radius (1 on the polygon's vertices). With
 two single points leave the twist unresisted (0).
 """
 
+import json
+from pathlib import Path
+
 import coal
 import numpy as np
 import pytest
@@ -20,6 +23,7 @@ from pinograsp.robots.kinematics import HandConfiguration
 from pinograsp.robots.patches import contact_patches, pair_patch
 
 MU, F = 0.5, 20.0
+ACCEPTANCE = "scripts/reproduce/data/planning_acceptance.json"
 TOL = 1e-3
 
 
@@ -338,15 +342,18 @@ def test_a_mesh_box_on_a_flat_jaw_gives_the_primitive_box_corners(tmp_path, conv
 
 @pytest.mark.parametrize("convex", [True, False])
 def test_tessellated_curves_stay_single_points(tmp_path, convex):
-    """A sphere mesh and a cylinder mesh (side on) under the flat pad: their vertices within 1 mm
-    of the pad plane are not coplanar within 0.1 mm (the facets bend), so one point each."""
+    """A sphere mesh, and an ellipsoid mesh (15 x 15 x 45 mm) with its long axis along the pad:
+    their vertices within 1 mm of the pad plane are not coplanar within 0.1 mm (the facets
+    bend), and their top vertices (within 0.1 mm) span a few facets (the ellipsoid, of radius of
+    curvature c^2 / a = 135 mm along z: 6.2 mm, under both 10 mm and a quarter of its 90 mm), so
+    one point each."""
     trimesh = pytest.importorskip("trimesh")
     for mesh, x in (
         (trimesh.creation.icosphere(3, 0.015), 0.0152),
-        (trimesh.creation.cylinder(0.015, 0.1), 0.0152),
+        (trimesh.creation.icosphere(4, 0.015).apply_scale([1.0, 1.0, 3.0]), 0.0152),  # 135 mm along z
     ):
         obj = _mesh_object(tmp_path, mesh, convex)
-        pad = T([-0.005 - x, 0, 0])
+        pad = T([-0.005 - x, 0, 0], rot([1, 0, 0], np.pi / 2))  # the pad's 60 mm along z
         assert pair_patch(PAD, pad, obj.geometry, obj.transform, TOL, 4, np.array([1.0, 0, 0])) is None
 
 
@@ -356,3 +363,225 @@ def test_a_pad_on_the_torus_mesh_stays_one_point():
     scene = pg.load_scene("talos_torus")
     on = pg.detect_contacts(scene.hand, scene.q, scene.object)
     assert set(on.points_per_patch) == {1}
+
+
+# ---------------------------------------------------------------------------- lines Coal gives as a point
+CYL_A, CYL_B = coal.Cylinder(0.010, 0.040), coal.Cylinder(0.015, 0.060)  # L1 = 40 mm, L2 = 60 mm
+
+
+@pytest.mark.parametrize("shape", [CYL_A, coal.Capsule(0.010, 0.040)])
+@pytest.mark.parametrize("offset", [0.0, 0.010, 0.035])
+def test_parallel_sides_touch_along_the_overlap_of_their_lengths(shape, offset):
+    """Axes along z, 0.2 mm apart at x: the first side spans z +-20 mm (a capsule: its straight
+    part), the second 60 mm centred at ``offset``; the line is their overlap, midway (x = 10.1 mm)."""
+    got = pair_patch(shape, T([0, 0, 0]), CYL_B, T([0.0252, 0, offset]), TOL, 4)
+    assert got is not None and got[0] == "line"
+    lo, hi = max(-0.02, offset - 0.03), min(0.02, offset + 0.03)
+    np.testing.assert_allclose(got[1], [[0.0101, 0, lo], [0.0101, 0, hi]], atol=1e-9)
+    np.testing.assert_allclose(got[2], [1, 0, 0], atol=1e-9)
+
+
+def test_parallel_sides_that_only_share_an_end_touch_at_a_point():
+    # the second cylinder starts where the first ends (z = 20 mm): no overlap
+    assert pair_patch(CYL_A, T([0, 0, 0]), CYL_B, T([0.0252, 0, 0.05]), TOL, 4) is None
+
+
+@pytest.mark.parametrize("axis", [[1, 0, 0], [0, 1, 0]])  # about the normal (crossing), across it
+def test_a_tilted_pair_is_a_line_within_the_tolerance_and_a_point_beyond(axis):
+    """The second 40 mm cylinder tilted by theta: a line while sin(theta) * overlap <= 1 mm
+    (theta <= ~0.025 rad over 40 mm); its ends at +-20 cos(theta / 2) mm along the mean axis."""
+    for theta, line in ((0.02, True), (0.03, False)):
+        R = rot(axis, theta)
+        got = pair_patch(CYL_A, T([0, 0, 0]), CYL_A, T([0.0202, 0, 0], R), TOL, 4)
+        if not line:
+            assert got is None, theta
+            continue
+        assert got is not None and got[0] == "line", theta
+        length = np.linalg.norm(got[1][1] - got[1][0])
+        assert np.sin(theta) * length <= TOL
+        if axis == [1, 0, 0]:  # the mean axis turned theta / 2 about x
+            assert length == pytest.approx(0.04 * np.cos(theta / 2), rel=1e-9)
+
+
+def test_crossing_straight_sides_stay_one_point():
+    crossing = T([0.0252, 0, 0], rot([1, 0, 0], np.pi / 2))
+    assert pair_patch(CYL_A, T([0, 0, 0]), CYL_B, crossing, TOL, 4) is None
+    assert pair_patch(coal.Capsule(0.01, 0.04), T([0, 0, 0]), CYL_B, crossing, TOL, 4) is None
+
+
+def test_parallel_sides_invariant_under_a_rigid_motion_and_relabelling():
+    rng = np.random.default_rng(11)
+    pose = [0.0252, 0.0, 0.01]
+    base = pair_patch(CYL_A, T([0, 0, 0]), CYL_B, T(pose), TOL, 4)
+    swapped = pair_patch(CYL_B, T(pose), CYL_A, T([0, 0, 0]), TOL, 4)  # the other as the hand
+    by_z = np.argsort(swapped[1][:, 2])  # the hand's frame orders them; the same two points
+    np.testing.assert_allclose(swapped[1][by_z], base[1], atol=1e-9)
+    np.testing.assert_allclose(swapped[2], -base[2], atol=1e-9)
+    for _ in range(5):
+        R = rot(rng.normal(size=3), rng.uniform(0, 2 * np.pi))
+        t = rng.uniform(-0.5, 0.5, 3)
+        moved = pair_patch(CYL_A, T(t, R), CYL_B, T(R @ pose + t, R), TOL, 4)
+        assert moved[0] == "line"
+        np.testing.assert_allclose(moved[1], base[1] @ R.T + t, atol=1e-9)  # same points, same order
+        np.testing.assert_allclose(moved[2], R @ base[2], atol=1e-9)
+
+
+def _cylinder_mesh(tmp_path, convex, turn, sections=32, length=0.1):
+    """A trimesh cylinder (radius 15 mm, axis z) turned ``turn`` about its axis."""
+    trimesh = pytest.importorskip("trimesh")
+    mesh = trimesh.creation.cylinder(0.015, length, sections=sections)
+    mesh.apply_transform(trimesh.transformations.rotation_matrix(turn, [0, 0, 1]))
+    return _mesh_object(tmp_path, mesh, convex)
+
+
+@pytest.mark.parametrize("convex", [True, False])
+@pytest.mark.parametrize("turn", [0.0, np.pi / 32])  # a vertex line, a facet under the pad
+def test_a_cylinder_mesh_on_a_flat_jaw_gives_the_primitive_line(tmp_path, convex, turn):
+    """The pad 0.2 mm from the tessellated side (32 sections) and from the primitive cylinder:
+    the same end points z = +-10 mm (the pad's 20 mm), on the same line, to the tessellation's
+    accuracy: a facet lies r (1 - cos(pi / 32)) = 0.072 mm inside the circle."""
+    obj = _cylinder_mesh(tmp_path, convex, turn)
+    x = 0.015 * np.cos(turn)  # the mesh's side under the pad
+    got = pair_patch(
+        PAD, T([-0.005 - x - 2e-4, 0, 0]), obj.geometry, obj.transform, TOL, 4, np.array([1.0, 0, 0])
+    )
+    prim = pair_patch(PAD, T([-0.0202, 0, 0]), coal.Cylinder(0.015, 0.1), T([0, 0, 0]), TOL, 4)
+    assert got is not None and got[0] == prim[0] == "line"
+    np.testing.assert_allclose(got[1][:, 1:], prim[1][:, 1:], atol=1e-9)  # same y, z: same order
+    np.testing.assert_allclose(got[1][:, 0], -x - 1e-4, atol=1e-9)  # midway across the 0.2 mm gap
+    np.testing.assert_allclose(got[1][:, 0], prim[1][:, 0], atol=0.015 * (1 - np.cos(np.pi / 32)) + 1e-9)
+    np.testing.assert_allclose(got[2], prim[2], atol=1e-8)
+
+
+@pytest.mark.parametrize("convex", [True, False])
+def test_a_cylinder_mesh_finger_along_a_face_is_its_generator(tmp_path, convex):
+    """The tessellated cylinder as the hand geometry, along the 150 mm bar: its whole 100 mm."""
+    fing = _cylinder_mesh(tmp_path, convex, 0.0)
+    got = pair_patch(fing.geometry, T([-0.0302, 0, 0]), BAR, T([0, 0, 0]), TOL, 4, np.array([1.0, 0, 0]))
+    assert got is not None and got[0] == "line"
+    np.testing.assert_allclose(got[1], [[-0.0151, 0, -0.05], [-0.0151, 0, 0.05]], atol=1e-9)
+
+
+def test_a_short_cylinder_mesh_stays_one_point(tmp_path):
+    """A 8 mm long tessellated cylinder: its line would be under 10 tolerances (10 mm)."""
+    obj = _cylinder_mesh(tmp_path, False, 0.0, length=0.008)
+    assert (
+        pair_patch(PAD, T([-0.0202, 0, 0]), obj.geometry, obj.transform, TOL, 4, np.array([1.0, 0, 0]))
+        is None
+    )
+
+
+def test_mesh_line_invariant_under_a_rigid_motion(tmp_path):
+    obj = _cylinder_mesh(tmp_path, False, np.pi / 32)
+    pad = np.array([-0.005 - 0.015 * np.cos(np.pi / 32) - 2e-4, 0.0, 0.0])
+    n = np.array([1.0, 0, 0])
+    base = pair_patch(PAD, T(pad), obj.geometry, T([0, 0, 0]), TOL, 4, n)
+    rng = np.random.default_rng(5)
+    for _ in range(4):
+        R = rot(rng.normal(size=3), rng.uniform(0, 2 * np.pi))
+        t = rng.uniform(-0.5, 0.5, 3)
+        moved = pair_patch(PAD, T(R @ pad + t, R), obj.geometry, T(t, R), TOL, 4, R @ n)
+        assert moved[0] == "line"
+        np.testing.assert_allclose(moved[1], base[1] @ R.T + t, atol=1e-8)
+        np.testing.assert_allclose(moved[2], R @ base[2], atol=1e-8)
+
+
+@pytest.fixture(scope="module")
+def rods(tmp_path_factory):
+    """The parallel jaw with round jaws (cylinders, 5 mm radius, 60 mm along y) closed on the
+    30 mm cylinder, 40 mm long along y: each rod touches it along their 40 mm overlap."""
+    root = Path(__file__).resolve().parents[1] / "urdf"
+    folder = tmp_path_factory.mktemp("rod_jaw")
+    box = '<origin xyz="0 0.040 0" rpy="0 0 0"/>\n      <geometry><box size="0.010 0.060 0.020"/></geometry>'
+    rod = (
+        '<origin xyz="0 0.040 0" rpy="1.5707963267948966 0 0"/>\n'
+        '      <geometry><cylinder radius="0.005" length="0.060"/></geometry>'
+    )
+    text = (root / "parallel_jaw.urdf").read_text()
+    assert text.count(box) == 2
+    (folder / "rod_jaw.urdf").write_text(text.replace(box, rod))
+    (folder / "rod_jaw.yaml").write_text((root / "parallel_jaw.yaml").read_text())
+    hand = pg.Hand.from_urdf(folder / "rod_jaw.urdf")
+    pose = np.eye(4)
+    pose[:3, :3] = rot([1, 0, 0], -np.pi / 2)  # the cylinder's z axis along y
+    pose[:3, 3] = [0.0, 0.040, 0.0]
+    obj = pg.RigidObject.cylinder(0.015, 0.040, pose=pose)
+    return hand, hand.close_on(obj), obj
+
+
+def test_round_jaws_on_a_cylinder_touch_along_lines_and_resist_twist(rods):
+    """Twist about the squeeze axis x: the 4 line ends, F/4 each, slide across their radius
+    L/2 = 20 mm: mu F L / 2 = 0.2 N m, less the 8-edge pyramid's reach along the slide (Coal's
+    cylinder-on-cylinder normal is 6e-3 rad off x, which turns the pyramid: 0.9 %); one point per
+    rod (Coal's closest pair, as before the lines): 0."""
+    hand, q, obj = rods
+    report = pg.detect_contacts(hand, q, obj)
+    assert report.points_per_patch == (2, 2) and {p.kind for p in report.patches} == {"line"}
+    for p in report.patches:  # the overlap y = 20..60 mm, at the contact x = -+15 mm
+        np.testing.assert_allclose(sorted(p.points[:, 1]), [0.02, 0.06], atol=1e-9)
+        np.testing.assert_allclose(np.abs(p.points[:, 0]), 0.015, atol=2e-4)
+    m = pg.grasp_model_from_scene(hand, q, obj, mu=MU)
+    twist = _twist_limit(m, F / 4, obj.center_of_mass)
+    assert twist == pytest.approx(MU * F * 0.040 / 2, rel=1.5e-2)
+    upper, steps = 50.0, 14
+    for d in ("mx", "-mx"):
+        mw = pg.max_resistible_wrench(m, F, d, upper=upper, steps=steps)
+        assert mw.status == "finite" and mw.magnitude == pytest.approx(
+            twist, abs=upper / 2**steps + 1e-3 * twist
+        )
+    off = pg.grasp_model_from_scene(hand, q, obj, mu=MU, patches=False)
+    assert off.nc == 2 and pg.max_resistible_wrench(off, F, "mx", upper=upper, steps=steps).magnitude == 0.0
+
+
+@pytest.mark.slow
+def test_round_jaw_twist_matches_the_simulation(rods):
+    """MuJoCo (the model's own pyramid) against the quasi-static twist limit of the rod lines
+    (measured 0.19807 vs 0.19824 N m, 0.09 %)."""
+    hand, q, obj = rods
+    m = pg.grasp_model_from_scene(hand, q, obj, mu=MU)
+    qs = pg.max_resistible_wrench(m, F, "mx", upper=50.0, steps=14)
+    sim = pg.simulate_max_wrench(m, "mx", {"gripper": F}, upper=50.0, friction="pyramid")
+    assert sim.status == "gave_way" and sim.load == pytest.approx(qs.magnitude, rel=1e-2)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("obj", ["box", "cylinder", "torus"])
+def test_the_ability_hand_gives_no_mesh_line_artefacts(obj):
+    """The Ability hand's rounded mesh fingers on the planning acceptance's sampled grasps of a
+    box, a cylinder and the torus mesh (50, 50 and 50): one point per contact, as before
+    the mesh lines (their top sets are one facet, or their Coal line is under 10 mm; with a 5 mm
+    length alone, 2 box contacts were 5.5-6 mm lines)."""
+    from pinograsp.batch.grasps import grasp_configuration
+    from scripts.reproduce.planning_acceptance import spec_of
+
+    data = json.loads((Path(__file__).resolve().parents[1] / ACCEPTANCE).read_text())
+    counts = []
+    for g in data["pairs"][f"ability × {obj}"]["grasps"]:
+        hand, body, q = grasp_configuration(spec_of(g["spec"]))
+        counts += pg.detect_contacts(hand, q, body).points_per_patch
+    assert len(counts) >= 250 and set(counts) == {1}
+
+
+@pytest.mark.parametrize("convex", [True, False])
+def test_a_cylinder_mesh_between_the_jaws_resists_twist_like_the_primitive(tmp_path, convex):
+    """The 40 mm cylinder of test_a_line_resists_the_twist_about_the_jaw_normal as a trimesh STL
+    (32 sections, a vertex line on each jaw): a line per jaw, mu F L / 2 = 0.2 N m (before the
+    mesh lines: one point per jaw, 0). MuJoCo (pyramid, convex): 0.19994 N m."""
+    trimesh = pytest.importorskip("trimesh")
+    hand = pg.Hand.builtin("parallel_jaw")
+    path = tmp_path / "cylinder.stl"
+    trimesh.creation.cylinder(0.015, 0.040, sections=32).export(path)
+    pose = np.eye(4)
+    pose[:3, :3] = rot([1, 0, 0], -np.pi / 2)
+    pose[:3, 3] = [0.0, 0.040, 0.0]
+    obj = pg.RigidObject.from_mesh(path, convex=convex, pose=pose)
+    q = hand.close_on(obj)
+    report = pg.detect_contacts(hand, q, obj)
+    assert report.points_per_patch == (2, 2)
+    for p in report.patches:
+        np.testing.assert_allclose(sorted(p.points[:, 1]), [0.02, 0.06], atol=1e-9)
+    m = pg.grasp_model_from_scene(hand, q, obj, mu=MU)
+    twist = _twist_limit(m, F / 4, obj.center_of_mass)
+    assert twist == pytest.approx(MU * F * 0.040 / 2, rel=1e-6)
+    mw = pg.max_resistible_wrench(m, F, "mx", upper=50.0, steps=14)
+    assert mw.status == "finite" and mw.magnitude == pytest.approx(twist, abs=50.0 / 2**14 + 1e-4 * twist)

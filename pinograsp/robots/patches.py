@@ -24,14 +24,21 @@ ellipsoid; a capsule's round end; a cylinder, cone or capsule side whose touch C
 give as a segment along a generator (a sphere on it, a crossing axis, a tilt beyond the
 tolerance). A **straight side** (cylinder, cone, capsule: curved across, straight along a
 generator) on a surface that is flat along that generator within the tolerance is a **line**:
-Coal's patch gives the generator clipped to the other shape's feature, its two end points.
+Coal's patch gives the generator clipped to the other shape's feature, its two end points. Two
+straight sides with parallel generators (within the tolerance over their overlap) are a line
+too, which Coal gives as one point: :func:`~pinograsp.robots.patch_shapes.parallel_sides`
+builds it over the generators' overlap.
 
 **Meshes** (a convex mesh ``Convex``, or a triangle mesh ``BVH`` through its convex hull, built
 once per geometry) are flat only where they are: the hull's vertices within the contact
 tolerance of the contact plane (on each mesh) must lie within :data:`MESH_FLATNESS` times the
 tolerance of one plane (0.1 mm at the default 1 mm). A tessellated curved surface (a rounded
 finger, a sphere or torus mesh) fails this and stays one point; a flat mesh face gives Coal's
-polygon, as a primitive face does. A mesh patch narrower than the tolerance is a point. A patch
+polygon, as a primitive face does. A mesh patch narrower than the tolerance is a point. A
+**tessellated straight side** (a cylinder mesh) on a flat face is a line: its top vertices
+(within the flatness of the plane) span at least ten tolerances and a quarter of the mesh, the
+middle line of Coal's patch of those top features is that long and four times longer than
+wide, and the mesh lies within the tolerance along it (:mod:`~pinograsp.robots.patch_shapes`). A patch
 found on a triangle mesh's hull is kept only where each point lies within the contact tolerance
 of the mesh itself and the hull's normal is within :data:`CAP_ANGLE` of the detected normal (a
 hull facet that bridges a concavity, as over a torus's hole, is not the surface).
@@ -48,6 +55,20 @@ import numpy as np
 
 from ..core.serialize import jsonable
 from ..core.validate import count
+from .patch_shapes import (
+    MESH_FLATNESS,
+    MESH_LINE_ASPECT,
+    MESH_LINE_LENGTH,
+    MeshTouch,
+    generator,
+    is_mesh,
+    mesh_touch,
+    midline,
+    on_surface,
+    parallel_sides,
+    samples,
+    solid_of,
+)
 
 if TYPE_CHECKING:
     from .kinematics import HandConfiguration
@@ -67,9 +88,6 @@ CAP_ANGLE = float(np.arccos(0.99))
 
 #: Points Coal samples on a curved edge (a cylinder cap's rim) before the reduction.
 CURVED_SAMPLES = 12
-#: Mesh patches: a mesh's vertices within the contact tolerance of the contact plane are a flat
-#: feature when they lie within this fraction of the tolerance of one plane (0.1 mm at 1 mm).
-MESH_FLATNESS = 0.1
 
 
 class TouchingPair(Protocol):
@@ -91,8 +109,6 @@ PatchKind = Literal["point", "line", "face"]
 _ROUND = ("Sphere", "Ellipsoid")
 _AXIAL = ("Cylinder", "Cone", "Capsule")
 TouchShape = Literal["curved", "straight", "flat"]
-#: A point on a triangle mesh's surface, for the check that a hull patch lies on the mesh.
-_PROBE = coal.Sphere(1e-12)
 
 
 @dataclass(frozen=True)
@@ -167,64 +183,18 @@ def is_curved(geometry: coal.CollisionGeometry, T: coal.Transform3s, normal: np.
     return touch_shape(geometry, T, normal) != "flat"
 
 
-def is_mesh(geometry: coal.CollisionGeometry) -> bool:
-    """Whether a Coal geometry is a mesh: a triangle mesh (BVH) or a convex mesh."""
-    name = type(geometry).__name__
-    return name.startswith("BVH") or name.startswith("Convex")
-
-
-def solid_of(geometry: coal.CollisionGeometry) -> coal.CollisionGeometry:
-    """The geometry Coal's patch code is given: a triangle mesh's convex hull (built once and
-    kept on the mesh), any other geometry itself."""
-    if not type(geometry).__name__.startswith("BVH"):
-        return geometry
-    if geometry.convex is None:
-        geometry.buildConvexHull(False, "Qt")
-    return geometry.convex
-
-
-def on_surface(
-    geometry: coal.CollisionGeometry, T: coal.Transform3s, points: np.ndarray, tolerance: float
-) -> bool:
-    """Whether every point (k, 3) [m] lies within ``tolerance`` [m] of a triangle mesh's surface."""
-    req, R = coal.DistanceRequest(), np.eye(3)
-    for p in points:
-        res = coal.DistanceResult()
-        if coal.distance(_PROBE, coal.Transform3s(R, p), geometry, T, req, res) > tolerance:
-            return False
-    return True
-
-
-def _hull_vertices(geometry: coal.CollisionGeometry) -> np.ndarray:
-    """The vertices (m, 3) [m] of a mesh's hull (:func:`solid_of`) in its own frame."""
-    return np.asarray(solid_of(geometry).points(), dtype=float).reshape(-1, 3)
-
-
-def is_flat(
-    geometry: coal.CollisionGeometry, T: coal.Transform3s, direction: np.ndarray, tolerance: float
-) -> bool:
-    """Whether a mesh touches along ``direction`` (3,) (out of it, towards the other shape) with a
-    flat feature: its hull vertices within ``tolerance`` [m] of its support plane lie within
-    ``MESH_FLATNESS * tolerance`` of one plane (three or fewer always do)."""
-    vertices = _hull_vertices(geometry)
-    depth = vertices @ (_to_matrix(T)[0].T @ direction)
-    band = vertices[depth >= depth.max() - tolerance]
-    if len(band) <= 3:
-        return True
-    centred = band - band.mean(axis=0)
-    normal = np.linalg.svd(centred, full_matrices=False)[2][2]
-    return float(np.max(np.abs(centred @ normal))) <= MESH_FLATNESS * tolerance
-
-
 def coal_patch(
     g1: coal.CollisionGeometry,
     T1: coal.Transform3s,
     g2: coal.CollisionGeometry,
     T2: coal.Transform3s,
     tolerance: float,
+    patch_tolerance: float | None = None,
 ) -> tuple[np.ndarray, np.ndarray] | None:
     """Coal's contact patch of two shapes within ``tolerance`` [m]: points (k, 3) [m] in the
-    contact plane and the normal from ``g1`` into ``g2`` (3,); ``None`` if Coal finds none."""
+    contact plane and the normal from ``g1`` into ``g2`` (3,); ``None`` if Coal finds none.
+    ``patch_tolerance`` [m] (default ``tolerance``): how far from the contact plane a feature
+    still belongs to the patch."""
     tol = max(float(tolerance), MERGE_DISTANCE)
     req = coal.CollisionRequest()
     req.security_margin = tol
@@ -233,7 +203,8 @@ def coal_patch(
     coal.collide(g1, T1, g2, T2, req, res)
     if res.numContacts() == 0:
         return None
-    preq = coal.ContactPatchRequest(1, CURVED_SAMPLES, tol)
+    ptol = tol if patch_tolerance is None else max(float(patch_tolerance), MERGE_DISTANCE)
+    preq = coal.ContactPatchRequest(1, CURVED_SAMPLES, ptol)
     pres = coal.ContactPatchResult(preq)
     coal.computeContactPatch(g1, T1, g2, T2, res, preq, pres)
     if pres.numContactPatches() == 0:
@@ -321,8 +292,10 @@ def pair_patch(
         hull facet off the mesh, or no Coal patch): the caller keeps its closest-point contact.
     """
     meshes = is_mesh(g1) or is_mesh(g2)
-    if meshes and detected is not None and not _flat_pair(g1, T1, g2, T2, detected, tolerance):
-        return None  # a tessellated curve along the detected normal: no Coal patch needed
+    if meshes and detected is not None:
+        touch = _mesh_pair(g1, T1, g2, T2, detected, tolerance)
+        if touch != "flat":  # a tessellated curve (no Coal patch needed), or maybe a straight side
+            return None if touch == "curved" else _mesh_line(g1, T1, g2, T2, tolerance, detected)
     found = coal_patch(solid_of(g1), T1, solid_of(g2), T2, tolerance)
     if found is None:
         return None
@@ -330,8 +303,12 @@ def pair_patch(
     shapes = (touch_shape(g1, T1, normal), touch_shape(g2, T2, normal))
     if "curved" in shapes:
         return None
-    if meshes and not _flat_pair(g1, T1, g2, T2, normal, tolerance):
-        return None  # a tessellated curve
+    if shapes == ("straight", "straight"):  # Coal gives one point: the line of parallel sides
+        return _sides_line(g1, T1, g2, T2, points.mean(axis=0), normal, tolerance)
+    if meshes:
+        touch = _mesh_pair(g1, T1, g2, T2, normal, tolerance)
+        if touch != "flat":
+            return None if touch == "curved" else _mesh_line(g1, T1, g2, T2, tolerance, detected)
     R, t = _to_matrix(T1)
     kind, idx = select_points(points, (points - t) @ R, max_points)
     if kind == "point" or ("straight" in shapes and kind != "line"):
@@ -345,18 +322,86 @@ def pair_patch(
     return kind, points, normal
 
 
-def _flat_pair(
+def _mesh_pair(
     g1: coal.CollisionGeometry,
     T1: coal.Transform3s,
     g2: coal.CollisionGeometry,
     T2: coal.Transform3s,
     normal: np.ndarray,
     tolerance: float,
-) -> bool:
-    """Whether each mesh of the pair touches along ``normal`` (``g1`` into ``g2``) with a flat feature."""
-    return (not is_mesh(g1) or is_flat(g1, T1, normal, tolerance)) and (
-        not is_mesh(g2) or is_flat(g2, T2, -normal, tolerance)
-    )
+) -> MeshTouch:
+    """How the pair touches along ``normal`` (``g1`` into ``g2``), by :func:`mesh_touch` of its
+    meshes: ``"curved"`` if one is; ``"flat"`` if each is flat; ``"long"`` if one is long and
+    the other flat (a flat mesh, or a primitive whose :func:`touch_shape` is ``"flat"``: a
+    straight side on a flat face); else ``"curved"`` (one point)."""
+    touches: list[str | None] = []
+    for g, T, d in ((g1, T1, normal), (g2, T2, -normal)):
+        touches.append(mesh_touch(g, T, d, tolerance) if is_mesh(g) else None)
+        if touches[-1] == "curved":  # the other mesh need not be measured
+            return "curved"
+    if "long" not in touches:
+        return "flat"
+    partner = [
+        t if t is not None else touch_shape(g, T, normal) for t, g, T in zip(touches, (g1, g2), (T1, T2))
+    ]
+    return "long" if sorted(partner) == ["flat", "long"] else "curved"
+
+
+def _line(
+    ends: np.ndarray, normal: np.ndarray, T1: coal.Transform3s
+) -> tuple[PatchKind, np.ndarray, np.ndarray] | None:
+    """A line patch of two end points (2, 3) [m] in canonical order; ``None`` if they coincide."""
+    R, t = _to_matrix(T1)
+    kind, idx = select_points(ends, (ends - t) @ R, 2)
+    return ("line", ends[idx], normal) if kind == "line" else None
+
+
+def _sides_line(
+    g1: coal.CollisionGeometry,
+    T1: coal.Transform3s,
+    g2: coal.CollisionGeometry,
+    T2: coal.Transform3s,
+    point: np.ndarray,
+    normal: np.ndarray,
+    tolerance: float,
+) -> tuple[PatchKind, np.ndarray, np.ndarray] | None:
+    """The line of two straight sides touching at ``point`` (3,) [m] with parallel generators
+    (:func:`~pinograsp.robots.patch_shapes.parallel_sides`), or ``None`` (crossing: a point)."""
+    sides = (generator(g1, *_to_matrix(T1), point), generator(g2, *_to_matrix(T2), point))
+    ends = parallel_sides(sides, point, normal, tolerance)
+    return None if ends is None else _line(ends, normal, T1)
+
+
+def _mesh_line(
+    g1: coal.CollisionGeometry,
+    T1: coal.Transform3s,
+    g2: coal.CollisionGeometry,
+    T2: coal.Transform3s,
+    tolerance: float,
+    detected: np.ndarray | None,
+) -> tuple[PatchKind, np.ndarray, np.ndarray] | None:
+    """The line of a mesh pair that is not flat but has a long top set (a tessellated straight
+    side): the middle line of Coal's patch of the features within ``MESH_FLATNESS * tolerance``
+    of the contact plane, kept when it is at least ``MESH_LINE_LENGTH * tolerance`` long and
+    ``MESH_LINE_ASPECT`` times longer than wide, and each triangle mesh lies within
+    ``tolerance`` of :data:`~pinograsp.robots.patch_shapes.LINE_SAMPLES` points along it;
+    otherwise ``None`` (one point)."""
+    found = coal_patch(solid_of(g1), T1, solid_of(g2), T2, tolerance, MESH_FLATNESS * tolerance)
+    if found is None:
+        return None
+    points, normal = found
+    if "curved" in (touch_shape(g1, T1, normal), touch_shape(g2, T2, normal)):
+        return None
+    if _mesh_pair(g1, T1, g2, T2, normal, tolerance) == "curved":
+        return None
+    ends, length, width = midline(points, normal)
+    if length < MESH_LINE_LENGTH * tolerance or MESH_LINE_ASPECT * width > length:
+        return None
+    probe = samples(ends)
+    for g, T in ((g1, T1), (g2, T2)):
+        if type(g).__name__.startswith("BVH") and not _on_mesh(g, T, probe, normal, tolerance, detected):
+            return None
+    return _line(ends, normal, T1)
 
 
 def _on_mesh(
