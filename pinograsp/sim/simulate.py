@@ -177,11 +177,10 @@ def simulate_max_wrench(
         **options: Numerical settings and thresholds, with their defaults in
             docs/simulation.md ("Thresholds and defaults"): ``stiffness``, ``timestep``,
             ``ramp_time``, ``start``, ``hold_time``, ``slip`` [m], ``rotation`` [rad],
-            ``tolerance``, ``mass`` [kg], ``damping``, ``preload`` (``"held"`` or
-            ``"settled"``), ``relax``, ``friction`` (``"cone"`` or ``"pyramid"``),
-            ``preload_time``, ``release_time`` [s] (a held object released over this time,
-            the holding wrench removed smoothly; default 0: at once), ``filter_time``,
-            ``trace_every``.
+            ``tolerance``, ``mass`` [kg], ``damping``, ``preload`` (``"held"``/``"settled"``),
+            ``relax``, ``friction`` (``"cone"``/``"pyramid"``), ``preload_time``,
+            ``release_time`` [s] (a held object's holding wrench removed smoothly over it;
+            default 0: at once), ``filter_time``, ``trace_every``.
 
     Returns:
         The :class:`SimulationResult`.
