@@ -162,9 +162,8 @@ def simulate_max_wrench(
     their running maximum closing displacement, push-only normal springs and exact Coulomb
     friction. The motors close on the object (held still by default) and settle; then the load
     ``L d`` grows as ``upper * start * exp(t / ramp_time)`` up to ``upper`` and is held there.
-    The object gives way when its reference point has moved ``slip`` or it has turned
-    ``rotation`` from the preloaded pose; the reported load is the largest load the contacts
-    resisted until then.
+    The object gives way when it has moved ``slip`` or turned ``rotation`` from the preloaded
+    pose; the reported load is the largest load the contacts resisted until then.
 
     Args:
         scene_or_model: A :class:`~pinograsp.Scene` (its preload, ``analysis.upper`` and named
