@@ -132,6 +132,22 @@ def test_bad_arguments_are_named():
         pg.plan_grasps("parallel_jaw", SPHERE, preload={"budget": -1})
 
 
+@pytest.mark.parametrize(
+    ("obj", "says"),
+    [
+        ("cylinder:0.02", "cylinder:R,LENGTH (cylinder:0.02,0.08)"),
+        ("cylinder:a,b", "takes 2 comma-separated numbers [m]"),
+        ("box:1,2", "box:SX,SY,SZ (box:0.05,0.06,0.08)"),
+        ("cyl:0.02,0.08", "no such shape or file"),
+        ("no_such_object.stl", "existing mesh file"),
+    ],
+)
+def test_cli_plan_bad_object_shows_the_form_and_an_example(capsys, obj, says):
+    rc, _, err = run(capsys, "plan", "parallel_jaw", obj, "--n", "1")
+    assert rc == 2
+    assert err.startswith("pinograsp: error: OBJECT: ") and says in err and repr(obj) in err
+
+
 def test_cli_plan_writes_a_grasps_file_that_batch_rescores(tmp_path, capsys):
     out = tmp_path / "plans"
     argv = [

@@ -86,11 +86,24 @@ def test_a_gradual_release_gives_the_paths_preload(grasp):
     assert np.max(at_once / path - 1.0) > 0.05  # measured: +7.8 % thumb base, +11 % ring
 
 
-def test_release_time_out_of_range_is_named(grasp):
+@pytest.mark.parametrize("bad", [-0.1, 1e6, 10.5, "0.05", float("nan"), float("inf"), None, True])
+def test_a_bad_release_time_names_the_option_its_range_and_the_choice(grasp, bad):
     pytest.importorskip("mujoco")
     model, command = grasp
-    with pytest.raises(pg.InvalidInputError, match="release_time"):
-        pg.simulate_max_wrench(model, DIRECTION, command, upper=45.0, release_time=-0.1)
+    with pytest.raises(pg.InvalidInputError) as err:
+        pg.simulate_max_wrench(model, DIRECTION, command, upper=45.0, release_time=bad)
+    assert err.value.name == "release_time"
+    text = str(err.value)
+    assert "[0, 10]" in text and "seconds" in text  # the valid range and its unit, for any bad value
+    assert "pass 0 (the default)" in text and "0.05" in text  # what to do instead
+    assert repr(bad) in text
+
+
+@pytest.mark.parametrize("edge", [0, 10])
+def test_release_time_range_ends_are_accepted(edge):
+    from pinograsp.sim.simulate import _release_time
+
+    assert _release_time(edge) == float(edge)
 
 
 @pytest.mark.slow

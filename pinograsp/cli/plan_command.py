@@ -13,6 +13,12 @@ from ..errors import InvalidInputError
 from .report import Output, progress_bar
 
 _SHAPES = {"box": 3, "sphere": 1, "cylinder": 2}
+#: The form of each shape's sizes and an example [m] (error messages).
+_FORMS = {
+    "box": "box:SX,SY,SZ (box:0.05,0.06,0.08)",
+    "sphere": "sphere:R (sphere:0.02)",
+    "cylinder": "cylinder:R,LENGTH (cylinder:0.02,0.08)",
+}
 
 
 def add_plan(sub: argparse._SubParsersAction) -> None:
@@ -55,7 +61,9 @@ def parse_object(text: str) -> pg.ObjectSpec:
     if shape not in _SHAPES:
         if not Path(text).is_file():
             raise InvalidInputError(
-                "OBJECT", f"{text!r}: expected box:SX,SY,SZ, sphere:R, cylinder:R,L or a mesh file"
+                "OBJECT",
+                f"{text!r}: expected box:SX,SY,SZ, sphere:R, cylinder:R,LENGTH [m] or the path of an "
+                "existing mesh file (STL/OBJ/PLY, metres); no such shape or file",
             )
         return pg.ObjectSpec("mesh", file=str(Path(text).resolve()))
     try:
@@ -64,7 +72,8 @@ def parse_object(text: str) -> pg.ObjectSpec:
         values = []
     if len(values) != _SHAPES[shape]:
         raise InvalidInputError(
-            "OBJECT", f"{text!r}: a {shape} takes {_SHAPES[shape]} comma-separated sizes [m]"
+            "OBJECT",
+            f"{text!r}: a {shape} takes {_SHAPES[shape]} comma-separated numbers [m]: {_FORMS[shape]}",
         )
     if shape == "box":
         return pg.ObjectSpec("box", size=tuple(values))  # type: ignore[arg-type]

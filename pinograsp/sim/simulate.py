@@ -68,6 +68,19 @@ def _positive(name: str, value: object) -> float:
     return v
 
 
+def _release_time(value: object) -> float:
+    """``release_time`` [s] in ``[0, MAX_RELEASE_TIME]``, else an error stating the range and the choice."""
+    try:
+        return number_in("release_time", value, 0.0, MAX_RELEASE_TIME, "s")
+    except InvalidInputError as exc:
+        raise InvalidInputError(
+            "release_time",
+            f"must be a number of seconds in [0, {MAX_RELEASE_TIME:g}], got {value!r}: pass 0 (the default) "
+            "to release the held object at once, or a duration such as 0.05 to remove its holding "
+            "wrench smoothly (docs/simulation.md, 'The procedure')",
+        ) from exc
+
+
 def _options(grasp: GraspModel, direction: np.ndarray, upper: float, kw: dict[str, Any]) -> SimOptions:
     """Defaults filled in and validated (docs/simulation.md, "Defaults")."""
     ell = float(grasp.length_scale)
@@ -105,7 +118,7 @@ def _options(grasp: GraspModel, direction: np.ndarray, upper: float, kw: dict[st
         filter_time=float(kw.pop("filter_time", 2.0 * math.pi * math.sqrt(mass / stiffness))),
         relax=bool(kw.pop("relax", True)),
         friction=friction,
-        release_time=number_in("release_time", kw.pop("release_time", 0.0), 0.0, 10.0, "s"),
+        release_time=_release_time(kw.pop("release_time", 0.0)),
     )
     if kw:
         raise InvalidInputError("options", f"unknown simulation option(s) {sorted(kw)}")
@@ -123,6 +136,8 @@ SIM_STIFFNESS = (1.0, 1e10)
 SIM_TIMESTEP = (1e-7, 1e-2)
 SIM_TOLERANCE = (1e-6, 0.5)
 MAX_SIM_STEPS = 10**7
+#: Longest release of a held object [s]: 10 s at the default step is already 1e5 steps.
+MAX_RELEASE_TIME = 10.0
 
 
 def _step_budget(o: SimOptions) -> None:
