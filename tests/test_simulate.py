@@ -108,6 +108,20 @@ def test_cli_simulate_text_held_along_x(pinch, capsys):
     assert "predicted (quasistatic): unbounded; class agrees" in out
 
 
+def test_cli_simulate_passes_the_release_time(pinch, capsys):
+    """``--release-time`` is the API's ``release_time``: the same load, bit for bit; a bad value
+    is the API's error, naming the option."""
+    from pinograsp.cli import main
+
+    assert main(["simulate", "pinch", "-d", "fy", "--release-time", "0.05", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    api = pg.simulate_max_wrench(pg.load_scene("pinch"), "fy", release_time=0.05)
+    assert data["load"] == api.load and data["status"] == api.status
+    assert main(["simulate", "pinch", "-d", "fy", "--release-time", "-1"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("pinograsp: error:") and "release_time" in err and "[0, 10]" in err
+
+
 def test_cli_simulate_without_mujoco_names_the_extra(monkeypatch, capsys):
     from pinograsp.cli import main
 

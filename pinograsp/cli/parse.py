@@ -372,6 +372,11 @@ def _add_simulate(sub: argparse._SubParsersAction) -> None:
     g.add_argument("--stiffness", type=float, help="stiffest contact's stiffness [N/m] (default 1e6)")
     g.add_argument("--timestep", type=float, help="integration step [s] (default 1e-4)")
     g.add_argument("--ramp-time", type=float, help="e-folding time of the load ramp [s] (default 0.02)")
+    g.add_argument(
+        "--release-time",
+        type=float,
+        help="time over which the held object is released [s] (default 0: at once; 0.05: as the model)",
+    )
     g.add_argument("--slip", type=float, help="translation that counts as giving way [m]")
     g.add_argument("--rotation", type=float, help="rotation that counts as giving way [rad]")
     g.add_argument("--tolerance", type=float, help="relative resolution of the load (default 2e-3)")

@@ -14,7 +14,16 @@ from . import options as opt
 from .report import Output, preload_line, scene_header, scene_line
 
 #: ``--flag`` -> keyword of :func:`pinograsp.simulate_max_wrench` (passed when given).
-_SIM_OPTIONS = ("stiffness", "timestep", "ramp_time", "slip", "rotation", "tolerance", "friction")
+_SIM_OPTIONS = (
+    "stiffness",
+    "timestep",
+    "ramp_time",
+    "release_time",
+    "slip",
+    "rotation",
+    "tolerance",
+    "friction",
+)
 
 
 def _sim_options(args: argparse.Namespace) -> dict[str, Any]:
