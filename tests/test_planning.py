@@ -163,9 +163,12 @@ def test_cli_plan_writes_a_grasps_file_that_batch_rescores(tmp_path, capsys):
         "--refine",
         "1",
     ]
-    rc, _, err = run(capsys, *argv, "--out", str(out))
+    rc, table, err = run(capsys, *argv, "--out", str(out))
     assert rc == 0, err
     assert {p.name for p in out.iterdir()} == {"plans.yaml", "plans.json", "plan_1.png", "plan_2.png"}
+    # the table says which preload each score is for (the jaws' one actuator, 20 N)
+    rows = [line for line in table.splitlines() if line.strip().startswith(("1 ", "2 "))]
+    assert len(rows) == 2 and all(row.rstrip().endswith(" 20") for row in rows), table
     rc, text, err = run(capsys, "batch", str(out / "plans.yaml"))
     assert rc == 0, err
     assert "2 ok" in text and "worst of 26 disturbances" in text

@@ -108,11 +108,12 @@ def cmd_plan(args: argparse.Namespace) -> int:
     lines = [plans.summary().splitlines()[0], plans.summary().splitlines()[1], ""]
     lines.append(
         f"{'rank':>4}  {'id':<24} {'origin':<8} {'score':>9}  {'worst':<10} {'epsilon':>8} {'eps rank':>8}"
+        "  preload"
     )
     for p in plans.plans:
         lines.append(
             f"{p.rank:>4}  {p.id:<24} {p.origin:<8} {p.score:>9.4g}  {p.worst:<10} "
-            f"{p.epsilon:>8.4g} {p.epsilon_rank:>8}"
+            f"{p.epsilon:>8.4g} {p.epsilon_rank:>8}  {p.preload_text()}"
         )
         for c in p.checks:
             lines.append(

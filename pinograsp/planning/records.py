@@ -104,11 +104,16 @@ class GraspPlan:
         out["checks"] = [c.to_dict() for c in self.checks]
         return jsonable(out)
 
+    def preload_text(self) -> str:
+        """The preload command as ``actuator value`` pairs [N·m or N] (the score is for it)."""
+        return ", ".join(f"{a} {v:.4g}" for a, v in self.command.items())
+
     def summary(self) -> str:
-        """One line: rank, score, worst disturbance, epsilon and its rank, contacts."""
+        """One line: rank, score, worst disturbance, epsilon and its rank, contacts, preload."""
         return (
             f"#{self.rank} {self.id} ({self.origin}): score {self.score:.4g} (worst {self.worst}), "
-            f"epsilon {self.epsilon:.4g} (rank {self.epsilon_rank}), {len(self.contact_names)} contacts"
+            f"epsilon {self.epsilon:.4g} (rank {self.epsilon_rank}), {len(self.contact_names)} contacts, "
+            f"preload {self.preload_text()}"
         )
 
 
