@@ -275,15 +275,20 @@ def test_twist_limit_matches_the_simulation():
 
 
 # ---------------------------------------------------------------------------- lines on cylinders
-@pytest.fixture(scope="module")
-def cylinder():
-    """The parallel jaw on a 30 mm cylinder, 40 mm long, its axis along the jaws' long side (y)."""
-    hand = pg.Hand.builtin("parallel_jaw")
+def _closed_on_cylinder(hand):
+    """``hand`` closed on a 30 mm cylinder, 40 mm long, its axis along y at y = 40 mm."""
     pose = np.eye(4)
     pose[:3, :3] = rot([1, 0, 0], -np.pi / 2)  # the cylinder's z axis along y
     pose[:3, 3] = [0.0, 0.040, 0.0]
     obj = pg.RigidObject.cylinder(0.015, 0.040, pose=pose)
     return hand, hand.close_on(obj), obj
+
+
+@pytest.fixture(scope="module")
+def cylinder():
+    """The parallel jaw on a 30 mm cylinder, 40 mm long, its axis along the jaws' long side (y)."""
+    hand = pg.Hand.builtin("parallel_jaw")
+    return _closed_on_cylinder(hand)
 
 
 def test_a_cylinder_between_flat_jaws_touches_each_along_a_line(cylinder):
@@ -509,11 +514,7 @@ def rods(tmp_path_factory):
     (folder / "rod_jaw.urdf").write_text(text.replace(box, rod))
     (folder / "rod_jaw.yaml").write_text((root / "parallel_jaw.yaml").read_text())
     hand = pg.Hand.from_urdf(folder / "rod_jaw.urdf")
-    pose = np.eye(4)
-    pose[:3, :3] = rot([1, 0, 0], -np.pi / 2)  # the cylinder's z axis along y
-    pose[:3, 3] = [0.0, 0.040, 0.0]
-    obj = pg.RigidObject.cylinder(0.015, 0.040, pose=pose)
-    return hand, hand.close_on(obj), obj
+    return _closed_on_cylinder(hand)
 
 
 def test_round_jaws_on_a_cylinder_touch_along_lines_and_resist_twist(rods):

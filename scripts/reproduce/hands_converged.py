@@ -91,15 +91,11 @@ def settled(done: dict[tuple[str, str], dict]) -> dict[tuple[str, str], dict]:
     from . import ramp_study
 
     out = dict(done)
-    if not ramp_study.DATA.exists():
-        return out
-    for row in json.loads(ramp_study.DATA.read_text())["rows"]:
-        parts = row["key"].split("/")
-        a = ramp_study.assess(row) if parts[0] == "hands" else None
-        key = (parts[1], parts[2].split(" ")[0]) if a is not None else None  # "+fy (sideways)": "+fy"
-        if a is None or a["at"] <= RAMP or key not in done:
-            continue
-        out[key] = {**done[key], **row["sims"][ramp_study._key(a["at"])], "ramp_time": a["at"]}
+    for label, rec in ramp_study.settled_runs("hands/").items():
+        hand, direction = label.split("/", 1)
+        key = (hand, direction.split(" ")[0])  # "+fy (sideways)": "+fy"
+        if key in done and rec["ramp_time"] > RAMP:
+            out[key] = {**done[key], **rec}
     return out
 
 

@@ -330,6 +330,21 @@ def assess(row: dict[str, Any]) -> dict[str, Any] | None:
     }
 
 
+def settled_runs(prefix: str, path: Path | None = None) -> dict[str, dict[str, Any]]:
+    """The study's run at the slowest settled (else slowest) ramp of each direction whose key
+    starts with ``prefix`` (``"qs/"``, ``"hands/"``), keyed by the rest of the key, with its
+    ``ramp_time`` [s]; empty when the study has not been run (``path``: default :data:`DATA`)."""
+    path = DATA if path is None else path
+    if not path.exists():
+        return {}
+    out = {}
+    for row in json.loads(path.read_text())["rows"]:
+        a = assess(row) if row["key"].startswith(prefix) else None
+        if a is not None:
+            out[row["key"][len(prefix) :]] = {**row["sims"][_key(a["at"])], "ramp_time": a["at"]}
+    return out
+
+
 def _sim_text(s: dict[str, Any] | None) -> str:
     if s is None:
         return "—"

@@ -349,14 +349,7 @@ def settled_refs(refs: dict[str, dict[str, dict[str, Any]]]) -> None:
     (``scripts/reproduce/ramp_study.json``), else the pyramid record itself (0.02 s)."""
     from . import ramp_study  # it imports this module
 
-    study = json.loads(ramp_study.DATA.read_text()) if ramp_study.DATA.exists() else {"rows": []}
-    slow: dict[str, dict[str, Any]] = {}
-    for row in study["rows"]:
-        if not row["key"].startswith("qs/"):
-            continue
-        a = ramp_study.assess(row)
-        if a is not None:
-            slow[row["key"][3:]] = {**row["sims"][ramp_study._key(a["at"])], "ramp_time": a["at"]}
+    slow = ramp_study.settled_runs("qs/")
     for key, slot in refs.items():
         if "pyramid" in slot:
             slot[SETTLED] = slow.get(key, slot["pyramid"])
