@@ -99,11 +99,12 @@ def block_solution(M: np.ndarray, q: np.ndarray, active: np.ndarray) -> tuple[np
     Whether the point is a solution (``z >= 0``, ``w >= 0``) is the caller's test."""
     n = q.size
     z = np.zeros(n)
-    if active.any():
-        _, _, zb, info = dgesv(M[np.ix_(active, active)], -q[active])
+    idx = np.flatnonzero(active)
+    if idx.size:
+        _, _, zb, info = dgesv(M[idx[:, None], idx], -q[idx])
         if info != 0 or not np.isfinite(zb).all():
             return None
-        z[active] = zb
+        z[idx] = zb
     w = M @ z + q
     w[active] = 0.0
     return z, w

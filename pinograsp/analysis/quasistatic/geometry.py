@@ -25,13 +25,13 @@ as in the simulation. Paths whose object turns less than one step are unchanged.
 from __future__ import annotations
 
 import functools
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
 from ...core.axes import PLANAR_AXES
 from ...core.giveway import LINEAR_ROTATION
-from .model import Constraints, QSModel
+from .model import Constraints, QSModel, evolved
 from .state import State
 
 #: Object rotation [rad] between two geometry updates of the load stage (chosen by measurement:
@@ -138,16 +138,19 @@ def _arms(qm: QSModel, R: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def _grasp_map(qm: QSModel, arms: np.ndarray, F: np.ndarray) -> np.ndarray:
     a = arms[:, :, None]  # (nc, 3, 1)
-    moments = np.stack(  # a_i x each column of F_i, (nc, 3, d)
-        [
-            a[:, 1] * F[:, 2] - a[:, 2] * F[:, 1],
-            a[:, 2] * F[:, 0] - a[:, 0] * F[:, 2],
-            a[:, 0] * F[:, 1] - a[:, 1] * F[:, 0],
-        ],
-        axis=1,
+    F0, F1, F2 = F[:, 0], F[:, 1], F[:, 2]  # (nc, d) each: the frames' world x, y, z rows
+    rows = (  # the 6D rows of the grasp map: forces, then a_i x each column of F_i
+        F0,
+        F1,
+        F2,
+        a[:, 1] * F2 - a[:, 2] * F1,
+        a[:, 2] * F0 - a[:, 0] * F2,
+        a[:, 0] * F1 - a[:, 1] * F0,
     )
-    G6 = np.concatenate([F, moments], axis=1).transpose(1, 0, 2).reshape(6, qm.ncd)
-    return G6[_axes6(qm)]
+    out = np.empty((qm.nx, qm.ncd))
+    for i, axis in enumerate(_axes6(qm)):
+        out[i] = rows[axis].reshape(-1)
+    return out
 
 
 def _geometric_stiffness(qm: QSModel, arms: np.ndarray, F: np.ndarray, c: np.ndarray) -> np.ndarray:
@@ -155,7 +158,7 @@ def _geometric_stiffness(qm: QSModel, arms: np.ndarray, F: np.ndarray, c: np.nda
     K3 = np.einsum("ia,ib->ab", arms, f) - float(np.einsum("ia,ia->", arms, f)) * np.eye(3)
     rows, axes = _rotation_rows(qm)
     out = np.zeros((qm.nx, qm.nx))
-    out[np.ix_(rows, rows)] = K3[np.ix_(axes, axes)]
+    out[rows[:, None], rows] = K3[axes[:, None], axes]
     return out
 
 
@@ -174,7 +177,7 @@ def geometric_stiffness(qm: QSModel, R: np.ndarray, c: np.ndarray) -> np.ndarray
 def _with_arms(con: Constraints, A: np.ndarray) -> Constraints:
     """``con`` for the re-linearised ``A`` (nv, nc*d): the constraint columns, their basis and
     pseudo-inverses do not depend on the contact geometry, only their products with ``A``."""
-    return replace(con, AZ=A.T @ con.Z, AtBt=A.T @ con.Bt_pinv, BpA=con.B_pinv @ A)
+    return evolved(con, AZ=A.T @ con.Z, AtBt=A.T @ con.Bt_pinv, BpA=con.B_pinv @ A)
 
 
 def moved(
@@ -197,7 +200,7 @@ def moved(
     KGp = scale * _geometric_stiffness(qm, arms, F, c_mid)
     KG = np.zeros((qm.nv, qm.nv))
     KG[: qm.nx, : qm.nx] = KGp / np.outer(S[: qm.nx], S[: qm.nx])
-    return replace(
+    return evolved(
         qm,
         A=A,
         free=_with_arms(qm.free, A),
@@ -205,7 +208,7 @@ def moved(
         KG=KG,
         KGp=KGp,
         rot=R,
-        turn=float(np.arccos(np.clip((np.trace(R) - 1.0) / 2.0, -1.0, 1.0))),
+        turn=float(np.arccos(min(max((R[0, 0] + R[1, 1] + R[2, 2] - 1.0) / 2.0, -1.0), 1.0))),
         vs_ref=st.vs.copy(),
         gap_ref=qm.gaps(st.vs),
         e_ref=G @ st.c + w,

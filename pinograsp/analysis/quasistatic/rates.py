@@ -427,20 +427,13 @@ def _segment(
     ftol = RATE_RTOL * rscale
     opening = sep.copy()
     opening[zero] = (zeta[:nzero] > ftol) | (dc[zero * d] <= ftol)
-    sliding: list[list[int]] = [[] for _ in range(nc)]
     flowing = faces[flows_f > ftol]
-    for i, f in zip(qm.face_contact[flowing].tolist(), qm.face_index[flowing].tolist()):
-        sliding[i].append(f)
     sep_all = cls.open | opening
-    sep_l = sep_all.tolist()
-    contact: tuple[ContactState, ...] = tuple(
-        "separated" if sep_l[i] else ("sliding" if sliding[i] else "sticking") for i in range(nc)
-    )
-    detail = tuple(() if sep_l[i] else tuple(sliding[i]) for i in range(nc))
+    contact, detail = _contact_states(qm, sep_all.tolist(), flowing)
     moving = np.zeros(qm.na, bool)
     moving[acts] = zeta[nzero + len(faces) :] > ftol
-    mv, nbd, kinds = moving.tolist(), qm.nbd.tolist(), qm.model.kinds
-    actuator = tuple(("moving" if mv[a] else "holding") if nbd[a] else kinds[a] for a in range(qm.na))
+    states = zip(moving.tolist(), qm.nbd.tolist(), qm.model.kinds)
+    actuator = tuple([("moving" if m else "holding") if n else k for m, n, k in states])
     dc = dc.reshape(nc, d).copy()
     dc[sep_all] = 0.0
     return Segment(
@@ -460,6 +453,23 @@ def _segment(
         lam_rate=lam_rate,
         separated=sep_all,
     )
+
+
+def _contact_states(
+    qm: QSModel, sep: list[bool], flowing: np.ndarray
+) -> tuple[tuple[ContactState, ...], tuple[tuple[int, ...], ...]]:
+    """Each contact's state and sliding faces (:attr:`Segment.contact`, :attr:`Segment.detail`)
+    from the separated contacts ``sep`` (nc,) and the flowing faces ``flowing`` (rows of
+    :attr:`QSModel.Phi`)."""
+    if not len(flowing):
+        return tuple(["separated" if s else "sticking" for s in sep]), ((),) * len(sep)
+    sliding: list[list[int]] = [[] for _ in sep]
+    for i, f in zip(qm.face_contact[flowing].tolist(), qm.face_index[flowing].tolist()):
+        sliding[i].append(f)
+    contact: tuple[ContactState, ...] = tuple(
+        ["separated" if s else ("sliding" if x else "sticking") for s, x in zip(sep, sliding)]
+    )
+    return contact, tuple([() if s else tuple(x) for s, x in zip(sep, sliding)])
 
 
 def rescaled(seg: Segment, factor: float) -> Segment:

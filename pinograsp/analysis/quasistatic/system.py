@@ -5,12 +5,12 @@ mechanisms and redundant constraints, a least-norm SVD solve of the whole border
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 from scipy.linalg.lapack import dgetrf, dgetrs, dpotrf, dpotrs
 
-from .model import RANK_RTOL, QSModel
+from .model import RANK_RTOL, QSModel, evolved
 from .state import StageSpec
 
 #: Relative residual above which a linear solve is taken as having no solution (singular
@@ -96,7 +96,7 @@ class StageCache:
         """This cache for ``qm``, the same model re-linearised at a turned object
         (``geometry.moved``): only the products with ``A`` and the geometric stiffness change."""
         con = qm.held if spec.held else qm.free
-        return replace(
+        return evolved(
             self,
             AZ=con.AZ,
             AtBt=con.AtBt,
