@@ -311,6 +311,23 @@ def test_a_line_resists_the_twist_about_the_jaw_normal(cylinder):
     _assert_line_twist(hand, q, obj, closed_rtol=1e-9, answer_rtol=1e-4)
 
 
+def test_a_cylinder_pushed_across_the_jaws_gives_way_at_the_squeeze_both_ways(cylinder):
+    """Along the squeeze axis x the far jaw unloads and the near one carries the whole load at
+    its command: the grasp gives way at F = 20 N in both senses. At +x the far jaw's line
+    unloads to ~2e-5 N per end on a pyramid vertex, where the rate problem's face block is
+    singular and it has no solution (its singular index sets decided by a linear program,
+    pinograsp.solvers.lcp.provably_unsolvable): the grasp gives way there. That side used to
+    stop without a verdict (SolverError) while -x answered 20.0 N."""
+    hand, q, obj = cylinder
+    m = pg.grasp_model_from_scene(hand, q, obj, mu=MU)
+    loads = []
+    for d in ("fx", "-fx"):
+        mw = pg.max_resistible_wrench(m, F, d, upper=50.0)
+        assert mw.status == "finite" and mw.giveway.reason == "limit"
+        loads.append(mw.magnitude)
+    assert loads == pytest.approx([F, F], rel=1e-4)
+
+
 def test_line_points_invariant_under_a_rigid_motion_and_relabelling(cylinder):
     hand, q, obj = cylinder
     config = HandConfiguration.at(hand, q)

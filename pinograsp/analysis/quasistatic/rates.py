@@ -429,7 +429,14 @@ def _segment(
     opening[zero] = (zeta[:nzero] > ftol) | (dc[zero * d] <= ftol)
     flowing = faces[flows_f > ftol]
     sep_all = cls.open | opening
-    contact, detail = _contact_states(qm, sep_all.tolist(), flowing)
+    sep_l = sep_all.tolist()
+    sliding: list[list[int]] = [[] for _ in sep_l]
+    for i, f in zip(qm.face_contact[flowing].tolist(), qm.face_index[flowing].tolist()):
+        sliding[i].append(f)
+    contact: tuple[ContactState, ...] = tuple(
+        ["separated" if s else ("sliding" if x else "sticking") for s, x in zip(sep_l, sliding)]
+    )
+    detail = tuple([() if s else tuple(x) for s, x in zip(sep_l, sliding)])
     moving = np.zeros(qm.na, bool)
     moving[acts] = zeta[nzero + len(faces) :] > ftol
     states = zip(moving.tolist(), qm.nbd.tolist(), qm.model.kinds)
@@ -453,23 +460,6 @@ def _segment(
         lam_rate=lam_rate,
         separated=sep_all,
     )
-
-
-def _contact_states(
-    qm: QSModel, sep: list[bool], flowing: np.ndarray
-) -> tuple[tuple[ContactState, ...], tuple[tuple[int, ...], ...]]:
-    """Each contact's state and sliding faces (:attr:`Segment.contact`, :attr:`Segment.detail`)
-    from the separated contacts ``sep`` (nc,) and the flowing faces ``flowing`` (rows of
-    :attr:`QSModel.Phi`)."""
-    if not len(flowing):
-        return tuple(["separated" if s else "sticking" for s in sep]), ((),) * len(sep)
-    sliding: list[list[int]] = [[] for _ in sep]
-    for i, f in zip(qm.face_contact[flowing].tolist(), qm.face_index[flowing].tolist()):
-        sliding[i].append(f)
-    contact: tuple[ContactState, ...] = tuple(
-        ["separated" if s else ("sliding" if x else "sticking") for s, x in zip(sep, sliding)]
-    )
-    return contact, tuple([() if s else tuple(x) for s, x in zip(sep, sliding)])
 
 
 def rescaled(seg: Segment, factor: float) -> Segment:

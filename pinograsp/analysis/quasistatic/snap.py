@@ -2,17 +2,19 @@
 
 When Lemke's method ray-terminates on the local rate problem under load control and under
 displacement control, the LCP may still have a solution (Lemke's method decides only for
-copositive-plus ``M``, and ``M`` is not with friction). For a small problem the question is
-settled exactly by enumerating every complementary index set: if none of the ``2^n`` linear
-systems gives ``z >= 0`` and ``w >= 0`` (by a margin, with every principal block well
-conditioned), the LCP has no solution. Under both controls this means that no equilibrium path
+copositive-plus ``M``, and ``M`` is not with friction). The question is settled by
+:func:`~pinograsp.solvers.lcp.provably_unsolvable`: a Farkas certificate at any size (no flows
+keep every slack rate nonnegative) or, for a small problem, every complementary index set
+enumerated — none of the ``2^n`` linear systems gives ``z >= 0`` and ``w >= 0`` (by a margin;
+a singular block by a small linear program, at bounded flows) — and the LCP has no solution.
+Under both controls this means that no equilibrium path
 leaves the state, neither with a growing nor with a falling load: typically a sliding contact
 whose slip sheds its normal force faster than its friction polygon shrinks (the normal–
 tangential coupling through the hand makes ``M`` lose positivity). The grasp then moves
 dynamically — it gives way, as a softening limit does — so the path ends there with a limit,
 status ``"unstable"`` (docs/hands.md, "When the quasi-static path has no continuation").
-Anything short of a certificate (a larger problem, a nearly singular block, a candidate within
-the tolerance) leaves the stop without a verdict, as before.
+Anything short of a certificate (a larger feasible problem, a candidate within the tolerance)
+leaves the stop without a verdict, as before.
 """
 
 from __future__ import annotations
