@@ -11,38 +11,21 @@ over 0.05 s, the preload is the path's to 1 % and the grasp holds the acceptance
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import numpy as np
 import pytest
+from support.grasps import stored_grasp
 
 import pinograsp as pg
 
 DATA = Path(__file__).parent / "data" / "ability_box_plan5.json"
-_TEXT = (
-    "kinds",
-    "contact_names",
-    "joint_names",
-    "actuator_names",
-    "coupling_names",
-    "all_actuator_names",
-    "bidirectional",
-)
-
 DIRECTION = np.array([-1.0, 1.0, -1.0, 0.0, 0.0, 0.0]) / np.sqrt(3.0)
 
 
 @pytest.fixture(scope="module")
 def grasp() -> tuple[pg.GraspModel, dict[str, float]]:
-    raw = json.loads(DATA.read_text())
-    m = raw["model"]
-    arrays = {k: np.asarray(v, dtype=float) for k, v in m.items() if isinstance(v, list) and k not in _TEXT}
-    beta = np.asarray(m["beta_contact"], dtype=int)
-    texts = {k: tuple(m[k]) for k in _TEXT}
-    scalars = {k: m[k] for k in ("planar", "edges", "length_scale", "normal_uncertainty")}
-    model = pg.GraspModel(**{**arrays, "beta_contact": beta, **texts, **scalars})
-    return model, raw["command"]
+    return stored_grasp(DATA)
 
 
 def _preloaded_normal_forces(

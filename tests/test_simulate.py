@@ -108,18 +108,25 @@ def test_cli_simulate_text_held_along_x(pinch, capsys):
     assert "predicted (quasistatic): unbounded; class agrees" in out
 
 
-def test_cli_simulate_passes_the_release_time(pinch, capsys):
-    """``--release-time`` is the API's ``release_time``: the same load, bit for bit; a bad value
-    is the API's error, naming the option."""
+@pytest.mark.parametrize(
+    "flag, option, value, bad, valid",
+    [
+        ("--release-time", "release_time", 0.05, "-1", "[0, 10]"),
+        ("--finger-mass", "finger_mass", 0.3, "0.01", "[0.1, 100]"),
+    ],
+)
+def test_cli_simulate_passes_the_release_time_and_finger_mass(pinch, capsys, flag, option, value, bad, valid):
+    """``--release-time`` and ``--finger-mass`` are the API's options: the same load, bit for
+    bit; a bad value is the API's error, naming the option and its range."""
     from pinograsp.cli import main
 
-    assert main(["simulate", "pinch", "-d", "fy", "--release-time", "0.05", "--json"]) == 0
+    assert main(["simulate", "pinch", "-d", "fy", flag, str(value), "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
-    api = pg.simulate_max_wrench(pg.load_scene("pinch"), "fy", release_time=0.05)
+    api = pg.simulate_max_wrench(pg.load_scene("pinch"), "fy", **{option: value})
     assert data["load"] == api.load and data["status"] == api.status
-    assert main(["simulate", "pinch", "-d", "fy", "--release-time", "-1"]) == 2
+    assert main(["simulate", "pinch", "-d", "fy", flag, bad]) == 2
     err = capsys.readouterr().err
-    assert err.startswith("pinograsp: error:") and "release_time" in err and "[0, 10]" in err
+    assert err.startswith("pinograsp: error:") and option in err and valid in err
 
 
 def test_cli_simulate_without_mujoco_names_the_extra(monkeypatch, capsys):

@@ -377,6 +377,11 @@ def _add_simulate(sub: argparse._SubParsersAction) -> None:
         type=float,
         help="time over which the held object is released [s] (default 0: at once; 0.05: as the model)",
     )
+    g.add_argument(
+        "--finger-mass",
+        type=float,
+        help="each finger's effective mass at its contacts, x the object's (default 1; range 0.1-100)",
+    )
     g.add_argument("--slip", type=float, help="translation that counts as giving way [m]")
     g.add_argument("--rotation", type=float, help="rotation that counts as giving way [rad]")
     g.add_argument("--tolerance", type=float, help="relative resolution of the load (default 2e-3)")

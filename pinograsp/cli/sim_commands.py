@@ -19,6 +19,7 @@ _SIM_OPTIONS = (
     "timestep",
     "ramp_time",
     "release_time",
+    "finger_mass",
     "slip",
     "rotation",
     "tolerance",

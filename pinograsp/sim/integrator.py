@@ -57,6 +57,8 @@ class SimOptions:
         release_time: Duration [s] over which a held object is released: the wrench that held
             it at the end of the closing is applied to it and removed smoothly (the loading
             path's release stage, docs/quasistatic.md); 0: released at once.
+        finger_mass: Effective mass of each hand joint at its farthest contact, as a multiple
+            of the object's ``mass`` (the joint's armature ``finger_mass * mass * reach**2``).
     """
 
     upper: float
@@ -77,6 +79,7 @@ class SimOptions:
     relax: bool = True
     friction: str = "cone"
     release_time: float = 0.0
+    finger_mass: float = 1.0
 
 
 class Engine:
@@ -94,7 +97,11 @@ class Engine:
         reach = np.where(reach > 0, reach, grasp.length_scale)
         inertia = opts.mass * grasp.length_scale**2
         self.red: ReducedModel = build(
-            grasp, mass=opts.mass, inertia=inertia, armature=opts.mass * reach**2, timestep=opts.timestep
+            grasp,
+            mass=opts.mass,
+            inertia=inertia,
+            armature=opts.finger_mass * opts.mass * reach**2,
+            timestep=opts.timestep,
         )
         self.data = self.mj.MjData(self.red.model)
         self.command = command

@@ -81,6 +81,20 @@ def _release_time(value: object) -> float:
         ) from exc
 
 
+def _finger_mass(value: object) -> float:
+    """``finger_mass`` in :data:`SIM_FINGER_MASS`, else an error stating the range and the choice."""
+    lo, hi = SIM_FINGER_MASS
+    try:
+        return number_in("finger_mass", repr(value) if isinstance(value, bool) else value, lo, hi, "")
+    except InvalidInputError as exc:
+        raise InvalidInputError(
+            "finger_mass",
+            f"must be a ratio in [{lo:g}, {hi:g}] (each finger's effective mass at its contacts over "
+            f"the object's), got {value!r}: pass 1 (the default) or, e.g., 0.1 for fingers much "
+            "lighter than the object (docs/simulation.md, 'Finger mass')",
+        ) from exc
+
+
 def _options(grasp: GraspModel, direction: np.ndarray, upper: float, kw: dict[str, Any]) -> SimOptions:
     """Defaults filled in and validated (docs/simulation.md, "Defaults")."""
     ell = float(grasp.length_scale)
@@ -119,6 +133,7 @@ def _options(grasp: GraspModel, direction: np.ndarray, upper: float, kw: dict[st
         relax=bool(kw.pop("relax", True)),
         friction=friction,
         release_time=_release_time(kw.pop("release_time", 0.0)),
+        finger_mass=_finger_mass(kw.pop("finger_mass", 1.0)),
     )
     if kw:
         raise InvalidInputError("options", f"unknown simulation option(s) {sorted(kw)}")
@@ -133,6 +148,9 @@ def _options(grasp: GraspModel, direction: np.ndarray, upper: float, kw: dict[st
 #: (MuJoCo's stable range for the contact springs), the give-way resolution (relative), and the
 #: largest number of integration steps of one run (preload, ramp, hold and refinement).
 SIM_STIFFNESS = (1.0, 1e10)
+#: Effective finger mass at the contacts as a multiple of the object's mass: below 0.1 the
+#: fingers' contact oscillation outruns the default time step (semi-implicit Euler).
+SIM_FINGER_MASS = (0.1, 100.0)
 SIM_TIMESTEP = (1e-7, 1e-2)
 SIM_TOLERANCE = (1e-6, 0.5)
 MAX_SIM_STEPS = 10**7
@@ -194,7 +212,9 @@ def simulate_max_wrench(
             ``tolerance``, ``mass`` [kg], ``damping``, ``preload`` (``"held"``/``"settled"``),
             ``relax``, ``friction`` (``"cone"``/``"pyramid"``), ``preload_time``,
             ``release_time`` [s] (a held object's holding wrench removed smoothly over it;
-            default 0: at once), ``filter_time``, ``trace_every``.
+            default 0: at once), ``finger_mass`` (each finger's effective mass at its contacts
+            as a multiple of the object's; default 1, range [0.1, 100]), ``filter_time``,
+            ``trace_every``.
 
     Returns:
         The :class:`SimulationResult`.

@@ -3,7 +3,9 @@
 * :func:`pinch_contacts`, :func:`pinch_variant` — ``examples.pinch_contacts`` / ``examples.pinch``
   with this module's constants (tests move, rescale and reorder the contacts);
 * :func:`with_stiffness` — any model with other contact stiffnesses;
-* :func:`double_pinch` and :func:`ring` — the stress catalogue's own geometries.
+* :func:`double_pinch` and :func:`ring` — the stress catalogue's own geometries;
+* :func:`stored_grasp` / :func:`store_grasp` — a grasp kept in ``tests/data`` as its
+  :class:`~pinograsp.GraspModel` arrays and command (planned grasps, without the planner).
 
 The pinch: half width ``A`` [m], finger length ``L`` [m], friction ``MU``, preload ``TAU``
 [N·m] (docs/analytic_cases.md).
@@ -12,6 +14,8 @@ The pinch: half width ``A`` [m], finger length ``L`` [m], friction ``MU``, prelo
 from __future__ import annotations
 
 import dataclasses
+import json
+from pathlib import Path
 
 import numpy as np
 
@@ -96,3 +100,36 @@ def pyramid_fmax(m: int, phi: float, circumscribed: bool) -> float:
     mid = (k + 0.5) * 2 * half
     mu_v = MU / np.cos(half) if circumscribed else MU
     return float(2 * TAU / L * mu_v * np.cos(half) / np.cos(phi - mid))
+
+
+#: The text fields of a stored grasp (the rest are arrays or scalars).
+_TEXT = (
+    "kinds",
+    "contact_names",
+    "joint_names",
+    "actuator_names",
+    "coupling_names",
+    "all_actuator_names",
+    "bidirectional",
+)
+_SCALARS = ("planar", "edges", "length_scale", "normal_uncertainty")
+_ARRAYS = ("G", "J", "D", "beta_contact", "k", "mu", "R", "C", "points", "frames", "reference_point")
+
+
+def stored_grasp(path: Path) -> tuple[pg.GraspModel, dict[str, float]]:
+    """The model and command of a grasp written by :func:`store_grasp`."""
+    raw = json.loads(Path(path).read_text())
+    m = raw["model"]
+    arrays = {k: np.asarray(m[k], dtype=float) for k in _ARRAYS if k != "beta_contact"}
+    beta = np.asarray(m["beta_contact"], dtype=int)
+    texts = {k: tuple(m[k]) for k in _TEXT}
+    scalars = {k: m[k] for k in _SCALARS}
+    return pg.GraspModel(**{**arrays, "beta_contact": beta, **texts, **scalars}), raw["command"]
+
+
+def store_grasp(path: Path, model: pg.GraspModel, command: dict[str, float], source: str) -> None:
+    """Write ``model`` and ``command`` as JSON (``source``: where the grasp comes from)."""
+    m = {k: np.asarray(getattr(model, k)).tolist() for k in _ARRAYS}
+    m.update({k: list(getattr(model, k)) for k in _TEXT})
+    m.update({k: getattr(model, k) for k in _SCALARS})
+    Path(path).write_text(json.dumps({"source": source, "command": command, "model": m}))
