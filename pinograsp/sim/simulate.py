@@ -211,10 +211,9 @@ def simulate_max_wrench(
             ``ramp_time``, ``start``, ``hold_time``, ``slip`` [m], ``rotation`` [rad],
             ``tolerance``, ``mass`` [kg], ``damping``, ``preload`` (``"held"``/``"settled"``),
             ``relax``, ``friction`` (``"cone"``/``"pyramid"``), ``preload_time``,
-            ``release_time`` [s] (a held object's holding wrench removed smoothly over it;
-            default 0: at once), ``finger_mass`` (each finger's effective mass at its contacts
-            as a multiple of the object's; default 1, range [0.1, 100]), ``filter_time``,
-            ``trace_every``.
+            ``release_time`` [s] (the held object's holding wrench removed over it; 0: at
+            once), ``finger_mass`` (fingers' mass at the contacts / the object's, default 1),
+            ``filter_time``, ``trace_every``.
 
     Returns:
         The :class:`SimulationResult`.
