@@ -210,10 +210,8 @@ def simulate_max_wrench(
             docs/simulation.md ("Thresholds and defaults"): ``stiffness``, ``timestep``,
             ``ramp_time``, ``start``, ``hold_time``, ``slip`` [m], ``rotation`` [rad],
             ``tolerance``, ``mass`` [kg], ``damping``, ``preload`` (``"held"``/``"settled"``),
-            ``relax``, ``friction`` (``"cone"``/``"pyramid"``), ``preload_time``,
-            ``release_time`` [s] (the held object's holding wrench removed over it; 0: at
-            once), ``finger_mass`` (fingers' mass at the contacts / the object's, default 1),
-            ``filter_time``, ``trace_every``.
+            ``relax``, ``friction`` (``"cone"``/``"pyramid"``), ``preload_time``, ``release_time``
+            [s], ``finger_mass`` (over the object's mass), ``filter_time``, ``trace_every``.
 
     Returns:
         The :class:`SimulationResult`.
