@@ -138,9 +138,14 @@ def plan_rows():
                     continue
                 d = np.zeros(6)
                 d[:3] = dirs[labels.index(label)][:3]
-                yield f"plans/{key}/plan{i + 1}/{label}", model, command, d, float(sim["upper"]), {
-                    "cone": _sim(sim)
-                }
+                yield (
+                    f"plans/{key}/plan{i + 1}/{label}",
+                    model,
+                    command,
+                    d,
+                    float(sim["upper"]),
+                    {"cone": _sim(sim)},
+                )
 
 
 def main() -> None:
@@ -164,7 +169,9 @@ def main() -> None:
                 found += 1
                 fh.write(json.dumps({"key": key, "upper": up, "sims": sims, **rec}, default=float) + "\n")
                 fh.flush()
-                print(f"{key}: lam* {rec['first_limit']:.4g} answer {rec['answer']:.4g} sims {sims}", flush=True)
+                print(
+                    f"{key}: lam* {rec['first_limit']:.4g} answer {rec['answer']:.4g} sims {sims}", flush=True
+                )
     print(f"{found} of {n} directions followed a landed snap", flush=True)
 
 

@@ -32,7 +32,9 @@ def give_way(scale: float, friction: str, ramp_time: float, upper: float = 45.0)
 
     integ.Engine.__init__ = scaled
     try:
-        run, d = engine(model, command, MINUS_FZ, upper, ramp_time=ramp_time, release_time=0.05, friction=friction)
+        run, d = engine(
+            model, command, MINUS_FZ, upper, ramp_time=ramp_time, release_time=0.05, friction=friction
+        )
     finally:
         integ.Engine.__init__ = orig
     found = ramp(run, d)
@@ -51,7 +53,11 @@ def main() -> None:
     for s in a.scales:
         t = time.process_time()
         load, status = give_way(s, a.friction, a.ramp)
-        print(f"armature x{s:g} ({a.friction}, ramp {a.ramp:g} s): {status} {load}  [{time.process_time() - t:.0f} s]", flush=True)
+        print(
+            f"armature x{s:g} ({a.friction}, ramp {a.ramp:g} s): {status} {load}"
+            f"  [{time.process_time() - t:.0f} s]",
+            flush=True,
+        )
 
 
 if __name__ == "__main__":

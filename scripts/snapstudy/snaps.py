@@ -131,7 +131,12 @@ def snap_metrics(p, lp, th, d6) -> list[Snap]:
                 capacity_next=cap,
                 next_peak=float(cont.loads[peak]),
                 u_lim=float(u[a]),
-                extra={"after_loads": after_l, "after_u": after_u, "descent_loads": seg_l, "descent_u": seg_u},
+                extra={
+                    "after_loads": after_l,
+                    "after_u": after_u,
+                    "descent_loads": seg_l,
+                    "descent_u": seg_u,
+                },
             )
         )
     return out

@@ -1,7 +1,7 @@
 """The snap table of notes_snap_study.md from ``snaps.jsonl`` (question 3), and the candidate
 landing criteria tried on it.
 
-    python -m scripts.snapstudy.table [--md]
+    python -m scripts.snapstudy.table
 """
 
 from __future__ import annotations
@@ -75,8 +75,10 @@ def _agree(pred: float, sim: float, up: float) -> bool:
 
 
 def table(rs: list[dict]) -> str:
-    head = ("| direction | ref | λ* [N] | answer [N] | sim [N] | survived | jump du [µm] / rot [mrad] | E [µJ] "
-            "| E/(λ*·slip) | load drop | k_after/k_before | λ*/(k_after·slip) |")  # fmt: skip
+    head = (
+        "| direction | ref | λ* [N] | answer [N] | sim [N] | survived | jump du [µm] / rot [mrad] "
+        "| E [µJ] | E/(λ*·slip) | load drop | k_after/k_before | λ*/(k_after·slip) |"
+    )
     lines = [head, "|" + "---|" * 12]
     for r in sorted(rs, key=lambda r: r["m"]["floppy"]):
         s, m = r["snap"], r["m"]
@@ -85,7 +87,8 @@ def table(rs: list[dict]) -> str:
         lines.append(
             f"| {r['key']} | {r['ref']} | {r['first_limit']:.4g} | {ans} | {sim} {r['sim_status'][:4]} "
             f"| {'yes' if r['sim_survived'] else '**no**'} | {s['du'] * 1e6:.3g} / {s['drot'] * 1e3:.3g} "
-            f"| {s['energy'] * 1e6:.3g} | {m['E_rel']:.2e} | {m['drop']:.3f} | {m['soft']:.3g} | {m['floppy']:.3g} |"
+            f"| {s['energy'] * 1e6:.3g} | {m['E_rel']:.2e} | {m['drop']:.3f} | {m['soft']:.3g} "
+            f"| {m['floppy']:.3g} |"
         )
     return "\n".join(lines)
 
@@ -118,8 +121,7 @@ def criterion(rs: list[dict], name: str, cut: float) -> dict:
 
 def main() -> None:
     ap = argparse.ArgumentParser()
-    ap.add_argument("--md", action="store_true")
-    a = ap.parse_args()
+    ap.parse_args()
     rs = rows()
     print(table(rs))
     past = [r for r in rs if r["answer_past"]]
@@ -133,7 +135,10 @@ def main() -> None:
                 continue
             print(criterion(rs, name, c))
     for c in (0.5, 0.3, 0.1):  # soft: k_after/k_before below c
-        rs2 = [{**r, "m": {**r["m"], "inv_soft": 1 / r["m"]["soft"] if r["m"]["soft"] > 0 else math.inf}} for r in rs]
+        rs2 = [
+            {**r, "m": {**r["m"], "inv_soft": 1 / r["m"]["soft"] if r["m"]["soft"] > 0 else math.inf}}
+            for r in rs
+        ]
         print(criterion(rs2, "inv_soft", 1 / c))
 
 
