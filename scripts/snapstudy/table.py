@@ -129,7 +129,12 @@ def main() -> None:
     for r in sorted(past, key=lambda r: r["m"]["floppy"]):
         print(f"  {r['key']}: survived={r['sim_survived']} answer ok={r['cmp_answer']} λ* ok={r['cmp_lam']} "
               + " ".join(f"{k}={v:.3g}" for k, v in r["m"].items()))  # fmt: skip
-    for name, cuts in (("floppy", (0.1, 0.3, 0.5, 0.8)), ("soft", (-1,)), ("E_rel", (1e-4, 1e-3))):
+    for name, cuts in (
+        ("floppy", (0.1, 0.3, 0.5, 0.8)),
+        ("soft", (-1,)),
+        ("E_rel", (1e-4, 1e-3)),
+        ("jump", (0.05, 0.1)),
+    ):
         for c in cuts:
             if name == "soft":
                 continue
