@@ -1,1 +1,2 @@
-"""Snap-landing study (issue 34(a)'s last miss): notes_snap_study.md."""
+"""Snap-landing study (issue 34(a)'s last miss): docs/giveway.md, "Snaps and the fingers'
+mass", and docs/planning.md, "Acceptance"."""

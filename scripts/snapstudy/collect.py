@@ -1,5 +1,5 @@
 """Every validated direction whose default answer followed a landed snap, with its snap
-metrics and its cached simulations (notes_snap_study.md, question 3). No simulation is run.
+metrics and its cached simulations (docs/giveway.md, "Snaps and the fingers' mass"). No simulation is run.
 
 Sets: the 352 directions of ``validate_quasistatic`` (references: pyramid 0.02 s, cone 0.02 s
 and "settled": the ramp study's slowest settled pyramid run where it re-simulated, else the

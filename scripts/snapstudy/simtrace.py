@@ -1,4 +1,4 @@
-"""A recorded simulation of the studied plan (notes_snap_study.md, question 2).
+"""A recorded simulation of the studied plan (docs/giveway.md, question 2).
 
 ``pg.simulate_max_wrench`` keeps only the load, translation and rotation of its ramp; this
 script drives the same engine (``pinograsp.sim`` internals, read-only: the same options,

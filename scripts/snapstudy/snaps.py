@@ -1,4 +1,4 @@
-"""What the loading path says about each snap it follows (notes_snap_study.md, question 1).
+"""What the loading path says about each snap it follows (docs/giveway.md, question 1).
 
 :func:`path_of` runs the same path as the default answer (``max_wrench_prepared``: the same
 thresholds, geometry updates and continuation); :func:`snap_metrics` measures each snap of

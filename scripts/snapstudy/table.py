@@ -1,4 +1,4 @@
-"""The snap table of notes_snap_study.md from ``snaps.jsonl`` (question 3), and the candidate
+"""The snap table of docs/giveway.md from ``snaps.jsonl`` (question 3), and the candidate
 landing criteria tried on it.
 
     python -m scripts.snapstudy.table
