@@ -491,6 +491,40 @@ def test_a_cylinder_mesh_finger_along_a_face_is_its_generator(tmp_path, convex):
     np.testing.assert_allclose(got[1], [[-0.0151, 0, -0.05], [-0.0151, 0, 0.05]], atol=1e-9)
 
 
+@pytest.mark.parametrize("convex", [True, False])
+@pytest.mark.parametrize("offset", [0.0, 0.030])
+def test_a_cylinder_mesh_finger_along_a_cylinder_is_their_overlap(tmp_path, convex, offset):
+    """The tessellated cylinder (100 mm, 32 sections) as the hand geometry, its axis parallel to
+    a primitive cylinder's (60 mm, radius 10 mm) 0.2 mm away, the finger's centre at z =
+    -offset: two straight sides, a line over their overlap (z from max(-offset - 50, -30) to
+    min(-offset + 50, 30) mm), midway across the gap. Crossing at 30 degrees: one point."""
+    fing = _cylinder_mesh(tmp_path, convex, 0.0)
+    other, n = coal.Cylinder(0.010, 0.060), np.array([1.0, 0, 0])
+    got = pair_patch(fing.geometry, T([-0.0252, 0, -offset]), other, T([0, 0, 0]), TOL, 4, n)
+    assert got is not None and got[0] == "line"
+    lo, hi = max(-offset - 0.05, -0.03), min(-offset + 0.05, 0.03)
+    np.testing.assert_allclose(np.sort(got[1][:, 2]), [lo, hi], atol=1e-9)
+    np.testing.assert_allclose(got[1][:, 0], -0.0101, atol=1e-9)
+    np.testing.assert_allclose(got[2], n, atol=1e-8)
+    crossing = T([0, 0, 0], rot([1, 0, 0], np.pi / 6))
+    assert pair_patch(fing.geometry, T([-0.0252, 0, 0]), other, crossing, TOL, 4, n) is None
+
+
+def test_the_hey5_middle_fingertip_lies_along_the_cylinder():
+    """The hey5 scene: the middle fingertip's straight side (a tessellated strip of 14 mm) runs
+    parallel to the cylinder's axis: a 14 mm line; the other fingertips cross it (30 degrees) or
+    touch with a rounded tip: one point each."""
+    scene = pg.load_scene("hey5")
+    report = pg.detect_contacts(scene.hand, scene.q, scene.object)
+    kinds = {p.link: p.kind for p in report.patches}
+    assert kinds.pop("hand_middle_flex_3_link") == "line" and set(kinds.values()) == {"point"}
+    (line,) = [p for p in report.patches if p.kind == "line"]
+    assert np.linalg.norm(line.points[1] - line.points[0]) == pytest.approx(0.014, abs=1e-6)
+    axis = (line.points[1] - line.points[0]) / np.linalg.norm(line.points[1] - line.points[0])
+    assert abs(axis @ scene.object.transform.getRotation()[:, 2]) == pytest.approx(1.0, abs=1e-9)
+    assert scene.model.nc == 6
+
+
 def test_a_short_cylinder_mesh_stays_one_point(tmp_path):
     """A 8 mm long tessellated cylinder: its line would be under 10 tolerances (10 mm)."""
     obj = _cylinder_mesh(tmp_path, False, 0.0, length=0.008)

@@ -19,6 +19,10 @@ single point:
    the mesh (:data:`MESH_LINE_FRACTION`), the line is long (:data:`MESH_LINE_LENGTH` times the
    tolerance) and narrow (:data:`MESH_LINE_ASPECT`), and the real mesh lies within the tolerance
    of :data:`LINE_SAMPLES` points along it.
+3. **A tessellated straight side on a straight side** (a mesh finger whose side is straight
+   along a cylindrical object): the mesh's top strip (:func:`top_strip`) and the primitive's
+   generator are two straight sides, joined as in 1 (:func:`parallel_sides`), with the mesh
+   checked along the line as in 2.
 
 Base frame unless said; the only Coal calls are the hull's construction and point distances.
 """
@@ -117,6 +121,24 @@ def mesh_touch(
         return "curved"  # one facet of a curve, or not along a line (a flat ring, a wide face)
     size = float(np.max(vertices.max(axis=0) - vertices.min(axis=0)))
     return "long" if span >= MESH_LINE_FRACTION * size else "curved"
+
+
+def top_strip(
+    geometry: coal.CollisionGeometry, T: coal.Transform3s, direction: np.ndarray, tolerance: float
+) -> np.ndarray:
+    """The ends (2, 3) [m] of a mesh's top strip along ``direction`` (3,) (out of it): its hull
+    vertices within ``MESH_FLATNESS * tolerance`` of the support plane, spanned along their
+    first principal direction (a straight side's tessellated generator; base frame)."""
+    R, t = np.array(T.getRotation(), dtype=float), np.array(T.getTranslation(), dtype=float)
+    vertices = _hull_vertices(geometry) @ R.T + t
+    depth = vertices @ direction
+    top = vertices[depth >= depth.max() - MESH_FLATNESS * tolerance]
+    centre = top.mean(axis=0)
+    if len(top) < 2:
+        return np.array([centre, centre])
+    axis = np.linalg.svd(top - centre, full_matrices=False)[2][0]
+    s = (top - centre) @ axis
+    return np.array([centre + s.min() * axis, centre + s.max() * axis])
 
 
 def generator(

@@ -68,6 +68,7 @@ from .patch_shapes import (
     parallel_sides,
     samples,
     solid_of,
+    top_strip,
 )
 
 if TYPE_CHECKING:
@@ -333,7 +334,8 @@ def _mesh_pair(
     """How the pair touches along ``normal`` (``g1`` into ``g2``), by :func:`mesh_touch` of its
     meshes: ``"curved"`` if one is; ``"flat"`` if each is flat; ``"long"`` if one is long and
     the other flat (a flat mesh, or a primitive whose :func:`touch_shape` is ``"flat"``: a
-    straight side on a flat face); else ``"curved"`` (one point)."""
+    straight side on a flat face) or a primitive's straight side (two straight sides); else
+    ``"curved"`` (one point)."""
     touches: list[str | None] = []
     for g, T, d in ((g1, T1, normal), (g2, T2, -normal)):
         touches.append(mesh_touch(g, T, d, tolerance) if is_mesh(g) else None)
@@ -344,7 +346,7 @@ def _mesh_pair(
     partner = [
         t if t is not None else touch_shape(g, T, normal) for t, g, T in zip(touches, (g1, g2), (T1, T2))
     ]
-    return "long" if sorted(partner) == ["flat", "long"] else "curved"
+    return "long" if sorted(partner) in (["flat", "long"], ["long", "straight"]) else "curved"
 
 
 def _line(
@@ -390,8 +392,11 @@ def _mesh_line(
     if found is None:
         return None
     points, normal = found
-    if "curved" in (touch_shape(g1, T1, normal), touch_shape(g2, T2, normal)):
+    shapes = (touch_shape(g1, T1, normal), touch_shape(g2, T2, normal))
+    if "curved" in shapes:
         return None
+    if "straight" in shapes:  # a mesh's straight side on a primitive's: two straight sides
+        return _strip_on_side(g1, T1, g2, T2, points.mean(axis=0), normal, tolerance, detected)
     if _mesh_pair(g1, T1, g2, T2, normal, tolerance) == "curved":
         return None
     ends, length, width = midline(points, normal)
@@ -400,6 +405,36 @@ def _mesh_line(
     probe = samples(ends)
     for g, T in ((g1, T1), (g2, T2)):
         if type(g).__name__.startswith("BVH") and not _on_mesh(g, T, probe, normal, tolerance, detected):
+            return None
+    return _line(ends, normal, T1)
+
+
+def _strip_on_side(
+    g1: coal.CollisionGeometry,
+    T1: coal.Transform3s,
+    g2: coal.CollisionGeometry,
+    T2: coal.Transform3s,
+    point: np.ndarray,
+    normal: np.ndarray,
+    tolerance: float,
+    detected: np.ndarray | None,
+) -> tuple[PatchKind, np.ndarray, np.ndarray] | None:
+    """The line of a mesh's long top strip on a primitive's straight side through ``point``
+    (3,) [m]: the two as straight sides (:func:`~pinograsp.robots.patch_shapes.parallel_sides`),
+    kept when the line is :data:`MESH_LINE_LENGTH` tolerances long and the triangle mesh lies
+    within ``tolerance`` of :data:`~pinograsp.robots.patch_shapes.LINE_SAMPLES` points along
+    it; otherwise ``None`` (one point)."""
+    sides = tuple(
+        top_strip(g, T, d, tolerance) if is_mesh(g) else generator(g, *_to_matrix(T), point)
+        for g, T, d in ((g1, T1, normal), (g2, T2, -normal))
+    )
+    ends = parallel_sides((sides[0], sides[1]), point, normal, tolerance)
+    if ends is None or float(np.linalg.norm(ends[1] - ends[0])) < MESH_LINE_LENGTH * tolerance:
+        return None
+    for g, T in ((g1, T1), (g2, T2)):
+        if type(g).__name__.startswith("BVH") and not _on_mesh(
+            g, T, samples(ends), normal, tolerance, detected
+        ):
             return None
     return _line(ends, normal, T1)
 
