@@ -28,6 +28,13 @@ class InvalidInputError(PinograspError, ValueError):
         super().__init__(f"{name}: {message}")
 
 
+def plural(kind: str) -> str:
+    """The plural of a kind of name in a message (``"wrench axis"`` -> ``"wrench axes"``)."""
+    if kind.endswith("axis"):
+        return kind[:-4] + "axes"
+    return kind + ("es" if kind.endswith(("s", "x", "ch", "sh")) else "s")
+
+
 class UnknownNameError(PinograspError, KeyError):
     """A name (joint, link, actuator, contact, scene, solver, ...) does not exist.
 
@@ -35,15 +42,22 @@ class UnknownNameError(PinograspError, KeyError):
         kind: What kind of name was looked up (``"joint"``, ``"actuator"``, ...).
         name: The unknown name.
         valid: The names that would have been accepted.
+
+    ``hint`` (optional) says what else to pass, appended to the message.
     """
 
-    def __init__(self, kind: str, name: object, valid: Iterable[object]) -> None:
+    def __init__(self, kind: str, name: object, valid: Iterable[object], hint: str = "") -> None:
         self.kind = kind
         self.name = name
         self.valid = list(valid)
         shown = ", ".join(repr(v) for v in self.valid[:40])
         more = "" if len(self.valid) <= 40 else f", ... ({len(self.valid)} in all)"
-        super().__init__(f"unknown {kind} {name!r}; valid {kind}s: {shown}{more}")
+        listed = (
+            f"valid {plural(kind)}: {shown}{more}"
+            if self.valid
+            else f"there are no {plural(kind)} to choose from"
+        )
+        super().__init__(f"unknown {kind} {name!r}; {listed}" + (f"; {hint}" if hint else ""))
 
     def __str__(self) -> str:  # KeyError would otherwise print the repr of the message
         return str(self.args[0])
@@ -201,6 +215,13 @@ class UrdfError(ModelFileError):
     """A URDF file cannot be loaded (malformed XML, missing mesh, unsupported joint, ...)."""
 
 
+#: What to do about a :class:`NoContactError` at a given configuration.
+NO_CONTACT_ADVICE = (
+    "move the object (its pose in the hand base frame [m]) to within the tolerance of a link, or "
+    "close the hand on it first (q = hand.close_on(obj))"
+)
+
+
 class NoContactError(PinograspError):
     """No hand collision geometry is within the contact tolerance of the object.
 
@@ -209,12 +230,20 @@ class NoContactError(PinograspError):
         tolerance: The contact tolerance [m] that was used.
         surfaces: Links whose mesh (a surface, Coal BVH) contains the object's centre in its
             bounding box: the object may be inside the link, where no distance sees it.
+        advice: What to do (the end of the message; not shown when ``surfaces`` says it).
     """
 
-    def __init__(self, distances: dict[str, float], tolerance: float, surfaces: tuple[str, ...] = ()) -> None:
+    def __init__(
+        self,
+        distances: dict[str, float],
+        tolerance: float,
+        surfaces: tuple[str, ...] = (),
+        advice: str = NO_CONTACT_ADVICE,
+    ) -> None:
         self.distances = dict(distances)
         self.tolerance = float(tolerance)
         self.surfaces = tuple(surfaces)
+        self.advice = advice
         ordered = sorted(self.distances.items(), key=lambda kv: kv[1])
         shown = ", ".join(f"{k}: {v * 1e3:.3f} mm" for k, v in ordered)
         note = ""
@@ -227,10 +256,11 @@ class NoContactError(PinograspError):
         super().__init__(
             f"the hand touches nothing (contact tolerance {self.tolerance * 1e3:.3f} mm); "
             f"closest signed distances per link: {shown or 'no collision geometry'}{note}"
+            + (f"; {advice}" if advice and not self.surfaces else "")
         )
 
     def __reduce__(self) -> tuple:  # picklable (batch workers) with its attributes
-        return (type(self), (self.distances, self.tolerance, self.surfaces))
+        return (type(self), (self.distances, self.tolerance, self.surfaces, self.advice))
 
 
 class PenetrationError(PinograspError):

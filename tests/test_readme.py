@@ -57,3 +57,18 @@ def test_readme_giveway_example(capsys):
         warnings.simplefilter("ignore")
         exec(compile(_example("giveway"), "README:giveway", "exec"), {})
     assert capsys.readouterr().out == printed.group(1)
+
+
+def test_readme_pinch_example(capsys):
+    """The pinch example prints what its comments say: 10 N per contact at 5 N along +y, both
+    motors at their command 1 N·m (labels moving/holding with the PRP), 10 N = 2 mu tau0 / L."""
+    ns: dict = {}
+    exec(compile(_example("pinch"), "README:pinch", "exec"), ns)
+    first = capsys.readouterr().out.splitlines()[0]
+    assert first == "True [10. 10.] ('moving', 'holding')"
+    r, p = ns["r"], ns["p"]
+    np.testing.assert_allclose(r.normal_forces, [10.0, 10.0], rtol=1e-9)
+    np.testing.assert_allclose(r.actuator_forces, [1.0, 1.0], rtol=1e-9)  # exactly the command
+    iterative = pg.passive_response(ns["model"], 1.0, [0.0, 5.0, 0.0], method="iterative")
+    assert iterative.actuator_modes == ("moving", "moving")
+    assert p.magnitudes[18] == pytest.approx(2 * 0.5 * 1.0 / 0.1, abs=1e-3) and p.unbounded[0]

@@ -81,3 +81,22 @@ def test_a_bad_finger_mass_names_the_option_its_range_and_the_choice(grasp, bad)
     assert err.value.name == "finger_mass"
     text = str(err.value)
     assert "[0.1, 100]" in text and "pass 1 (the default)" in text and repr(bad) in text
+
+
+def test_the_result_records_the_finger_mass_release_and_friction_it_ran_with(capsys):
+    """A user comparing runs reads the options back from the result, its JSON and the CLI text."""
+    pytest.importorskip("mujoco")
+    from pinograsp.cli import main
+
+    scene = pg.load_scene("pinch")
+    r = pg.simulate_max_wrench(scene, "fy", finger_mass=0.5, release_time=0.05, friction="pyramid")
+    assert (r.finger_mass, r.release_time, r.friction) == (0.5, 0.05, "pyramid")
+    assert r.load == pytest.approx(10.0, rel=0.01)  # 2 mu tau0 / L: the pinch closes balanced
+    d = r.to_dict()
+    assert (d["finger_mass"], d["release_time"], d["friction"]) == (0.5, 0.05, "pyramid")
+    default = pg.simulate_max_wrench(scene, "fy")
+    assert (default.finger_mass, default.release_time, default.friction) == (1.0, 0.0, "cone")
+    assert main(["simulate", "pinch", "-d", "fy", "--finger-mass", "0.5", "--release-time", "0.05"]) == 0
+    text = capsys.readouterr().out
+    assert "held preload released over 0.05 s, finger mass 0.5 x the object's 0.2 kg" in text
+    assert "cone friction" in text

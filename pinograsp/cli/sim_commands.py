@@ -42,6 +42,13 @@ def _to_resolution(value: float, resolution: float) -> str:
     return f"{value:.{min(6, max(0, math.ceil(-math.log10(resolution))))}f}"
 
 
+def _preload_text(r: Any) -> str:
+    """How the preload was applied: held or settled, and how a held object was released."""
+    if r.preload != "held":
+        return f"{r.preload} preload"
+    return "held preload released " + (f"over {r.release_time:g} s" if r.release_time > 0 else "at once")
+
+
 def give_way_text(r: Any) -> str:
     """The simulated give-way load in words, by status [N or N·m]."""
     u = r.unit
@@ -99,8 +106,10 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     lines = [
         scene_line(scene),
         preload_line(command, preload_name),
-        f"direction: {label} = {vector_text(r.direction)}; upper {r.upper:g} {r.unit}; contact stiffness "
-        f"{r.stiffness:g} N/m, step {r.timestep:g} s, ramp time {r.ramp_time:g} s, {r.preload} preload",
+        f"direction: {label} = {vector_text(r.direction)}; upper {r.upper:g} {r.unit}",
+        f"simulation: contact stiffness {r.stiffness:g} N/m, {r.friction} friction, step {r.timestep:g} s, "
+        f"ramp time {r.ramp_time:g} s, {_preload_text(r)}, finger mass {r.finger_mass:g} x the object's "
+        f"{r.mass:.3g} kg",
         "",
         f"status: {r.status}",
         f"give-way load: {give_way_text(r)}",

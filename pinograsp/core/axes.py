@@ -30,6 +30,11 @@ class WrenchSpace(Protocol):
 #: Wrench component names, world axes, torques about the object reference point.
 WRENCH_AXES = ("fx", "fy", "fz", "mx", "my", "mz")
 _AXIS_ALIASES = {"tx": "mx", "ty": "my", "tz": "mz"}
+#: What to pass instead of an unknown axis name (the message of :class:`UnknownNameError`).
+AXIS_HINT = (
+    "pass an axis with an optional sign ('fx', '-fy', '+mz'; 'tx' … 'tz' for 'mx' … 'mz') "
+    "or a wrench vector (fx, fy, fz, mx, my, mz) [N, N·m]"
+)
 #: Indices of the planar components ``(fx, fy, mz)`` inside a 6-vector.
 PLANAR_AXES = (0, 1, 5)
 
@@ -38,7 +43,7 @@ def axis_index(name: str) -> int:
     """Index of a wrench component name (``fx … mz``; ``tx …`` accepted) in a 6-vector."""
     key = _AXIS_ALIASES.get(str(name).lower(), str(name).lower())
     if key not in WRENCH_AXES:
-        raise UnknownNameError("wrench axis", name, WRENCH_AXES)
+        raise UnknownNameError("wrench axis", name, WRENCH_AXES, AXIS_HINT)
     return WRENCH_AXES.index(key)
 
 
@@ -52,13 +57,18 @@ def wrench_direction(model: WrenchSpace, direction: object, name: str = "directi
         d = np.zeros(6)
         body = direction[1:] if direction[:1] in ("+", "-") else direction  # one sign at most
         if body[:1] in ("+", "-"):
-            raise UnknownNameError("wrench axis", direction, WRENCH_AXES)  # '+-fy', '--fy'
+            raise UnknownNameError("wrench axis", direction, WRENCH_AXES, AXIS_HINT)  # '+-fy', '--fy'
         d[axis_index(body)] = sign
     else:
         d = model.wrench_vector(direction, name)
     big = float(np.abs(d).max())
     if not big > 0:
-        raise InvalidInputError(name, "zero-length direction", d)
+        raise InvalidInputError(
+            name,
+            "zero-length direction: give a nonzero wrench vector (fx, fy, fz, mx, my, mz) "
+            "or an axis such as 'fy'",
+            d,
+        )
     d = d / big  # first to the largest entry: no overflow (1e200) or underflow (1e-200) in the norm
     d = d / float(np.linalg.norm(d))
     return model.wrench_vector(d, name)
@@ -106,7 +116,9 @@ def plane_basis(model: WrenchSpace, plane: Sequence[object]) -> tuple[np.ndarray
     b = [wrench_direction(model, p, f"plane[{i}]") for i, p in enumerate(plane)]
     b2 = b[1] - (b[1] @ b[0]) * b[0]
     if np.linalg.norm(b2) < 1e-9:
-        raise InvalidInputError("plane", "the two directions are parallel")
+        raise InvalidInputError(
+            "plane", "the two directions are parallel: give two different axes, e.g. ('fx', 'fy')"
+        )
     labels = tuple(p if isinstance(p, str) else f"d{i}" for i, p in enumerate(plane))
     return np.vstack([b[0], b2 / np.linalg.norm(b2)]), labels  # type: ignore[return-value]
 

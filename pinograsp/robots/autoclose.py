@@ -125,6 +125,13 @@ def _touch(
     return q_lo, d_lo, True
 
 
+#: What to do when the hand closes fully without touching the object (:class:`NoContactError`).
+MISSED_ADVICE = (
+    "every joint closed to its limit without touching: place the object between the fingers (its "
+    "pose in the hand base frame [m]; pg.save_png(None, hand=hand, obj=obj, path=...) shows both)"
+)
+
+
 def close_on(
     hand: HandLike,
     obj: RigidObject,
@@ -200,7 +207,7 @@ def close_on(
     if not np.any(dist <= tol):  # every joint stopped at a limit without touching: say where the object is
         links = (hand.link_of_geometry(k) for k in range(len(dist)))
         inside = inside_surfaces(HandConfiguration.at(hand, q), obj)
-        raise NoContactError(closest_per_link(links, dist), tol, inside)
+        raise NoContactError(closest_per_link(links, dist), tol, inside, MISSED_ADVICE)
     _warn_rigid_group(hand, stops, dist, tol)
     return q
 

@@ -103,6 +103,10 @@ def _vertices(points: np.ndarray) -> coal.StdVec_Vec3s:
 #: seconds; each distance query walks it).
 MAX_MESH_BYTES = 256 * 2**20
 MAX_MESH_TRIANGLES = 1_000_000
+#: What a mesh file must be (the end of :class:`ModelFileError` messages of :meth:`RigidObject.from_mesh`).
+MESH_FORMATS_HINT = (
+    "give a triangle mesh file trimesh reads (STL, OBJ, PLY, OFF or GLB), in metres or with scale="
+)
 
 
 @dataclass(frozen=True, eq=False)
@@ -214,15 +218,22 @@ class RigidObject:
             raise InvalidInputError("path", f"expected a mesh file path (str or os.PathLike), got {path!r}")
         p = Path(path)
         if not p.is_file():
-            raise ModelFileError(p, "mesh file not found")
+            where = "is a directory" if p.is_dir() else "not found"
+            raise ModelFileError(
+                p,
+                f"mesh file {where} (looked for {p.resolve()}; a relative path is taken from the "
+                "working directory): give the path of an existing STL, OBJ, PLY, OFF or GLB file",
+            )
         if p.stat().st_size > MAX_MESH_BYTES:
             raise ModelFileError(p, f"{p.stat().st_size} bytes, more than a mesh may have (MAX_MESH_BYTES)")
         try:
             mesh = trimesh.load(str(p), force="mesh")
         except Exception as exc:  # trimesh raises many exception types for bad files (not quoted)
-            raise ModelFileError(p, f"cannot read mesh ({type(exc).__name__})") from exc
+            raise ModelFileError(
+                p, f"cannot read mesh ({type(exc).__name__}: {exc}); {MESH_FORMATS_HINT}"
+            ) from exc
         if not isinstance(mesh, trimesh.Trimesh) or len(mesh.faces) == 0:
-            raise ModelFileError(p, "the file contains no triangle mesh")
+            raise ModelFileError(p, f"the file contains no triangle mesh; {MESH_FORMATS_HINT}")
         if len(mesh.faces) > MAX_MESH_TRIANGLES:
             raise ModelFileError(
                 p,

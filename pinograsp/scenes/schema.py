@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Any, cast
 import numpy as np
 
 from ..core.actuation import Actuator, Coupling
+from ..core.axes import AXIS_HINT, WRENCH_AXES, wrench_direction
 from ..core.contact import Contact
 from ..core.model import GraspModel
 from ..core.query import Query
@@ -212,7 +213,13 @@ class Scene:
         if name is None:
             return dict(self.command)
         if not isinstance(name, str) or name not in self.analysis.preloads:
-            raise UnknownNameError("preload", name, list(self.analysis.preloads))
+            raise UnknownNameError(
+                "preload",
+                name,
+                list(self.analysis.preloads),
+                f"pass None for the scene's own preload {self.command}, or a command (a number, "
+                "one value per actuator, or {actuator: value}) [N·m or N]",
+            )
         return dict(self.analysis.preloads[name])
 
     def direction(self, name: str) -> np.ndarray:
@@ -254,6 +261,13 @@ class Scene:
         kw = self._query_args(overrides)
         if isinstance(direction, str) and direction in self.analysis.directions:
             direction = self.direction(direction)
+        elif isinstance(direction, str):
+            try:
+                wrench_direction(self.model, direction)
+            except UnknownNameError:
+                named = list(self.analysis.directions)
+                hint = f"{AXIS_HINT}, or one of the scene's named directions" if named else AXIS_HINT
+                raise UnknownNameError("direction", direction, [*WRENCH_AXES, *named], hint) from None
         return max_resistible_wrench(self.model, self._command(command), direction, **kw, **overrides)
 
     def profile(

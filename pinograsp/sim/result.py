@@ -68,6 +68,10 @@ class SimulationResult:
         timestep: Integration step [s].
         ramp_time: e-folding time of the exponential load ramp [s].
         preload: ``"held"`` (object held still while the motors close) or ``"settled"``.
+        friction: ``"cone"`` (Coulomb's circular cone) or ``"pyramid"`` (the model's pyramid).
+        release_time: Time over which a held object was released [s] (0: at once).
+        finger_mass: Each hand joint's effective mass at its farthest contact, as a multiple of
+            ``mass``.
         steps: Integration steps taken (preload and load phases).
         sim_time: Simulated time [s].
         wall_time: Wall time of the run, model building included [s].
@@ -95,6 +99,9 @@ class SimulationResult:
     timestep: float
     ramp_time: float
     preload: str
+    friction: str
+    release_time: float
+    finger_mass: float
     steps: int
     sim_time: float
     wall_time: float

@@ -180,6 +180,13 @@ def _upper(grasp: GraspModel, cmd: np.ndarray, d: np.ndarray, upper: object) -> 
     return up
 
 
+#: The options a :class:`SimulationResult` records under their own names.
+_RECORDED_OPTIONS = (
+    *("upper", "start", "tolerance", "stiffness", "mass", "timestep", "ramp_time"),
+    *("preload", "friction", "release_time", "finger_mass"),
+)
+
+
 def simulate_max_wrench(
     scene_or_model: Scene | GraspModel,
     direction: object,
@@ -242,16 +249,9 @@ def simulate_max_wrench(
         applied_load=found.applied,
         direction=d,
         unit=wrench_unit(d),
-        upper=opts.upper,
-        start=opts.start,
         slip_threshold=opts.slip,
         rotation_threshold=opts.rotation,
-        tolerance=opts.tolerance,
-        stiffness=opts.stiffness,
-        mass=opts.mass,
-        timestep=opts.timestep,
-        ramp_time=opts.ramp_time,
-        preload=opts.preload,
+        **{k: getattr(opts, k) for k in _RECORDED_OPTIONS},
         steps=run.steps,
         sim_time=run.steps * opts.timestep,
         wall_time=time.perf_counter() - t0,
