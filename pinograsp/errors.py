@@ -28,8 +28,11 @@ class InvalidInputError(PinograspError, ValueError):
         super().__init__(f"{name}: {message}")
 
 
-def plural(kind: str) -> str:
-    """The plural of a kind of name in a message (``"wrench axis"`` -> ``"wrench axes"``)."""
+def plural(kind: str, count: int | None = None) -> str:
+    """The plural of a kind of name in a message (``"wrench axis"`` -> ``"wrench axes"``); with
+    ``count``, the count and the word in the number it takes (``"1 value"``, ``"3 values"``)."""
+    if count is not None:
+        return f"{count} {kind if count == 1 else plural(kind)}"
     if kind.endswith("axis"):
         return kind[:-4] + "axes"
     return kind + ("es" if kind.endswith(("s", "x", "ch", "sh")) else "s")

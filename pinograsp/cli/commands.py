@@ -18,7 +18,7 @@ import pinograsp as pg
 from ..core.methods import bounded, search_text
 from ..core.results import format_max_wrench
 from ..core.serialize import jsonable, vector_text, wrench_unit
-from ..errors import InvalidInputError
+from ..errors import InvalidInputError, plural
 from . import options as opt
 from .report import (
     Output,
@@ -201,7 +201,7 @@ def cmd_max_wrench(args: argparse.Namespace) -> int:
         (
             f"loading path: {mw.n_solves} LCP solves, {mw.wall_time:.2f} s"
             if mw.search == "path"
-            else f"{mw.search}: {len(mw.evidence)} magnitudes tried, monotone: "
+            else f"{mw.search}: {plural('magnitude', len(mw.evidence))} tried, monotone: "
             f"{'yes' if mw.monotone else 'NO'}; {mw.n_solves} solves, {mw.wall_time:.2f} s"
         ),
     ]

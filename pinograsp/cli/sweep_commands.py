@@ -19,7 +19,7 @@ import pinograsp as pg
 
 from ..core.methods import search_resolution, search_text
 from ..core.results import format_max_wrench
-from ..core.serialize import direction_text, format_magnitude, runs_text, wrench_unit
+from ..core.serialize import direction_text, format_magnitude, runs_text, signed_text, wrench_unit
 from ..core.tables import profile_to_csv
 from ..errors import InvalidInputError
 from . import options as opt
@@ -127,7 +127,8 @@ def _profile_lines(sweep: _Sweep, p: Any, norm: float | None, wall: float, runs:
     ]
     deg = np.degrees(p.angles)
     for i, a in enumerate(deg):
-        dtxt = f"{np.cos(p.angles[i]):+.3f} {b1.lstrip('+')} {np.sin(p.angles[i]):+.3f} {b2.lstrip('+')}"
+        c, s = signed_text(np.cos(p.angles[i])), signed_text(np.sin(p.angles[i]))
+        dtxt = f"{c} {b1.lstrip('+')} {s} {b2.lstrip('+')}"
         r = p.results[i]
         if r.status == "failed":  # the direction's query raised (a node limit, a timeout): see below
             lines.append(f"{a:11.1f}  {dtxt:>22s}  {'FAILED':>12s}")

@@ -17,7 +17,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from ..errors import InvalidInputError, UnknownNameError
+from ..errors import InvalidInputError, UnknownNameError, plural
 from .actuation import Actuator, Coupling
 from .axes import PLANAR_AXES
 from .build import PruneRecord, build_model, readonly
@@ -287,7 +287,8 @@ class GraspModel:
             else:
                 raise InvalidInputError(
                     "command",
-                    f"expected {len(names_all)} values (actuators {list(names_all)}), got {raw.size}",
+                    f"expected {plural('value', len(names_all))} (actuators {list(names_all)}), "
+                    f"got {raw.size}",
                 )
         if not np.all(np.isfinite(raw)):
             raise InvalidInputError("command", "contains NaN or inf", raw)

@@ -17,7 +17,7 @@ from typing import Any, Literal
 
 import numpy as np
 
-from ..errors import InvalidInputError
+from ..errors import InvalidInputError, plural
 from .audit import Audit, EnergyCheck
 from .axes import WRENCH_AXES, direction_text, wrench_unit
 from .giveway import GiveWay
@@ -245,7 +245,7 @@ class MaxWrench:
             head += f": the upper limit {self.upper:g} {unit} is resisted"
         lines = [
             head + ")",
-            f"method {self.method}, {self.search}: {len(self.evidence)} magnitudes tried, monotone "
+            f"method {self.method}, {self.search}: {plural('magnitude', len(self.evidence))} tried, monotone "
             f"{'yes' if self.monotone else 'NO'}; {self.n_solves} solves, {self.wall_time:.3g} s",
         ]
         if self.response is not None and self.response.resistible:
@@ -415,11 +415,12 @@ class ResistanceProfile:
         ]
         if fin.any():
             lo, hi = float(mags[fin].min()), float(mags[fin].max())
+            exact = f"(resolution {res:.2g} {unit})" if res > 0 else "(exact)"
             lines.append(
-                f"finite magnitudes {format_magnitude(lo, res)}–{format_magnitude(hi, res, unit)} "
-                f"(resolution {res:.2g} {unit})"
+                f"finite magnitudes {format_magnitude(lo, res)}–{format_magnitude(hi, res, unit)} {exact}"
             )
-        lines.append("unbounded at " + runs_text(unbounded_runs(np.degrees(self.angles), self.unbounded)))
+        runs = unbounded_runs(np.degrees(self.angles), self.unbounded)
+        lines.append("unbounded at " + runs_text(runs) if runs else "no direction unbounded")
         if self.normalized_by is not None:
             lines.append(f"normalised by {self.normalized_by:.4g} {unit}")
         lines.append(f"{sum(r.n_solves for r in self.results)} solves, {self.wall_time:.3g} s")

@@ -105,6 +105,11 @@ def format_magnitude(value: float, resolution: float, unit: str | None = None) -
     return f"{text} {unit}" if unit and not math.isinf(v) else text
 
 
+def signed_text(x: float, decimals: int = 3) -> str:
+    """``x`` with a sign and ``decimals`` decimals, never ``-0.000`` (a rounding of 0 has no sign)."""
+    return f"{round(float(x), decimals) + 0.0:+.{decimals}f}"
+
+
 def vector_text(v: Sequence[float] | np.ndarray) -> str:
     """A vector as ``(0, 5, 0)`` with 4 significant digits (values below 1e-9 of the largest: 0)."""
     a = np.asarray(v, dtype=float)

@@ -22,7 +22,7 @@ from ..core.settings import DEFAULT_METHOD, Settings, make_settings
 from ..core.validate import directions as n_directions
 from ..core.validate import force
 from ..core.validate import steps as n_steps
-from ..errors import InvalidInputError, PinograspError, SolverNotAvailableError, UnknownNameError
+from ..errors import InvalidInputError, PinograspError, SolverNotAvailableError, UnknownNameError, plural
 from .fields import SceneFile, show
 from .schema import ANALYSIS_KEYS, ANGLE_SETTINGS_KEYS, SETTINGS_KEYS, Plane, SceneAnalysis
 
@@ -45,7 +45,8 @@ def command(f: SceneFile, model: GraspModel, value: object, key: str) -> dict[st
         # the file's list form covers every actuator, pruned ones included
         if len(value) != len(names):
             raise f.error(
-                key, f"expected {len(names)} values (actuators {', '.join(names)}), got {len(value)}"
+                key,
+                f"expected {plural('value', len(names))} (actuators {', '.join(names)}), got {len(value)}",
             )
         given = {a: f.number(v, f"{key}[{i}]") for i, (a, v) in enumerate(zip(names, value))}
     else:
