@@ -278,3 +278,28 @@ def test_contact_report_to_dict(tmp_path):
     assert d["contacts"][0]["normal"] == pytest.approx([1, 0, 0], abs=1e-9)
     assert d["contacts"][0] == rep.contacts[0].to_dict()
     assert rep.summary().startswith("1 contact(s) within") and "slider" in rep.summary()
+
+
+def test_texts_have_no_signed_zero_and_say_exact_and_how_many():
+    """Rounded zeros print unsigned; the path's profile is exact; counts take their number."""
+    from pinograsp.core.serialize import signed_text
+    from pinograsp.errors import plural
+
+    assert [signed_text(x) for x in (-1e-17, -0.0004, -0.0006, 0.25, np.cos(1.5 * np.pi))] == [
+        "+0.000",
+        "+0.000",
+        "-0.001",
+        "+0.250",
+        "+0.000",
+    ]
+    assert (plural("value", 1), plural("value", 3), plural("wrench axis", 2)) == (
+        "1 value",
+        "3 values",
+        "2 wrench axes",
+    )
+    m = pg.examples.pinch()
+    lines = pg.resistance_profile(m, 1.0, plane=("fx", "fy"), n=8).summary().splitlines()
+    assert "finite magnitudes 10.0000–14.1421 N (exact)" in lines  # 2 mu tau0 / L; its sqrt(2)
+    assert "unbounded at 0°, 180°" in lines
+    mixed = pg.resistance_profile(m, 1.0, plane=("fy", "mz"), n=4).summary().splitlines()
+    assert "finite 4, unbounded 0" in mixed and "no direction unbounded" in mixed
