@@ -120,3 +120,59 @@ def test_the_old_normals_preload_is_refused_not_held(monkeypatch):
     with pytest.raises(pg.PreloadNotInEquilibriumError, match="times the commands' largest force") as info:
         pg.max_resistible_wrench(model, command, "fx", upper=50.0)
     assert "bh_finger_32_link" in str(info.value) and PRELOAD_AMPLIFICATION == 1e6
+
+
+def _c_block() -> trimesh.Trimesh:
+    """A 30 x 60 x 40 mm block with a 15 x 20 mm notch through its +x face (a non-convex
+    triangle mesh): five 15 x 20 mm cells of a conforming grid, extruded 40 mm along z."""
+    xs, ys = [-0.015, 0.0, 0.015], [-0.03, -0.01, 0.01, 0.03]
+    V = np.array([[x, y] for y in ys for x in xs])
+    faces = []
+    for i, j in [(0, 0), (0, 1), (0, 2), (1, 0), (1, 2)]:  # the left bar and the two arms
+        a, b, c, d = j * 3 + i, j * 3 + i + 1, (j + 1) * 3 + i + 1, (j + 1) * 3 + i
+        faces += [[a, b, c], [a, c, d]]
+    mesh = trimesh.creation.extrude_triangulation(V, np.array(faces), 0.04)
+    mesh.apply_translation([0.0, 0.0, -0.02])
+    return mesh
+
+
+@pytest.mark.parametrize("y", [0.04, 0.0401])
+def test_a_jaw_flush_on_a_mesh_face_whose_edges_coincide_takes_the_face_normal(tmp_path, y):
+    """The parallel jaw on the notched block: at y = 40 mm the left jaw's 60 mm face covers the
+    block's left face exactly, their edges meeting at y = 10 mm, where the nearest points land.
+    The edge's normal cone holds every direction between the two faces, and Coal's there was
+    (0.707, 0.707, 0): one point, and +fy 1.67 N, -fy unbounded. The flush box face decides: +x,
+    the 4 corners, and the closed form mu F = 10 N both ways, as 0.1 mm further (y = 40.1 mm)."""
+    path = tmp_path / "c_block.stl"
+    _c_block().export(path)
+    obj = pg.RigidObject.from_mesh(path, pose=[0.0, y, 0.0])
+    hand = pg.Hand.builtin("parallel_jaw")
+    q = hand.close_on(obj)
+    report = pg.detect_contacts(hand, q, obj)
+    assert report.points_per_patch == (4, 4)
+    np.testing.assert_allclose(report.patches[0].normal, [1.0, 0.0, 0.0], atol=1e-7)  # Coal: 5e-9
+    m = pg.grasp_model_from_scene(hand, q, obj, mu=0.5)
+    for d in ("fy", "-fy"):
+        assert pg.max_resistible_wrench(m, 20.0, d, upper=50).magnitude == pytest.approx(10.0, rel=1e-6)
+
+
+def test_flush_normal_keeps_other_shapes_and_face_interiors():
+    """Only a box's face flush on one of several mesh faces at the nearest point decides: a
+    sphere, or a nearest point inside a face, keeps the normal given."""
+    from pinograsp.robots.mesh_normals import flush_normal
+
+    mesh = _c_block()
+    g = coal.BVHModelOBBRSS()
+    g.beginModel(len(mesh.faces), len(mesh.vertices))
+    g.addVertices(np.asarray(mesh.vertices, dtype=float))
+    g.addTriangles(np.asarray(mesh.faces, dtype=int))
+    g.endModel()
+    T, I3 = coal.Transform3s(np.eye(3), np.zeros(3)), np.eye(3)
+    edge = np.array([-0.015, -0.03, 0.0])  # the left face meets the -y face
+    given = np.array([0.5, 0.5, 0.0]) / np.sqrt(0.5)
+    jaw = coal.Box(0.010, 0.060, 0.020)
+    T_jaw = coal.Transform3s(I3, np.array([-0.020, 0.0, 0.0]))  # its +x face on x = -15 mm
+    np.testing.assert_allclose(flush_normal(given, jaw, T_jaw, edge, g, T, edge), [1.0, 0.0, 0.0], atol=1e-12)
+    assert flush_normal(given, coal.Sphere(0.005), T_jaw, edge, g, T, edge) is given
+    inside = np.array([-0.015, 0.0, 0.0])
+    assert flush_normal(given, jaw, T_jaw, inside, g, T, inside) is given

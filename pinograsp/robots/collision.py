@@ -50,7 +50,7 @@ from ..errors import (
 )
 from .hand_protocol import HandLike
 from .kinematics import HandConfiguration
-from .mesh_normals import cone_normal, face_normal
+from .mesh_normals import cone_normal, face_normal, flush_normal
 from .patches import DEFAULT_PATCH_POINTS, ContactPatch, contact_patches, patch_points_option, single_points
 
 if TYPE_CHECKING:
@@ -263,7 +263,9 @@ def pair_distances_at(config: HandConfiguration, obj: RigidObject) -> tuple[Pair
             go.geometry, coal.Transform3s(oMg.rotation, oMg.translation), obj.geometry, T_obj
         )
         if d <= 0 and np.any(n) and is_surface(obj.geometry) and not is_surface(go.geometry):
+            T_g = coal.Transform3s(oMg.rotation, oMg.translation)
             n = cone_normal(n, obj.geometry, T_obj, p2)  # Coal's one-triangle normal may be tangent
+            n = flush_normal(n, go.geometry, T_g, p1, obj.geometry, T_obj, p2)  # flush faces, edges met
         out.append(PairDistance(hand.link_of_geometry(k), go.name, k, d, p1, p2, n))
     return tuple(out)
 

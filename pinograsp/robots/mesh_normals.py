@@ -16,6 +16,11 @@ Coal's normal when it is within that cone (approximated by the circular cone aro
 mean normal that holds them all, widened by :data:`CONE_MARGIN`), so a sharp mesh edge against
 a finger pad keeps the pad's normal; otherwise it returns the faces' mean inward normal, the
 mesh's own estimate of the surface normal at that point.
+
+A flat hand face lying flush on a mesh face, their edges coinciding (a jaw placed exactly at a
+block's edge), puts the nearest points on both edges, where the cone holds every direction
+between the two faces: :func:`flush_normal` then takes the mesh face that is parallel to a face
+of the hand's box through its nearest point — the faces that touch over an area.
 """
 
 from __future__ import annotations
@@ -81,3 +86,51 @@ def cone_normal(
     if float(np.arccos(np.clip(normal @ mean, -1.0, 1.0))) <= spread + CONE_MARGIN:
         return normal
     return mean
+
+
+#: Relative distance (to the box's largest half extent) within which a point lies on a box face.
+ON_FACE_RTOL = 1e-9
+#: Two unit normals are the same plane's when their dot product is at least this.
+PARALLEL = 1.0 - 1e-9
+
+
+def _box_normals(g: coal.CollisionGeometry, T: coal.Transform3s, point: np.ndarray) -> np.ndarray:
+    """Outward unit normals (k, 3) of the faces of ``coal.Box`` ``g`` at pose ``T`` through
+    ``point`` (3,) [m] (none for a point off its surface)."""
+    R, t = np.asarray(T.getRotation(), dtype=float), np.asarray(T.getTranslation(), dtype=float)
+    half = np.asarray(g.halfSide, dtype=float)
+    local = R.T @ (np.asarray(point, dtype=float) - t)
+    tol = ON_FACE_RTOL * float(half.max())
+    out = [s * R[:, i] for i in range(3) for s in (-1.0, 1.0) if abs(local[i] - s * half[i]) <= tol]
+    return np.array(out).reshape(-1, 3)
+
+
+def flush_normal(
+    normal: np.ndarray,
+    hand: coal.CollisionGeometry,
+    T_hand: coal.Transform3s,
+    p_hand: np.ndarray,
+    g: coal.CollisionGeometry,
+    T: coal.Transform3s,
+    point: np.ndarray,
+) -> np.ndarray:
+    """The contact normal into BVH surface ``g`` where a box face of the hand lies flush on one of
+    its faces at the nearest points.
+
+    When the nearest point ``point`` on the mesh is on an edge or a vertex (faces of several
+    directions) and exactly one of those faces is parallel to a face of the hand's ``coal.Box``
+    through its nearest point ``p_hand`` (the two faces touch over an area; only their edges
+    meet at the nearest points), that face's inward normal; otherwise ``normal`` unchanged (a
+    hand geometry other than a box, a face inside, no flush pair or several).
+    """
+    if type(hand).__name__ != "Box":
+        return normal
+    faces = feature_faces(g, T, point)
+    inward = -np.array([face_normal(g, T, f) for f in faces]).reshape(-1, 3)
+    if len(inward) < 2 or float(np.min(inward @ inward[0])) >= PARALLEL:
+        return normal  # inside one face (or faces of one plane): no edge to decide
+    box = _box_normals(hand, T_hand, p_hand)
+    flush = [n for n in inward if len(box) and float(np.max(box @ n)) >= PARALLEL]
+    if not flush or any(float(f @ flush[0]) < PARALLEL for f in flush):
+        return normal
+    return flush[0] / np.linalg.norm(flush[0])
