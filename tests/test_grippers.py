@@ -78,11 +78,13 @@ def test_so101_one_joint_gripper(so101):
     assert np.linalg.norm(np.cross(c[0], line)) <= 1e-9 * np.linalg.norm(c[0]) * np.linalg.norm(line)
     np.testing.assert_allclose(r.joint_torques, [1.0], rtol=1e-9)
     np.testing.assert_allclose(r.actuator_forces, [1.0], rtol=1e-9)
-    # pushing the ball towards the palm is held by the fingers' passive reaction
+    # pushing the ball towards the palm is held by the fingers' passive reaction up to upper;
+    # past it the compressed two-point grasp buckles (quasistatic.buckling), above upper
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", pg.AuditWarning)
         mw = pg.max_resistible_wrench(m, 1.0, "-fz", upper=50, steps=10)
-    assert mw.status == "unbounded"
+    assert mw.status == "above_limit" and mw.magnitude == 50.0
+    assert mw.giveway.reason == "limit" and mw.giveway.load > 50.0
 
 
 def test_jacobian_of_a_one_joint_hand_matches_finite_differences(so101):
@@ -265,3 +267,29 @@ def test_the_tilted_upright_cylinder_spins_off_in_simulation_past_the_diagonal_p
     unload = _tilt_events(float(np.ptp(m.points[:, 2])) / 2, float(np.ptp(m.points[:, 0])) / 2, F / 4)[2]
     assert sim.status == "gave_way" and unload < sim.load < 1.15 * unload
     assert sim.load == pytest.approx(0.395, rel=1e-2)
+
+
+def test_an_upright_cylinder_pushed_onto_one_jaw_tips_over_where_the_other_lets_go():
+    """The 50 mm upright cylinder in the parallel jaw (20 N), pushed across the jaws: the far
+    jaw's line unloads at F = 20 N, and from there the cylinder rests on the near jaw's line
+    alone, pressed by the load through its axis, 15 mm away: turning about that line has no
+    spring against it and the compressed line makes it negative (-F r), so it tips over
+    (quasistatic.buckling: the ray past 20 N buckles at once). The simulation at a slow ramp
+    gives way at 19.97 N; before, the answer was "unbounded" (the ray) on this side."""
+    hand = pg.Hand.builtin("parallel_jaw")
+    cyl = pg.RigidObject.cylinder(0.015, 0.05, pose=[0.0, 0.040, 0.0])
+    m = pg.grasp_model_from_scene(hand, hand.close_on(cyl), cyl, mu=MU)
+    mw = pg.max_resistible_wrench(m, 20.0, "fx", upper=50)
+    assert mw.status == "finite" and mw.giveway.reason == "limit"
+    assert mw.magnitude == pytest.approx(20.0, rel=1e-6)
+    forces = mw.response.normal_forces
+    np.testing.assert_allclose(sorted(forces), [0.0, 0.0, 10.0, 10.0], atol=1e-5)  # one jaw: F/2 each
+
+
+def test_buckling_of_a_pinch_pushed_onto_one_finger_is_mirror_symmetric_and_past_upper():
+    """The pinch along +-x: the path's ray buckles at the same load both ways, far above the
+    default upper (1e3 N), so the answer stays "unbounded" there."""
+    m = pg.examples.pinch()
+    loads = [pg.loading_path(m, 1.0, d).limit for d in ("fx", "-fx")]
+    assert loads[0] == pytest.approx(loads[1], rel=1e-12) and loads[0] > 2e3
+    assert all(pg.max_resistible_wrench(m, 1.0, d).status == "unbounded" for d in ("fx", "-fx"))

@@ -192,12 +192,24 @@ def test_events_recorded():
 
 
 def test_unbounded_has_a_ray():
+    """Within the load of interest (geometry followed up to twice ``upper``) the pinch along +x
+    ends in a ray: held to any load, the ray's evidence at infinity."""
+    mw = pg.max_resistible_wrench(examples.pinch(), TAU, "fx")
+    assert mw.status == "unbounded" and np.isinf(mw.magnitude) and mw.evidence[-1] == (np.inf, True)
+    assert mw.giveway.reason == "held"
+
+
+def test_a_ray_that_buckles_ends_with_a_limit():
+    """The pinch along +x is a ray: the pushed right contact carries the load, the left keeps
+    its preload (10 N). The pair squeezes the object along its chord, and turning about z has
+    only the tangential springs against it, 2 k_t a^2, while the squeeze's geometric stiffness
+    takes a (c_R + c_L) = a (20 + lambda) from it: the ray buckles at lambda = 2 k_t a - 20 =
+    99980 N (k_t = 1e6 N/m, a = 50 mm), far beyond any load of interest."""
     lp = pg.loading_path(examples.pinch(), TAU, "fx")
-    assert lp.status == "unbounded" and np.isinf(lp.limit) and lp.ray is not None
-    assert lp.events[-1].kind == "unbounded"
-    st = lp.state_at(1e6)
-    # the pushed right contact carries the load, the left keeps its preload
-    assert st["contact_forces"][1, 0] == pytest.approx(10.0 + 1e6, rel=1e-12)
+    assert lp.status == "finite" and lp.limit == pytest.approx(2 * 1e6 * 0.05 - 20.0, rel=1e-7)
+    assert lp.events[-1].kind == "limit" and "buckles" in lp.events[-1].cause
+    st = lp.state_at(1e4)
+    assert st["contact_forces"][1, 0] == pytest.approx(10.0 + 1e4, rel=1e-12)
     assert st["contact_forces"][0, 0] == pytest.approx(10.0, rel=1e-12)
 
 

@@ -86,6 +86,8 @@ def trigger_text(qm: QSModel, tr: Trigger) -> str:
         return f"{m.actuator_names[tr.index]} back at its command"
     if tr.kind == TriggerKind.GEOMETRY:
         return "geometry updated at the turned object"
+    if tr.kind == TriggerKind.BUCKLES:
+        return "the grasp buckles: a motion no spring holds, against its compressed contacts"
     return "end of stage"
 
 

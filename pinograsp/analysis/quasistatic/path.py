@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .buckling import ray_buckling
 from .geometry import GeometryUpdates, moved, spin, step_to_update
 from .model import QSModel
 from .rates import (
@@ -297,6 +298,30 @@ def _along(qm: QSModel, sc: StageCache, seg: Segment) -> float:
     return float(r0 @ seg.dvs[: qm.nx]) / size / seg.lam_rate
 
 
+def _buckling(
+    qm: QSModel, st: State, seg: Segment, sc: StageCache, geo: GeometryUpdates | None
+) -> float | None:
+    """The step along the ray ``seg`` at which the grasp buckles in the load stage
+    (:func:`~.buckling.ray_buckling`); ``None``: it does not, or not below ``geo.until``."""
+    if geo is None:
+        return None
+    b = ray_buckling(qm, st, seg, sc, geo)
+    return None if b is None or st.t + b * seg.lam_rate > geo.until else b
+
+
+def _buckled(run: StageRun, qm: QSModel, st: State, seg: Segment, t: float) -> StageRun:
+    """``run`` ended where its ray ``seg`` from ``st`` buckles, a step ``t`` ahead
+    (:func:`~.buckling.ray_buckling`): a limit, status ``UNSTABLE``."""
+    if t > 0.0:
+        run.states.append(advance(st, seg, t, None, qm if qm.KG is not None else None))
+        run.triggers.append((Trigger(TriggerKind.BUCKLES, -1),))
+        run.segments.append(unstable_segment())
+    else:
+        run.segments[-1] = unstable_segment()
+    run.status = RunStatus.UNSTABLE
+    return run
+
+
 def follow(
     qm: QSModel,
     start: State,
@@ -337,6 +362,9 @@ def follow(
             if t_geo < t:
                 t, trig = t_geo, (Trigger(TriggerKind.GEOMETRY, -1),)
         if not np.isfinite(t):
+            buckles = _buckling(qm, st, seg, sc, geometry)
+            if buckles is not None:
+                return _buckled(run, qm, st, seg, buckles)
             run.status = RunStatus.UNBOUNDED
             return run
         ends = any(tr.kind == TriggerKind.END for tr in trig)

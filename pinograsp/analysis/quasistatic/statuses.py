@@ -81,6 +81,8 @@ class TriggerKind(_Text):
     END = "end"
     #: The object turned a geometry step: the model is re-linearised (``geometry.moved``).
     GEOMETRY = "geometry"
+    #: The tangent stiffness on a ray stops holding a motion (:mod:`~.buckling`).
+    BUCKLES = "buckles"
     #: Past a limit: the load is back at the limit load.
     LANDED = "landed"
     #: Past a limit: the load reached zero.
