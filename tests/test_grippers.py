@@ -274,16 +274,20 @@ def test_an_upright_cylinder_pushed_onto_one_jaw_tips_over_where_the_other_lets_
     jaw's line unloads at F = 20 N, and from there the cylinder rests on the near jaw's line
     alone, pressed by the load through its axis, 15 mm away: turning about that line has no
     spring against it and the compressed line makes it negative (-F r), so it tips over
-    (quasistatic.buckling: the ray past 20 N buckles at once). The simulation at a slow ramp
-    gives way at 19.97 N; before, the answer was "unbounded" (the ray) on this side."""
+    (quasistatic.buckling: the ray past 20 N buckles at once). On the mirror side (-x) the path
+    reaches the same state through a geometry update, where the rate problem, with the far
+    jaw's ends free to open or stay, provably has no solution (snap.no_continuation). The
+    simulation at a slow ramp gives way at 19.97 N; before, the answer was "unbounded" (+x) and
+    no verdict (-x)."""
     hand = pg.Hand.builtin("parallel_jaw")
     cyl = pg.RigidObject.cylinder(0.015, 0.05, pose=[0.0, 0.040, 0.0])
     m = pg.grasp_model_from_scene(hand, hand.close_on(cyl), cyl, mu=MU)
-    mw = pg.max_resistible_wrench(m, 20.0, "fx", upper=50)
-    assert mw.status == "finite" and mw.giveway.reason == "limit"
-    assert mw.magnitude == pytest.approx(20.0, rel=1e-6)
-    forces = mw.response.normal_forces
-    np.testing.assert_allclose(sorted(forces), [0.0, 0.0, 10.0, 10.0], atol=1e-5)  # one jaw: F/2 each
+    for d in ("fx", "-fx"):
+        mw = pg.max_resistible_wrench(m, 20.0, d, upper=50)
+        assert mw.status == "finite" and mw.giveway.reason == "limit", d
+        assert mw.magnitude == pytest.approx(20.0, rel=1e-6), d
+        forces = mw.response.normal_forces
+        np.testing.assert_allclose(sorted(forces), [0.0, 0.0, 10.0, 10.0], atol=1e-5)  # one jaw: F/2 each
 
 
 def test_buckling_of_a_pinch_pushed_onto_one_finger_is_mirror_symmetric_and_past_upper():

@@ -29,12 +29,15 @@ from .statuses import SegmentStatus
 
 
 def _lcp(qm: QSModel, spec: StageSpec, cls: Classes, sc: StageCache, control: str):
-    """``(M, q)`` of the local rate problem at a state without zero-force contacts; None when
-    its linear part is singular."""
+    """``(M, q)`` of the local rate problem at a state with every zero-force contact in the
+    LCP by both its pairs (the plan :data:`~.rates.FULL`: it may open, or stay and slide, so
+    the one LCP holds every continuation of every plan); None when its linear part is
+    singular."""
     plan = np.full(qm.nc, FULL)
     sep = np.zeros(qm.nc, bool)
     rc = qm.row_contact
-    ks = cls.pressed[rc] * (qm.kn_rows + qm.kt_rows) if spec.friction else cls.pressed[rc] * qm.kn_rows
+    touch = cls.pressed | cls.zero
+    ks = touch[rc] * (qm.kn_rows + qm.kt_rows) if spec.friction else touch[rc] * qm.kn_rows
     lin = linear_part(qm, sc, spec, ks, lcp_items(qm, cls, plan, sep, None), control)
     if lin is None:
         return None
@@ -42,10 +45,10 @@ def _lcp(qm: QSModel, spec: StageSpec, cls: Classes, sc: StageCache, control: st
 
 
 def no_continuation(qm: QSModel, spec: StageSpec, cls: Classes, sc: StageCache) -> bool:
-    """Whether the state has provably no quasi-static continuation: no zero-force contact
-    (their plans would multiply the problems) and no solution of the local rate problem
-    under load control nor under displacement control."""
-    if cls.zero.any() or not np.any(spec.dw):
+    """Whether the state has provably no quasi-static continuation: no solution of the local
+    rate problem under load control nor under displacement control, zero-force contacts
+    free to open or to stay (:func:`_lcp`)."""
+    if not np.any(spec.dw):
         return False
     for control in ("load", "displacement"):
         lcp = _lcp(qm, spec, cls, sc, control)
