@@ -39,14 +39,21 @@ def test_pinch_sharp_limits_unchanged(pinch, deg, expected):
 def test_pinch_push_gives_way_at_stiffness_times_slip(pinch):
     """Along +x the pushed finger's ratchet holds and the other finger follows at its command:
     the object moves ``F / K`` — the give-way load is ``K * slip`` (closed form), and with the
-    default thresholds at 1e6 N/m the push is held (unbounded) up to ``upper``."""
+    default thresholds at 1e6 N/m the push is held (unbounded) up to ``upper``. The path's
+    first limit is the ray's buckling, ``2 K a - 20`` (the squeezed pair turning against its
+    tangential springs, ``a`` = 50 mm: test_quasistatic), where it lies below twice ``upper``."""
     for K in (1e3, 1e4, 1e5):
         s = pg.Settings(contact_stiffness=K, giveway_slip=1e-3)
         mw = pg.max_resistible_wrench(pinch, 1.0, "fx", upper=1e3, settings=s)
         assert mw.status == "finite" and mw.magnitude == pytest.approx(K * 1e-3, rel=1e-12)
         assert mw.giveway.reason == "translation" and mw.giveway.stiffness == K
         assert mw.giveway.translation == pytest.approx(1e-3, rel=1e-12)
-        assert mw.giveway.first_limit == np.inf and mw.first_limit == np.inf
+        buckles = 2 * K * 0.05 - 20.0
+        first = buckles if buckles <= 2e3 else np.inf
+        assert (
+            mw.giveway.first_limit == pytest.approx(first, rel=1e-7)
+            and mw.first_limit == mw.giveway.first_limit
+        )
     held = pg.max_resistible_wrench(pinch, 1.0, "fx", upper=100)
     assert held.status == "unbounded" and held.giveway.reason == "held" and held.upper == 100
 
@@ -54,10 +61,10 @@ def test_pinch_push_gives_way_at_stiffness_times_slip(pinch):
 def test_linearisation_bound_ends_the_path(pinch):
     """A threshold beyond the linearisation's range (a quarter of the length scale) is not
     reached: the path ends there with reason "linearisation", at ``K * ell / 4``."""
-    s = pg.Settings(contact_stiffness=100.0, giveway_slip=10.0)
+    s = pg.Settings(contact_stiffness=1000.0, giveway_slip=10.0)  # buckling only at 2 K a - 20 = 80 N
     mw = pg.max_resistible_wrench(pinch, 1.0, "fx", upper=100, settings=s)
     bound = LINEAR_TRANSLATION * pinch.length_scale
-    assert mw.giveway.reason == "linearisation" and mw.magnitude == pytest.approx(100.0 * bound, rel=1e-12)
+    assert mw.giveway.reason == "linearisation" and mw.magnitude == pytest.approx(1000.0 * bound, rel=1e-12)
     assert mw.giveway.translation == pytest.approx(bound, rel=1e-12)
 
 

@@ -68,13 +68,14 @@ def _closed_forms() -> tuple[dict[str, float], dict[str, float]]:
     """Per cube direction, the jaws closing along hand x on a sphere with normal forces F/2 each:
     a load t along d = (a along x, b across) leaves the normal forces F/2 -+ a t / 2 (the locked,
     coupled jaws) and shares the tangential b t equally. First slip: b t / 2 = mu (F/2 - a t/2);
-    giving way (both sliding): b t = mu F. Pure x: unbounded."""
+    giving way (both sliding): b t = mu F. Pure x: the far jaw lets go at t = F, and the ball,
+    pressed onto one point through its centre, tips over (the path's ray buckles there)."""
     labels, dirs = pg.batch.disturbances.cube_directions()
     first, give_way = {}, {}
     for label, d in zip(labels, dirs):
         a, b = abs(d[0]), float(np.hypot(d[1], d[2]))
-        first[label] = math.inf if b == 0 else MU * F / (b + MU * a)
-        give_way[label] = math.inf if b == 0 else MU * F / b
+        first[label] = F if b == 0 else MU * F / (b + MU * a)
+        give_way[label] = F if b == 0 else MU * F / b
     return first, give_way
 
 
