@@ -163,6 +163,10 @@ def test_grasps_yaml_and_cli(tmp_path):
     assert df["status"].tolist() == ["ok", "ok", "no_grasp", "no_grasp"]
     assert df["reason"].iloc[2] == "no_contact" and df["score"].iloc[0] > 0 and df["score"].iloc[2] == 0
     assert not (tmp_path / "res.csv.partial.jsonl").exists()  # the journal goes once the table is written
+    # the documented Python recipe for a GRASPS file gives the command line's table (but the times)
+    py = pg.evaluate_grasps(batch.grasps, score=pg.WorstAxisScore(**batch.score), workers=1)
+    pg.save_results(py, tmp_path / "py.csv")
+    same_table(pd.read_csv(tmp_path / "py.csv"), df)
     pq = tmp_path / "res.parquet"
     pytest.importorskip("pyarrow")
     pg.save_results(pg.evaluate_grasps(["pinch"], score=FAST, workers=1), pq)
