@@ -163,10 +163,33 @@ def test_grasps_yaml_and_cli(tmp_path):
     assert df["status"].tolist() == ["ok", "ok", "no_grasp", "no_grasp"]
     assert df["reason"].iloc[2] == "no_contact" and df["score"].iloc[0] > 0 and df["score"].iloc[2] == 0
     assert not (tmp_path / "res.csv.partial.jsonl").exists()  # the journal goes once the table is written
+    # the documented Python recipe for a GRASPS file gives the command line's table (but the times)
+    py = pg.evaluate_grasps(batch.grasps, score=pg.WorstAxisScore(**batch.score), workers=1)
+    pg.save_results(py, tmp_path / "py.csv")
+    same_table(pd.read_csv(tmp_path / "py.csv"), df)
     pq = tmp_path / "res.parquet"
     pytest.importorskip("pyarrow")
     pg.save_results(pg.evaluate_grasps(["pinch"], score=FAST, workers=1), pq)
     assert pd.read_parquet(pq)["status"].tolist() == ["ok"]
+
+
+def test_missing_mesh_of_a_grasps_file_is_named_from_the_file(tmp_path, monkeypatch):
+    # a GRASPS file's mesh path is taken from the file's folder, whatever the working directory:
+    # the row's message names that path and does not claim the working directory was searched
+    (tmp_path / "g").mkdir()
+    path = tmp_path / "g" / "grasps.yaml"
+    path.write_text(
+        "grasps:\n  - id: gone\n    hand: parallel_jaw\n"
+        "    object: {shape: mesh, file: gone.stl, pose: {xyz: [0, 0, 0.1]}}\n"
+    )
+    monkeypatch.chdir(tmp_path)
+    df = pg.evaluate_grasps(pg.load_grasps(path).grasps, score=FAST, workers=1)
+    row = df.loc[0]
+    assert (row["status"], row["reason"], row["error_type"]) == ("error", "bad_file", "ModelFileError")
+    want = tmp_path / "g" / "gone.stl"
+    assert row["error_message"] == (
+        f"{want}: mesh file not found: give the path of an existing STL, OBJ, PLY, OFF or GLB file"
+    )
 
 
 def test_auto_preloads_are_verified_by_the_scoring_method(tmp_path):

@@ -97,6 +97,9 @@ def test_a_new_users_mistakes_name_the_culprit_the_choices_and_what_to_do(tmp_pa
     missing = _message(lambda: pg.RigidObject.from_mesh("nope.stl"))
     assert missing.startswith("nope.stl: mesh file not found")
     assert f"looked for {tmp_path / 'nope.stl'}" in missing and "STL, OBJ, PLY, OFF or GLB" in missing
+    absolute = _message(lambda: pg.RigidObject.from_mesh(tmp_path / "nope.stl"))  # no working directory
+    hint = "give the path of an existing STL, OBJ, PLY, OFF or GLB file"
+    assert absolute == f"{tmp_path / 'nope.stl'}: mesh file not found: {hint}"
     (tmp_path / "notes.txt").write_text("not a mesh")
     unreadable = _message(lambda: pg.RigidObject.from_mesh("notes.txt"))
     assert "cannot read mesh (NotImplementedError: file_type 'txt' not supported)" in unreadable

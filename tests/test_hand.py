@@ -126,6 +126,18 @@ def test_unknown_names_list_the_valid_ones(tmp_path):
         pg.Hand.from_urdf(urdf, bad)
 
 
+def test_a_description_yaml_anywhere_is_the_dict_it_holds(tmp_path):
+    # docs/hands.md: the description may be a YAML path away from the URDF (an installed package)
+    urdf = DATA_DIR / "urdf" / "underactuated_2f.urdf"
+    mine = tmp_path / "my_hand.yaml"
+    mine.write_text(urdf.with_suffix(".yaml").read_text())
+    a, b = pg.Hand.from_urdf(urdf, str(mine)), pg.Hand.from_urdf(urdf, _yaml(urdf))
+    assert a.joint_names == b.joint_names and a.closing_signs.tolist() == b.closing_signs.tolist()
+    assert [(x.name, x.kind, x.transmission) for x in a.actuators] == [
+        (x.name, x.kind, x.transmission) for x in b.actuators
+    ]
+
+
 def _yaml(urdf: Path) -> dict:
     import yaml
 

@@ -31,6 +31,21 @@ def test_pinch_smallest_preload_closed_form(method):
     assert not _resisted(m, smaller, F_Y, method)
 
 
+def test_default_method_is_the_documented_quasistatic_search():
+    # docs/optimal_preload.md and docs/hands.md give the signature with the default method
+    from pathlib import Path
+
+    r = pg.optimal_preload(examples.pinch(), [F_Y])
+    assert r.method == "quasistatic" and r.status == "optimal" and not r.exact
+    assert r.value == pytest.approx(0.3, abs=1e-9)  # tau = F L / (2 mu): the path's exact limit
+    docs = Path(__file__).resolve().parents[1] / "docs"
+    assert (
+        'optimal_preload(model, disturbances, method="quasistatic"'
+        in (docs / "optimal_preload.md").read_text()
+    )
+    assert 'disturbances, method="quasistatic", objective="max"' in (docs / "hands.md").read_text()
+
+
 def test_pinch_prp_exact_to_the_margin():
     r = pg.optimal_preload(examples.pinch(), [F_Y], "prp", objective="max")
     assert max(r.command.values()) == pytest.approx(0.3 * (1 + 1e-6), rel=1e-9)

@@ -4,6 +4,7 @@ refinement's monotonicity, the epsilon column, and a closed form (a parallel jaw
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -40,6 +41,32 @@ def test_the_grasps_file_rescores_to_the_same_numbers(plans, tmp_path):
     for plan, row in zip(plans.plans, df.to_dict("records")):
         assert row["score"] == plan.score and row["epsilon"] == plan.epsilon
         assert {k: row[f"max_{k}"] for k in plan.values} == plan.values
+
+
+def test_a_mesh_object_outside_the_output_folder_is_copied_and_rescored(tmp_path):
+    # `pinograsp plan HAND mesh.stl --out plans/`, then `pinograsp batch plans/plans.yaml`: the
+    # batch reads files inside the GRASPS file's folder only (docs/scenes.md, "Paths"), so the
+    # mesh is copied next to plans.yaml and named relatively; the numbers are the plans' own
+    trimesh = pytest.importorskip("trimesh")
+    (tmp_path / "meshes").mkdir()
+    mesh = tmp_path / "meshes" / "ball.stl"
+    trimesh.creation.icosphere(subdivisions=2, radius=0.02).export(mesh)
+    plans = pg.plan_grasps("parallel_jaw", pg.ObjectSpec("mesh", file=str(mesh)), **{**SMALL, "refine": 0})
+    path = plans.write_grasps(tmp_path / "plans" / "plans.yaml")
+    assert (tmp_path / "plans" / "ball.stl").read_bytes() == mesh.read_bytes()
+    batch = pg.load_grasps(path)  # was: SceneError, '.../meshes/ball.stl' is outside the folder
+    assert {g.object.file for g in batch.grasps} == {str(tmp_path / "plans" / "ball.stl")}
+    df = pg.evaluate_grasps(list(batch.grasps), score=pg.DisturbanceScore(**batch.score), workers=1)
+    assert list(df["status"]) == ["ok"] * len(plans.plans)
+    for plan, row in zip(plans.plans, df.to_dict("records")):
+        assert row["score"] == plan.score and {k: row[f"max_{k}"] for k in plan.values} == plan.values
+    # a different file of the same name already there is kept; the copy gets a content-hashed name
+    (tmp_path / "other").mkdir()
+    (tmp_path / "other" / "ball.stl").write_bytes(b"not this mesh")
+    again = pg.load_grasps(plans.write_grasps(tmp_path / "other" / "plans.yaml"))
+    (copy,) = {Path(g.object.file).name for g in again.grasps}
+    assert copy.startswith("ball-") and copy.endswith(".stl") and copy != "ball.stl"
+    assert (tmp_path / "other" / copy).read_bytes() == mesh.read_bytes()
 
 
 def test_refinement_never_lowers_the_best_score(plans):

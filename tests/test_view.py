@@ -192,6 +192,25 @@ def test_check_closing_so101_gripper_sign():
     assert right.link_distances == pytest.approx(link_distances(so101(-1), SO_Q, SO_BALL))
 
 
+def test_check_closing_mimic_followers_and_locked_joints_have_their_documented_verdicts():
+    # docs/hands.md "Check my description": every verdict the report can print is in its table
+    from pathlib import Path
+
+    jaw = pg.check_closing(
+        pg.Hand.builtin("parallel_jaw"), pg.RigidObject.box([0.03, 0.04, 0.05], pose=[0, 0.04, 0])
+    )
+    assert [j.verdict for j in jaw.joints] == ["closes", "follows"] and jaw.ok
+    allegro = pg.check_closing(
+        pg.Hand.builtin("allegro_right"), pg.RigidObject.sphere(0.04, pose=[0.07, 0, 0.03])
+    )
+    locked = [j.joint for j in allegro.joints if j.verdict == "locked"]
+    assert locked == ["joint_0.0", "joint_12.0", "joint_4.0", "joint_8.0"]  # abduction, thumb rotation
+    table = (Path(__file__).resolve().parents[1] / "docs" / "hands.md").read_text()
+    from pinograsp.robots.closing import VERDICTS
+
+    assert all(f'| `"{v}"` |' in table for v in VERDICTS)
+
+
 def test_check_closing_no_effect_and_bad_input(uf, uf_box):
     # a box far out along the finger axis: the step moves the closest points sideways
     far = pg.RigidObject.sphere(0.005, pose=[0.0, 0.0, 0.5])

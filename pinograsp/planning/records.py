@@ -10,6 +10,7 @@ plans to the same numbers, bit for bit."""
 
 from __future__ import annotations
 
+import hashlib
 import math
 import os
 from dataclasses import dataclass
@@ -19,6 +20,7 @@ from typing import Any, Literal
 import numpy as np
 
 from ..batch.grasps import GraspSpec, ObjectSpec
+from ..core.paths import allowed_roots, inside
 from ..core.serialize import jsonable
 
 #: Where a plan comes from: a sampled approach, or the local search from one.
@@ -220,7 +222,26 @@ _DEFAULTS = {
 }
 
 
-def _object(spec: GraspSpec) -> dict[str, Any]:
+def _mesh_reference(file: str, folder: Path) -> str:
+    """How a GRASPS file in ``folder`` names the object mesh ``file`` so that ``pinograsp batch``
+    may read it (docs/scenes.md, "Paths"): relative to ``folder`` when inside it, absolute in
+    another allowed root, else the name of a copy made in ``folder``
+    (``<stem>-<sha256[:8]><suffix>`` when a different file already has its name)."""
+    src, base = Path(file).resolve(), Path(folder).resolve()
+    if inside(src, [str(base)]):
+        return os.path.relpath(src, base)
+    if inside(src, allowed_roots(base)):
+        return str(src)
+    data = src.read_bytes()
+    dest = base / src.name
+    if dest.exists() and dest.read_bytes() != data:
+        dest = base / f"{src.stem}-{hashlib.sha256(data).hexdigest()[:8]}{src.suffix}"
+    if not dest.exists():
+        dest.write_bytes(data)
+    return dest.name
+
+
+def _object(spec: GraspSpec, folder: Path) -> dict[str, Any]:
     o = spec.object
     out: dict[str, Any] = {"shape": o.shape}
     for key in ("size", "radius", "length"):
@@ -228,7 +249,7 @@ def _object(spec: GraspSpec) -> dict[str, Any]:
             v = getattr(o, key)
             out[key] = list(v) if isinstance(v, tuple) else v
     if o.file is not None:
-        out.update(file=str(Path(o.file).resolve()), scale=o.scale)
+        out.update(file=_mesh_reference(o.file, folder), scale=o.scale)
         if o.convex is not None:
             out["convex"] = o.convex
     out["pose"] = {"xyz": list(o.xyz), "rpy": list(o.rpy)}
@@ -237,12 +258,13 @@ def _object(spec: GraspSpec) -> dict[str, Any]:
     return out
 
 
-def grasp_entry(spec: GraspSpec) -> dict[str, Any]:
-    """One plan as a GRASPS.yaml grasp (plain data)."""
+def grasp_entry(spec: GraspSpec, folder: str | os.PathLike[str] = ".") -> dict[str, Any]:
+    """One plan as a grasp of a GRASPS.yaml in ``folder`` (plain data; an object mesh outside
+    the folder's allowed roots is copied into it, :func:`_mesh_reference`)."""
     d = spec.to_dict()
     hand = d["hand"]
     out: dict[str, Any] = {"id": d["id"], "hand": str(Path(hand).resolve()) if os.sep in hand else hand}
-    out["object"] = _object(spec)
+    out["object"] = _object(spec, Path(folder))
     for key in (
         "q",
         "command",
@@ -270,9 +292,9 @@ def write_grasps(plans: GraspPlans, path: str | os.PathLike[str]) -> Path:
     """Write the plans as a GRASPS.yaml (``score`` block: the planner's score) and return the path."""
     import yaml
 
-    doc = {"score": dict(plans.score_options), "grasps": [grasp_entry(p.spec) for p in plans.plans]}
     p = Path(path)
     p.parent.mkdir(parents=True, exist_ok=True)
+    doc = {"score": dict(plans.score_options), "grasps": [grasp_entry(g.spec, p.parent) for g in plans.plans]}
     header = f"# {len(plans.plans)} grasp plans of {plans.hand}: pinograsp batch {p.name} re-scores them\n"
     p.write_text(header + yaml.safe_dump(doc, sort_keys=False))
     return p

@@ -219,10 +219,13 @@ class RigidObject:
         p = Path(path)
         if not p.is_file():
             where = "is a directory" if p.is_dir() else "not found"
+            looked = (
+                ""
+                if p.is_absolute()
+                else (f" (looked for {p.resolve()}; a relative path is taken from the working directory)")
+            )  # an absolute path was resolved by the caller (a scene or GRASPS file: its folder)
             raise ModelFileError(
-                p,
-                f"mesh file {where} (looked for {p.resolve()}; a relative path is taken from the "
-                "working directory): give the path of an existing STL, OBJ, PLY, OFF or GLB file",
+                p, f"mesh file {where}{looked}: give the path of an existing STL, OBJ, PLY, OFF or GLB file"
             )
         if p.stat().st_size > MAX_MESH_BYTES:
             raise ModelFileError(p, f"{p.stat().st_size} bytes, more than a mesh may have (MAX_MESH_BYTES)")
