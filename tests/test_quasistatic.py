@@ -407,6 +407,10 @@ def test_case3_path_failing_its_audit_is_no_verdict(case3, monkeypatch):
     assert lp.limit == 0.0 and lp.audit["friction"].max() > 1e-3
     r = pg.quasistatic_max_wrench(m, fc, _dir(285), path=lp)
     assert r.status == "no_solution"
+    # the answer says the audit cut it short, and how far the path went (the SolverError quotes it)
+    assert r.note.startswith(f"the path went on to {lp.loads[-1]:.6g} but its states past 0 fail")
+    with pytest.raises(pg.SolverError, match="fail the equilibrium audit"):
+        pg.max_resistible_wrench(m, fc, _dir(285))
 
 
 def test_case2_minus_x_limit_is_a_tiny_snap():

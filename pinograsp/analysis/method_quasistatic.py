@@ -135,6 +135,7 @@ class QuasistaticMethod(MethodBase):
                     if mw.status == "segment_limit"
                     else "the local rate problem has no unique continuation"
                 )
+                + ("; " + mw.note if mw.note else "")
                 + "); that load is a lower "
                 "bound of the limit. pg.loading_path(model, command, direction) shows the path",
                 solver="lemke",

@@ -319,6 +319,17 @@ def locate_giveway(
     return Located(status, load, record, state)
 
 
+def _audit_note(lp: LoadingPath, status: str) -> str:
+    """Why a path without a verdict stopped where it did, when its audit cut it short."""
+    if status not in NO_VERDICT or lp.stop_reason != "audit":
+        return ""
+    return (
+        f"the path went on to {float(lp.loads[-1]):.6g} but its states past {float(lp.limit):.6g} "
+        "fail the equilibrium audit (response.audit): the load reached is that of the last state "
+        "that passed"
+    )
+
+
 #: Path statuses without a verdict: the path stopped (no or several continuations, or the
 #: segment-count limit); the load reached is a lower bound, never reported as the limit.
 NO_VERDICT = ("no_solution", "segment_limit")
@@ -373,7 +384,7 @@ def max_wrench_prepared(
     resp_status = "failed" if status in NO_VERDICT else "resisted"
     resp = response_at(p, lp, at, at * d6, resp_status, s, t0, state)
     note = p.model.free_motion_note(d6) if status == "below_resolution" else ""
-    note = note or (record.note if record is not None else "")
+    note = note or (record.note if record is not None else "") or _audit_note(lp, status)
     if label is not None:  # the registry's name of the variant
         resp = replace(resp, variant=label)
     return MaxWrench(
