@@ -384,7 +384,9 @@ def max_wrench_prepared(
     resp_status = "failed" if status in NO_VERDICT else "resisted"
     resp = response_at(p, lp, at, at * d6, resp_status, s, t0, state)
     note = p.model.free_motion_note(d6) if status == "below_resolution" else ""
-    note = note or (record.note if record is not None else "") or _audit_note(lp, status)
+    note = note or (record.note if record is not None else "")
+    if status in NO_VERDICT and not note:
+        note = _audit_note(lp, status)
     if label is not None:  # the registry's name of the variant
         resp = replace(resp, variant=label)
     return MaxWrench(
