@@ -35,13 +35,9 @@ tolerance of the contact plane (on each mesh) must lie within :data:`MESH_FLATNE
 tolerance of one plane (0.1 mm at the default 1 mm). A tessellated curved surface (a rounded
 finger, a sphere or torus mesh) fails this and stays one point; a flat mesh face gives Coal's
 polygon, as a primitive face does. A mesh patch narrower than the tolerance is a point. A
-**tessellated straight side** (a cylinder mesh) on a flat face is a line: its top vertices
-(within the flatness of the plane) span at least ten tolerances and a quarter of the mesh, the
-middle line of Coal's patch of those top features is that long and four times longer than
-wide, and the mesh lies within the tolerance along it (:mod:`~pinograsp.robots.patch_shapes`). A patch
-found on a triangle mesh's hull is kept only where each point lies within the contact tolerance
-of the mesh itself and the hull's normal is within :data:`CAP_ANGLE` of the detected normal (a
-hull facet that bridges a concavity, as over a torus's hole, is not the surface).
+**tessellated straight side** on a flat face or along a primitive's straight side is a line
+(:mod:`~pinograsp.robots.patch_shapes`). A hull patch is kept only where its points lie within
+the tolerance of the mesh itself and its normal within :data:`CAP_ANGLE` of the detected one.
 """
 
 from __future__ import annotations
@@ -382,12 +378,11 @@ def _mesh_line(
     tolerance: float,
     detected: np.ndarray | None,
 ) -> tuple[PatchKind, np.ndarray, np.ndarray] | None:
-    """The line of a mesh pair that is not flat but has a long top set (a tessellated straight
-    side): the middle line of Coal's patch of the features within ``MESH_FLATNESS * tolerance``
-    of the contact plane, kept when it is at least ``MESH_LINE_LENGTH * tolerance`` long and
-    ``MESH_LINE_ASPECT`` times longer than wide, and each triangle mesh lies within
-    ``tolerance`` of :data:`~pinograsp.robots.patch_shapes.LINE_SAMPLES` points along it;
-    otherwise ``None`` (one point)."""
+    """The line of a mesh pair with a long top set (a tessellated straight side): along a
+    primitive's straight side :func:`_strip_on_side`; else the middle line of Coal's patch of
+    the features within ``MESH_FLATNESS * tolerance`` of the plane, at least
+    ``MESH_LINE_LENGTH`` tolerances and ``MESH_LINE_ASPECT`` times its width long, on the mesh
+    (:func:`_checked_line`); otherwise ``None`` (one point)."""
     found = coal_patch(solid_of(g1), T1, solid_of(g2), T2, tolerance, MESH_FLATNESS * tolerance)
     if found is None:
         return None
@@ -402,6 +397,20 @@ def _mesh_line(
     ends, length, width = midline(points, normal)
     if length < MESH_LINE_LENGTH * tolerance or MESH_LINE_ASPECT * width > length:
         return None
+    return _checked_line(g1, T1, g2, T2, ends, normal, tolerance, detected)
+
+
+def _checked_line(
+    g1: coal.CollisionGeometry,
+    T1: coal.Transform3s,
+    g2: coal.CollisionGeometry,
+    T2: coal.Transform3s,
+    ends: np.ndarray,
+    normal: np.ndarray,
+    tolerance: float,
+    detected: np.ndarray | None,
+) -> tuple[PatchKind, np.ndarray, np.ndarray] | None:
+    """The line ``ends`` (2, 3) [m] if each triangle mesh is within ``tolerance`` along it."""
     probe = samples(ends)
     for g, T in ((g1, T1), (g2, T2)):
         if type(g).__name__.startswith("BVH") and not _on_mesh(g, T, probe, normal, tolerance, detected):
@@ -420,10 +429,8 @@ def _strip_on_side(
     detected: np.ndarray | None,
 ) -> tuple[PatchKind, np.ndarray, np.ndarray] | None:
     """The line of a mesh's long top strip on a primitive's straight side through ``point``
-    (3,) [m]: the two as straight sides (:func:`~pinograsp.robots.patch_shapes.parallel_sides`),
-    kept when the line is :data:`MESH_LINE_LENGTH` tolerances long and the triangle mesh lies
-    within ``tolerance`` of :data:`~pinograsp.robots.patch_shapes.LINE_SAMPLES` points along
-    it; otherwise ``None`` (one point)."""
+    (3,) [m] as two parallel sides, at least :data:`MESH_LINE_LENGTH` tolerances long and on the
+    mesh (:func:`_checked_line`); otherwise ``None`` (one point)."""
     sides = tuple(
         top_strip(g, T, d, tolerance) if is_mesh(g) else generator(g, *_to_matrix(T), point)
         for g, T, d in ((g1, T1, normal), (g2, T2, -normal))
@@ -431,12 +438,7 @@ def _strip_on_side(
     ends = parallel_sides((sides[0], sides[1]), point, normal, tolerance)
     if ends is None or float(np.linalg.norm(ends[1] - ends[0])) < MESH_LINE_LENGTH * tolerance:
         return None
-    for g, T in ((g1, T1), (g2, T2)):
-        if type(g).__name__.startswith("BVH") and not _on_mesh(
-            g, T, samples(ends), normal, tolerance, detected
-        ):
-            return None
-    return _line(ends, normal, T1)
+    return _checked_line(g1, T1, g2, T2, ends, normal, tolerance, detected)
 
 
 def _on_mesh(
