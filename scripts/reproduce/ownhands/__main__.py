@@ -2,7 +2,9 @@
 designed preload, 9 grasps x 6 directions, the default method against the simulation.
 
 Deterministic: fixed candidate poses tried in order, the first 9 that close and give a preload
-are kept. ``python -m scripts.reproduce.ownhands [--hands a,b] [--report]``.
+are kept. ``python -m scripts.reproduce.ownhands [--hands a,b] [--report] [--refresh-answers]``
+(``--refresh-answers``: the cached grasps' default answers recomputed with the current code,
+their simulations kept).
 """
 
 from __future__ import annotations
@@ -143,7 +145,12 @@ def _finite(x: float | None) -> float | None:
 
 
 def compare(g: dict, d: str) -> dict:
-    model, cmd = g["model"], g["command"]
+    row = answer(g["model"], g["command"], d)
+    return {**row, **simulated(g["model"], g["command"], d)}
+
+
+def answer(model: pg.GraspModel, cmd: object, d: str) -> dict:
+    """The default answer's fields of a pair (status, load, first limit, give-way record)."""
     row: dict = {"direction": d}
     try:
         mw = pg.max_resistible_wrench(model, cmd, d, upper=UPPER)
@@ -165,6 +172,12 @@ def compare(g: dict, d: str) -> dict:
         )
     except pg.PinograspError as exc:
         row.update(qs_status=type(exc).__name__, qs=None, error=str(exc)[:300])
+    return row
+
+
+def simulated(model: pg.GraspModel, cmd: object, d: str) -> dict:
+    """The simulation's fields of a pair (status, load, onset, wall time)."""
+    row: dict = {}
     t0 = time.perf_counter()
     try:
         with warnings.catch_warnings():
@@ -197,12 +210,36 @@ def run(names: list[str]) -> None:
             cache.write_text(json.dumps(data, indent=1, default=str))
 
 
+def refresh_answers() -> None:
+    """Recompute the default answers of every cached pair with the current code, keeping the
+    cached grasps and simulations (the answer takes milliseconds, a simulation seconds)."""
+    for cache in (CACHE, HERE / "results_romeo_left.json"):
+        if not cache.exists():
+            continue
+        data = json.loads(cache.read_text())
+        for name, rows in data.items():
+            hand = load_hand(name)
+            for g in rows:
+                obj = _object(g["kind"], g["size"], np.asarray(g["pose"], dtype=float))
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore")
+                    model = pg.grasp_model_from_scene(hand, np.asarray(g["q"], dtype=float), obj, mu=0.5)
+                    for p in g["pairs"]:
+                        for key in ("qs_status", "qs", "first_limit", "giveway", "error"):
+                            p.pop(key, None)
+                        p.update(answer(model, g["command"], p["direction"]))
+        cache.write_text(json.dumps(data, indent=1, default=str))
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--hands", default=",".join(HANDS))
     ap.add_argument("--report", action="store_true")
+    ap.add_argument("--refresh-answers", action="store_true", help="recompute the cached pairs' answers only")
     a = ap.parse_args()
-    if not a.report:
+    if a.refresh_answers:
+        refresh_answers()
+    elif not a.report:
         run(a.hands.split(","))
     from scripts.reproduce.ownhands.report import write_report
 
