@@ -85,6 +85,11 @@ def test_so101_one_joint_gripper(so101):
         mw = pg.max_resistible_wrench(m, 1.0, "-fz", upper=50, steps=10)
     assert mw.status == "above_limit" and mw.magnitude == 50.0
     assert mw.giveway.reason == "limit" and mw.giveway.load > 50.0
+    # held only while nothing drives the spin about the two contacts' chord: the answer says so
+    chord = (m.points[1] - m.points[0]) / np.linalg.norm(m.points[1] - m.points[0])
+    assert mw.note.startswith("held while nothing drives the free rotation about the axis (")
+    axis = np.array([float(x) for x in mw.note.split("axis (")[1].split(")")[0].split(",")])
+    assert abs(axis @ chord) / np.linalg.norm(axis) == pytest.approx(1.0, abs=1e-3)
 
 
 def test_jacobian_of_a_one_joint_hand_matches_finite_differences(so101):

@@ -244,6 +244,26 @@ class GraspModel:
             )
         return ""
 
+    def held_free_motion_note(self) -> str:
+        """For an answer that holds: the object motion no contact resists (a spin about the chord
+        of two point contacts, :meth:`free_motions`), which holds only while nothing drives it;
+        ``""`` for a grasp that constrains every motion."""
+        free = self.free_motions()
+        if not len(free):
+            return ""
+        w, v = free[0, 3:], free[0, :3]
+        if not np.linalg.norm(w) > 0:
+            return ""
+        p = self.reference_point + np.cross(w, v) / float(w @ w)
+        axis = ", ".join(f"{c:.3g}" for c in w)
+        where = ", ".join(f"{1e3 * c:.1f}" for c in p)
+        return (
+            f"held while nothing drives the free rotation about the axis ({axis}) through ({where}) "
+            "mm that the contacts leave (point contacts carry no torsional friction): a load with a "
+            "moment about it, or a slowly ramped simulation's spin, gives way (docs/hands.md, "
+            "'Free motions under load, and buckling')"
+        )
+
     def command_vector(self, command: object) -> np.ndarray:
         """Validate an actuator command and return it for the kept actuators, (na,).
 

@@ -387,6 +387,8 @@ def max_wrench_prepared(
     note = note or (record.note if record is not None else "")
     if status in NO_VERDICT and not note:
         note = _audit_note(lp, status)
+    if status in ("unbounded", "above_limit") and not note:
+        note = p.model.held_free_motion_note()
     if label is not None:  # the registry's name of the variant
         resp = replace(resp, variant=label)
     return MaxWrench(
