@@ -227,12 +227,8 @@ class GraspModel:
             )
             if abs(power) <= 1e-6 * max(size, 1e-300):
                 continue
-            w, v = t[3:], t[:3]
-            if np.linalg.norm(w) > 0:
-                p = self.reference_point + np.cross(w, v) / float(w @ w)  # a point on the axis
-                axis = ", ".join(f"{c:.3g}" for c in w)
-                where = ", ".join(f"{1e3 * c:.1f}" for c in p)
-                motion = f"rotate about the axis ({axis}) through ({where}) mm"
+            if np.linalg.norm(t[3:]) > 0:
+                motion = f"rotate about {self._axis_text(t)}"
                 if self.nc == 2:
                     motion += " (the line through the two contacts)"
             else:
@@ -244,22 +240,23 @@ class GraspModel:
             )
         return ""
 
+    def _axis_text(self, t: np.ndarray) -> str:
+        """The axis of a rotating twist ``t`` (6,) as text: its direction and a point on it [mm]."""
+        w, v = t[3:], t[:3]
+        p = self.reference_point + np.cross(w, v) / float(w @ w)  # a point on the axis
+        axis = ", ".join(f"{c:.3g}" for c in w)
+        return f"the axis ({axis}) through (" + ", ".join(f"{1e3 * c:.1f}" for c in p) + ") mm"
+
     def held_free_motion_note(self) -> str:
         """For an answer that holds: the object motion no contact resists (a spin about the chord
         of two point contacts, :meth:`free_motions`), which holds only while nothing drives it;
         ``""`` for a grasp that constrains every motion."""
         free = self.free_motions()
-        if not len(free):
+        if not len(free) or not np.linalg.norm(free[0, 3:]) > 0:
             return ""
-        w, v = free[0, 3:], free[0, :3]
-        if not np.linalg.norm(w) > 0:
-            return ""
-        p = self.reference_point + np.cross(w, v) / float(w @ w)
-        axis = ", ".join(f"{c:.3g}" for c in w)
-        where = ", ".join(f"{1e3 * c:.1f}" for c in p)
         return (
-            f"held while nothing drives the free rotation about the axis ({axis}) through ({where}) "
-            "mm that the contacts leave (point contacts carry no torsional friction): a load with a "
+            f"held while nothing drives the free rotation about {self._axis_text(free[0])} "
+            "that the contacts leave (point contacts carry no torsional friction): a load with a "
             "moment about it, or a slowly ramped simulation's spin, gives way (docs/hands.md, "
             "'Free motions under load, and buckling')"
         )
