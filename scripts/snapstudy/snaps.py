@@ -19,14 +19,11 @@ Read-only use of package internals; nothing here changes the package.
 from __future__ import annotations
 
 import math
-import time
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from pinograsp.analysis.quasistatic.answers import _thresholds, locate_giveway
-from pinograsp.analysis.quasistatic.api import run_path, unit_again
-from pinograsp.analysis.quasistatic.path import MAX_SEGMENTS
+from pinograsp.analysis.quasistatic.answers import _thresholds, answer_path, locate_giveway
 from pinograsp.analysis.quasistatic.prepared import checked_settings, path_of_variant, prepare
 from pinograsp.core.axes import wrench_direction
 
@@ -58,18 +55,7 @@ def path_of(model, command, direction, upper: float, settings=None):
     p = prepare(model, command, s, path_of_variant(None, s))
     d6 = wrench_direction(model, direction)
     th = _thresholds(p, d6, s, upper)
-    lp = run_path(
-        p,
-        unit_again(d6),
-        MAX_SEGMENTS,
-        None,
-        True,
-        time.perf_counter(),
-        lean=True,
-        until=2.0 * upper,
-        stiffness=s.contact_stiffness,
-        reach=(th.rotation, th.slip),
-    )
+    lp = answer_path(p, d6, s, upper, th)
     loc = locate_giveway(p, lp, d6, s, upper, th)
     return p, lp, loc, th, d6
 

@@ -335,6 +335,25 @@ def _audit_note(lp: LoadingPath, status: str) -> str:
 NO_VERDICT = ("no_solution", "segment_limit")
 
 
+def answer_path(p: Prepared, d6: np.ndarray, s: Settings, upper: float, th: Thresholds) -> LoadingPath:
+    """The lean loading path the default answer reads along ``d6`` (6,): its continuation past
+    a limit when the settings ask for the give-way, no geometry update above twice ``upper`` nor
+    past the thresholds ``th`` (loading_path's validation done once: the direction normalised
+    again as it would be)."""
+    return run_path(
+        p,
+        unit_again(d6),
+        MAX_SEGMENTS,
+        None,
+        s.limit == "giveway",
+        time.perf_counter(),
+        lean=True,
+        until=2.0 * upper,
+        stiffness=s.contact_stiffness,
+        reach=(th.rotation, th.slip),
+    )
+
+
 def max_wrench_prepared(
     p: Prepared,
     d6: np.ndarray,
@@ -350,23 +369,7 @@ def max_wrench_prepared(
     path stopped without a verdict at or above it is ``"above_limit"``)."""
     giveway = s.limit == "giveway"
     th = _thresholds(p, d6, s, upper)
-    # loading_path's validation done once (the direction normalised again as it would be)
-    lp = (
-        path
-        if path is not None
-        else run_path(
-            p,
-            unit_again(d6),
-            MAX_SEGMENTS,
-            None,
-            giveway,
-            time.perf_counter(),
-            lean=True,
-            until=2.0 * upper,
-            stiffness=s.contact_stiffness,
-            reach=(th.rotation, th.slip),
-        )
-    )
+    lp = path if path is not None else answer_path(p, d6, s, upper, th)
     record = None
     if giveway:
         loc = locate_giveway(p, lp, d6, s, upper, th)
@@ -413,6 +416,7 @@ def max_wrench_prepared(
 
 __all__ = [
     "METHOD",
+    "answer_path",
     "max_wrench_prepared",
     "quasistatic_max_wrench",
     "quasistatic_response",
