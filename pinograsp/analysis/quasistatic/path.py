@@ -115,7 +115,7 @@ def planned(
     its opening and all its faces in the LCP. Each (plan, faces) combination is tried once.
     """
     candidates = [plan0]
-    if cls.zero.any():
+    if cls.has_zero:
         for fill in (SEPARATE, PRESS):
             alt = plan0.copy()
             alt[cls.zero] = fill
@@ -145,7 +145,7 @@ def planned(
                 break
         if seg.status in (SegmentStatus.OK, SegmentStatus.SINGULAR):
             return seg
-        if not cls.zero.any():
+        if not cls.has_zero:
             return seg
     full = rates(qm, st, spec, cls, control, np.full(qm.nc, FULL), sc)
     run.lcp_solves += 1
@@ -160,7 +160,7 @@ def plan_of(qm: QSModel, cls: Classes, prev: Segment | None) -> np.ndarray:
     """First guess for the zero-force contacts: one that was separated has just touched
     (pressed), one that was touching has just unloaded (separated)."""
     plan = np.full(qm.nc, PRESS)
-    if prev is not None and prev.contact:
+    if prev is not None and prev.contact and cls.has_zero:
         for i in cls.zero.nonzero()[0]:
             plan[i] = PRESS if prev.contact[i] == "separated" else SEPARATE
     return plan
@@ -185,7 +185,11 @@ def _solve_segment(
             for tr in trig
             if tr.kind in (TriggerKind.FACE, TriggerKind.COMMAND)
         ]
-        hints = (np.union1d(prev.active, new), prev.active) if new else (prev.active,)
+        if new:  # the sorted union, as np.union1d
+            both = np.array(sorted(set(prev.active.tolist()).union(new)), dtype=prev.active.dtype)
+            hints = (both, prev.active)
+        else:
+            hints = (prev.active,)
     seg = planned(qm, st, spec, cls, "load", plan, run, sc, hints)
     _, _, r0, size, loaded = sc.rates
     if not loaded:

@@ -100,6 +100,9 @@ class Classes:
     gap: np.ndarray | None = None
     slack: np.ndarray | None = None
     phi: np.ndarray | None = None
+    #: whether any contact is at zero force, and the indices of :attr:`act_lcp` (speed only)
+    has_zero: bool = True
+    acts: np.ndarray | None = None
 
 
 @dataclass(frozen=True)
@@ -191,7 +194,9 @@ def classify(qm: QSModel, st: State, spec: StageSpec, sc: StageCache | None = No
         faces, slack = np.zeros(0, int), None
     phi = (st.f - spec.command(st.t)) * qm.r_norm
     act_lcp = qm.nbd & (phi <= tol)
-    return Classes(opened, zero, pressed, faces, act_lcp, tol, fscale, c, st, gap, slack, phi)
+    has_zero = bool(zero.any())
+    acts = act_lcp.nonzero()[0]
+    return Classes(opened, zero, pressed, faces, act_lcp, tol, fscale, c, st, gap, slack, phi, has_zero, acts)
 
 
 def _at_apex(qm: QSModel, st: State, tol: float) -> np.ndarray:
@@ -209,6 +214,9 @@ def _at_apex(qm: QSModel, st: State, tol: float) -> np.ndarray:
 #: Plans for a contact at zero force: both pairs in the LCP, pressed (touching, faces in the
 #: LCP, no opening item) or separated (out of the rate problem).
 FULL, PRESS, SEPARATE = 0, 1, 2
+#: No index (read-only, shared).
+_NONE = np.zeros(0, int)
+_NONE.setflags(write=False)
 
 
 def rates(
@@ -234,10 +242,12 @@ def rates(
     """
     sc = StageCache.of(qm, spec) if sc is None else sc
     plan = np.zeros(qm.nc, int) if plan is None else plan
-    sep = cls.zero & (plan == SEPARATE)
-    touch = (cls.zero & ~sep) | cls.pressed
-    rc = qm.row_contact
-    ks = touch[rc] * (qm.kn_rows + qm.kt_rows) if spec.friction else touch[rc] * qm.kn_rows
+    if cls.has_zero:
+        sep = cls.zero & (plan == SEPARATE)
+        touch = (cls.zero & ~sep) | cls.pressed
+    else:  # no zero-force contact: nothing planned (``cls.zero`` is all False)
+        sep, touch = cls.zero, cls.pressed
+    ks = touch[qm.row_contact] * sc.k_rows
     items = lcp_items(qm, cls, plan, sep, apex)
     lin = linear_part(qm, sc, spec, ks, items, control)
     if lin is None:
@@ -247,8 +257,8 @@ def rates(
     nz = Mlcp.shape[0]
     # faces of a contact at zero force: opposite faces' flows cancel (a null direction of M);
     # a relative 1e-12 on their diagonal picks the least flow
-    apex_faces = cls.zero[qm.face_contact[faces]]
-    if apex_faces.any():
+    apex_faces = cls.zero[qm.face_contact[faces]] if cls.has_zero else None
+    if apex_faces is not None and apex_faces.any():
         at_apex = np.concatenate([np.zeros(len(zero), bool), apex_faces, np.zeros(len(acts), bool)])
         Mlcp[at_apex, at_apex] += APEX_REG * max(float(np.abs(Mlcp).max()), 1.0)
     # item codes: opening of contact i -> i, face f -> nc + f, actuator a -> nc + nf + a
@@ -275,6 +285,9 @@ def rates(
 def lcp_items(qm: QSModel, cls: Classes, plan: np.ndarray, sep: np.ndarray, apex: np.ndarray | None) -> Items:
     """The LCP :class:`Items` of a classified state under the zero-force ``plan`` (``sep``: the
     contacts planned separated; ``apex``: the zero-force faces taken, None: all)."""
+    acts = cls.acts if cls.acts is not None else cls.act_lcp.nonzero()[0]
+    if not cls.has_zero:  # no opening item, no face to leave out
+        return Items(_NONE, cls.faces, acts)
     zero = (cls.zero & (plan == FULL)).nonzero()[0]
     faces = cls.faces
     if len(faces) and (sep.any() or (apex is not None and cls.zero.any())):  # else every face stays
@@ -283,7 +296,7 @@ def lcp_items(qm: QSModel, cls: Classes, plan: np.ndarray, sep: np.ndarray, apex
         if apex is not None:
             keep &= ~cls.zero[owner_f] | apex[faces]
         faces = faces[keep]
-    return Items(zero, faces, cls.act_lcp.nonzero()[0])
+    return Items(zero, faces, acts)
 
 
 def linear_part(
@@ -327,7 +340,7 @@ def linear_part(
         V, lam = full
         dC = -ks[:, None] * (A.T @ V) + F
     # multipliers per column: k B rho = K V - r0 lam - A F = -A dC - r0 lam
-    Rho = -(sc.BpA @ dC + np.outer(sc.Bpr0, lam)) / k
+    Rho = -(sc.BpA @ dC + sc.Bpr0[:, None] * lam) / k  # (the outer product)
     if qm.KG is not None:  # the geometric stiffness's share of the constraint forces
         Rho -= sc.B_pinv @ (qm.KG @ V) / k
     W = np.zeros((nz, 1 + nz))
@@ -335,7 +348,7 @@ def linear_part(
     if len(faces):
         W[n0:n1] = qm.Phi[faces] @ dC
     if len(acts):
-        W[n1:] = k * Rho[cols] - np.outer(qm.r_norm[acts] * spec.dfc[acts], lam)
+        W[n1:] = k * Rho[cols] - (qm.r_norm[acts] * spec.dfc[acts])[:, None] * lam
     # rounding of a zero load rate (symmetric grasps) is zero
     qscale = max(float(np.abs(W[:, 0]).max(initial=0.0)), float(np.abs(dC[:, 0]).max(initial=0.0)), 1e-300)
     W[np.abs(W[:, 0]) <= RATE_RTOL * 1e-3 * qscale, 0] = 0.0
@@ -365,7 +378,7 @@ def _solve_lcp(M: np.ndarray, q: np.ndarray, keys: np.ndarray, hints: tuple[np.n
 def _check_guesses(qm, spec, cls, plan, sep, apex, seg, v, dc, sc) -> Segment:
     """Flag a contradicted zero-force guess (status ``"guess"``: a pressed one pulls, a
     separated one closes) or a left-out apex face that the rates cross (``"apex"``)."""
-    if not cls.zero.any():  # no zero-force contact: no guess (``sep`` is part of ``cls.zero``)
+    if not cls.has_zero:  # no zero-force contact: no guess (``sep`` is part of ``cls.zero``)
         return seg
     d = qm.d
     rtol = RATE_RTOL * max(float(np.abs(dc).max(initial=0.0)), sc.r0max, 1e-300)
@@ -412,12 +425,10 @@ def _segment(
     v, dc, rho, lam_rate, zeta = solved.v, solved.dc, solved.rho, solved.lam_rate, solved.zeta
     d, nx, nc = qm.d, qm.nx, qm.nc
     k = qm.k_ref
-    owner = sc.owner
     df = np.zeros(qm.na)
     if qm.na:
         df[qm.bd] = spec.dfc[qm.bd] * lam_rate
-        ac = sc.act_cols
-        df[owner[ac]] = k * rho[ac] / qm.r_norm[owner[ac]]
+        df[sc.act_owner] = k * rho[sc.act_cols] / sc.act_rnorm
     dlam = k * rho[sc.coupling_cols] / qm.c_norm if qm.ncp else np.zeros(0)
     dhold = qm.S[:nx] * k * rho[sc.holder_cols] if spec.held else np.zeros(nx)
     nzero = len(zero)
@@ -426,7 +437,8 @@ def _segment(
     rscale = max(float(np.abs(dc).max(initial=0.0)), sc.r0max * abs(lam_rate), 1e-300)
     ftol = RATE_RTOL * rscale
     opening = sep.copy()
-    opening[zero] = (zeta[:nzero] > ftol) | (dc[zero * d] <= ftol)
+    if nzero:
+        opening[zero] = (zeta[:nzero] > ftol) | (dc[zero * d] <= ftol)
     flowing = faces[flows_f > ftol]
     sep_all = cls.open | opening
     sep_l = sep_all.tolist()

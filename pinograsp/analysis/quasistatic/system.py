@@ -5,7 +5,7 @@ mechanisms and redundant constraints, a least-norm SVD solve of the whole border
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.linalg.lapack import dgetrf, dgetrs, dpotrf, dpotrs
@@ -55,6 +55,16 @@ class StageCache:
     rates: tuple[float, float, np.ndarray, float, bool] = (0.0, 0.0, np.zeros(0), 0.0, False)
     #: ``Z^T K_G Z`` of a model with a geometric stiffness (None without: speed only).
     ZtKGZ: np.ndarray | None = None
+    #: The contacts' spring stiffness per force row (ncd,) [N/m]: normal, and tangential
+    #: where the stage has friction (what a touching contact contributes; speed only).
+    k_rows: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    #: Factors of the reduced tangent stiffness by spring rows ``ks.tobytes()`` (None: it is
+    #: singular): the segments of one geometry with the same touching contacts share them
+    #: (speed only; a new geometry starts an empty one, :meth:`rebased`).
+    factors: dict | None = None
+    #: The actuator owning each actuator column and its norm ``r_norm`` (speed only).
+    act_owner: np.ndarray = field(default_factory=lambda: np.zeros(0, int))
+    act_rnorm: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
     @classmethod
     def of(cls, qm: QSModel, spec: StageSpec) -> StageCache:
@@ -68,6 +78,7 @@ class StageCache:
         size = float(np.linalg.norm(r0[:nx]))
         crow = r0[:nx] / size if size > 0 else None
         Z = con.Z
+        act_owner = con.owner[con.owner >= 0]
         return cls(
             con.B,
             con.owner,
@@ -90,6 +101,10 @@ class StageCache:
             r0max=float(np.abs(r0).max(initial=0.0)),
             rates=stage_rates(qm, spec),
             ZtKGZ=None if qm.KG is None else Z.T @ qm.KG @ Z,
+            k_rows=qm.kn_rows + qm.kt_rows if spec.friction else qm.kn_rows,
+            factors={},
+            act_owner=act_owner,
+            act_rnorm=qm.r_norm[act_owner],
         )
 
     def rebased(self, qm: QSModel, spec: StageSpec) -> StageCache:
@@ -102,6 +117,7 @@ class StageCache:
             AtBt=con.AtBt,
             BpA=con.BpA,
             ZtKGZ=None if qm.KG is None else self.Z.T @ qm.KG @ self.Z,
+            factors={},
         )
 
 
@@ -127,25 +143,17 @@ def affine_reduced(qm, sc, ks, Fm, Vp, control):
     AZ = sc.AZ
     if AZ.shape[1] == 0:
         return None
-    AZs = AZ * ks[:, None]
-    Kr = AZ.T @ AZs
+    factor = _factor(qm, sc, ks)
+    if factor is None:
+        return None
     rhs = AZ.T @ Fm
     rhs[:, 0] += sc.Ztr0
     if qm.KG is None:
-        L, info = dpotrf(Kr, lower=1, clean=0)
-        if info != 0:
-            return None
-        diag = L.diagonal()
-        if float(diag.min()) ** 2 <= CHOL_RTOL * float(diag.max()) ** 2:
-            return None
-        Y, info = dpotrs(L, rhs, lower=1)
-        if info != 0:
-            return None
+        Y, info = dpotrs(factor[0], rhs, lower=1)
     else:
-        ZtKGZ = sc.ZtKGZ if sc.ZtKGZ is not None else sc.Z.T @ qm.KG @ sc.Z
-        Y = _solve_geometric(Kr - ZtKGZ, rhs + sc.Z.T @ (qm.KG @ Vp))
-        if Y is None:
-            return None
+        Y, info = dgetrs(factor[0], factor[1], rhs + sc.Z.T @ (qm.KG @ Vp))
+    if info != 0:
+        return None
     nz1 = Y.shape[1]
     lam = np.zeros(nz1)
     if control == "load":
@@ -162,17 +170,34 @@ def affine_reduced(qm, sc, ks, Fm, Vp, control):
     return sc.Z @ Y + Vp, lam, AZ @ Y
 
 
-def _solve_geometric(K: np.ndarray, rhs: np.ndarray) -> np.ndarray | None:
-    """``K^-1 rhs`` for the tangent stiffness with a geometric part (not symmetric: an LU
-    factor); None when it is (nearly) singular, by the Cholesky path's relative pivot bar."""
-    lu, piv, info = dgetrf(K)
-    if info != 0:
-        return None
-    diag = np.abs(lu.diagonal())
-    if float(diag.min()) <= CHOL_RTOL * float(diag.max()):
-        return None
-    Y, info = dgetrs(lu, piv, rhs)
-    return None if info != 0 else Y
+def _factor(qm: QSModel, sc: StageCache, ks: np.ndarray) -> tuple[np.ndarray, ...] | None:
+    """The factor of the reduced tangent stiffness ``Z^T (A diag(ks) A^T - K_G) Z`` with the
+    spring rows ``ks`` (ncd,): Cholesky ``(L,)`` without a geometric part, LU ``(lu, piv)``
+    with one (not symmetric); None when it is (nearly) singular (relative pivot bar
+    :data:`CHOL_RTOL`). Kept on ``sc`` per ``ks``."""
+    key = ks.tobytes()
+    cache = sc.factors
+    if cache is not None and key in cache:
+        return cache[key]
+    AZ = sc.AZ
+    Kr = AZ.T @ (AZ * ks[:, None])
+    out: tuple[np.ndarray, ...] | None = None
+    if qm.KG is None:
+        L, info = dpotrf(Kr, lower=1, clean=0)
+        if info == 0:
+            diag = L.diagonal()
+            if float(diag.min()) ** 2 > CHOL_RTOL * float(diag.max()) ** 2:
+                out = (L,)
+    else:
+        ZtKGZ = sc.ZtKGZ if sc.ZtKGZ is not None else sc.Z.T @ qm.KG @ sc.Z
+        lu, piv, info = dgetrf(Kr - ZtKGZ)
+        if info == 0:
+            diag = np.abs(lu.diagonal())
+            if float(diag.min()) > CHOL_RTOL * float(diag.max()):
+                out = (lu, piv)
+    if cache is not None:
+        cache[key] = out
+    return out
 
 
 def affine_full(qm, sc, K, rhs_top, con_rhs, control):
