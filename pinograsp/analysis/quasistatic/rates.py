@@ -31,7 +31,7 @@ from ...solvers.lcp import canonical, lemke, principal_pivoting
 from .model import QSModel
 from .state import StageSpec, State
 from .statuses import SegmentStatus
-from .system import StageCache, affine_full, affine_reduced, stage_rates
+from .system import StageCache, affine_full, affine_reduced, spring_act, stage_rates
 
 #: Relative tolerance (to the force scale of the state) under which a slack is zero.
 EVENT_RTOL = 1e-9
@@ -316,11 +316,10 @@ def linear_part(
         F[:, 1 + n0 : 1 + n1] = qm.PhiT_t[:, faces]  # dc_t = -nu per unit flow
     cols = sc.col_arr[acts]
     Vp = np.zeros((nv, 1 + nz))
-    Fm = F
+    Fm = F  # F with the springs' share of the actuator flows' particular motion (F: zeros there)
     if len(acts):
-        Vp[:, 1 + n1 :] = sc.Bt_pinv[:, cols] / k
-        Fm = F.copy()
-        Fm[:, 1 + n1 :] -= ks[:, None] * sc.AtBt[:, cols] / k
+        Vp[:, 1 + n1 :] = sc.Bt_pinv_k[:, cols]
+        Fm[:, 1 + n1 :] -= spring_act(sc, ks, k)[:, cols]
     aff = affine_reduced(qm, sc, ks, Fm, Vp, control)
     if aff is not None:
         V, lam, G = aff
@@ -328,6 +327,8 @@ def linear_part(
     else:
         if control != "load" and sc.crow is None:
             return None
+        F = Fm.copy()
+        F[:, 1 + n1 :] = 0.0
         rhs_top = A @ F
         rhs_top[:, 0] = sc.r0
         con_rhs = np.zeros((sc.B.shape[1], 1 + nz))
@@ -348,7 +349,7 @@ def linear_part(
     if len(faces):
         W[n0:n1] = qm.Phi[faces] @ dC
     if len(acts):
-        W[n1:] = k * Rho[cols] - (qm.r_norm[acts] * spec.dfc[acts])[:, None] * lam
+        W[n1:] = k * Rho[cols] - sc.rdfc[acts][:, None] * lam
     # rounding of a zero load rate (symmetric grasps) is zero
     qscale = max(float(np.abs(W[:, 0]).max(initial=0.0)), float(np.abs(dC[:, 0]).max(initial=0.0)), 1e-300)
     W[np.abs(W[:, 0]) <= RATE_RTOL * 1e-3 * qscale, 0] = 0.0

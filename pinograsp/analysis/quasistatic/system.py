@@ -65,6 +65,12 @@ class StageCache:
     #: The actuator owning each actuator column and its norm ``r_norm`` (speed only).
     act_owner: np.ndarray = field(default_factory=lambda: np.zeros(0, int))
     act_rnorm: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    #: ``pinv(B^T) / k_ref`` (nv, ncon) and the command rates as forces ``r_norm * dfc`` (na,)
+    #: (speed only).
+    Bt_pinv_k: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    rdfc: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    #: ``ks[:, None] * AtBt / k_ref`` by spring rows ``ks.tobytes()`` (:func:`spring_act`).
+    springs: dict | None = None
 
     @classmethod
     def of(cls, qm: QSModel, spec: StageSpec) -> StageCache:
@@ -105,6 +111,9 @@ class StageCache:
             factors={},
             act_owner=act_owner,
             act_rnorm=qm.r_norm[act_owner],
+            Bt_pinv_k=con.Bt_pinv / qm.k_ref,
+            rdfc=qm.r_norm * spec.dfc,
+            springs={},
         )
 
     def rebased(self, qm: QSModel, spec: StageSpec) -> StageCache:
@@ -118,6 +127,7 @@ class StageCache:
             BpA=con.BpA,
             ZtKGZ=None if qm.KG is None else self.Z.T @ qm.KG @ self.Z,
             factors={},
+            springs={},
         )
 
 
@@ -168,6 +178,20 @@ def affine_reduced(qm, sc, ks, Fm, Vp, control):
         Y = np.outer(Y[:, 0], lam) + np.concatenate([np.zeros((Y.shape[0], 1)), Y[:, 1:]], axis=1)
         Vp = np.outer(Vp[:, 0], lam) + np.concatenate([np.zeros((Vp.shape[0], 1)), Vp[:, 1:]], axis=1)
     return sc.Z @ Y + Vp, lam, AZ @ Y
+
+
+def spring_act(sc: StageCache, ks: np.ndarray, k: float) -> np.ndarray:
+    """The contact springs' force rows per unit actuator flow, ``ks[:, None] * AtBt / k``
+    (ncd, ncon), for the spring rows ``ks`` (ncd,) [N/m] and the reference stiffness ``k``
+    [N/m]: kept on ``sc`` per ``ks``."""
+    key = ks.tobytes()
+    cache = sc.springs
+    if cache is not None and key in cache:
+        return cache[key]
+    out = ks[:, None] * sc.AtBt / k
+    if cache is not None:
+        cache[key] = out
+    return out
 
 
 def _factor(qm: QSModel, sc: StageCache, ks: np.ndarray) -> tuple[np.ndarray, ...] | None:
@@ -238,5 +262,6 @@ __all__ = [
     "StageCache",
     "affine_full",
     "affine_reduced",
+    "spring_act",
     "stage_rates",
 ]
