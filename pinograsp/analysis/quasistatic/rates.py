@@ -175,11 +175,10 @@ def classify(qm: QSModel, st: State, spec: StageSpec, sc: StageCache | None = No
     d = qm.d
     cn = st.c[::d]
     gap = qm.gaps(st.vs)
-    delta = -gap
     low = cn <= tol
     if spec.friction and qm.nf and (~low).any():
         low |= _at_apex(qm, st, tol) & ~low
-    opened = low & (delta * qm.kn < -tol)
+    opened = low & (gap * qm.kn > tol)  # (-delta) * kn > tol: the spring would pull
     zero = low & ~opened
     pressed = ~low
     c = st.c
@@ -351,8 +350,9 @@ def linear_part(
     if len(acts):
         W[n1:] = k * Rho[cols] - sc.rdfc[acts][:, None] * lam
     # rounding of a zero load rate (symmetric grasps) is zero
-    qscale = max(float(np.abs(W[:, 0]).max(initial=0.0)), float(np.abs(dC[:, 0]).max(initial=0.0)), 1e-300)
-    W[np.abs(W[:, 0]) <= RATE_RTOL * 1e-3 * qscale, 0] = 0.0
+    w0 = np.abs(W[:, 0])
+    qscale = max(float(w0.max(initial=0.0)), float(np.abs(dC[:, 0]).max(initial=0.0)), 1e-300)
+    W[w0 <= RATE_RTOL * 1e-3 * qscale, 0] = 0.0
     return LinearPart(dC, V, lam, W, W[:, 1:].copy(), Rho)
 
 
