@@ -344,7 +344,8 @@ def linear_part(
     if qm.KG is not None:  # the geometric stiffness's share of the constraint forces
         Rho -= sc.B_pinv @ (qm.KG @ V) / k
     W = np.zeros((nz, 1 + nz))
-    W[:n0] = dC[zero * d]
+    if n0:
+        W[:n0] = dC[zero * d]
     if len(faces):
         W[n0:n1] = qm.Phi[faces] @ dC
     if len(acts):
