@@ -25,6 +25,8 @@ from enum import Enum
 import numpy as np
 from scipy.linalg.lapack import dgesv
 
+_max = np.maximum.reduce  # ``ndarray.max`` without its Python wrapper (the same reduction)
+
 #: Pivots below this fraction of ``max |M|`` are rounding (nearly equal rows of ``M``), never used.
 PIVOT_RTOL = 1e-9
 #: Relative tolerance under which two ratios of the minimum-ratio test are a tie.
@@ -110,15 +112,17 @@ def _block_point(
     z = np.zeros(q.size)
     zmax = 0.0
     if idx.size:
-        _, _, zb, info = dgesv(M.take(idx, 0).take(idx, 1), negq[idx], overwrite_a=1, overwrite_b=1)
+        # the block in Fortran order (the copy LAPACK's wrapper would make)
+        block = M.T.take(idx, 0).take(idx, 1).T
+        _, _, zb, info = dgesv(block, negq[idx], overwrite_a=1, overwrite_b=1)
         if info != 0:
             return None
-        hi, lo = float(zb.max()), float(zb.min())  # NaN anywhere makes both NaN
-        if not (math.isfinite(hi) and math.isfinite(lo)):
+        zmax = float(_max(np.abs(zb)))  # NaN or inf anywhere: not finite
+        if not math.isfinite(zmax):
             return None
-        zmax = max(hi, -lo, 0.0)
         z[idx] = zb
-    w = M @ z + q
+    w = M @ z
+    w += q
     w[idx] = 0.0
     return z, w, zmax
 
@@ -244,8 +248,8 @@ def principal_pivoting(
     n = q.size
     act = np.array(active, bool)
     limit = 2 * n + 4 if max_iter is None else int(max_iter)
-    mscale = max(float(np.abs(M).max(initial=0.0)), 1e-300)
-    qscale = max(float(np.abs(q).max(initial=0.0)), 1e-300)
+    mscale = max(float(_max(np.abs(M), axis=None, initial=0.0)), 1e-300)
+    qscale = max(float(_max(np.abs(q), initial=0.0)), 1e-300)
     negq = -q
     seen: set[bytes] = set()
     for it in range(limit):
@@ -260,18 +264,20 @@ def principal_pivoting(
         z, w, zmax = point
         tol = rtol * max(qscale, mscale * zmax)
         # z_N = 0 and w_B = 0 exactly: with tol >= 0 the sign test needs no mask
-        low = np.fmin(z, w) if tol >= 0.0 else None
-        if low is not None and not np.fmin.reduce(low, initial=math.inf) < -tol:
-            np.maximum(z, 0.0, out=z)
-            return LCPResult(LCPStatus.SOLVED, z, np.maximum(w, 0.0), 0)
-        bad = (act & (z < -tol)) | (~act & (w < -tol))
-        if not bad.any():
-            z[act] = np.maximum(z[act], 0.0)
-            return LCPResult(LCPStatus.SOLVED, z, np.maximum(w, 0.0), 0)
+        if tol >= 0.0:
+            bad = np.fmin(z, w) < -tol
+            if not np.count_nonzero(bad):
+                np.maximum(z, 0.0, out=z)
+                return LCPResult(LCPStatus.SOLVED, z, np.maximum(w, 0.0), 0)
+        else:
+            bad = (act & (z < -tol)) | (~act & (w < -tol))
+            if not bad.any():
+                z[act] = np.maximum(z[act], 0.0)
+                return LCPResult(LCPStatus.SOLVED, z, np.maximum(w, 0.0), 0)
         if it < 3:
             act ^= bad
         else:
-            j = int(np.flatnonzero(bad)[0])
+            j = int(bad.argmax())  # the first violated item
             act[j] = not act[j]
     return None
 
@@ -446,14 +452,13 @@ def canonical(M: np.ndarray, q: np.ndarray, res: LCPResult, rtol: float = 1e-9) 
     on the order of the items; it is returned when it is nonnegative (else ``res``)."""
     if not res.solved or res.z.size == 0:
         return res
-    zmax = max(float(res.z.max()), 1e-300)
-    wscale = max(float(np.abs(q).max()), float(np.abs(M).max()) * zmax, 1e-300)
+    zmax = max(float(_max(res.z)), 1e-300)
+    wscale = max(float(_max(np.abs(q))), float(_max(np.abs(M), axis=None)) * zmax, 1e-300)
     active = res.z > 0
-    tight = active | (res.w <= rtol * wscale)
-    if not tight.any():
-        return res
-    if not (tight & ~active).any():
+    # a tight item that is not active (NaN never compares true)
+    if not np.count_nonzero(np.where(active, np.nan, res.w) <= rtol * wscale):
         return res  # no degenerate item: Lemke's basis makes M_BB nonsingular, z is unique there
+    tight = active | (res.w <= rtol * wscale)
     Mt = M[np.ix_(tight, tight)]
     zt = np.linalg.lstsq(Mt, -q[tight], rcond=rtol)[0]
     if zt.min() < -rtol * zmax:
