@@ -26,6 +26,7 @@ import numpy as np
 from scipy.linalg.lapack import dgesv
 
 _max = np.maximum.reduce  # ``ndarray.max`` without its Python wrapper (the same reduction)
+_min = np.minimum.reduce
 
 #: Pivots below this fraction of ``max |M|`` are rounding (nearly equal rows of ``M``), never used.
 PIVOT_RTOL = 1e-9
@@ -74,6 +75,33 @@ class LCPResult:
 
 def _leaving_row(T: np.ndarray, col: int, rhs: np.ndarray, n: int, tol: float) -> int:
     """Row of the lexicographic minimum ratio for entering column ``col`` (-1: ray)."""
+    a = T[:, col]
+    rows = (a > tol).nonzero()[0]
+    if not rows.size:
+        return -1
+    ar = a[rows]
+    ratios = rhs[rows] / ar  # the rows without a positive entry have ratio inf, never below these
+    best = _min(ratios)
+    bar = best + TIE_RTOL * max(abs(best), 1.0)
+    if not math.isfinite(bar):  # a ratio inf or NaN: the full-length test, as it always was
+        return _leaving_row_full(T, col, rhs, n, tol)
+    near = ratios <= bar
+    if np.count_nonzero(near) == 1:
+        return int(rows[near.argmax()])
+    cand, ac = rows[near], ar[near]
+    # lexicographic rule: rows of the basis inverse (the columns of the initial basis w)
+    for j in range(n):
+        vals = T[cand, j] / ac
+        low = _min(vals)
+        keep = vals <= low + TIE_RTOL * max(abs(low), 1.0)
+        cand, ac = cand[keep], ac[keep]
+        if cand.size == 1:
+            break
+    return int(cand[0])
+
+
+def _leaving_row_full(T: np.ndarray, col: int, rhs: np.ndarray, n: int, tol: float) -> int:
+    """:func:`_leaving_row` on ratios of all rows (inf where the entry is not positive)."""
     a = T[:, col]
     pos = a > tol
     if not pos.any():
@@ -300,7 +328,7 @@ def lemke(M: np.ndarray, q: np.ndarray, max_pivots: int | None = None) -> LCPRes
     if n == 0 or q.min() >= 0.0:
         return LCPResult(LCPStatus.SOLVED, np.zeros(n), q.copy(), 0)
     limit = 50 * (n + 1) if max_pivots is None else int(max_pivots)
-    scale = max(float(np.abs(M).max(initial=0.0)), 1e-300)
+    scale = max(float(_max(np.abs(M), axis=None, initial=0.0)), 1e-300)
     tol = PIVOT_RTOL * scale
     small = _pivots_small(M, q, limit, tol) if n <= SMALL else None
     if small is not None:
@@ -315,6 +343,7 @@ def lemke(M: np.ndarray, q: np.ndarray, max_pivots: int | None = None) -> LCPRes
     T[:, 2 * n] = -1.0
     rhs = q.copy()
     basis = np.arange(n)
+    update = np.empty_like(T)
     # initial pivot: z0 enters, the row of the most negative q leaves (ties: lexicographic)
     low = rhs.min()
     cand = np.flatnonzero(rhs <= low + TIE_RTOL * max(abs(low), 1.0))
@@ -327,7 +356,8 @@ def lemke(M: np.ndarray, q: np.ndarray, max_pivots: int | None = None) -> LCPRes
         rhs[row] /= piv
         f = T[:, col].copy()
         f[row] = 0.0
-        T -= f[:, None] * T[row]
+        np.multiply(f[:, None], T[row], out=update)
+        T -= update
         rhs -= f * rhs[row]
         leaving = int(basis[row])
         basis[row] = col
@@ -436,11 +466,13 @@ def _leaving_row_small(T: list[list[float]], col: int, rhs: list[float], n: int,
 def _verified(M: np.ndarray, q: np.ndarray, z: np.ndarray, rtol: float = 1e-8) -> bool:
     """``w = M z + q >= 0`` and ``z^T w = 0`` to ``rtol`` of the data's scale."""
     w = M @ z + q
-    zmax = float(z.max(initial=0.0))
-    scale = max(float(np.abs(q).max(initial=0.0)), float(np.abs(M).max(initial=0.0)) * zmax, 1e-300)
+    zmax = float(_max(z, initial=0.0))
+    scale = max(
+        float(_max(np.abs(q), initial=0.0)), float(_max(np.abs(M), axis=None, initial=0.0)) * zmax, 1e-300
+    )
     return bool(
-        w.min(initial=0.0) >= -rtol * scale
-        and np.abs(z * w).max(initial=0.0) <= rtol * scale * max(zmax, 1e-300)
+        _min(w, initial=0.0) >= -rtol * scale
+        and _max(np.abs(z * w), initial=0.0) <= rtol * scale * max(zmax, 1e-300)
     )
 
 
