@@ -27,6 +27,7 @@ from scipy.linalg.lapack import dgesv
 
 _max = np.maximum.reduce  # ``ndarray.max`` without its Python wrapper (the same reduction)
 _min = np.minimum.reduce
+_fmin = np.fmin.reduce
 
 #: Pivots below this fraction of ``max |M|`` are rounding (nearly equal rows of ``M``), never used.
 PIVOT_RTOL = 1e-9
@@ -276,8 +277,7 @@ def principal_pivoting(
     n = q.size
     act = np.array(active, bool)
     limit = 2 * n + 4 if max_iter is None else int(max_iter)
-    mscale = max(float(_max(np.abs(M), axis=None, initial=0.0)), 1e-300)
-    qscale = max(float(_max(np.abs(q), initial=0.0)), 1e-300)
+    scales: tuple[float, float] | None = None  # max |q|, max |M|: read at the first negative sign
     negq = -q
     seen: set[bytes] = set()
     for it in range(limit):
@@ -290,13 +290,21 @@ def principal_pivoting(
         if point is None:
             return None
         z, w, zmax = point
+        low = np.fmin(z, w)  # z_N = 0 and w_B = 0 exactly: the sign test needs no mask
+        least = _fmin(low, initial=math.inf)  # NaN ignored, as by the comparisons
+        if rtol >= 0.0 and not least < 0.0:  # no negative sign: none below -tol either
+            return _pivoted_solution(z, w)
+        if scales is None:
+            scales = (
+                max(float(_max(np.abs(q), initial=0.0)), 1e-300),
+                _max(np.abs(M), axis=None, initial=0.0),
+            )
+        qscale, mscale = scales[0], max(float(scales[1]), 1e-300)
         tol = rtol * max(qscale, mscale * zmax)
-        # z_N = 0 and w_B = 0 exactly: with tol >= 0 the sign test needs no mask
         if tol >= 0.0:
-            bad = np.fmin(z, w) < -tol
-            if not np.count_nonzero(bad):
-                np.maximum(z, 0.0, out=z)
-                return LCPResult(LCPStatus.SOLVED, z, np.maximum(w, 0.0), 0)
+            if not least < -tol:
+                return _pivoted_solution(z, w)
+            bad = low < -tol
         else:
             bad = (act & (z < -tol)) | (~act & (w < -tol))
             if not bad.any():
@@ -308,6 +316,12 @@ def principal_pivoting(
             j = int(bad.argmax())  # the first violated item
             act[j] = not act[j]
     return None
+
+
+def _pivoted_solution(z: np.ndarray, w: np.ndarray) -> LCPResult:
+    """:func:`principal_pivoting`'s answer: the point with rounding of ``z >= 0``, ``w >= 0`` cut."""
+    np.maximum(z, 0.0, out=z)
+    return LCPResult(LCPStatus.SOLVED, z, np.maximum(w, 0.0), 0)
 
 
 def lemke(M: np.ndarray, q: np.ndarray, max_pivots: int | None = None) -> LCPResult:
