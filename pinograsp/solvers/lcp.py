@@ -141,9 +141,7 @@ def _block_point(
     z = np.zeros(q.size)
     zmax = 0.0
     if idx.size:
-        # the block in Fortran order (the copy LAPACK's wrapper would make)
-        block = M.T.take(idx, 0).take(idx, 1).T
-        _, _, zb, info = dgesv(block, negq[idx], overwrite_a=1, overwrite_b=1)
+        _, _, zb, info = dgesv(M.take(idx, 0).take(idx, 1), negq[idx])
         if info != 0:
             return None
         zmax = float(_max(np.abs(zb)))  # NaN or inf anywhere: not finite
