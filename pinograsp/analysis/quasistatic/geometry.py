@@ -96,8 +96,10 @@ class _Constants:
         arms0: Contact points less the reference point (nc, 3) [m] (the arms at rest).
         F: The contact frames' first ``d`` columns (nc, 3, d).
         force_rows: The rows of the grasp map on the force axes (nx, nc*d), zero elsewhere.
-        moment: The object coordinates on the moment axes (m,) and, for each, the two frame
-            rows of its cross product (m,), (m,): row ``a[i1] F[i2] - a[i2] F[i1]``.
+        moment: The object coordinates on the moment axes (m,) (a slice when contiguous) and,
+            for each, the two arm components ``i1``, ``i2`` (m,) and the frame rows
+            ``F[:, i2]``, ``F[:, i1]`` (nc, m, d) of its cross product: its row is
+            ``a[i1] F[i2] - a[i2] F[i1]``.
         rows, axes: The rotation coordinates (k,) and their world axes (k,) (slices when
             contiguous).
         S_rot: ``S`` of the rotation coordinates (k,); S_col: ``S[:nx, None]``;
@@ -108,7 +110,7 @@ class _Constants:
     arms0: np.ndarray
     F: np.ndarray
     force_rows: np.ndarray
-    moment: tuple[np.ndarray, np.ndarray, np.ndarray]
+    moment: tuple[np.ndarray | slice, np.ndarray, np.ndarray, np.ndarray, np.ndarray]
     rows: np.ndarray | slice
     axes: np.ndarray | slice
     S_rot: np.ndarray
@@ -148,7 +150,7 @@ def _constants(qm: QSModel) -> _Constants:
         arms0=np.asarray(m.points, float) - np.asarray(m.reference_point, float),
         F=F,
         force_rows=force_rows,
-        moment=(np.array(mom_at, int), np.array(i1, int), np.array(i2, int)),
+        moment=(_as_slice(np.array(mom_at, int)), np.array(i1, int), np.array(i2, int), F[:, i2], F[:, i1]),
         rows=_as_slice(rows),
         axes=_as_slice(axes),
         S_rot=S[rows],
@@ -234,10 +236,12 @@ def _grasp_map(qm: QSModel, arms: np.ndarray, F: np.ndarray) -> np.ndarray:
     ``a_i x`` each column of ``F_i`` (``F``: the model's frames, :attr:`_Constants.F`)."""
     k = _constants(qm)
     out = k.force_rows.copy()
-    at, i1, i2 = k.moment
-    if len(at):
-        cross = arms[:, i1, None] * F[:, i2] - arms[:, i2, None] * F[:, i1]  # (nc, m, d)
-        out[at] = cross.transpose(1, 0, 2).reshape(len(at), -1)
+    at, i1, i2, F2, F1 = k.moment
+    if len(i1):
+        if F is not k.F:  # other frames than the model's
+            F2, F1 = F[:, i2], F[:, i1]
+        cross = arms[:, i1, None] * F2 - arms[:, i2, None] * F1  # (nc, m, d)
+        out[at] = cross.transpose(1, 0, 2).reshape(len(i1), -1)
     return out
 
 

@@ -69,6 +69,8 @@ def evolved(obj: T, **changes: object) -> T:
     else:
         out = object.__new__(type(obj))
         out.__dict__.update(state)
+        out.__dict__.update(changes)  # the fields of a dataclass without slots live there
+        return out
     for name, value in changes.items():
         object.__setattr__(out, name, value)
     return out
