@@ -8,7 +8,7 @@ from collections.abc import Callable
 import numpy as np
 
 from ...core.model import GraspModel
-from .model import balance_residuals
+from .model import balance_residuals, object_balance
 from .prepared import Prepared
 from .state import State
 
@@ -33,10 +33,9 @@ def _residuals(qm, states, C, Fa, Lc, W, VS):
     for j, s in enumerate(states):
         if s.geo is not None:
             groups.setdefault(id(s.geo), []).append(j)
+    X = VS[:, : qm.nx] / qm.S[: qm.nx] if groups else VS
     for rows in groups.values():
-        g = states[rows[0]].geo
-        x = VS[rows, : qm.nx] / qm.S[: qm.nx]
-        obj[rows] = balance_residuals(g, C[rows], Fa[rows], Lc[rows], W[rows], x)[0]
+        obj[rows] = object_balance(states[rows[0]].geo, C[rows], W[rows], X[rows])
     return obj, joints, slack
 
 

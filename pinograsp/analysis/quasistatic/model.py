@@ -357,6 +357,16 @@ def build_qs_model(model: GraspModel, tangential_ratio: float = 1.0) -> QSModel:
     )
 
 
+def object_balance(qm: QSModel, c: np.ndarray, w: np.ndarray, x: np.ndarray | None = None) -> np.ndarray:
+    """The object's rows of :func:`balance_residuals` alone (k, nx) [N, N·m]."""
+    if qm.KGp is None or qm.vs_ref is None or qm.e_ref is None or x is None:
+        return c @ np.asarray(qm.model.G).T + w
+    # the invariant of a geometry update (``geometry.moved``)
+    x_ref = qm.vs_ref[: qm.nx] / qm.S[: qm.nx]
+    G = qm.A[: qm.nx] * qm.S[: qm.nx, None]
+    return c @ G.T + (x - x_ref) @ qm.KGp.T + w - qm.e_ref
+
+
 def balance_residuals(
     qm: QSModel, c: np.ndarray, f: np.ndarray, lam: np.ndarray, w: np.ndarray, x: np.ndarray | None = None
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -368,12 +378,7 @@ def balance_residuals(
     displacements [m, rad], read by a model with updated geometry (its linear invariant)."""
     m = qm.model
     k = len(c)
-    if qm.KGp is None or qm.vs_ref is None or qm.e_ref is None or x is None:
-        obj = c @ np.asarray(m.G).T + w
-    else:  # the invariant of a geometry update (``geometry.moved``)
-        x_ref = qm.vs_ref[: qm.nx] / qm.S[: qm.nx]
-        G = qm.A[: qm.nx] * qm.S[: qm.nx, None]
-        obj = c @ G.T + (x - x_ref) @ qm.KGp.T + w - qm.e_ref
+    obj = object_balance(qm, c, w, x)
     if qm.nq:
         joints = (c @ np.asarray(m.J) - f @ np.asarray(m.R).T - lam @ np.asarray(m.C)) / qm.lever
     else:
