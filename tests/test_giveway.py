@@ -203,7 +203,9 @@ def test_first_crossing_skips_only_segments_inside_every_threshold():
         q = np.cumsum(rng.normal(scale=1e-3, size=(k, 3)), axis=0)
         j = int(rng.integers(1, k))  # one breakpoint on a threshold, to rounding
         v = x[j, :3] - x[0, :3]
-        x[j, :3] = x[0, :3] + v * (th.slip / th.scale) / np.linalg.norm(v) * (1.0 + rng.choice([-1e-12, 0.0, 1e-12]))
+        x[j, :3] = x[0, :3] + v * (th.slip / th.scale) / np.linalg.norm(v) * (
+            1.0 + rng.choice([-1e-12, 0.0, 1e-12])
+        )
         tr = gw.Trace(np.cumsum(rng.uniform(0.1, 1.0, size=k)), x, q)
         got = gw.first_crossing(tr, th, x[0], q[0], 0, None, 0)
         want = brute(tr, th, x[0], q[0])
