@@ -8,7 +8,7 @@ from collections.abc import Callable
 import numpy as np
 
 from ...core.model import GraspModel
-from .model import balance_residuals, object_balance
+from .model import balance_residuals, invariant_rows, invariant_terms, object_balance, updated_geometry
 from .prepared import Prepared
 from .state import State
 
@@ -33,9 +33,21 @@ def _residuals(qm, states, C, Fa, Lc, W, VS):
     for j, s in enumerate(states):
         if s.geo is not None:
             groups.setdefault(id(s.geo), []).append(j)
-    X = VS[:, : qm.nx] / qm.S[: qm.nx] if groups else VS
+    if not groups:
+        return obj, joints, slack
+    X = VS[:, : qm.nx] / qm.S[: qm.nx]
+    stacked: dict[int, list[list[int]]] = {}  # the updated geometries by their number of states
     for rows in groups.values():
-        obj[rows] = object_balance(states[rows[0]].geo, C[rows], W[rows], X[rows])
+        g = states[rows[0]].geo
+        if g is not None and updated_geometry(g):
+            stacked.setdefault(len(rows), []).append(rows)
+        else:
+            obj[rows] = object_balance(g, C[rows], W[rows], X[rows])  # type: ignore[arg-type]
+    for same in stacked.values():  # one stacked product per size: each geometry's own
+        idx = np.array(same)  # (geometries, states)
+        terms = [invariant_terms(states[rows[0]].geo) for rows in same]  # type: ignore[arg-type]
+        G, K, x_ref, e_ref = (np.array([t[i] for t in terms]) for i in range(4))
+        obj[idx] = invariant_rows(C[idx], X[idx], W[idx], G, K, x_ref, e_ref)
     return obj, joints, slack
 
 
