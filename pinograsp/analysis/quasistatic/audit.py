@@ -46,8 +46,8 @@ def _residuals(qm, states, C, Fa, Lc, W, VS):
     for same in stacked.values():  # one stacked product per size: each geometry's own
         idx = np.array(same)  # (geometries, states)
         terms = [invariant_terms(states[rows[0]].geo) for rows in same]  # type: ignore[arg-type]
-        G, K, x_ref, e_ref = (np.array([t[i] for t in terms]) for i in range(4))
-        obj[idx] = invariant_rows(C[idx], X[idx], W[idx], G, K, x_ref, e_ref)
+        stack = tuple(np.array(part) for part in zip(*terms))
+        obj[idx] = invariant_rows(C[idx], X[idx], W[idx], stack, qm.S[: qm.nx])  # type: ignore[arg-type]
     return obj, joints, slack
 
 

@@ -367,33 +367,33 @@ def invariant_rows(
     c: np.ndarray,
     x: np.ndarray,
     w: np.ndarray,
-    G: np.ndarray,
-    KGp: np.ndarray,
-    x_ref: np.ndarray,
-    e_ref: np.ndarray,
+    terms: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
+    S: np.ndarray,
 ) -> np.ndarray:
     """The equilibrium invariant of a geometry update, ``G c + K_G (x - x_ref) + w - e_ref``,
     one row per state (k, nx) [N, N·m]: ``c`` (k, nc*d), ``x`` (k, nx), ``w`` (k, nx) of the
-    states on one updated geometry (``G`` (nx, nc*d), ``KGp`` (nx, nx), ``x_ref``, ``e_ref``
-    (nx,)), or a stack of such (a leading axis on every array: one geometry each)."""
+    states on one updated geometry of :func:`invariant_terms` ``terms``, or a stack of such (a
+    leading axis on every array: one geometry each); ``S`` (nx,): the object rows' scaling."""
+    A, KGp, vs_ref, e_ref = terms
+    x_ref = vs_ref / S
+    G = A * S[:, None]
     Gt, Kt = np.swapaxes(G, -1, -2), np.swapaxes(KGp, -1, -2)
     return c @ Gt + (x - x_ref[..., None, :]) @ Kt + w - e_ref[..., None, :]
 
 
 def invariant_terms(qm: QSModel) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """``G`` (nx, nc*d), ``KGp``, ``x_ref``, ``e_ref`` of an updated geometry
-    (:func:`updated_geometry`) for :func:`invariant_rows`."""
+    """The object rows of ``A`` (nx, nc*d), ``KGp`` (nx, nx), the object rows of ``vs_ref``
+    and ``e_ref`` (nx,) of an updated geometry (:func:`updated_geometry`), for
+    :func:`invariant_rows`."""
     assert qm.KGp is not None and qm.vs_ref is not None and qm.e_ref is not None
-    x_ref = qm.vs_ref[: qm.nx] / qm.S[: qm.nx]
-    G = qm.A[: qm.nx] * qm.S[: qm.nx, None]
-    return G, qm.KGp, x_ref, qm.e_ref
+    return qm.A[: qm.nx], qm.KGp, qm.vs_ref[: qm.nx], qm.e_ref
 
 
 def object_balance(qm: QSModel, c: np.ndarray, w: np.ndarray, x: np.ndarray | None = None) -> np.ndarray:
     """The object's rows of :func:`balance_residuals` alone (k, nx) [N, N·m]."""
     if not updated_geometry(qm) or x is None:
         return c @ np.asarray(qm.model.G).T + w
-    return invariant_rows(c, x, w, *invariant_terms(qm))  # the invariant of ``geometry.moved``
+    return invariant_rows(c, x, w, invariant_terms(qm), qm.S[: qm.nx])  # ``geometry.moved``'s
 
 
 def balance_residuals(
