@@ -8,7 +8,7 @@ from collections.abc import Callable
 import numpy as np
 
 from ...core.model import GraspModel
-from .model import balance_residuals, invariant_rows, invariant_terms, object_balance, updated_geometry
+from .model import balance_residuals, invariant_rows, invariant_terms
 from .prepared import Prepared
 from .state import State
 
@@ -39,10 +39,11 @@ def _residuals(qm, states, C, Fa, Lc, W, VS):
     stacked: dict[int, list[list[int]]] = {}  # the updated geometries by their number of states
     for rows in groups.values():
         g = states[rows[0]].geo
-        if g is not None and updated_geometry(g):
+        assert g is not None
+        if g.KGp is not None and g.vs_ref is not None and g.e_ref is not None:  # an update's invariant
             stacked.setdefault(len(rows), []).append(rows)
         else:
-            obj[rows] = object_balance(g, C[rows], W[rows], X[rows])  # type: ignore[arg-type]
+            obj[rows] = balance_residuals(g, C[rows], Fa[rows], Lc[rows], W[rows], X[rows])[0]
     for same in stacked.values():  # one stacked product per size: each geometry's own
         idx = np.array(same)  # (geometries, states)
         terms = [invariant_terms(states[rows[0]].geo) for rows in same]  # type: ignore[arg-type]

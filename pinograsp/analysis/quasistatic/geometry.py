@@ -119,13 +119,6 @@ class _Constants:
     full_spin: bool
 
 
-def _as_slice(idx: np.ndarray) -> np.ndarray | slice:
-    """``idx`` (k,) as a slice when it is a contiguous increasing range (same elements)."""
-    if len(idx) and bool(np.all(np.diff(idx) == 1)):
-        return slice(int(idx[0]), int(idx[-1]) + 1)
-    return idx
-
-
 def _constants(qm: QSModel) -> _Constants:
     """The model's :class:`_Constants` (computed on the first update, then shared by every
     model re-linearised from it: :func:`~.model.evolved` copies the field)."""
@@ -134,7 +127,7 @@ def _constants(qm: QSModel) -> _Constants:
         return got
     m = qm.model
     F = np.asarray(m.frames, float)[:, :, : qm.d]
-    axes6 = _axes6(qm)
+    axes6 = list(PLANAR_AXES) if m.planar else list(range(qm.nx))  # _axes6 (no call: the call budget)
     force_rows = np.zeros((qm.nx, qm.ncd))
     mom_at, i1, i2 = [], [], []
     for i, axis in enumerate(axes6):
@@ -144,15 +137,19 @@ def _constants(qm: QSModel) -> _Constants:
             mom_at.append(i)
             i1.append((axis - 2) % 3)
             i2.append((axis - 1) % 3)
-    rows, axes = _rotation_rows(qm)
+    rows, axes = _rows_of(bool(m.planar), qm.nx)
+    at, r, a = (  # contiguous increasing index ranges as slices (the same elements)
+        slice(int(i[0]), int(i[-1]) + 1) if len(i) and bool(np.all(np.diff(i) == 1)) else i
+        for i in (np.array(mom_at, int), rows, axes)
+    )
     S = qm.S
     out = _Constants(
         arms0=np.asarray(m.points, float) - np.asarray(m.reference_point, float),
         F=F,
         force_rows=force_rows,
-        moment=(_as_slice(np.array(mom_at, int)), np.array(i1, int), np.array(i2, int), F[:, i2], F[:, i1]),
-        rows=_as_slice(rows),
-        axes=_as_slice(axes),
+        moment=(at, np.array(i1, int), np.array(i2, int), F[:, i2], F[:, i1]),
+        rows=r,
+        axes=a,
         S_rot=S[rows],
         S_col=S[: qm.nx, None],
         S_outer=np.outer(S[: qm.nx], S[: qm.nx]),

@@ -357,12 +357,6 @@ def build_qs_model(model: GraspModel, tangential_ratio: float = 1.0) -> QSModel:
     )
 
 
-def updated_geometry(qm: QSModel) -> bool:
-    """Whether ``qm`` is re-linearised at a turned object (``geometry.moved``: its balance
-    reads the invariant of the update)."""
-    return qm.KGp is not None and qm.vs_ref is not None and qm.e_ref is not None
-
-
 def invariant_rows(
     c: np.ndarray,
     x: np.ndarray,
@@ -383,17 +377,9 @@ def invariant_rows(
 
 def invariant_terms(qm: QSModel) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The object rows of ``A`` (nx, nc*d), ``KGp`` (nx, nx), the object rows of ``vs_ref``
-    and ``e_ref`` (nx,) of an updated geometry (:func:`updated_geometry`), for
-    :func:`invariant_rows`."""
+    and ``e_ref`` (nx,) of a geometry update (``geometry.moved``), for :func:`invariant_rows`."""
     assert qm.KGp is not None and qm.vs_ref is not None and qm.e_ref is not None
     return qm.A[: qm.nx], qm.KGp, qm.vs_ref[: qm.nx], qm.e_ref
-
-
-def object_balance(qm: QSModel, c: np.ndarray, w: np.ndarray, x: np.ndarray | None = None) -> np.ndarray:
-    """The object's rows of :func:`balance_residuals` alone (k, nx) [N, N·m]."""
-    if not updated_geometry(qm) or x is None:
-        return c @ np.asarray(qm.model.G).T + w
-    return invariant_rows(c, x, w, invariant_terms(qm), qm.S[: qm.nx])  # ``geometry.moved``'s
 
 
 def balance_residuals(
@@ -407,7 +393,10 @@ def balance_residuals(
     displacements [m, rad], read by a model with updated geometry (its linear invariant)."""
     m = qm.model
     k = len(c)
-    obj = object_balance(qm, c, w, x)
+    if qm.KGp is None or qm.vs_ref is None or qm.e_ref is None or x is None:
+        obj = c @ np.asarray(m.G).T + w
+    else:  # the invariant of a geometry update (``geometry.moved``)
+        obj = invariant_rows(c, x, w, invariant_terms(qm), qm.S[: qm.nx])
     if qm.nq:
         joints = (c @ np.asarray(m.J) - f @ np.asarray(m.R).T - lam @ np.asarray(m.C)) / qm.lever
     else:
