@@ -44,11 +44,13 @@ def _residuals(qm, states, C, Fa, Lc, W, VS):
             stacked.setdefault(len(rows), []).append(rows)
         else:
             obj[rows] = balance_residuals(g, C[rows], Fa[rows], Lc[rows], W[rows], X[rows])[0]
-    for same in stacked.values():  # one stacked product per size: each geometry's own
+    # one stacked product per number of states: numpy's matmul runs, per geometry, the same
+    # BLAS product as on its own (same shapes and strides), so the same bits as one at a time
+    for same in stacked.values():
         idx = np.array(same)  # (geometries, states)
-        terms = [invariant_terms(states[rows[0]].geo) for rows in same]  # type: ignore[arg-type]
+        terms = [invariant_terms(states[rows[0]].geo) for rows in same]
         stack = tuple(np.array(part) for part in zip(*terms))
-        obj[idx] = invariant_rows(C[idx], X[idx], W[idx], stack, qm.S[: qm.nx])  # type: ignore[arg-type]
+        obj[idx] = invariant_rows(C[idx], X[idx], W[idx], stack, qm.S[: qm.nx])
     return obj, joints, slack
 
 
