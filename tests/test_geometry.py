@@ -168,3 +168,38 @@ def test_the_stage_cache_of_an_updated_model_is_the_rebuilt_one():
             assert all(np.array_equal(x, y) for x, y in zip(a, b))
         elif f.name != "col_of":
             assert a == b, f.name
+
+
+@pytest.mark.parametrize("model", MODELS)
+def test_turned_grasp_map_is_the_cross_products_bit_for_bit(model):
+    """The per-model constants of an update (``geometry._constants``) change no bit: the turned
+    grasp map's rows are the frames' columns and ``R a_i x`` them (``np.cross``), and the
+    constraints of the stage an update does not use (computed on first read) are the products
+    with the new ``A``."""
+    from pinograsp.analysis.quasistatic.geometry import moved
+    from pinograsp.analysis.quasistatic.state import State
+
+    qm = build_qs_model(model)
+    R = rotation_matrix(np.array([0.1, -0.2, 0.3]) if not model.planar else np.array([0, 0, 0.3]))
+    Gt = grasp_map(qm, R)
+    arms = (np.asarray(model.points, float) - np.asarray(model.reference_point, float)) @ R.T
+    F = np.asarray(model.frames, float)[:, :, : qm.d]
+    full = np.stack(
+        [np.concatenate([F[:, :, j], np.cross(arms, F[:, :, j])], axis=1) for j in range(qm.d)], 2
+    )
+    axes = [0, 1, 5] if model.planar else list(range(6))
+    assert np.array_equal(Gt, full[:, axes].transpose(1, 0, 2).reshape(qm.nx, -1))
+    rng = np.random.default_rng(1)
+    st = State(
+        rng.normal(size=qm.nv) * 1e-3,
+        rng.normal(size=qm.ncd),
+        np.zeros(qm.na),
+        np.zeros(qm.ncp),
+        np.zeros(qm.nx),
+        np.zeros(qm.ncd),
+    )
+    up = moved(qm, st, np.zeros(qm.nx), np.array([0.0, 0.0, 0.01]), 1.0)
+    for con in (up.held, up.free):
+        assert np.array_equal(con.AZ, up.A.T @ con.Z) and np.array_equal(con.BpA, con.B_pinv @ up.A)
+        assert np.array_equal(con.AtBt, up.A.T @ con.Bt_pinv)
+    assert up.held.Z is qm.held.Z and not np.array_equal(up.A, qm.A)

@@ -178,3 +178,40 @@ def test_builtin_snap_scene_gives_way_past_its_landing_snaps():
     assert [round(a, 4) for a, _ in mw.giveway.snaps][0] == pytest.approx(2.8332, rel=1e-4)
     first = s.max_resistible_wrench("push", limit="first")
     assert first.magnitude == mw.first_limit
+
+
+def test_first_crossing_skips_only_segments_inside_every_threshold():
+    """``first_crossing`` examines only the segments with an end near a threshold (speed): the
+    same point, bit for bit, as every segment examined in turn, on random walks whose
+    breakpoints graze the thresholds (ends within 1e-12 of them, either side), joints included."""
+    from pinograsp.analysis.quasistatic import giveway as gw
+
+    def brute(tr, th, x0, q0):
+        for j in range(len(tr.loads) - 1):
+            hit = gw._first_on_segment(th, x0, q0, tr.x[j], tr.x[j + 1], tr.q[j], tr.q[j + 1], 1.0)
+            if hit is not None:
+                s, reason = hit
+                return float(tr.loads[j] + s * (tr.loads[j + 1] - tr.loads[j])), reason, j, s
+        return None
+
+    rng = np.random.default_rng(7)
+    th = gw.Thresholds(slip=1e-3, rotation=0.02, joint=0.05, scale=2.0, length_scale=0.05)
+    found = grazed = 0
+    for _ in range(300):
+        k = int(rng.integers(2, 40))
+        x = np.cumsum(rng.normal(scale=2e-5, size=(k, 6)), axis=0)
+        q = np.cumsum(rng.normal(scale=1e-3, size=(k, 3)), axis=0)
+        j = int(rng.integers(1, k))  # one breakpoint on a threshold, to rounding
+        v = x[j, :3] - x[0, :3]
+        x[j, :3] = x[0, :3] + v * (th.slip / th.scale) / np.linalg.norm(v) * (
+            1.0 + rng.choice([-1e-12, 0.0, 1e-12])
+        )
+        tr = gw.Trace(np.cumsum(rng.uniform(0.1, 1.0, size=k)), x, q)
+        got = gw.first_crossing(tr, th, x[0], q[0], 0, None, 0)
+        want = brute(tr, th, x[0], q[0])
+        assert (got is None) == (want is None)
+        if got is not None:
+            assert (got.load, got.reason, got.index, got.step) == want
+            found += 1
+            grazed += got.index == j - 1 and got.step > 1.0 - 1e-9
+    assert found > 50 and grazed > 10  # the comparison is not vacuous: crossings, at a grazing end too

@@ -184,3 +184,22 @@ def test_farkas_certificate_at_any_size():
     assert np.allclose(M.sum(axis=0), 0.0)
     assert provably_infeasible(M, q) and provably_unsolvable(M, q)
     assert not provably_infeasible(M, np.abs(q))  # z = 0 is a solution
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_leaving_row_on_positive_entries_matches_the_full_length_test(seed):
+    """The minimum-ratio test on the positive entries only picks the same row as the test on
+    ratios of all rows (inf where not positive), ties and lexicographic rule included."""
+    from pinograsp.solvers.lcp import _leaving_row, _leaving_row_full
+
+    rng = np.random.default_rng(seed)
+    n = 6
+    picked = set()
+    for _ in range(300):
+        T = np.round(rng.normal(size=(n, 2 * n + 1)), 1)  # rounded: many exact ties
+        rhs = np.abs(np.round(rng.normal(size=n), 1))
+        for col in range(n, 2 * n + 1):
+            row = _leaving_row(T, col, rhs, n, 1e-9)
+            assert row == _leaving_row_full(T, col, rhs, n, 1e-9)
+            picked.add(row)
+    assert -1 in picked and len(picked) == n + 1  # rays and every row occur

@@ -25,6 +25,10 @@ from enum import Enum
 import numpy as np
 from scipy.linalg.lapack import dgesv
 
+_max = np.maximum.reduce  # ``ndarray.max`` without its Python wrapper (the same reduction)
+_min = np.minimum.reduce
+_fmin = np.fmin.reduce
+
 #: Pivots below this fraction of ``max |M|`` are rounding (nearly equal rows of ``M``), never used.
 PIVOT_RTOL = 1e-9
 #: Relative tolerance under which two ratios of the minimum-ratio test are a tie.
@@ -73,6 +77,33 @@ class LCPResult:
 def _leaving_row(T: np.ndarray, col: int, rhs: np.ndarray, n: int, tol: float) -> int:
     """Row of the lexicographic minimum ratio for entering column ``col`` (-1: ray)."""
     a = T[:, col]
+    rows = (a > tol).nonzero()[0]
+    if not rows.size:
+        return -1
+    ar = a[rows]
+    ratios = rhs[rows] / ar  # the rows without a positive entry have ratio inf, never below these
+    best = _min(ratios)
+    bar = best + TIE_RTOL * max(abs(best), 1.0)
+    if not math.isfinite(bar):  # a ratio inf or NaN: the full-length test, as it always was
+        return _leaving_row_full(T, col, rhs, n, tol)
+    near = ratios <= bar
+    if np.count_nonzero(near) == 1:
+        return int(rows[near.argmax()])
+    cand, ac = rows[near], ar[near]
+    # lexicographic rule: rows of the basis inverse (the columns of the initial basis w)
+    for j in range(n):
+        vals = T[cand, j] / ac
+        low = _min(vals)
+        keep = vals <= low + TIE_RTOL * max(abs(low), 1.0)
+        cand, ac = cand[keep], ac[keep]
+        if cand.size == 1:
+            break
+    return int(cand[0])
+
+
+def _leaving_row_full(T: np.ndarray, col: int, rhs: np.ndarray, n: int, tol: float) -> int:
+    """:func:`_leaving_row` on ratios of all rows (inf where the entry is not positive)."""
+    a = T[:, col]
     pos = a > tol
     if not pos.any():
         return -1
@@ -97,17 +128,30 @@ def block_solution(M: np.ndarray, q: np.ndarray, active: np.ndarray) -> tuple[np
     and ``M_BB z_B = -q_B``, and ``w = M z + q`` with ``w_B = 0`` (the one place this system is
     solved: principal pivoting and the enumeration read it); None when the block is singular.
     Whether the point is a solution (``z >= 0``, ``w >= 0``) is the caller's test."""
-    n = q.size
-    z = np.zeros(n)
-    idx = np.flatnonzero(active)
+    point = _block_point(M, q, -q, np.asarray(active, bool).nonzero()[0])
+    return None if point is None else point[:2]
+
+
+def _block_point(
+    M: np.ndarray, q: np.ndarray, negq: np.ndarray, idx: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, float] | None:
+    """:func:`block_solution` on the indices ``idx`` of the set (``negq = -q``), with
+    ``max |z|`` (0 for an empty set); None when the block is singular (speed only: the same
+    LAPACK call on the same block, fewer NumPy calls)."""
+    z = np.zeros(q.size)
+    zmax = 0.0
     if idx.size:
-        _, _, zb, info = dgesv(M[idx[:, None], idx], -q[idx])
-        if info != 0 or not np.isfinite(zb).all():
+        _, _, zb, info = dgesv(M.take(idx, 0).take(idx, 1), negq[idx])
+        if info != 0:
+            return None
+        zmax = float(_max(np.abs(zb)))  # NaN or inf anywhere: not finite
+        if not math.isfinite(zmax):
             return None
         z[idx] = zb
-    w = M @ z + q
-    w[active] = 0.0
-    return z, w
+    w = M @ z
+    w += q
+    w[idx] = 0.0
+    return z, w, zmax
 
 
 #: Largest LCP whose complementary index sets :func:`provably_unsolvable` enumerates (2^n
@@ -229,10 +273,10 @@ def principal_pivoting(
     uses :func:`lemke`. A guess only saves pivots; the answer is checked, never trusted.
     """
     n = q.size
-    act = np.asarray(active, bool).copy()
+    act = np.array(active, bool)
     limit = 2 * n + 4 if max_iter is None else int(max_iter)
-    mscale = max(float(np.abs(M).max(initial=0.0)), 1e-300)
-    qscale = max(float(np.abs(q).max(initial=0.0)), 1e-300)
+    scales: tuple[float, float] | None = None  # max |q|, max |M|: read at the first negative sign
+    negq = -q
     seen: set[bytes] = set()
     for it in range(limit):
         if it >= 3:  # single flips: each set has one successor, so a repeated set cycles to the limit
@@ -240,21 +284,42 @@ def principal_pivoting(
             if key in seen:
                 return None
             seen.add(key)
-        point = block_solution(M, q, act)
+        point = _block_point(M, q, negq, act.nonzero()[0])
         if point is None:
             return None
-        z, w = point
-        tol = rtol * max(qscale, mscale * float(np.abs(z).max(initial=0.0)))
-        bad = (act & (z < -tol)) | (~act & (w < -tol))
-        if not bad.any():
-            z[act] = np.maximum(z[act], 0.0)
-            return LCPResult(LCPStatus.SOLVED, z, np.maximum(w, 0.0), 0)
+        z, w, zmax = point
+        low = np.fmin(z, w)  # z_N = 0 and w_B = 0 exactly: the sign test needs no mask
+        least = _fmin(low, initial=math.inf)  # NaN ignored, as by the comparisons
+        if rtol >= 0.0 and not least < 0.0:  # no negative sign: none below -tol either
+            return _pivoted_solution(z, w)
+        if scales is None:
+            scales = (
+                max(float(_max(np.abs(q), initial=0.0)), 1e-300),
+                _max(np.abs(M), axis=None, initial=0.0),
+            )
+        qscale, mscale = scales[0], max(float(scales[1]), 1e-300)
+        tol = rtol * max(qscale, mscale * zmax)
+        if tol >= 0.0:
+            if not least < -tol:
+                return _pivoted_solution(z, w)
+            bad = low < -tol
+        else:
+            bad = (act & (z < -tol)) | (~act & (w < -tol))
+            if not bad.any():
+                z[act] = np.maximum(z[act], 0.0)
+                return LCPResult(LCPStatus.SOLVED, z, np.maximum(w, 0.0), 0)
         if it < 3:
             act ^= bad
         else:
-            j = int(np.flatnonzero(bad)[0])
+            j = int(bad.argmax())  # the first violated item
             act[j] = not act[j]
     return None
+
+
+def _pivoted_solution(z: np.ndarray, w: np.ndarray) -> LCPResult:
+    """:func:`principal_pivoting`'s answer: the point with rounding of ``z >= 0``, ``w >= 0`` cut."""
+    np.maximum(z, 0.0, out=z)
+    return LCPResult(LCPStatus.SOLVED, z, np.maximum(w, 0.0), 0)
 
 
 def lemke(M: np.ndarray, q: np.ndarray, max_pivots: int | None = None) -> LCPResult:
@@ -275,7 +340,7 @@ def lemke(M: np.ndarray, q: np.ndarray, max_pivots: int | None = None) -> LCPRes
     if n == 0 or q.min() >= 0.0:
         return LCPResult(LCPStatus.SOLVED, np.zeros(n), q.copy(), 0)
     limit = 50 * (n + 1) if max_pivots is None else int(max_pivots)
-    scale = max(float(np.abs(M).max(initial=0.0)), 1e-300)
+    scale = max(float(_max(np.abs(M), axis=None, initial=0.0)), 1e-300)
     tol = PIVOT_RTOL * scale
     small = _pivots_small(M, q, limit, tol) if n <= SMALL else None
     if small is not None:
@@ -290,6 +355,7 @@ def lemke(M: np.ndarray, q: np.ndarray, max_pivots: int | None = None) -> LCPRes
     T[:, 2 * n] = -1.0
     rhs = q.copy()
     basis = np.arange(n)
+    update = np.empty_like(T)
     # initial pivot: z0 enters, the row of the most negative q leaves (ties: lexicographic)
     low = rhs.min()
     cand = np.flatnonzero(rhs <= low + TIE_RTOL * max(abs(low), 1.0))
@@ -302,7 +368,8 @@ def lemke(M: np.ndarray, q: np.ndarray, max_pivots: int | None = None) -> LCPRes
         rhs[row] /= piv
         f = T[:, col].copy()
         f[row] = 0.0
-        T -= f[:, None] * T[row]
+        np.multiply(f[:, None], T[row], out=update)
+        T -= update
         rhs -= f * rhs[row]
         leaving = int(basis[row])
         basis[row] = col
@@ -411,11 +478,13 @@ def _leaving_row_small(T: list[list[float]], col: int, rhs: list[float], n: int,
 def _verified(M: np.ndarray, q: np.ndarray, z: np.ndarray, rtol: float = 1e-8) -> bool:
     """``w = M z + q >= 0`` and ``z^T w = 0`` to ``rtol`` of the data's scale."""
     w = M @ z + q
-    zmax = float(z.max(initial=0.0))
-    scale = max(float(np.abs(q).max(initial=0.0)), float(np.abs(M).max(initial=0.0)) * zmax, 1e-300)
+    zmax = float(_max(z, initial=0.0))
+    scale = max(
+        float(_max(np.abs(q), initial=0.0)), float(_max(np.abs(M), axis=None, initial=0.0)) * zmax, 1e-300
+    )
     return bool(
-        w.min(initial=0.0) >= -rtol * scale
-        and np.abs(z * w).max(initial=0.0) <= rtol * scale * max(zmax, 1e-300)
+        _min(w, initial=0.0) >= -rtol * scale
+        and _max(np.abs(z * w), initial=0.0) <= rtol * scale * max(zmax, 1e-300)
     )
 
 
@@ -427,14 +496,13 @@ def canonical(M: np.ndarray, q: np.ndarray, res: LCPResult, rtol: float = 1e-9) 
     on the order of the items; it is returned when it is nonnegative (else ``res``)."""
     if not res.solved or res.z.size == 0:
         return res
-    zmax = max(float(res.z.max()), 1e-300)
-    wscale = max(float(np.abs(q).max()), float(np.abs(M).max()) * zmax, 1e-300)
+    zmax = max(float(_max(res.z)), 1e-300)
+    wscale = max(float(_max(np.abs(q))), float(_max(np.abs(M), axis=None)) * zmax, 1e-300)
     active = res.z > 0
-    tight = active | (res.w <= rtol * wscale)
-    if not tight.any():
-        return res
-    if not (tight & ~active).any():
+    # a tight item that is not active (NaN never compares true)
+    if not np.count_nonzero(np.where(active, np.nan, res.w) <= rtol * wscale):
         return res  # no degenerate item: Lemke's basis makes M_BB nonsingular, z is unique there
+    tight = active | (res.w <= rtol * wscale)
     Mt = M[np.ix_(tight, tight)]
     zt = np.linalg.lstsq(Mt, -q[tight], rcond=rtol)[0]
     if zt.min() < -rtol * zmax:

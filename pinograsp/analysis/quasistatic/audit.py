@@ -8,7 +8,7 @@ from collections.abc import Callable
 import numpy as np
 
 from ...core.model import GraspModel
-from .model import balance_residuals
+from .model import balance_residuals, invariant_rows, invariant_terms
 from .prepared import Prepared
 from .state import State
 
@@ -33,10 +33,24 @@ def _residuals(qm, states, C, Fa, Lc, W, VS):
     for j, s in enumerate(states):
         if s.geo is not None:
             groups.setdefault(id(s.geo), []).append(j)
+    if not groups:
+        return obj, joints, slack
+    X = VS[:, : qm.nx] / qm.S[: qm.nx]
+    stacked: dict[int, list[list[int]]] = {}  # the updated geometries by their number of states
     for rows in groups.values():
         g = states[rows[0]].geo
-        x = VS[rows, : qm.nx] / qm.S[: qm.nx]
-        obj[rows] = balance_residuals(g, C[rows], Fa[rows], Lc[rows], W[rows], x)[0]
+        assert g is not None
+        if g.KGp is not None and g.vs_ref is not None and g.e_ref is not None:  # an update's invariant
+            stacked.setdefault(len(rows), []).append(rows)
+        else:
+            obj[rows] = balance_residuals(g, C[rows], Fa[rows], Lc[rows], W[rows], X[rows])[0]
+    # one stacked product per number of states: numpy's matmul runs, per geometry, the same
+    # BLAS product as on its own (same shapes and strides), so the same bits as one at a time
+    for same in stacked.values():
+        idx = np.array(same)  # (geometries, states)
+        terms = [invariant_terms(states[rows[0]].geo) for rows in same]
+        stack = tuple(np.array(part) for part in zip(*terms))
+        obj[idx] = invariant_rows(C[idx], X[idx], W[idx], stack, qm.S[: qm.nx])
     return obj, joints, slack
 
 

@@ -25,13 +25,14 @@ as in the simulation. Paths whose object turns less than one step are unchanged.
 from __future__ import annotations
 
 import functools
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from ...core.axes import PLANAR_AXES
 from ...core.giveway import LINEAR_ROTATION
-from .model import Constraints, QSModel, evolved
+from .model import Constraints, QSModel, evolved, lazy_products
 from .state import State
 
 #: Object rotation [rad] between two geometry updates of the load stage (chosen by measurement:
@@ -86,6 +87,78 @@ def _axes6(qm: QSModel) -> list[int]:
     return list(PLANAR_AXES) if qm.model.planar else list(range(qm.nx))
 
 
+@dataclass(frozen=True, eq=False)
+class _Constants:
+    """What a geometry update reads of the model and never changes along a path (kept once per
+    model on :attr:`QSModel.geometry_constants`; speed only).
+
+    Attributes:
+        arms0: Contact points less the reference point (nc, 3) [m] (the arms at rest).
+        F: The contact frames' first ``d`` columns (nc, 3, d).
+        force_rows: The rows of the grasp map on the force axes (nx, nc*d), zero elsewhere.
+        moment: The object coordinates on the moment axes (m,) (a slice when contiguous) and,
+            for each, the two arm components ``i1``, ``i2`` (m,) and the frame rows
+            ``F[:, i2]``, ``F[:, i1]`` (nc, m, d) of its cross product: its row is
+            ``a[i1] F[i2] - a[i2] F[i1]``.
+        rows, axes: The rotation coordinates (k,) and their world axes (k,) (slices when
+            contiguous).
+        S_rot: ``S`` of the rotation coordinates (k,); S_col: ``S[:nx, None]``;
+            S_outer: ``outer(S[:nx], S[:nx])``.
+        full_spin: Whether the rotation coordinates are the three world axes in order.
+    """
+
+    arms0: np.ndarray
+    F: np.ndarray
+    force_rows: np.ndarray
+    moment: tuple[np.ndarray | slice, np.ndarray, np.ndarray, np.ndarray, np.ndarray]
+    rows: np.ndarray | slice
+    axes: np.ndarray | slice
+    S_rot: np.ndarray
+    S_col: np.ndarray
+    S_outer: np.ndarray
+    full_spin: bool
+
+
+def _constants(qm: QSModel) -> _Constants:
+    """The model's :class:`_Constants` (computed on the first update, then shared by every
+    model re-linearised from it: :func:`~.model.evolved` copies the field)."""
+    got = qm.geometry_constants
+    if isinstance(got, _Constants):
+        return got
+    m = qm.model
+    F = np.asarray(m.frames, float)[:, :, : qm.d]
+    axes6 = list(PLANAR_AXES) if m.planar else list(range(qm.nx))  # _axes6 (no call: the call budget)
+    force_rows = np.zeros((qm.nx, qm.ncd))
+    mom_at, i1, i2 = [], [], []
+    for i, axis in enumerate(axes6):
+        if axis < 3:
+            force_rows[i] = F[:, axis].reshape(-1)
+        else:
+            mom_at.append(i)
+            i1.append((axis - 2) % 3)
+            i2.append((axis - 1) % 3)
+    rows, axes = _rows_of(bool(m.planar), qm.nx)
+    at, r, a = (  # contiguous increasing index ranges as slices (the same elements)
+        slice(int(i[0]), int(i[-1]) + 1) if len(i) and bool(np.all(np.diff(i) == 1)) else i
+        for i in (np.array(mom_at, int), rows, axes)
+    )
+    S = qm.S
+    out = _Constants(
+        arms0=np.asarray(m.points, float) - np.asarray(m.reference_point, float),
+        F=F,
+        force_rows=force_rows,
+        moment=(at, np.array(i1, int), np.array(i2, int), F[:, i2], F[:, i1]),
+        rows=r,
+        axes=a,
+        S_rot=S[rows],
+        S_col=S[: qm.nx, None],
+        S_outer=np.outer(S[: qm.nx], S[: qm.nx]),
+        full_spin=len(axes) == 3 and bool(np.all(axes == np.arange(3))),
+    )
+    object.__setattr__(qm, "geometry_constants", out)
+    return out
+
+
 @functools.cache
 def _rows_of(planar: bool, nx: int) -> tuple[np.ndarray, np.ndarray]:
     axes = np.array(list(PLANAR_AXES) if planar else list(range(nx)))
@@ -102,63 +175,83 @@ def _rotation_rows(qm: QSModel) -> tuple[np.ndarray, np.ndarray]:
     return _rows_of(bool(qm.model.planar), qm.nx)
 
 
+def _spin(k: _Constants, dvs: np.ndarray) -> np.ndarray:
+    """:func:`spin` with the model's constants."""
+    if k.full_spin:
+        return dvs[k.rows] / k.S_rot
+    out = np.zeros(3)
+    out[k.axes] = dvs[k.rows] / k.S_rot
+    return out
+
+
 def spin(qm: QSModel, dvs: np.ndarray) -> np.ndarray:
     """The object rotation (3,) [rad], world frame, of a scaled displacement (change) ``dvs``."""
-    rows, axes = _rotation_rows(qm)
-    out = np.zeros(3)
-    out[axes] = dvs[rows] / qm.S[rows]
-    return out
+    return _spin(_constants(qm), dvs)
+
+
+#: The identity (3, 3), read-only.
+_I3 = np.eye(3)
+_I3.setflags(write=False)
 
 
 def rotation_matrix(theta: np.ndarray) -> np.ndarray:
     """``exp([theta]x)`` (3, 3) of a rotation vector ``theta`` (3,) [rad] (Rodrigues)."""
-    angle = float(np.linalg.norm(theta))
+    theta = np.asarray(theta, float).ravel()
+    angle = math.sqrt(theta.dot(theta))  # np.linalg.norm's own arithmetic
     if angle == 0.0:
         return np.eye(3)
-    k = theta / angle
-    K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
-    return np.eye(3) + np.sin(angle) * K + (1.0 - np.cos(angle)) * (K @ K)
+    k0, k1, k2 = (theta / angle).tolist()
+    K = np.array([[0.0, -k2, k1], [k2, 0.0, -k0], [-k1, k0, 0.0]])
+    return _I3 + np.sin(angle) * K + (1.0 - np.cos(angle)) * (K @ K)
+
+
+def _turned(qm: QSModel, k: _Constants, vs: np.ndarray, scale: float) -> np.ndarray:
+    """:func:`turned` with the model's constants."""
+    if qm.vs_ref is None:  # vs - 0 is vs, bit for bit
+        theta = scale * _spin(k, vs)
+    else:
+        theta = scale * _spin(k, vs - qm.vs_ref)
+    base = qm.rot if qm.rot is not None else np.eye(3)
+    return rotation_matrix(theta) @ base
 
 
 def turned(qm: QSModel, vs: np.ndarray, scale: float) -> np.ndarray:
     """The object's physical rotation (3, 3) at the scaled displacements ``vs`` (nv,) of a
     path on ``qm``: the rotation at its last update composed with the spin since (``scale``:
     :attr:`GeometryUpdates.scale`)."""
-    ref = qm.vs_ref if qm.vs_ref is not None else np.zeros_like(vs)
-    base = qm.rot if qm.rot is not None else np.eye(3)
-    return rotation_matrix(scale * spin(qm, vs - ref)) @ base
+    return _turned(qm, _constants(qm), vs, scale)
 
 
 def _arms(qm: QSModel, R: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The contact arms turned by ``R`` (nc, 3) [m] and the contact frames (nc, 3, d)."""
-    m = qm.model
-    arms = (np.asarray(m.points, float) - np.asarray(m.reference_point, float)) @ R.T
-    return arms, np.asarray(m.frames, float)[:, :, : qm.d]
+    k = _constants(qm)
+    return k.arms0 @ R.T, k.F
 
 
 def _grasp_map(qm: QSModel, arms: np.ndarray, F: np.ndarray) -> np.ndarray:
-    a = arms[:, :, None]  # (nc, 3, 1)
-    F0, F1, F2 = F[:, 0], F[:, 1], F[:, 2]  # (nc, d) each: the frames' world x, y, z rows
-    rows = (  # the 6D rows of the grasp map: forces, then a_i x each column of F_i
-        F0,
-        F1,
-        F2,
-        a[:, 1] * F2 - a[:, 2] * F1,
-        a[:, 2] * F0 - a[:, 0] * F2,
-        a[:, 0] * F1 - a[:, 1] * F0,
-    )
-    out = np.empty((qm.nx, qm.ncd))
-    for i, axis in enumerate(_axes6(qm)):
-        out[i] = rows[axis].reshape(-1)
+    """The grasp map (nx, nc*d): the constant force rows, and on each moment axis the rows of
+    ``a_i x`` each column of ``F_i`` (``F``: the model's frames, :attr:`_Constants.F`)."""
+    k = _constants(qm)
+    out = k.force_rows.copy()
+    at, i1, i2, F2, F1 = k.moment
+    if len(i1):
+        if F is not k.F:  # other frames than the model's
+            F2, F1 = F[:, i2], F[:, i1]
+        cross = arms[:, i1, None] * F2 - arms[:, i2, None] * F1  # (nc, m, d)
+        out[at] = cross.transpose(1, 0, 2).reshape(len(i1), -1)
     return out
 
 
 def _geometric_stiffness(qm: QSModel, arms: np.ndarray, F: np.ndarray, c: np.ndarray) -> np.ndarray:
     f = np.einsum("iad,id->ia", F, c.reshape(qm.nc, qm.d))
-    K3 = np.einsum("ia,ib->ab", arms, f) - float(np.einsum("ia,ia->", arms, f)) * np.eye(3)
-    rows, axes = _rotation_rows(qm)
+    K3 = np.einsum("ia,ib->ab", arms, f) - float(np.einsum("ia,ia->", arms, f)) * _I3
+    k = _constants(qm)
     out = np.zeros((qm.nx, qm.nx))
-    out[rows[:, None], rows] = K3[axes[:, None], axes]
+    if isinstance(k.rows, slice) and isinstance(k.axes, slice):
+        out[k.rows, k.rows] = K3[k.axes, k.axes]
+    else:
+        rows, axes = _rotation_rows(qm)
+        out[rows[:, None], rows] = K3[axes[:, None], axes]
     return out
 
 
@@ -189,22 +282,23 @@ def moved(
     predicted force change ``dc`` (nc*d,) over the step (per model radian: ``scale`` times the
     physical one), and the references of the incremental gaps and of the equilibrium
     invariant at ``st``."""
-    R = turned(qm, st.vs, scale)
+    k = _constants(qm)
+    R = _turned(qm, k, st.vs, scale)
     R_mid = rotation_matrix(0.5 * ahead) @ R
-    arms, F = _arms(qm, R_mid)
-    G = _grasp_map(qm, arms, F)
-    S = qm.S
+    arms = k.arms0 @ R_mid.T
+    G = _grasp_map(qm, arms, k.F)
+    nx = qm.nx
     A = qm.A.copy()
-    A[: qm.nx] = G / S[: qm.nx, None]
+    A[:nx] = G / k.S_col
     c_mid = st.c if dc is None else st.c + 0.5 * dc
-    KGp = scale * _geometric_stiffness(qm, arms, F, c_mid)
+    KGp = scale * _geometric_stiffness(qm, arms, k.F, c_mid)
     KG = np.zeros((qm.nv, qm.nv))
-    KG[: qm.nx, : qm.nx] = KGp / np.outer(S[: qm.nx], S[: qm.nx])
+    KG[:nx, :nx] = KGp / k.S_outer
     return evolved(
         qm,
         A=A,
         free=_with_arms(qm.free, A),
-        held=_with_arms(qm.held, A),
+        held=lazy_products(qm.held, A),
         KG=KG,
         KGp=KGp,
         rot=R,
@@ -220,9 +314,8 @@ def _may_update(qm: QSModel, st: State, geo: GeometryUpdates) -> bool:
     translation bounds)."""
     if st.t > geo.until:
         return False
-    return not (
-        qm.turn >= geo.max_rotation or geo.scale * float(np.linalg.norm(st.vs[:3])) >= geo.max_translation
-    )
+    x = st.vs[:3]
+    return not (qm.turn >= geo.max_rotation or geo.scale * math.sqrt(x.dot(x)) >= geo.max_translation)
 
 
 def step_to_update(
@@ -230,18 +323,18 @@ def step_to_update(
 ) -> float:
     """The step along a segment with rates ``dvs`` from ``st`` at which the object has turned
     ``step`` [rad] since the last update (``inf``: never, or not within ``geo``'s limits)."""
-    ref = qm.vs_ref if qm.vs_ref is not None else np.zeros_like(st.vs)
-    a = geo.scale * spin(qm, st.vs - ref)
-    b = geo.scale * spin(qm, dvs)
+    k = _constants(qm)
+    b = geo.scale * _spin(k, dvs)
     bb = float(b @ b)
     if bb == 0.0:
         return float("inf")
     if not _may_update(qm, st, geo):
         return float("inf")
+    a = geo.scale * _spin(k, st.vs if qm.vs_ref is None else st.vs - qm.vs_ref)  # vs - 0 is vs
     ab, aa = float(a @ b), float(a @ a)
     disc = ab * ab - bb * (aa - step**2)
-    t = (-ab + np.sqrt(max(disc, 0.0))) / bb
-    if load_rate > 0 and np.isfinite(geo.until):
+    t = (-ab + math.sqrt(max(disc, 0.0))) / bb
+    if load_rate > 0 and math.isfinite(geo.until):
         t = t if st.t + t * load_rate <= geo.until else float("inf")
     return max(float(t), 0.0)
 

@@ -58,9 +58,13 @@ class Point:
     on_ray: bool = False
 
 
-def _channels(th: Thresholds) -> list[tuple[str, slice | None, float, bool]]:
+#: A give-way criterion: (reason, object slice or None for joints, threshold, per-component).
+Channel = tuple[str, slice | None, float, bool]
+
+
+def _channels(th: Thresholds) -> list[Channel]:
     """(reason, object slice or None for joints, threshold, per-component) of every criterion."""
-    out: list[tuple[str, slice | None, float, bool]] = [
+    out: list[Channel] = [
         ("translation", slice(0, 3), th.slip, False),
         ("rotation", slice(3, 6), th.rotation, False),
     ]
@@ -104,10 +108,12 @@ def _first_on_segment(
     qa: np.ndarray,
     qb: np.ndarray,
     smax: float,
+    channels: list[Channel] | None = None,
 ) -> tuple[float, str] | None:
-    """The first crossing on ``a + s (b - a)`` (``b`` a rate on a ray), ``s`` in [0, smax]."""
+    """The first crossing on ``a + s (b - a)`` (``b`` a rate on a ray), ``s`` in [0, smax]
+    (``channels``: :func:`_channels` of ``th`` when the caller has them)."""
     best: tuple[float, str] | None = None
-    for reason, sl, lim, per in _channels(th):
+    for reason, sl, lim, per in _channels(th) if channels is None else channels:
         if sl is None:
             a, b = (qa - q0) * th.scale, qb * th.scale if math.isinf(smax) else (qb - qa) * th.scale
         else:
@@ -121,20 +127,52 @@ def _first_on_segment(
     return best
 
 
+#: Breakpoints farther than this fraction below every threshold (:func:`_near`) are inside
+#: them beyond any rounding of the segment arithmetic (~1e-15 of a threshold).
+_NEAR_RTOL = 1e-6
+
+
+def _near(
+    tr: Trace,
+    th: Thresholds,
+    x0: np.ndarray,
+    q0: np.ndarray,
+    channels: list[Channel],
+) -> np.ndarray:
+    """Per breakpoint of ``tr`` (k,) bool: whether it may be at or past a threshold (within
+    :data:`_NEAR_RTOL` of it, or not finite). A segment whose two ends are not is crossed by
+    none (the distance from ``(x0, q0)`` is convex along it), so :func:`first_crossing`
+    examines only the segments with a flagged end (speed only: the same answer)."""
+    near = np.zeros(len(tr.loads), bool)
+    for _, sl, lim, per in channels:
+        D = (tr.q - q0) * th.scale if sl is None else (tr.x[:, sl] - x0[sl]) * th.scale
+        if D.shape[1] == 0:
+            continue
+        inner = lim * (1.0 - _NEAR_RTOL)
+        if per:
+            near |= ~(np.abs(D).max(axis=1) < inner)
+        else:
+            near |= ~(np.sum(D * D, axis=1) < inner * inner)
+    return near
+
+
 def first_crossing(
     tr: Trace, th: Thresholds, x0: np.ndarray, q0: np.ndarray, start: int, stop: int | None, which: int
 ) -> Point | None:
     """The first load on ``tr`` from breakpoint ``start`` to ``stop`` (default the last, then
     along its ray) where a threshold is reached, measured from ``(x0, q0)``; None if none."""
     last = len(tr.loads) - 1 if stop is None else stop
-    for j in range(start, last):
-        hit = _first_on_segment(th, x0, q0, tr.x[j], tr.x[j + 1], tr.q[j], tr.q[j + 1], 1.0)
+    chans = _channels(th)
+    near = _near(tr, th, x0, q0, chans)[start : last + 1] if last > start else np.zeros(1, bool)
+    # a segment with both ends inside every threshold crosses none: only the others
+    for j in (start + np.flatnonzero(near[:-1] | near[1:])).tolist():
+        hit = _first_on_segment(th, x0, q0, tr.x[j], tr.x[j + 1], tr.q[j], tr.q[j + 1], 1.0, chans)
         if hit is not None:
             s, reason = hit
             return Point(float(tr.loads[j] + s * (tr.loads[j + 1] - tr.loads[j])), reason, which, j, s)
     if stop is None and tr.ray_x is not None:
         rq = tr.ray_q if tr.ray_q is not None else np.zeros_like(tr.q[last])
-        hit = _first_on_segment(th, x0, q0, tr.x[last], tr.ray_x, tr.q[last], rq, math.inf)
+        hit = _first_on_segment(th, x0, q0, tr.x[last], tr.ray_x, tr.q[last], rq, math.inf, chans)
         if hit is not None:
             return Point(float(tr.loads[last] + hit[0]), hit[1], which, last, hit[0], on_ray=True)
     elif start == last and _beyond(th, x0, q0, tr.x[last], tr.q[last]):  # a single breakpoint
