@@ -316,7 +316,7 @@ def test_a_cylinder_pushed_across_the_jaws_gives_way_at_the_squeeze_both_ways(cy
     its command: the grasp gives way at F = 20 N in both senses. At +x the far jaw's line
     unloads to ~2e-5 N per end on a pyramid vertex, where the rate problem's face block is
     singular and it has no solution (its singular index sets decided by a linear program,
-    pinograsp.solvers.lcp.provably_unsolvable): the grasp gives way there. That side used to
+    pinograsp.solvers.lcp_certificates.provably_unsolvable): the grasp gives way there. That side used to
     stop without a verdict (SolverError) while -x answered 20.0 N."""
     hand, q, obj = cylinder
     m = pg.grasp_model_from_scene(hand, q, obj, mu=MU)

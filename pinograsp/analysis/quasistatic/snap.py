@@ -3,7 +3,7 @@
 When Lemke's method ray-terminates on the local rate problem under load control and under
 displacement control, the LCP may still have a solution (Lemke's method decides only for
 copositive-plus ``M``, and ``M`` is not with friction). The question is settled by
-:func:`~pinograsp.solvers.lcp.provably_unsolvable`: a Farkas certificate at any size (no flows
+:func:`~pinograsp.solvers.lcp_certificates.provably_unsolvable`: a Farkas certificate at any size (no flows
 keep every slack rate nonnegative) or, for a small problem, every complementary index set
 enumerated — none of the ``2^n`` linear systems gives ``z >= 0`` and ``w >= 0`` (by a margin;
 a singular block by a small linear program, at bounded flows) — and the LCP has no solution.
@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...solvers.lcp import provably_unsolvable
+from ...solvers.lcp_certificates import provably_unsolvable
 from .model import QSModel
 from .rates import FULL, Classes, Segment, StageCache, lcp_items, linear_part
 from .state import StageSpec
