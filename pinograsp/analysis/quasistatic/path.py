@@ -114,12 +114,13 @@ def planned(
     LCP that Lemke's method may not solve). Last resort: every zero-force contact with both
     its opening and all its faces in the LCP. Each (plan, faces) combination is tried once.
     """
+    if not cls.has_zero:  # nothing to guess: one rate problem (no guess or apex face to flag)
+        return _counted(run, rates(qm, st, spec, cls, control, plan0, sc, hints))
     candidates = [plan0]
-    if cls.has_zero:
-        for fill in (SEPARATE, PRESS):
-            alt = plan0.copy()
-            alt[cls.zero] = fill
-            candidates.append(alt)
+    for fill in (SEPARATE, PRESS):
+        alt = plan0.copy()
+        alt[cls.zero] = fill
+        candidates.append(alt)
     tried: set[bytes] = set()
     first = None
     for start in candidates:
@@ -130,10 +131,7 @@ def planned(
             if key in tried:
                 break
             tried.add(key)
-            seg = rates(qm, st, spec, cls, control, plan, sc, hints, apex)
-            run.lcp_solves += 1
-            run.pivots += seg.pivots
-            run.largest_lcp = max(run.largest_lcp, seg.lcp_size)
+            seg = _counted(run, rates(qm, st, spec, cls, control, plan, sc, hints, apex))
             first = first or seg
             if seg.status == SegmentStatus.GUESS:
                 plan[seg.flip] = np.where(plan[seg.flip] == PRESS, SEPARATE, PRESS)
@@ -145,15 +143,18 @@ def planned(
                 break
         if seg.status in (SegmentStatus.OK, SegmentStatus.SINGULAR):
             return seg
-        if not cls.has_zero:
-            return seg
-    full = rates(qm, st, spec, cls, control, np.full(qm.nc, FULL), sc)
-    run.lcp_solves += 1
-    run.pivots += full.pivots
-    run.largest_lcp = max(run.largest_lcp, full.lcp_size)
+    full = _counted(run, rates(qm, st, spec, cls, control, np.full(qm.nc, FULL), sc))
     if full.status == SegmentStatus.OK or first is None:
         return full
     return first if first.status not in (SegmentStatus.GUESS, SegmentStatus.APEX) else full
+
+
+def _counted(run: StageRun, seg: Segment) -> Segment:
+    """``seg``, with its LCP counted on ``run`` (solves, pivots, the largest size)."""
+    run.lcp_solves += 1
+    run.pivots += seg.pivots
+    run.largest_lcp = max(run.largest_lcp, seg.lcp_size)
+    return seg
 
 
 def plan_of(qm: QSModel, cls: Classes, prev: Segment | None) -> np.ndarray:
