@@ -134,6 +134,7 @@ class LinearPart:
     W: np.ndarray
     M: np.ndarray
     Rho: np.ndarray
+    keys: np.ndarray | None = None  # the items' codes (as :attr:`Segment.active`; speed only)
 
 
 @dataclass(frozen=True)
@@ -213,9 +214,14 @@ def _at_apex(qm: QSModel, st: State, tol: float) -> np.ndarray:
 #: Plans for a contact at zero force: both pairs in the LCP, pressed (touching, faces in the
 #: LCP, no opening item) or separated (out of the rate problem).
 FULL, PRESS, SEPARATE = 0, 1, 2
+#: A contact's state on a segment by whether it separates (unless it slides).
+_SEPARATED: tuple[ContactState, ContactState] = ("sticking", "separated")
 #: No index (read-only, shared).
 _NONE = np.zeros(0, int)
 _NONE.setflags(write=False)
+#: The load's column among the item columns (the last, zero; read-only, shared).
+_LOAD = np.array([-1])
+_LOAD.setflags(write=False)
 
 
 def rates(
@@ -261,7 +267,7 @@ def rates(
         at_apex = np.concatenate([np.zeros(len(zero), bool), apex_faces, np.zeros(len(acts), bool)])
         Mlcp[at_apex, at_apex] += APEX_REG * max(float(np.abs(Mlcp).max()), 1.0)
     # item codes: opening of contact i -> i, face f -> nc + f, actuator a -> nc + nf + a
-    keys = np.concatenate([zero, qm.nc + faces, qm.nc + qm.nf + acts])
+    keys = lin.keys
     res = _solve_lcp(Mlcp, Wrows[:, 0], keys, hints, qm.nc + qm.nf + qm.na) if nz else None
     if res is not None and not res.solved:
         return Segment(
@@ -276,7 +282,7 @@ def rates(
     if nz:
         assert res is not None  # solved whenever there are items
         ftol = RATE_RTOL * max(float(np.abs(res.z).max()), 1e-300)
-        seg.active = np.sort(keys[res.z > ftol])
+        seg.active = keys[res.z > ftol]  # sorted: the item codes are increasing
         seg.tie = res.tie
     return _check_guesses(qm, spec, cls, plan, sep, apex, seg, v, dc, sc)
 
@@ -305,19 +311,21 @@ def linear_part(
     (ncd,) and the LCP ``items``, under ``"load"`` or ``"displacement"`` control; None when it
     is singular (the load outside the system's range)."""
     zero, faces, acts = items.zero, items.faces, items.acts
-    d, nv, k, A = qm.d, qm.nv, qm.k_ref, qm.A
+    d, k, A = qm.d, qm.k_ref, qm.A
     n0, n1 = len(zero), len(zero) + len(faces)
     nz = n1 + len(acts)
-    F = np.zeros((qm.ncd, 1 + nz))  # contact force rate per unit flow (column 0: the load)
+    nc, nf = qm.nc, qm.nf
+    # the item codes (as Segment.active) after the load's column (-1: the last, zero)
     if n0:
-        F[zero * d, 1 + np.arange(n0)] = 1.0
-    if len(faces):
-        F[:, 1 + n0 : 1 + n1] = qm.PhiT_t[:, faces]  # dc_t = -nu per unit flow
+        keys = np.concatenate((_LOAD, zero, faces + nc, acts + (nc + nf)))
+    else:
+        keys = np.concatenate((_LOAD, faces + nc, acts + (nc + nf)))
+    # contact force rates per unit flow, with the springs' share of the actuator flows'
+    # particular motion (Vp: that motion)
+    Fm = sc.f_items.take(keys, axis=1)
+    Vp = sc.vp_items.take(keys, axis=1)
     cols = sc.col_arr[acts]
-    Vp = np.zeros((nv, 1 + nz))
-    Fm = F  # F with the springs' share of the actuator flows' particular motion (F: zeros there)
     if len(acts):
-        Vp[:, 1 + n1 :] = sc.Bt_pinv_k[:, cols]
         Fm[:, 1 + n1 :] -= spring_act(sc, ks, k)[:, cols]
     aff = affine_reduced(qm, sc, ks, Fm, Vp, control)
     if aff is not None:
@@ -340,21 +348,24 @@ def linear_part(
         V, lam = full
         dC = -ks[:, None] * (A.T @ V) + F
     # multipliers per column: k B rho = K V - r0 lam - A F = -A dC - r0 lam
-    Rho = -(sc.BpA @ dC + sc.Bpr0[:, None] * lam) / k  # (the outer product)
+    Rho = sc.BpA @ dC
+    Rho += sc.Bpr0[:, None] * lam  # (the outer product)
+    Rho /= -k  # -(x) / k, the same bits
     if qm.KG is not None:  # the geometric stiffness's share of the constraint forces
         Rho -= sc.B_pinv @ (qm.KG @ V) / k
-    W = np.zeros((nz, 1 + nz))
+    blocks = []
     if n0:
-        W[:n0] = dC[zero * d]
+        blocks.append(dC[zero * d])
     if len(faces):
-        W[n0:n1] = qm.Phi[faces] @ dC
+        blocks.append(qm.Phi[faces] @ dC)
     if len(acts):
-        W[n1:] = k * Rho[cols] - sc.rdfc[acts][:, None] * lam
+        blocks.append(k * Rho[cols] - sc.rdfc[acts][:, None] * lam)
+    W = np.concatenate(blocks) if len(blocks) > 1 else blocks[0] if blocks else np.zeros((0, 1 + nz))
     # rounding of a zero load rate (symmetric grasps) is zero
     w0 = np.abs(W[:, 0])
     qscale = max(float(w0.max(initial=0.0)), float(np.abs(dC[:, 0]).max(initial=0.0)), 1e-300)
     W[w0 <= RATE_RTOL * 1e-3 * qscale, 0] = 0.0
-    return LinearPart(dC, V, lam, W, W[:, 1:].copy(), Rho)
+    return LinearPart(dC, V, lam, W, W[:, 1:].copy(), Rho, keys[1:])
 
 
 def _solve_lcp(M: np.ndarray, q: np.ndarray, keys: np.ndarray, hints: tuple[np.ndarray, ...], ntot: int):
@@ -429,12 +440,13 @@ def _segment(
     k = qm.k_ref
     df = np.zeros(qm.na)
     if qm.na:
-        df[qm.bd] = spec.dfc[qm.bd] * lam_rate
+        df[qm.bd] = sc.dfc_bd * lam_rate
         df[sc.act_owner] = k * rho[sc.act_cols] / sc.act_rnorm
     dlam = k * rho[sc.coupling_cols] / qm.c_norm if qm.ncp else np.zeros(0)
     dhold = qm.S[:nx] * k * rho[sc.holder_cols] if spec.held else np.zeros(nx)
     nzero = len(zero)
-    flows_f = zeta[nzero : nzero + len(faces)]
+    n1 = nzero + len(faces)
+    flows_f = zeta[nzero:n1]
     dslip = flows_f @ qm.slip_rows[faces] if len(faces) else np.zeros(qm.ncd)
     rscale = max(float(np.abs(dc).max(initial=0.0)), sc.r0max * abs(lam_rate), 1e-300)
     ftol = RATE_RTOL * rscale
@@ -444,30 +456,39 @@ def _segment(
     flowing = faces[flows_f > ftol]
     sep_all = cls.open | opening
     sep_l = sep_all.tolist()
-    sliding: list[list[int]] = [[] for _ in sep_l]
-    for i, f in zip(qm.face_contact[flowing].tolist(), qm.face_index[flowing].tolist()):
-        sliding[i].append(f)
-    contact: tuple[ContactState, ...] = tuple(
-        ["separated" if s else ("sliding" if x else "sticking") for s, x in zip(sep_l, sliding)]
-    )
-    detail = tuple([() if s else tuple(x) for s, x in zip(sep_l, sliding)])
-    moving = np.zeros(qm.na, bool)
-    moving[acts] = zeta[nzero + len(faces) :] > ftol
-    states = zip(moving.tolist(), qm.nbd.tolist(), qm.model.kinds)
-    actuator = tuple([("moving" if m else "holding") if n else k for m, n, k in states])
-    dc = dc.reshape(nc, d).copy()
-    dc[sep_all] = 0.0
+    contact: list[ContactState] = list(map(_SEPARATED.__getitem__, sep_l))
+    detail: list[tuple[int, ...]] = [()] * nc
+    if len(flowing):  # the sliding faces per contact, in face order
+        sliding: dict[int, list[int]] = {}
+        for i, f in zip(qm.face_contact[flowing].tolist(), qm.face_index[flowing].tolist()):
+            if i in sliding:
+                sliding[i].append(f)
+            else:
+                sliding[i] = [f]
+        for i, x in sliding.items():
+            if not sep_l[i]:
+                contact[i] = "sliding"
+                detail[i] = tuple(x)
+    actuator = list(sc.act_still)
+    if len(acts):
+        for a, m in zip(acts.tolist(), (zeta[n1:] > ftol).tolist()):
+            if m:
+                actuator[a] = "moving"
+    if True in sep_l:  # separated contacts carry no force rate
+        if cls.has_zero:  # the rates' own dc is read again (_check_guesses)
+            dc = dc.copy()
+        dc.reshape(nc, d)[sep_all] = 0.0
     return Segment(
         status=SegmentStatus.OK,
         dvs=v,
-        dc=dc.reshape(-1),
+        dc=dc,
         df=df,
         dlam_c=dlam,
         dhold=dhold,
         dslip=dslip,
-        contact=contact,
-        detail=detail,
-        actuator=actuator,
+        contact=tuple(contact),
+        detail=tuple(detail),
+        actuator=tuple(actuator),
         lcp_size=lcp_size,
         pivots=pivots,
         control=control,

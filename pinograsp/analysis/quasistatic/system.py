@@ -71,6 +71,20 @@ class StageCache:
     rdfc: np.ndarray = field(default_factory=lambda: np.zeros(0))
     #: ``ks[:, None] * AtBt / k_ref`` by spring rows ``ks.tobytes()`` (:func:`spring_act`).
     springs: dict | None = None
+    #: Per unit flow of each LCP item code (opening of contact ``i``: ``i``; face ``f``:
+    #: ``nc + f``; actuator ``a``: ``nc + nf + a``), then one zero column for the load: the
+    #: contact force rates before the springs' share of an actuator's motion (a unit normal
+    #: rate for an opening, ``PhiT_t``, ``dc_t = -nu``, for a face, zero for an actuator)
+    #: (ncd, nc + nf + na + 1) and the particular motion ``pinv(B^T) / k_ref`` of the
+    #: actuator's column (zero else) (nv, nc + nf + na + 1) (speed only: one gather each).
+    f_items: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    vp_items: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    #: The spring rows ``ks`` (ncd,) by touching contacts ``touch.tobytes()`` (speed only).
+    ks_of: dict | None = None
+    #: Per actuator its label on a segment where it does not move: ``"holding"`` if it is not
+    #: backdrivable, else its kind; and ``spec.dfc`` of the backdrivable ones (speed only).
+    act_still: tuple[str, ...] = ()
+    dfc_bd: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
     @classmethod
     def of(cls, qm: QSModel, spec: StageSpec) -> StageCache:
@@ -85,6 +99,15 @@ class StageCache:
         crow = r0[:nx] / size if size > 0 else None
         Z = con.Z
         act_owner = con.owner[con.owner >= 0]
+        Bt_pinv_k = con.Bt_pinv / qm.k_ref
+        nc, nf = qm.nc, qm.nf
+        f_items = np.zeros((qm.ncd, nc + nf + qm.na + 1))
+        f_items[np.arange(nc) * qm.d, np.arange(nc)] = 1.0
+        f_items[:, nc : nc + nf] = qm.PhiT_t
+        vp_items = np.zeros((nv, nc + nf + qm.na + 1))
+        if con.B.shape[1]:
+            vp_items[:, nc + nf : -1] = Bt_pinv_k[:, con.col_arr]
+        still = ["holding" if n else kind for n, kind in zip(qm.nbd.tolist(), qm.model.kinds)]
         return cls(
             con.B,
             con.owner,
@@ -111,9 +134,14 @@ class StageCache:
             factors={},
             act_owner=act_owner,
             act_rnorm=qm.r_norm[act_owner],
-            Bt_pinv_k=con.Bt_pinv / qm.k_ref,
+            Bt_pinv_k=Bt_pinv_k,
             rdfc=qm.r_norm * spec.dfc,
             springs={},
+            f_items=f_items,
+            vp_items=vp_items,
+            ks_of={},
+            act_still=tuple(still),
+            dfc_bd=spec.dfc[qm.bd],
         )
 
     def rebased(self, qm: QSModel, spec: StageSpec) -> StageCache:
