@@ -150,12 +150,19 @@ class Solved:
     zeta: np.ndarray
 
 
-def force_scale(qm: QSModel, st: State, spec: StageSpec, sc: StageCache | None = None) -> float:
+def force_scale(
+    qm: QSModel, st: State, spec: StageSpec, sc: StageCache | None = None, fc: np.ndarray | None = None
+) -> float:
     """Force scale of a state [N]: contact forces, load and commands (as forces); ``sc``: the
-    stage's cache, whose rates are read instead of computed again (speed only)."""
+    stage's cache, whose rates are read instead of computed again, ``fc``: the commands at
+    ``st`` (na,) when the caller has them (speed only)."""
     w = spec.w0 + st.t * spec.dw
-    fc = spec.command(st.t)
+    fc = spec.command(st.t) if fc is None else fc
     wd, fd = (sc.rates if sc is not None else stage_rates(qm, spec))[:2]
+    # one maximum over the three (the same bits as three: a maximum is exact) unless it is NaN
+    most = float(np.abs(np.concatenate((st.c, qm.w_scaled(w), fc * qm.r_norm))).max(initial=0.0))
+    if most == most:
+        return max(most, wd, fd, 1e-300)
     parts = [
         float(np.abs(st.c).max(initial=0.0)),
         float(np.abs(qm.w_scaled(w)).max(initial=0.0)),
@@ -171,30 +178,32 @@ def classify(qm: QSModel, st: State, spec: StageSpec, sc: StageCache | None = No
     changed); :attr:`Classes.forces` are its contact forces with those of contacts at zero
     force set to exactly 0 (their anchors forgotten), which the segment loop makes the state's
     own; ``sc`` as for :func:`force_scale`."""
-    fscale = force_scale(qm, st, spec, sc)
+    fc = spec.command(st.t)
+    fscale = force_scale(qm, st, spec, sc, fc)
     tol = EVENT_RTOL * fscale
     d = qm.d
     cn = st.c[::d]
     gap = qm.gaps(st.vs)
     low = cn <= tol
-    if spec.friction and qm.nf and (~low).any():
-        low |= _at_apex(qm, st, tol) & ~low
+    if spec.friction and qm.nf and not low.all():
+        low |= _at_apex(qm, st, tol)
     opened = low & (gap * qm.kn > tol)  # (-delta) * kn > tol: the spring would pull
     zero = low & ~opened
     pressed = ~low
+    has_zero = bool(zero.any())
     c = st.c
     if low.any():
         c = c.copy()
         c.reshape(qm.nc, d)[low] = 0.0
     if spec.friction and qm.nf:
         slack = qm.Phi @ c
-        fc = qm.face_contact
-        faces = ((zero[fc]) | (pressed[fc] & (slack <= tol))).nonzero()[0]
+        fcon = qm.face_contact
+        tight = pressed[fcon] & (slack <= tol)
+        faces = (zero[fcon] | tight).nonzero()[0] if has_zero else tight.nonzero()[0]
     else:
         faces, slack = np.zeros(0, int), None
-    phi = (st.f - spec.command(st.t)) * qm.r_norm
+    phi = (st.f - fc) * qm.r_norm
     act_lcp = qm.nbd & (phi <= tol)
-    has_zero = bool(zero.any())
     acts = act_lcp.nonzero()[0]
     return Classes(opened, zero, pressed, faces, act_lcp, tol, fscale, c, st, gap, slack, phi, has_zero, acts)
 
@@ -252,7 +261,12 @@ def rates(
         touch = (cls.zero & ~sep) | cls.pressed
     else:  # no zero-force contact: nothing planned (``cls.zero`` is all False)
         sep, touch = cls.zero, cls.pressed
-    ks = touch[qm.row_contact] * sc.k_rows
+    key = touch.tobytes()
+    ks = sc.ks_of.get(key) if sc.ks_of is not None else None
+    if ks is None:
+        ks = touch[qm.row_contact] * sc.k_rows
+        if sc.ks_of is not None:
+            sc.ks_of[key] = ks
     items = lcp_items(qm, cls, plan, sep, apex)
     lin = linear_part(qm, sc, spec, ks, items, control)
     if lin is None:
