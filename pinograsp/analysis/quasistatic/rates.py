@@ -82,9 +82,10 @@ class Segment:
     separated: np.ndarray | None = None  # (nc,) bool: contact == "separated" (speed only)
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(eq=False)
 class Classes:
-    """Classification of a state (see the module docstring)."""
+    """Classification of a state (see the module docstring; read-only by convention: a plain
+    dataclass, whose ``__init__`` costs a fifth of a frozen one's — speed only)."""
 
     open: np.ndarray  # (nc,) gap
     zero: np.ndarray  # (nc,) touching, zero force
@@ -105,7 +106,7 @@ class Classes:
     acts: np.ndarray | None = None
 
 
-@dataclass(frozen=True)
+@dataclass(eq=False)
 class Items:
     """The LCP items of a rate problem (index arrays): zero-force contacts with an opening
     pair (``zero``), boundary faces (``faces``, rows of :attr:`QSModel.Phi`), non-backdrivable
@@ -121,7 +122,7 @@ class Items:
         return len(self.zero) + len(self.faces) + len(self.acts)
 
 
-@dataclass(frozen=True)
+@dataclass(eq=False)
 class LinearPart:
     """The rate problem's linear part, per column (the load, then one per flow): contact force
     rates ``dC`` (ncd, 1+nz), displacement rates ``V`` (nv, 1+nz), load rates ``lam``
@@ -137,7 +138,7 @@ class LinearPart:
     keys: np.ndarray | None = None  # the items' codes (as :attr:`Segment.active`; speed only)
 
 
-@dataclass(frozen=True)
+@dataclass(eq=False)
 class Solved:
     """The rates of one solved rate problem per unit path parameter: displacements ``v`` (nv,),
     contact forces ``dc`` (ncd,), constraint multipliers ``rho`` (ncon,), the load rate
@@ -160,7 +161,7 @@ def force_scale(
     fc = spec.command(st.t) if fc is None else fc
     wd, fd = (sc.rates if sc is not None else stage_rates(qm, spec))[:2]
     # one maximum over the three (the same bits as three: a maximum is exact) unless it is NaN
-    most = float(np.abs(np.concatenate((st.c, qm.w_scaled(w), fc * qm.r_norm))).max(initial=0.0))
+    most = float(_amax(np.abs(np.concatenate((st.c, qm.w_scaled(w), fc * qm.r_norm))), initial=0.0))
     if most == most:
         return max(most, wd, fd, 1e-300)
     parts = [
@@ -228,6 +229,11 @@ _SEPARATED: tuple[ContactState, ContactState] = ("sticking", "separated")
 #: No index (read-only, shared).
 _NONE = np.zeros(0, int)
 _NONE.setflags(write=False)
+#: The load's unit flow (read-only, shared).
+_ONE = np.ones(1)
+_ONE.setflags(write=False)
+#: The largest element (``x.max(initial=...)`` without its Python wrapper: the same reduction).
+_amax = np.maximum.reduce
 #: The load's column among the item columns (the last, zero; read-only, shared).
 _LOAD = np.array([-1])
 _LOAD.setflags(write=False)
@@ -287,7 +293,7 @@ def rates(
         return Segment(
             status=SegmentStatus(res.status.value), lcp_size=nz, pivots=res.pivots, control=control
         )
-    zeta1 = np.concatenate([[1.0], res.z if res is not None else np.zeros(0)])
+    zeta1 = np.concatenate((_ONE, res.z)) if res is not None else _ONE
     v = lin.V @ zeta1
     dc = lin.dC @ zeta1
     solved = Solved(v, dc, lin.Rho @ zeta1, float(lin.lam @ zeta1), zeta1[1:])
@@ -295,7 +301,7 @@ def rates(
     seg = _segment(qm, spec, cls, sc, solved, items, lcp_size=nz, pivots=pivots, control=control, sep=sep)
     if nz:
         assert res is not None  # solved whenever there are items
-        ftol = RATE_RTOL * max(float(np.abs(res.z).max()), 1e-300)
+        ftol = RATE_RTOL * max(float(_amax(np.abs(res.z))), 1e-300)
         seg.active = keys[res.z > ftol]  # sorted: the item codes are increasing
         seg.tie = res.tie
     return _check_guesses(qm, spec, cls, plan, sep, apex, seg, v, dc, sc)
@@ -377,7 +383,7 @@ def linear_part(
     W = np.concatenate(blocks) if len(blocks) > 1 else blocks[0] if blocks else np.zeros((0, 1 + nz))
     # rounding of a zero load rate (symmetric grasps) is zero
     w0 = np.abs(W[:, 0])
-    qscale = max(float(w0.max(initial=0.0)), float(np.abs(dC[:, 0]).max(initial=0.0)), 1e-300)
+    qscale = max(float(_amax(w0, initial=0.0)), float(_amax(np.abs(dC[:, 0]), initial=0.0)), 1e-300)
     W[w0 <= RATE_RTOL * 1e-3 * qscale, 0] = 0.0
     return LinearPart(dC, V, lam, W, W[:, 1:].copy(), Rho, keys[1:])
 
@@ -462,11 +468,13 @@ def _segment(
     n1 = nzero + len(faces)
     flows_f = zeta[nzero:n1]
     dslip = flows_f @ qm.slip_rows[faces] if len(faces) else np.zeros(qm.ncd)
-    rscale = max(float(np.abs(dc).max(initial=0.0)), sc.r0max * abs(lam_rate), 1e-300)
+    rscale = max(float(_amax(np.abs(dc), initial=0.0)), sc.r0max * abs(lam_rate), 1e-300)
     ftol = RATE_RTOL * rscale
-    opening = sep.copy()
     if nzero:
+        opening = sep.copy()
         opening[zero] = (zeta[:nzero] > ftol) | (dc[zero * d] <= ftol)
+    else:
+        opening = sep
     flowing = faces[flows_f > ftol]
     sep_all = cls.open | opening
     sep_l = sep_all.tolist()
@@ -474,7 +482,9 @@ def _segment(
     detail: list[tuple[int, ...]] = [()] * nc
     if len(flowing):  # the sliding faces per contact, in face order
         sliding: dict[int, list[int]] = {}
-        for i, f in zip(qm.face_contact[flowing].tolist(), qm.face_index[flowing].tolist()):
+        owner_index = sc.face_owner_index
+        for r in flowing.tolist():
+            i, f = owner_index[r]
             if i in sliding:
                 sliding[i].append(f)
             else:

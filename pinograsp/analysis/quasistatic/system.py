@@ -85,6 +85,10 @@ class StageCache:
     #: backdrivable, else its kind; and ``spec.dfc`` of the backdrivable ones (speed only).
     act_still: tuple[str, ...] = ()
     dfc_bd: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    #: Per face row its contact and its index on the contact (speed only).
+    face_owner_index: tuple[tuple[int, int], ...] = ()
+    #: The load rates of load control, ``(1, 0, ...)`` (nc + nf + na + 1,) (read-only; speed only).
+    e0: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
     @classmethod
     def of(cls, qm: QSModel, spec: StageSpec) -> StageCache:
@@ -107,6 +111,9 @@ class StageCache:
         vp_items = np.zeros((nv, nc + nf + qm.na + 1))
         if con.B.shape[1]:
             vp_items[:, nc + nf : -1] = Bt_pinv_k[:, con.col_arr]
+        e0 = np.zeros(nc + nf + qm.na + 1)
+        e0[0] = 1.0
+        e0.setflags(write=False)
         still = ["holding" if n else kind for n, kind in zip(qm.nbd.tolist(), qm.model.kinds)]
         return cls(
             con.B,
@@ -142,6 +149,8 @@ class StageCache:
             ks_of={},
             act_still=tuple(still),
             dfc_bd=spec.dfc[qm.bd],
+            face_owner_index=tuple(zip(qm.face_contact.tolist(), qm.face_index.tolist())),
+            e0=e0,
         )
 
     def rebased(self, qm: QSModel, spec: StageSpec) -> StageCache:
@@ -193,10 +202,10 @@ def affine_reduced(qm, sc, ks, Fm, Vp, control):
     if info != 0:
         return None
     nz1 = Y.shape[1]
-    lam = np.zeros(nz1)
     if control == "load":
-        lam[0] = 1.0
+        lam = sc.e0[:nz1]
     else:
+        lam = np.zeros(nz1)
         along = float(sc.cz @ Y[:, 0])  # the load column has no actuator flow
         if not abs(along) > 0:
             return None
