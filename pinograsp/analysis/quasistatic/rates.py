@@ -186,8 +186,16 @@ def classify(qm: QSModel, st: State, spec: StageSpec, sc: StageCache | None = No
     cn = st.c[::d]
     gap = qm.gaps(st.vs)
     low = cn <= tol
+    full = None  # the face slacks of the state's own forces
     if spec.friction and qm.nf and not low.all():
-        low |= _at_apex(qm, st, tol)
+        # a pressed contact at the apex of its polygon: more faces with zero slack than meet at
+        # one vertex (two in 3D, one in a plane) is only possible when ``c_n`` itself is zero
+        # within the tolerance — a contact that unloads together with others (a flat pad's
+        # corners) lands a rounding above ``tol``, and its faces would all enter the rate
+        # problem of a pressed contact, whose LCP is then degenerate. Such a contact is at
+        # zero force (its opening pair decides whether it separates).
+        full = qm.Phi @ st.c
+        low |= np.bincount(qm.face_contact[full <= tol], minlength=qm.nc) > (2 if d == 3 else 1)
     opened = low & (gap * qm.kn > tol)  # (-delta) * kn > tol: the spring would pull
     zero = low & ~opened
     pressed = ~low
@@ -197,7 +205,7 @@ def classify(qm: QSModel, st: State, spec: StageSpec, sc: StageCache | None = No
         c = c.copy()
         c.reshape(qm.nc, d)[low] = 0.0
     if spec.friction and qm.nf:
-        slack = qm.Phi @ c
+        slack = full if c is st.c and full is not None else qm.Phi @ c  # (the same product)
         fcon = qm.face_contact
         tight = pressed[fcon] & (slack <= tol)
         faces = (zero[fcon] | tight).nonzero()[0] if has_zero else tight.nonzero()[0]
@@ -207,18 +215,6 @@ def classify(qm: QSModel, st: State, spec: StageSpec, sc: StageCache | None = No
     act_lcp = qm.nbd & (phi <= tol)
     acts = act_lcp.nonzero()[0]
     return Classes(opened, zero, pressed, faces, act_lcp, tol, fscale, c, st, gap, slack, phi, has_zero, acts)
-
-
-def _at_apex(qm: QSModel, st: State, tol: float) -> np.ndarray:
-    """Pressed contacts whose force is at the apex of their polygon, (nc,) bool: more faces
-    with zero slack than meet at one vertex (two in 3D, one in a plane) is only possible when
-    ``c_n`` itself is zero within the tolerance — a contact that unloads together with others
-    (a flat pad's corners) lands a rounding above ``tol``, and its faces would all enter the
-    rate problem of a pressed contact, whose LCP is then degenerate. Such a contact is at
-    zero force (its opening pair decides whether it separates)."""
-    tight = (qm.Phi @ st.c) <= tol
-    count = np.bincount(qm.face_contact[tight], minlength=qm.nc)
-    return count > (2 if qm.d == 3 else 1)
 
 
 #: Plans for a contact at zero force: both pairs in the LCP, pressed (touching, faces in the
@@ -304,6 +300,8 @@ def rates(
         ftol = RATE_RTOL * max(float(_amax(np.abs(res.z))), 1e-300)
         seg.active = keys[res.z > ftol]  # sorted: the item codes are increasing
         seg.tie = res.tie
+    if not cls.has_zero:  # no zero-force contact: no guess (``sep`` is part of ``cls.zero``)
+        return seg
     return _check_guesses(qm, spec, cls, plan, sep, apex, seg, v, dc, sc)
 
 
@@ -344,8 +342,9 @@ def linear_part(
     # particular motion (Vp: that motion)
     Fm = sc.f_items.take(keys, axis=1)
     Vp = sc.vp_items.take(keys, axis=1)
-    cols = sc.col_arr[acts]
+    cols = _NONE
     if len(acts):
+        cols = sc.col_arr[acts]
         Fm[:, 1 + n1 :] -= spring_act(sc, ks, k)[:, cols]
     aff = affine_reduced(qm, sc, ks, Fm, Vp, control)
     if aff is not None:
