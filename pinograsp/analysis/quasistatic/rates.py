@@ -22,64 +22,21 @@ items, solved by Lemke's method (:mod:`pinograsp.solvers.lcp`).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
-from ...core.response_result import ContactState
 from ...solvers.lcp import canonical, lemke, principal_pivoting
 from .model import QSModel
+from .segment import RATE_RTOL, Items, Segment, Solved, _amax, rescaled, segment_of, separated_on
 from .state import StageSpec, State
 from .statuses import SegmentStatus
 from .system import StageCache, affine_full, affine_reduced, spring_act, stage_rates
 
 #: Relative tolerance (to the force scale of the state) under which a slack is zero.
 EVENT_RTOL = 1e-9
-#: Relative tolerance (to the rate scale of the segment) under which a rate is zero.
-RATE_RTOL = 1e-10
 #: Diagonal regularisation of the faces of zero-force contacts in the LCP, relative to ``M``.
 APEX_REG = 1e-12
-
-
-@dataclass
-class Segment:
-    """Rates of one segment per unit of the path parameter, and its states.
-
-    Attributes:
-        status: :class:`~.statuses.SegmentStatus`: ``OK``, ``LIMIT`` (no continuation with
-            growing load: ``dλ <= 0`` under displacement control), ``UNSTABLE``, the retries
-            ``GUESS``/``APEX``, or a failure (``SINGULAR``, the LCP's ``RAY_TERMINATION``,
-            ``PIVOT_LIMIT``, ``INACCURATE``).
-        dvs, dc, df, dlam_c, dhold, dslip: Rates (as :class:`State`).
-        contact: Per contact ``"separated"``, ``"sticking"`` or ``"sliding"``.
-        detail: Per contact the sliding faces (indices) — one face, or two at a vertex.
-        actuator: Per actuator ``"moving"``, ``"holding"``, ``"backdrivable"``, ``"locked"``.
-        lcp_size, pivots: Size of the local LCP and Lemke pivots made.
-        control: ``"load"`` or ``"displacement"``.
-        stiffness_rate: ``dλ`` per unit scaled displacement along the load (displacement
-            control only).
-    """
-
-    status: SegmentStatus
-    dvs: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    dc: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    df: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    dlam_c: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    dhold: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    dslip: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    contact: tuple[ContactState, ...] = ()
-    detail: tuple[tuple[int, ...], ...] = ()
-    actuator: tuple[str, ...] = ()
-    lcp_size: int = 0
-    pivots: int = 0
-    control: str = "load"
-    stiffness_rate: float = float("nan")
-    lam_rate: float = 1.0
-    flip: np.ndarray | None = None
-    tie: bool = False
-    active: np.ndarray = field(default_factory=lambda: np.zeros(0, int))
-    add: np.ndarray | None = None
-    separated: np.ndarray | None = None  # (nc,) bool: contact == "separated" (speed only)
 
 
 @dataclass(eq=False)
@@ -107,22 +64,6 @@ class Classes:
 
 
 @dataclass(eq=False)
-class Items:
-    """The LCP items of a rate problem (index arrays): zero-force contacts with an opening
-    pair (``zero``), boundary faces (``faces``, rows of :attr:`QSModel.Phi`), non-backdrivable
-    actuators at their command (``acts``)."""
-
-    zero: np.ndarray
-    faces: np.ndarray
-    acts: np.ndarray
-
-    @property
-    def size(self) -> int:
-        """Number of items (the LCP's size)."""
-        return len(self.zero) + len(self.faces) + len(self.acts)
-
-
-@dataclass(eq=False)
 class LinearPart:
     """The rate problem's linear part, per column (the load, then one per flow): contact force
     rates ``dC`` (ncd, 1+nz), displacement rates ``V`` (nv, 1+nz), load rates ``lam``
@@ -136,19 +77,6 @@ class LinearPart:
     M: np.ndarray
     Rho: np.ndarray
     keys: np.ndarray | None = None  # the items' codes (as :attr:`Segment.active`; speed only)
-
-
-@dataclass(eq=False)
-class Solved:
-    """The rates of one solved rate problem per unit path parameter: displacements ``v`` (nv,),
-    contact forces ``dc`` (ncd,), constraint multipliers ``rho`` (ncon,), the load rate
-    ``lam_rate`` and the flows ``zeta`` (nz,)."""
-
-    v: np.ndarray
-    dc: np.ndarray
-    rho: np.ndarray
-    lam_rate: float
-    zeta: np.ndarray
 
 
 def force_scale(
@@ -220,16 +148,12 @@ def classify(qm: QSModel, st: State, spec: StageSpec, sc: StageCache | None = No
 #: Plans for a contact at zero force: both pairs in the LCP, pressed (touching, faces in the
 #: LCP, no opening item) or separated (out of the rate problem).
 FULL, PRESS, SEPARATE = 0, 1, 2
-#: A contact's state on a segment by whether it separates (unless it slides).
-_SEPARATED: tuple[ContactState, ContactState] = ("sticking", "separated")
 #: No index (read-only, shared).
 _NONE = np.zeros(0, int)
 _NONE.setflags(write=False)
 #: The load's unit flow (read-only, shared).
 _ONE = np.ones(1)
 _ONE.setflags(write=False)
-#: The largest element (``x.max(initial=...)`` without its Python wrapper: the same reduction).
-_amax = np.maximum.reduce
 #: The load's column among the item columns (the last, zero; read-only, shared).
 _LOAD = np.array([-1])
 _LOAD.setflags(write=False)
@@ -294,7 +218,19 @@ def rates(
     dc = lin.dC @ zeta1
     solved = Solved(v, dc, lin.Rho @ zeta1, float(lin.lam @ zeta1), zeta1[1:])
     pivots = res.pivots if res is not None else 0
-    seg = _segment(qm, spec, cls, sc, solved, items, lcp_size=nz, pivots=pivots, control=control, sep=sep)
+    seg = segment_of(
+        qm,
+        spec,
+        sc,
+        solved,
+        items,
+        lcp_size=nz,
+        pivots=pivots,
+        control=control,
+        sep=sep,
+        open_=cls.open,
+        has_zero=cls.has_zero,
+    )
     if nz:
         assert res is not None  # solved whenever there are items
         ftol = RATE_RTOL * max(float(_amax(np.abs(res.z))), 1e-300)
@@ -432,101 +368,15 @@ def _check_guesses(qm, spec, cls, plan, sep, apex, seg, v, dc, sc) -> Segment:
     return seg
 
 
-def separated_on(seg: Segment) -> np.ndarray:
-    """Contacts separated on ``seg`` (nc,) bool."""
-    if seg.separated is not None:
-        return seg.separated
-    return np.array([c == "separated" for c in seg.contact], bool)
-
-
-def _segment(
-    qm: QSModel,
-    spec: StageSpec,
-    cls: Classes,
-    sc: StageCache,
-    solved: Solved,
-    items: Items,
-    *,
-    lcp_size: int,
-    pivots: int,
-    control: str,
-    sep: np.ndarray,
-) -> Segment:
-    """Assemble the :class:`Segment` of a solved rate problem."""
-    zero, faces, acts = items.zero, items.faces, items.acts
-    v, dc, rho, lam_rate, zeta = solved.v, solved.dc, solved.rho, solved.lam_rate, solved.zeta
-    d, nx, nc = qm.d, qm.nx, qm.nc
-    k = qm.k_ref
-    df = np.zeros(qm.na)
-    if qm.na:
-        df[qm.bd] = sc.dfc_bd * lam_rate
-        df[sc.act_owner] = k * rho[sc.act_cols] / sc.act_rnorm
-    dlam = k * rho[sc.coupling_cols] / qm.c_norm if qm.ncp else np.zeros(0)
-    dhold = qm.S[:nx] * k * rho[sc.holder_cols] if spec.held else np.zeros(nx)
-    nzero = len(zero)
-    n1 = nzero + len(faces)
-    flows_f = zeta[nzero:n1]
-    dslip = flows_f @ qm.slip_rows[faces] if len(faces) else np.zeros(qm.ncd)
-    rscale = max(float(_amax(np.abs(dc), initial=0.0)), sc.r0max * abs(lam_rate), 1e-300)
-    ftol = RATE_RTOL * rscale
-    if nzero:
-        opening = sep.copy()
-        opening[zero] = (zeta[:nzero] > ftol) | (dc[zero * d] <= ftol)
-    else:
-        opening = sep
-    flowing = faces[flows_f > ftol]
-    sep_all = cls.open | opening
-    sep_l = sep_all.tolist()
-    contact: list[ContactState] = list(map(_SEPARATED.__getitem__, sep_l))
-    detail: list[tuple[int, ...]] = [()] * nc
-    if len(flowing):  # the sliding faces per contact, in face order
-        sliding: dict[int, list[int]] = {}
-        owner_index = sc.face_owner_index
-        for r in flowing.tolist():
-            i, f = owner_index[r]
-            if i in sliding:
-                sliding[i].append(f)
-            else:
-                sliding[i] = [f]
-        for i, x in sliding.items():
-            if not sep_l[i]:
-                contact[i] = "sliding"
-                detail[i] = tuple(x)
-    actuator = list(sc.act_still)
-    if len(acts):
-        for a, m in zip(acts.tolist(), (zeta[n1:] > ftol).tolist()):
-            if m:
-                actuator[a] = "moving"
-    if True in sep_l:  # separated contacts carry no force rate
-        if cls.has_zero:  # the rates' own dc is read again (_check_guesses)
-            dc = dc.copy()
-        dc.reshape(nc, d)[sep_all] = 0.0
-    return Segment(
-        status=SegmentStatus.OK,
-        dvs=v,
-        dc=dc,
-        df=df,
-        dlam_c=dlam,
-        dhold=dhold,
-        dslip=dslip,
-        contact=tuple(contact),
-        detail=tuple(detail),
-        actuator=tuple(actuator),
-        lcp_size=lcp_size,
-        pivots=pivots,
-        control=control,
-        lam_rate=lam_rate,
-        separated=sep_all,
-    )
-
-
-def rescaled(seg: Segment, factor: float) -> Segment:
-    """``seg`` with every rate multiplied by ``factor`` (displacement → load control)."""
-    out = Segment(**{**seg.__dict__})
-    for name in ("dvs", "dc", "df", "dlam_c", "dhold", "dslip"):
-        setattr(out, name, getattr(seg, name) * factor)
-    out.lam_rate = 1.0  # per unit load by construction
-    return out
-
-
-__all__ = ["Classes", "Segment", "StageCache", "StageSpec", "State", "classify", "rates", "rescaled"]
+__all__ = [
+    "RATE_RTOL",
+    "Classes",
+    "Segment",
+    "StageCache",
+    "StageSpec",
+    "State",
+    "classify",
+    "rates",
+    "rescaled",
+    "separated_on",
+]
