@@ -76,7 +76,7 @@ class LinearPart:
     W: np.ndarray
     M: np.ndarray
     Rho: np.ndarray
-    keys: np.ndarray | None = None  # the items' codes (as :attr:`Segment.active`; speed only)
+    keys: np.ndarray  # the items' codes (as :attr:`Segment.active`; speed only)
 
 
 def force_scale(
