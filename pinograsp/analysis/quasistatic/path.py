@@ -50,6 +50,10 @@ SOFT_RTOL = 1e-6
 MAX_SEGMENTS = 5000
 #: The reductions of ``ndarray.max``/``min`` without their Python wrappers (the same ufunc).
 _amax, _amin = np.maximum.reduce, np.minimum.reduce
+#: The stage's end in :func:`next_event`'s arrays: always eligible, at rate -1 (read-only).
+_END_OK, _END_RATE, _END_COND = np.ones(1, bool), np.full(1, -1.0), np.full(1, -np.inf)
+for _a in (_END_OK, _END_RATE, _END_COND):
+    _a.setflags(write=False)
 
 
 @dataclass(frozen=True)
@@ -236,15 +240,15 @@ def next_event(
     wd, fd = sc.rates[:2]
     rscale = max(float(_amax(np.abs(seg.dc), initial=0.0)), wd, fd, 1e-300)
     rtol = RATE_RTOL * rscale
-    staying = ~separated_on(seg)
+    staying = ~(seg.separated if seg.separated is not None else separated_on(seg))
     # every inequality of the search as one array (in trigger order: contacts that unload,
-    # open contacts that touch, faces, actuators): eligible now (``ok``), its value (``val``)
-    # and its rate (``rate``); it is reached at ``val / -rate`` when ``cond < -rtol``
+    # open contacts that touch, faces, actuators, the stage's end): eligible now (``ok``), its
+    # value (``val``) and rate (``rate``); it is reached at ``val / -rate`` when ``cond < -rtol``
     cn, dcn = st.c[::d], seg.dc[::d]
     ok, val, rate, cond = [staying & (cn > tol)], [cn], [dcn], [dcn]
     groups = [(TriggerKind.SEPARATES, qm.nc)]
     same = cls.src is st  # what classify computed of this state
-    if cls.open.any():  # only open contacts touch
+    if np.count_nonzero(cls.open):  # only open contacts touch
         dgap = qm.A[:, ::d].T @ seg.dvs
         ok.append(cls.open)
         val.append(cls.gap if same and cls.gap is not None else qm.gaps(st.vs))  # -delta
@@ -266,28 +270,27 @@ def next_event(
         rate.append(dphi)
         cond.append(dphi)
         groups.append((TriggerKind.COMMAND, qm.na))
+    if math.isfinite(spec.t_end):  # always reached: ``end / -(-1)`` is ``end``, bit for bit
+        ok.append(_END_OK)
+        val.append((max(spec.t_end - st.t, 0.0),))
+        rate.append(_END_RATE)
+        cond.append(_END_COND)
+        groups.append((TriggerKind.END, 1))
     if len(ok) > 1:
         ok_a, val_a, rate_a, cond_a = (np.concatenate(x) for x in (ok, val, rate, cond))
     else:
         ok_a, val_a, rate_a, cond_a = ok[0], val[0], rate[0], cond[0]
     sel = (ok_a & (cond_a < -rtol)).nonzero()[0]
-    steps = val_a[sel] / -rate_a[sel]
-    ends = math.isfinite(spec.t_end)
-    if ends:
-        steps = np.append(steps, max(spec.t_end - st.t, 0.0))
-    elif not len(sel):
+    if not len(sel):
         return float("inf"), ()
-    arr = np.maximum(steps, 0.0)
+    arr = np.maximum(val_a[sel] / -rate_a[sel], 0.0)
     t = float(_amin(arr))
     found = []
     for m in (arr <= t * (1.0 + 1e-9)).nonzero()[0].tolist():
-        if m == len(sel):
-            found.append(Trigger(TriggerKind.END, -1))
-            continue
         p = int(sel[m])
         for kind, n in groups:
             if p < n:
-                found.append(Trigger(kind, p))
+                found.append(Trigger(kind, p if kind != TriggerKind.END else -1))
                 break
             p -= n
     if len(found) == 1:
