@@ -105,7 +105,7 @@ def continue_past_limit(
             out.status = status
             return out
         out.snaps.append((top, len(out.states) - 1))
-        rest = follow(qm, out.states[-1], spec, max_segments, geometry)
+        rest = follow(qm, out.states[-1], spec, max_segments, geometry, sc)  # sc: StageCache.of(qm, spec)
         if rest.model is not None and rest.model is not qm:
             qm, out.model = rest.model, rest.model
             sc = StageCache.of(qm, spec)

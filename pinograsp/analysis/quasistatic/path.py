@@ -362,13 +362,15 @@ def follow(
     spec: StageSpec,
     max_segments: int = MAX_SEGMENTS,
     geometry: GeometryUpdates | None = None,
+    sc: StageCache | None = None,
 ) -> StageRun:
     """Follow ``spec`` from ``start`` until its end, a limit, a ray or a failure; with
     ``geometry``, re-linearised about the turned object every ``geometry.step`` of rotation
-    (``geometry.moved``; :attr:`StageRun.model` is the last model used)."""
+    (``geometry.moved``; :attr:`StageRun.model` is the last model used). ``sc``: the
+    caller's ``StageCache.of(qm, spec)``, shared (speed only)."""
     st = start.copy()
     run = StageRun(states=[st], model=qm)
-    sc = StageCache.of(qm, spec)
+    sc = StageCache.of(qm, spec) if sc is None else sc
     step = geometry.step if geometry is not None else 0.0
     before = None  # the compliance along the load just before the last update
     while True:
