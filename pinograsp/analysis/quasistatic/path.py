@@ -65,6 +65,11 @@ class Trigger:
     index: int
 
 
+#: Triggers by (kind, index) (frozen: shared; :func:`next_event`) and the geometry update's.
+_TRIGGERS: dict[tuple[TriggerKind, int], Trigger] = {}
+_GEOMETRY = (Trigger(TriggerKind.GEOMETRY, -1),)
+
+
 @dataclass
 class StageRun:
     """What following one stage produced.
@@ -277,7 +282,8 @@ def next_event(
         cond.append(_END_COND)
         groups.append((TriggerKind.END, 1))
     if len(ok) > 1:
-        ok_a, val_a, rate_a, cond_a = (np.concatenate(x) for x in (ok, val, rate, cond))
+        ok_a, val_a = np.concatenate(ok), np.concatenate(val)
+        rate_a, cond_a = np.concatenate(rate), np.concatenate(cond)
     else:
         ok_a, val_a, rate_a, cond_a = ok[0], val[0], rate[0], cond[0]
     sel = (ok_a & (cond_a < -rtol)).nonzero()[0]
@@ -290,7 +296,10 @@ def next_event(
         p = int(sel[m])
         for kind, n in groups:
             if p < n:
-                found.append(Trigger(kind, p if kind != TriggerKind.END else -1))
+                tr = _TRIGGERS.get((kind, p))
+                if tr is None:  # the end's index is -1
+                    tr = _TRIGGERS[kind, p] = Trigger(kind, p if kind != TriggerKind.END else -1)
+                found.append(tr)
                 break
             p -= n
     if len(found) == 1:
@@ -396,7 +405,7 @@ def follow(
         if geometry is not None:
             t_geo = step_to_update(qm, st, seg.dvs, geometry, seg.lam_rate, step)
             if t_geo < t:
-                t, trig = t_geo, (Trigger(TriggerKind.GEOMETRY, -1),)
+                t, trig = t_geo, _GEOMETRY
         if not math.isfinite(t):
             buckles = _buckling(qm, st, seg, sc, geometry)
             if buckles is not None:
