@@ -16,6 +16,7 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .buckling import ray_buckling
 from .geometry import GeometryUpdates, moved, spin, step_to_update
@@ -250,7 +251,8 @@ def next_event(
     # open contacts that touch, faces, actuators, the stage's end): eligible now (``ok``), its
     # value (``val``) and rate (``rate``); it is reached at ``val / -rate`` when ``cond < -rtol``
     cn, dcn = st.c[::d], seg.dc[::d]
-    ok, val, rate, cond = [staying & (cn > tol)], [cn], [dcn], [dcn]
+    val: list[ArrayLike] = [cn]  # arrays, and the end's (float,)
+    ok, rate, cond = [staying & (cn > tol)], [dcn], [dcn]
     groups = [(TriggerKind.SEPARATES, qm.nc)]
     same = cls.src is st  # what classify computed of this state
     if np.count_nonzero(cls.open):  # only open contacts touch
@@ -285,7 +287,7 @@ def next_event(
         ok_a, val_a = np.concatenate(ok), np.concatenate(val)
         rate_a, cond_a = np.concatenate(rate), np.concatenate(cond)
     else:
-        ok_a, val_a, rate_a, cond_a = ok[0], val[0], rate[0], cond[0]
+        ok_a, val_a, rate_a, cond_a = ok[0], cn, dcn, dcn  # the unloading contacts only
     sel = (ok_a & (cond_a < -rtol)).nonzero()[0]
     if not len(sel):
         return float("inf"), ()

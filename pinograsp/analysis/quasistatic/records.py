@@ -106,6 +106,7 @@ def build_path(
     arrays = _arrays(p, states, stacked)
     segs = [s for s in run.segments if s.contact]
     k = len(states)
+    cs: list[tuple[str, ...]]
     if segs:  # state j: the segment leaving it, the last one past the last segment
         at = segs[:k] + segs[-1:] * (k - len(segs))
         cs, sf, am = [s.contact for s in at], [s.detail for s in at], [s.actuator for s in at]
