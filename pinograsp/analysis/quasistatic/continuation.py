@@ -12,6 +12,7 @@ it; the limit load λ* itself stays the first limit (docs/quasistatic.md, "Conti
 
 from __future__ import annotations
 
+import math
 from dataclasses import replace
 
 import numpy as np
@@ -28,11 +29,11 @@ MAX_DESCENT = 200
 MAX_SNAPS = 20
 
 
-def _neutral(qm: QSModel, seg: Segment, spec: StageSpec) -> bool:
+def _neutral(qm: QSModel, seg: Segment, size: float) -> bool:
     """Whether ``seg`` (displacement control) keeps the load: ``|dλ|`` per unit displacement
-    along the load within :data:`~.path.LIMIT_RTOL` of the largest contact stiffness — a
-    mechanism along the load, which the grasp follows at the limit load (it drifts)."""
-    size = float(np.linalg.norm(qm.w_scaled(spec.dw)))
+    along the load (``size``: the norm of the stage's scaled load rate) within
+    :data:`~.path.LIMIT_RTOL` of the largest contact stiffness — a mechanism along the load,
+    which the grasp follows at the limit load (it drifts)."""
     return abs(seg.lam_rate) * size <= LIMIT_RTOL * qm.k_ref
 
 
@@ -47,13 +48,14 @@ def _descend(qm: QSModel, out: StageRun, seg: Segment, spec: StageSpec, sc: Stag
     peak = st.t
     cls = classify(qm, st, spec, sc)
     st.c = cls.forces
+    size = float(np.linalg.norm(qm.w_scaled(spec.dw)))  # the scaled load rate's, for _neutral
     for _ in range(MAX_DESCENT):
-        if _neutral(qm, seg, spec):  # drift at the limit load: rounding of dλ is no load change
+        if _neutral(qm, seg, size):  # drift at the limit load: rounding of dλ is no load change
             seg = replace(seg, lam_rate=0.0)
         out.segments.append(seg)
         t, trig = next_event(qm, st, spec, cls, seg, sc)
         lam_rate = seg.lam_rate
-        if lam_rate == 0.0 and not np.isfinite(t):
+        if lam_rate == 0.0 and not math.isfinite(t):
             return RunStatus.MECHANISM
         if lam_rate > 0 and (peak - st.t) / lam_rate <= t:
             t, trig = max((peak - st.t) / lam_rate, 0.0), (Trigger(TriggerKind.LANDED, -1),)
@@ -62,7 +64,7 @@ def _descend(qm: QSModel, out: StageRun, seg: Segment, spec: StageSpec, sc: Stag
             out.states[-1].geo = qm if qm.KG is not None else None
             out.triggers.append((Trigger(TriggerKind.UNLOADED, -1),))
             return RunStatus.UNLOADED
-        if not np.isfinite(t):
+        if not math.isfinite(t):
             return RunStatus.MECHANISM if lam_rate <= 0 else RunStatus.UNBOUNDED
         st = advance(st, seg, t, geo=qm if qm.KG is not None else None)
         out.states.append(st)
@@ -103,7 +105,7 @@ def continue_past_limit(
             out.status = status
             return out
         out.snaps.append((top, len(out.states) - 1))
-        rest = follow(qm, out.states[-1], spec, max_segments, geometry)
+        rest = follow(qm, out.states[-1], spec, max_segments, geometry, sc)  # sc: StageCache.of(qm, spec)
         if rest.model is not None and rest.model is not qm:
             qm, out.model = rest.model, rest.model
             sc = StageCache.of(qm, spec)

@@ -12,9 +12,11 @@ segment is a ray, the stage is **unbounded**.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .buckling import ray_buckling
 from .geometry import GeometryUpdates, moved, spin, step_to_update
@@ -47,6 +49,12 @@ LIMIT_RTOL = 1e-7
 SOFT_RTOL = 1e-6
 #: Default largest number of segments of one stage (a count, reported when reached).
 MAX_SEGMENTS = 5000
+#: The reductions of ``ndarray.max``/``min`` without their Python wrappers (the same ufunc).
+_amax, _amin = np.maximum.reduce, np.minimum.reduce
+#: The stage's end in :func:`next_event`'s arrays: always eligible, at rate -1 (read-only).
+_END_OK, _END_RATE, _END_COND = np.ones(1, bool), np.full(1, -1.0), np.full(1, -np.inf)
+for _a in (_END_OK, _END_RATE, _END_COND):
+    _a.setflags(write=False)
 
 
 @dataclass(frozen=True)
@@ -56,6 +64,11 @@ class Trigger:
 
     kind: TriggerKind
     index: int
+
+
+#: Triggers by (kind, index) (frozen: shared; :func:`next_event`) and the geometry update's.
+_TRIGGERS: dict[tuple[TriggerKind, int], Trigger] = {}
+_GEOMETRY = (Trigger(TriggerKind.GEOMETRY, -1),)
 
 
 @dataclass
@@ -160,11 +173,20 @@ def _counted(run: StageRun, seg: Segment) -> Segment:
 def plan_of(qm: QSModel, cls: Classes, prev: Segment | None) -> np.ndarray:
     """First guess for the zero-force contacts: one that was separated has just touched
     (pressed), one that was touching has just unloaded (separated)."""
+    if not (prev is not None and prev.contact and cls.has_zero):
+        plan = _ALL_PRESSED.get(qm.nc)
+        if plan is None:  # read-only: shared by every segment without a guess to make
+            plan = _ALL_PRESSED[qm.nc] = np.full(qm.nc, PRESS)
+            plan.setflags(write=False)
+        return plan
     plan = np.full(qm.nc, PRESS)
-    if prev is not None and prev.contact and cls.has_zero:
-        for i in cls.zero.nonzero()[0]:
-            plan[i] = PRESS if prev.contact[i] == "separated" else SEPARATE
+    for i in cls.zero.nonzero()[0]:
+        plan[i] = PRESS if prev.contact[i] == "separated" else SEPARATE
     return plan
+
+
+#: All-PRESS plans by contact count (read-only; :func:`plan_of`).
+_ALL_PRESSED: dict[int, np.ndarray] = {}
 
 
 def _solve_segment(
@@ -222,50 +244,68 @@ def next_event(
     d = qm.d
     tol = cls.tol
     wd, fd = sc.rates[:2]
-    rscale = max(float(np.abs(seg.dc).max(initial=0.0)), wd, fd, 1e-300)
+    rscale = max(float(_amax(np.abs(seg.dc), initial=0.0)), wd, fd, 1e-300)
     rtol = RATE_RTOL * rscale
-    kinds: list[TriggerKind] = []
-    idx: list[int] = []
-    steps: list[float] = []
-    staying = ~separated_on(seg)
+    staying = ~(seg.separated if seg.separated is not None else separated_on(seg))
+    # every inequality of the search as one array (in trigger order: contacts that unload,
+    # open contacts that touch, faces, actuators, the stage's end): eligible now (``ok``), its
+    # value (``val``) and rate (``rate``); it is reached at ``val / -rate`` when ``cond < -rtol``
     cn, dcn = st.c[::d], seg.dc[::d]
-    sel = (staying & (cn > tol) & (dcn < -rtol)).nonzero()[0]
-    kinds += [TriggerKind.SEPARATES] * len(sel)
-    idx += sel.tolist()
-    steps += (cn[sel] / -dcn[sel]).tolist()
-    An = qm.A[:, ::d]
+    val: list[ArrayLike] = [cn]  # arrays, and the end's (float,)
+    ok, rate, cond = [staying & (cn > tol)], [dcn], [dcn]
+    groups = [(TriggerKind.SEPARATES, qm.nc)]
     same = cls.src is st  # what classify computed of this state
-    if cls.open.any():  # only open contacts touch
-        gap = cls.gap if same and cls.gap is not None else qm.gaps(st.vs)  # -delta
-        dgap = An.T @ seg.dvs
-        sel = (cls.open & (-dgap * qm.kn > rtol)).nonzero()[0]
-        kinds += [TriggerKind.TOUCHES] * len(sel)
-        idx += sel.tolist()
-        steps += (gap[sel] / -dgap[sel]).tolist()
+    if np.count_nonzero(cls.open):  # only open contacts touch
+        dgap = qm.A[:, ::d].T @ seg.dvs
+        ok.append(cls.open)
+        val.append(cls.gap if same and cls.gap is not None else qm.gaps(st.vs))  # -delta
+        rate.append(dgap)
+        cond.append(dgap * qm.kn)  # -dgap * kn > rtol, as dgap * kn < -rtol (bit for bit)
+        groups.append((TriggerKind.TOUCHES, qm.nc))
     if spec.friction and qm.nf:
         slack = cls.slack if same and cls.slack is not None else qm.Phi @ st.c
-        rate = qm.Phi @ seg.dc
-        sel = (staying[qm.face_contact] & (slack > tol) & (rate < -rtol)).nonzero()[0]
-        kinds += [TriggerKind.FACE] * len(sel)
-        idx += sel.tolist()
-        steps += (slack[sel] / -rate[sel]).tolist()
+        dslack = qm.Phi @ seg.dc
+        ok.append(staying[qm.face_contact] & (slack > tol))
+        val.append(slack)
+        rate.append(dslack)
+        cond.append(dslack)
+        groups.append((TriggerKind.FACE, qm.nf))
     if qm.na:
-        phi = cls.phi if same and cls.phi is not None else (st.f - spec.command(st.t)) * qm.r_norm
         dphi = (seg.df - spec.dfc) * qm.r_norm
-        sel = (qm.nbd & ~cls.act_lcp & (dphi < -rtol)).nonzero()[0]
-        kinds += [TriggerKind.COMMAND] * len(sel)
-        idx += sel.tolist()
-        steps += (phi[sel] / -dphi[sel]).tolist()
-    if np.isfinite(spec.t_end):
-        kinds.append(TriggerKind.END)
-        idx.append(-1)
-        steps.append(max(spec.t_end - st.t, 0.0))
-    if not steps:
+        ok.append(qm.nbd & ~cls.act_lcp)
+        val.append(cls.phi if same and cls.phi is not None else (st.f - spec.command(st.t)) * qm.r_norm)
+        rate.append(dphi)
+        cond.append(dphi)
+        groups.append((TriggerKind.COMMAND, qm.na))
+    if math.isfinite(spec.t_end):  # always reached: ``end / -(-1)`` is ``end``, bit for bit
+        ok.append(_END_OK)
+        val.append((max(spec.t_end - st.t, 0.0),))
+        rate.append(_END_RATE)
+        cond.append(_END_COND)
+        groups.append((TriggerKind.END, 1))
+    if len(ok) > 1:
+        ok_a, val_a = np.concatenate(ok), np.concatenate(val)
+        rate_a, cond_a = np.concatenate(rate), np.concatenate(cond)
+    else:
+        ok_a, val_a, rate_a, cond_a = ok[0], cn, dcn, dcn  # the unloading contacts only
+    sel = (ok_a & (cond_a < -rtol)).nonzero()[0]
+    if not len(sel):
         return float("inf"), ()
-    arr = np.maximum(np.array(steps), 0.0)
-    t = float(arr.min())
-    near = arr <= t * (1.0 + 1e-9)
-    found = [Trigger(kinds[m], int(idx[m])) for m in near.nonzero()[0].tolist()]
+    arr = np.maximum(val_a[sel] / -rate_a[sel], 0.0)
+    t = float(_amin(arr))
+    found = []
+    for m in (arr <= t * (1.0 + 1e-9)).nonzero()[0].tolist():
+        p = int(sel[m])
+        for kind, n in groups:
+            if p < n:
+                tr = _TRIGGERS.get((kind, p))
+                if tr is None:  # the end's index is -1
+                    tr = _TRIGGERS[kind, p] = Trigger(kind, p if kind != TriggerKind.END else -1)
+                found.append(tr)
+                break
+            p -= n
+    if len(found) == 1:
+        return t, (found[0],)
     # a contact that unloads reaches every face at once: keep only its unloading
     gone = {tr.index for tr in found if tr.kind == TriggerKind.SEPARATES}
     trig = tuple(
@@ -283,7 +323,7 @@ def advance(
         st.vs + t * seg.dvs,
         st.c + t * seg.dc,
         st.f + t * seg.df,
-        st.lam_c + t * seg.dlam_c,
+        st.lam_c + t * seg.dlam_c if st.lam_c.size else st.lam_c,  # no coupling: shared empty
         st.hold + t * seg.dhold,
         st.slip + t * seg.dslip,
         st.t + t * seg.lam_rate,
@@ -333,13 +373,15 @@ def follow(
     spec: StageSpec,
     max_segments: int = MAX_SEGMENTS,
     geometry: GeometryUpdates | None = None,
+    sc: StageCache | None = None,
 ) -> StageRun:
     """Follow ``spec`` from ``start`` until its end, a limit, a ray or a failure; with
     ``geometry``, re-linearised about the turned object every ``geometry.step`` of rotation
-    (``geometry.moved``; :attr:`StageRun.model` is the last model used)."""
+    (``geometry.moved``; :attr:`StageRun.model` is the last model used). ``sc``: the
+    caller's ``StageCache.of(qm, spec)``, shared (speed only)."""
     st = start.copy()
     run = StageRun(states=[st], model=qm)
-    sc = StageCache.of(qm, spec)
+    sc = StageCache.of(qm, spec) if sc is None else sc
     step = geometry.step if geometry is not None else 0.0
     before = None  # the compliance along the load just before the last update
     while True:
@@ -365,14 +407,14 @@ def follow(
         if geometry is not None:
             t_geo = step_to_update(qm, st, seg.dvs, geometry, seg.lam_rate, step)
             if t_geo < t:
-                t, trig = t_geo, (Trigger(TriggerKind.GEOMETRY, -1),)
-        if not np.isfinite(t):
+                t, trig = t_geo, _GEOMETRY
+        if not math.isfinite(t):
             buckles = _buckling(qm, st, seg, sc, geometry)
             if buckles is not None:
                 return _buckled(run, qm, st, seg, buckles)
             run.status = RunStatus.UNBOUNDED
             return run
-        ends = any(tr.kind == TriggerKind.END for tr in trig)
+        ends = trig[-1].kind == TriggerKind.END  # the end is the last trigger when reached
         st = advance(st, seg, t, spec.t_end if ends else None, qm if qm.KG is not None else None)
         run.states.append(st)
         run.triggers.append(trig)
@@ -382,7 +424,7 @@ def follow(
             return run
         if geometry is not None and trig[0].kind == TriggerKind.GEOMETRY:
             b = spin(qm, seg.dvs) * geometry.scale
-            per = step / float(np.linalg.norm(b))  # path parameter per step at this rate
+            per = step / math.sqrt(float(b.dot(b)))  # per step at this rate (np.linalg.norm's arithmetic)
             before = _along(qm, sc, seg)
             qm = moved(qm, st, spec.w0 + st.t * spec.dw, b * per, geometry.scale, seg.dc * per)
             sc = sc.rebased(qm, spec)

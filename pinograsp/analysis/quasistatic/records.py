@@ -106,14 +106,13 @@ def build_path(
     arrays = _arrays(p, states, stacked)
     segs = [s for s in run.segments if s.contact]
     k = len(states)
-    cs, sf, am = [], [], []
-    if not segs:  # no load segment (up_to=0): the states of the state itself, not "separated"
+    cs: list[tuple[str, ...]]
+    if segs:  # state j: the segment leaving it, the last one past the last segment
+        at = segs[:k] + segs[-1:] * (k - len(segs))
+        cs, sf, am = [s.contact for s in at], [s.detail for s in at], [s.actuator for s in at]
+    else:  # no load segment (up_to=0): the states of the state itself, not "separated"
         cs0, sf0, am0 = released_states(qm, states[0], spec)
-    for j in range(k):
-        seg = segs[min(j, len(segs) - 1)] if segs else None
-        cs.append(seg.contact if seg else cs0)
-        sf.append(seg.detail if seg else sf0)
-        am.append(seg.actuator if seg else am0)
+        cs, sf, am = [cs0] * k, [sf0] * k, [am0] * k
     x = arrays["object_displacements"]
     run_loads = np.array([st.t for st in states])
     stiff = np.zeros(0)
