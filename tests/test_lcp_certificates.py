@@ -4,7 +4,7 @@ problems decided by hand, one at twenty items by Farkas' lemma."""
 import numpy as np
 
 from pinograsp.solvers.lcp import LCPStatus, lemke
-from pinograsp.solvers.lcp_certificates import provably_infeasible, provably_unsolvable
+from pinograsp.solvers.lcp_certificates import near_solution, provably_infeasible, provably_unsolvable
 
 
 def _faces_and_actuator(q_faces: list[float]) -> tuple[np.ndarray, np.ndarray]:
@@ -49,3 +49,21 @@ def test_farkas_certificate_at_any_size():
     assert np.allclose(M.sum(axis=0), 0.0)
     assert provably_infeasible(M, q) and provably_unsolvable(M, q)
     assert not provably_infeasible(M, np.abs(q))  # z = 0 is a solution
+
+
+def test_near_solution_is_what_keeps_the_certificate_from_certifying():
+    """The same enumeration: where the certificate holds there is no near solution; where a
+    singular-free index set solves it, that point comes back, complementary and nonnegative."""
+    M, q = _faces_and_actuator([-0.1, -0.1])
+    assert provably_unsolvable(M, q) and near_solution(M, q) is None
+    rng = np.random.default_rng(3)
+    for _ in range(20):  # P-matrices: one solution each, which the enumeration finds
+        A = rng.normal(size=(5, 5))
+        M = A @ A.T + 0.5 * np.eye(5)
+        q = rng.normal(size=5)
+        res = near_solution(M, q)
+        assert res is not None and res.solved and not provably_unsolvable(M, q)
+        w = M @ res.z + q
+        assert res.z.min() >= 0 and w.min() >= -1e-12 and abs(res.z @ w) <= 1e-12
+        np.testing.assert_allclose(res.z, lemke(M, q).z, atol=1e-12)
+    assert near_solution(np.zeros((13, 13)), -np.ones(13)) is None  # beyond the enumeration

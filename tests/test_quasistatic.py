@@ -456,3 +456,27 @@ def test_case2_finger2_preload_drifts_past_a_neutral_limit():
     assert c.status == "finite" and c.limit == pytest.approx(18.98, rel=1e-3)
     assert c.limit == max(c.loads[land:])
     assert lp.load_at_displacement(1e-3) == c.limit
+
+
+#: Case 1's resistance-set directions 80 and 294 (``pg.resistance_set(..., n=500, seed=0)``)
+#: and where ``pg.simulate_max_wrench(scene, d, None, upper=50, friction="pyramid")`` gives
+#: way [N] (recorded in stop 39; ~3 s each).
+NEAR_DEGENERATE = (
+    ((0.7528340465289645, 0.6479950370532315, -0.0864435672551503, -0.002994029863468416,
+      -0.030799142524985973, -0.07009485449241477), 2.717),
+    ((0.9672335829533052, -0.23434489623938368, 0.08147790357639993, -0.005981561699549111,
+      0.007336895196927545, -0.05304156607004288), 12.178),
+)  # fmt: skip
+
+
+@pytest.mark.parametrize("direction, simulated", NEAR_DEGENERATE)
+def test_a_nearly_degenerate_rate_problem_is_solved_within_rounding(direction, simulated):
+    """Two adjacent pyramid faces of one contact start sliding together: the displacement-
+    controlled rate LCP has a solution only within rounding (flows ~300× the problem's scale,
+    a slack rate -3e-7), which Lemke's method and principal pivoting reject and the
+    certificate cannot exclude. The enumeration's near solution continues the path (these
+    directions stopped with a SolverError before): a limit within 10 % of the simulation."""
+    s = pg.load_scene("case1")
+    r = pg.max_resistible_wrench(s.model, s.command, list(direction), upper=50, settings=s.settings)
+    assert r.status == "finite" and r.giveway.reason == "limit"
+    assert abs(r.magnitude - simulated) <= 0.1 * simulated

@@ -11,10 +11,11 @@ SciPy only (LAPACK; HiGHS for the linear programs, deterministic).
 from __future__ import annotations
 
 import itertools
+from collections.abc import Iterator
 
 import numpy as np
 
-from .lcp import block_solution
+from .lcp import LCPResult, LCPStatus, block_solution
 
 #: Largest LCP whose complementary index sets :func:`provably_unsolvable` enumerates (2^n
 #: small solves).
@@ -103,6 +104,24 @@ def provably_unsolvable(M: np.ndarray, q: np.ndarray) -> bool:
         return True
     if n > MAX_ENUMERATED:
         return False
+    for kind, active, _ in _index_sets(M, q):
+        if kind == "singular":
+            if not _set_infeasible(M, q, active):
+                return False
+        elif kind != "excluded":
+            return False
+    return True
+
+
+def _index_sets(
+    M: np.ndarray, q: np.ndarray
+) -> Iterator[tuple[str, np.ndarray, tuple[np.ndarray, np.ndarray] | None]]:
+    """Every complementary index set of a small LCP, by size and then in lexicographic order:
+    ``(kind, active (n,) bool, (z, w) or None)``. ``kind``: ``"singular"`` (the principal
+    block's condition number above :data:`BLOCK_COND`), ``"failed"`` (its solve failed),
+    ``"candidate"`` (``z >= 0`` and ``w >= 0`` within the margin :data:`MARGIN_RTOL` of the
+    problem's scale, the point given) or ``"excluded"`` (fails by more than the margin)."""
+    n = q.size
     mscale = max(float(np.abs(M).max(initial=0.0)), 1e-300)
     qscale = max(float(np.abs(q).max(initial=0.0)), 1e-300)
     for size in range(n + 1):
@@ -110,17 +129,34 @@ def provably_unsolvable(M: np.ndarray, q: np.ndarray) -> bool:
             active = np.zeros(n, bool)
             active[list(subset)] = True
             if size and np.linalg.cond(M[np.ix_(active, active)]) > BLOCK_COND:
-                if not _set_infeasible(M, q, active):
-                    return False
+                yield "singular", active, None
                 continue
             point = block_solution(M, q, active)
             if point is None:
-                return False
+                yield "failed", active, None
+                continue
             z, w = point
             tol = MARGIN_RTOL * max(qscale, mscale * float(np.abs(z).max(initial=0.0)))
-            if z.min(initial=0.0) >= -tol and w.min(initial=0.0) >= -tol:
-                return False
-    return True
+            ok = z.min(initial=0.0) >= -tol and w.min(initial=0.0) >= -tol
+            yield ("candidate" if ok else "excluded"), active, point
+
+
+def near_solution(M: np.ndarray, q: np.ndarray) -> LCPResult | None:
+    """The first complementary point of a small LCP (``n <= MAX_ENUMERATED``; index sets by
+    size, then in lexicographic order) that is a solution within the certificates' margin —
+    what rounding keeps Lemke's method and principal pivoting from accepting on a nearly
+    degenerate problem (two adjacent friction faces sliding together) — with ``z`` clipped at
+    0 and ``w`` recomputed; None when there is none (the same enumeration as
+    :func:`provably_unsolvable`: a candidate here is exactly what keeps it from certifying)."""
+    if q.size == 0 or q.size > MAX_ENUMERATED:
+        return None
+    for kind, active, point in _index_sets(M, q):
+        if kind == "candidate" and point is not None:
+            z = np.maximum(point[0], 0.0)
+            w = M @ z + q
+            w[active] = 0.0
+            return LCPResult(LCPStatus.SOLVED, z, np.maximum(w, 0.0), 0)
+    return None
 
 
 __all__ = [
@@ -128,6 +164,7 @@ __all__ = [
     "FARKAS_SCALE",
     "MARGIN_RTOL",
     "MAX_ENUMERATED",
+    "near_solution",
     "provably_infeasible",
     "provably_unsolvable",
 ]

@@ -117,8 +117,10 @@ def planned(
     run: StageRun,
     sc: StageCache,
     hints: tuple[np.ndarray, ...] = (),
+    near: bool = False,
 ) -> Segment:
-    """The rate problem with each zero-force contact guessed pressed or separated.
+    """The rate problem with each zero-force contact guessed pressed or separated (``near``:
+    as :func:`~.rates.rates`).
 
     Plans tried in order: ``plan0`` (the history's guess), every zero-force contact separated,
     every one pressed; within a plan a contradicted guess is flipped, and the faces of a
@@ -128,7 +130,7 @@ def planned(
     its opening and all its faces in the LCP. Each (plan, faces) combination is tried once.
     """
     if not cls.has_zero:  # nothing to guess: one rate problem (no guess or apex face to flag)
-        return _counted(run, rates(qm, st, spec, cls, control, plan0, sc, hints))
+        return _counted(run, rates(qm, st, spec, cls, control, plan0, sc, hints, near=near))
     candidates = [plan0]
     for fill in (SEPARATE, PRESS):
         alt = plan0.copy()
@@ -144,7 +146,7 @@ def planned(
             if key in tried:
                 break
             tried.add(key)
-            seg = _counted(run, rates(qm, st, spec, cls, control, plan, sc, hints, apex))
+            seg = _counted(run, rates(qm, st, spec, cls, control, plan, sc, hints, apex, near))
             first = first or seg
             if seg.status == SegmentStatus.GUESS:
                 plan[seg.flip] = np.where(plan[seg.flip] == PRESS, SEPARATE, PRESS)
@@ -156,7 +158,7 @@ def planned(
                 break
         if seg.status in (SegmentStatus.OK, SegmentStatus.SINGULAR):
             return seg
-    full = _counted(run, rates(qm, st, spec, cls, control, np.full(qm.nc, FULL), sc))
+    full = _counted(run, rates(qm, st, spec, cls, control, np.full(qm.nc, FULL), sc, near=near))
     if full.status == SegmentStatus.OK or first is None:
         return full
     return first if first.status not in (SegmentStatus.GUESS, SegmentStatus.APEX) else full
@@ -213,28 +215,50 @@ def _solve_segment(
             hints = (both, prev.active)
         else:
             hints = (prev.active,)
-    seg = planned(qm, st, spec, cls, "load", plan, run, sc, hints)
+    seg, rays = _controlled(qm, st, spec, cls, run, sc, plan, hints, near=False)
+    if not rays:
+        return seg
+    if no_continuation(qm, spec, cls, sc):
+        return unstable_segment()  # certified: no equilibrium path leaves this state
+    # not certified: a nearly degenerate rate problem may have a solution within rounding
+    again, _ = _controlled(qm, st, spec, cls, run, sc, plan, hints, near=True)
+    return seg if again.status == SegmentStatus.RAY_TERMINATION else again
+
+
+def _controlled(
+    qm: QSModel,
+    st: State,
+    spec: StageSpec,
+    cls: Classes,
+    run: StageRun,
+    sc: StageCache,
+    plan: np.ndarray,
+    hints: tuple[np.ndarray, ...],
+    near: bool,
+) -> tuple[Segment, bool]:
+    """The segment under load control, else under displacement control (a limit, or its
+    continuation rescaled to load control), and whether both ray-terminated (``near``: as
+    :func:`~.rates.rates`)."""
+    seg = planned(qm, st, spec, cls, "load", plan, run, sc, hints, near)
     _, _, r0, size, loaded = sc.rates
     if not loaded:
-        return seg
+        return seg, False
     if seg.status == SegmentStatus.OK:
         along = float(r0 @ seg.dvs[: qm.nx]) / size  # _along of a load-controlled segment, inline
         if along * SOFT_RTOL * qm.k_ref < size and (along > 0.0 or qm.KG is None):
-            return seg
+            return seg, False
         # nearly a mechanism along the load, or (with a geometric stiffness) a negative
         # compliance — a limit passed within the last geometry step: decide under
         # displacement control
-    alt = planned(qm, st, spec, cls, "displacement", plan, run, sc)
+    alt = planned(qm, st, spec, cls, "displacement", plan, run, sc, (), near)
     if alt.status != SegmentStatus.OK:
-        if seg.status == alt.status == SegmentStatus.RAY_TERMINATION and no_continuation(qm, spec, cls, sc):
-            return unstable_segment()  # certified: no equilibrium path leaves this state
-        return seg
+        return seg, seg.status == alt.status == SegmentStatus.RAY_TERMINATION
     load_rate = alt.lam_rate * size
     alt.stiffness_rate = load_rate
     if load_rate <= LIMIT_RTOL * qm.k_ref:
         alt.status = SegmentStatus.LIMIT
-        return alt
-    return rescaled(alt, 1.0 / alt.lam_rate)
+        return alt, False
+    return rescaled(alt, 1.0 / alt.lam_rate), False
 
 
 def next_event(

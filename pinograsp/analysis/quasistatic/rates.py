@@ -27,6 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...solvers.lcp import canonical, lemke, principal_pivoting
+from ...solvers.lcp_certificates import near_solution
 from .model import QSModel
 from .segment import RATE_RTOL, Items, Segment, Solved, _amax, rescaled, segment_of, separated_on
 from .state import StageSpec, State
@@ -169,16 +170,17 @@ def rates(
     sc: StageCache | None = None,
     hints: tuple[np.ndarray, ...] = (),
     apex: np.ndarray | None = None,
+    near: bool = False,
 ) -> Segment:
     """The segment's rates at ``st`` under load (``dλ = 1``) or displacement control.
 
     ``plan`` (nc,) says how each zero-force contact enters (:data:`FULL`, :data:`PRESS`,
     :data:`SEPARATE`; default FULL); a PRESS or SEPARATE guess that its own rates contradict
     comes back in :attr:`Segment.flip` (status ``"guess"``). ``hints``: sets of LCP items
-    (sorted item codes as :attr:`Segment.active`) guessed to flow, tried before Lemke's method (speed only:
-    a wrong guess is detected). ``apex`` (nf,) bool: the faces of zero-force contacts taken
-    into the LCP (default all); a face left out whose slack rate the rates make negative
-    comes back in :attr:`Segment.add` (status ``"apex"``).
+    (sorted codes as :attr:`Segment.active`) guessed to flow, tried first (speed only).
+    ``apex`` (nf,) bool: the faces of zero-force contacts taken into the LCP (default all); a
+    face left out whose slack rate the rates make negative comes back in :attr:`Segment.add`
+    (status ``"apex"``). ``near``: see :func:`_solve_lcp`.
     """
     sc = StageCache.of(qm, spec) if sc is None else sc
     plan = np.zeros(qm.nc, int) if plan is None else plan
@@ -206,9 +208,8 @@ def rates(
     if apex_faces is not None and apex_faces.any():
         at_apex = np.concatenate([np.zeros(len(zero), bool), apex_faces, np.zeros(len(acts), bool)])
         Mlcp[at_apex, at_apex] += APEX_REG * max(float(np.abs(Mlcp).max()), 1.0)
-    # item codes: opening of contact i -> i, face f -> nc + f, actuator a -> nc + nf + a
-    keys = lin.keys
-    res = _solve_lcp(Mlcp, Wrows[:, 0], keys, hints, qm.nc + qm.nf + qm.na) if nz else None
+    keys = lin.keys  # item codes: opening of contact i -> i, face f -> nc + f, actuator a -> nc + nf + a
+    res = _solve_lcp(Mlcp, Wrows[:, 0], keys, hints, qm.nc + qm.nf + qm.na, near) if nz else None
     if res is not None and not res.solved:
         return Segment(
             status=SegmentStatus(res.status.value), lcp_size=nz, pivots=res.pivots, control=control
@@ -323,10 +324,19 @@ def linear_part(
     return LinearPart(dC, V, lam, W, W[:, 1:].copy(), Rho, keys[1:])
 
 
-def _solve_lcp(M: np.ndarray, q: np.ndarray, keys: np.ndarray, hints: tuple[np.ndarray, ...], ntot: int):
+def _solve_lcp(
+    M: np.ndarray,
+    q: np.ndarray,
+    keys: np.ndarray,
+    hints: tuple[np.ndarray, ...],
+    ntot: int,
+    near: bool = False,
+):
     """Principal pivoting from the first hint (the previous segment's flowing items and the
-    inequalities just reached), else Lemke's method; the canonical (least-norm over the tight
-    items) solution."""
+    inequalities just reached), else Lemke's method; with ``near`` (the path's retry at a stop
+    that no certificate decides), where both fail, a solution within rounding
+    (:func:`~pinograsp.solvers.lcp_certificates.near_solution`); the canonical (least-norm over
+    the tight items) solution."""
     res = None
     for hint in hints[:1]:
         mask = np.zeros(ntot, bool)
@@ -340,6 +350,8 @@ def _solve_lcp(M: np.ndarray, q: np.ndarray, keys: np.ndarray, hints: tuple[np.n
             if alt is not None:
                 res = alt
                 break
+    if near and not res.solved:  # a small, nearly degenerate problem: a solution within rounding
+        res = near_solution(M, q) or res
     return canonical(M, q, res)
 
 
