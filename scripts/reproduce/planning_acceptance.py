@@ -173,6 +173,13 @@ def run(args: argparse.Namespace) -> None:
     for key in [k for k in data["pairs"] if any(r == "all" or r in k for r in args.redo)]:
         print("redo", key, flush=True)
         del data["pairs"][key]
+    for key in [k for k in data["pairs"] if any(r == "all" or r in k for r in args.redo_plans)]:
+        print("re-plan", key, flush=True)  # the sampled grasps and their simulations are kept
+        hand, obj = key.split(" × ")
+        old = data["pairs"][key]
+        new = plan_pair(hand, obj, old["n"], args.workers, 0, args.cap)
+        data["pairs"][key] = {**new, "approaches": old["approaches"], "grasps": old["grasps"]}
+        _save(data, args.cache)
     for hand in HANDS:
         for obj in OBJECTS:
             key = f"{hand} × {obj}"
@@ -428,6 +435,9 @@ def main() -> None:
     )
     ap.add_argument(
         "--redo", nargs="*", default=[], help="re-plan the cached pairs naming any of these (all: every pair)"
+    )
+    ap.add_argument(
+        "--redo-plans", nargs="*", default=[], help="re-plan these pairs' top 5, keeping their sampled grasps"
     )
     ap.add_argument("--workers", type=int, default=2, help="planning workers")
     ap.add_argument("--jobs", type=int, default=2, help="simulations run side by side")
