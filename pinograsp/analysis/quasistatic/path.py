@@ -66,8 +66,7 @@ class Trigger:
     index: int
 
 
-#: Triggers by (kind, index) (frozen: shared; :func:`next_event`) and the geometry update's.
-_TRIGGERS: dict[tuple[TriggerKind, int], Trigger] = {}
+#: The geometry update's trigger (frozen: shared).
 _GEOMETRY = (Trigger(TriggerKind.GEOMETRY, -1),)
 
 
@@ -175,20 +174,12 @@ def _counted(run: StageRun, seg: Segment) -> Segment:
 def plan_of(qm: QSModel, cls: Classes, prev: Segment | None) -> np.ndarray:
     """First guess for the zero-force contacts: one that was separated has just touched
     (pressed), one that was touching has just unloaded (separated)."""
-    if not (prev is not None and prev.contact and cls.has_zero):
-        plan = _ALL_PRESSED.get(qm.nc)
-        if plan is None:  # read-only: shared by every segment without a guess to make
-            plan = _ALL_PRESSED[qm.nc] = np.full(qm.nc, PRESS)
-            plan.setflags(write=False)
-        return plan
     plan = np.full(qm.nc, PRESS)
+    if not (prev is not None and prev.contact and cls.has_zero):
+        return plan
     for i in cls.zero.nonzero()[0]:
         plan[i] = PRESS if prev.contact[i] == "separated" else SEPARATE
     return plan
-
-
-#: All-PRESS plans by contact count (read-only; :func:`plan_of`).
-_ALL_PRESSED: dict[int, np.ndarray] = {}
 
 
 def _solve_segment(
@@ -322,10 +313,7 @@ def next_event(
         p = int(sel[m])
         for kind, n in groups:
             if p < n:
-                tr = _TRIGGERS.get((kind, p))
-                if tr is None:  # the end's index is -1
-                    tr = _TRIGGERS[kind, p] = Trigger(kind, p if kind != TriggerKind.END else -1)
-                found.append(tr)
+                found.append(Trigger(kind, p if kind != TriggerKind.END else -1))  # the end's: -1
                 break
             p -= n
     if len(found) == 1:
