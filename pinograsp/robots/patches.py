@@ -288,11 +288,12 @@ def pair_patch(
         ``None`` when the touch is a single point (curved, a corner, a tessellated curve, a
         hull facet off the mesh, or no Coal patch): the caller keeps its closest-point contact.
     """
+    pair = _Pair(g1, T1, g2, T2, tolerance, detected)
     meshes = is_mesh(g1) or is_mesh(g2)
     if meshes and detected is not None:
-        touch = _mesh_pair(g1, T1, g2, T2, detected, tolerance)
+        touch = _mesh_pair(pair, detected)
         if touch != "flat":  # a tessellated curve (no Coal patch needed), or maybe a straight side
-            return None if touch == "curved" else _mesh_line(g1, T1, g2, T2, tolerance, detected)
+            return None if touch == "curved" else _mesh_line(pair)
     found = coal_patch(solid_of(g1), T1, solid_of(g2), T2, tolerance)
     if found is None:
         return None
@@ -301,11 +302,11 @@ def pair_patch(
     if "curved" in shapes:
         return None
     if shapes == ("straight", "straight"):  # Coal gives one point: the line of parallel sides
-        return _sides_line(g1, T1, g2, T2, points.mean(axis=0), normal, tolerance)
+        return _sides_line(pair, points.mean(axis=0), normal)
     if meshes:
-        touch = _mesh_pair(g1, T1, g2, T2, normal, tolerance)
+        touch = _mesh_pair(pair, normal)
         if touch != "flat":
-            return None if touch == "curved" else _mesh_line(g1, T1, g2, T2, tolerance, detected)
+            return None if touch == "curved" else _mesh_line(pair)
     R, t = _to_matrix(T1)
     kind, idx = select_points(points, (points - t) @ R, max_points)
     if kind == "point" or ("straight" in shapes and kind != "line"):
@@ -313,35 +314,46 @@ def pair_patch(
     points = points[idx]
     if meshes and float(np.max(np.linalg.norm(points[:, None] - points[None], axis=2))) < tolerance:
         return None  # a mesh patch narrower than the tolerance: a facet of a tessellated curve
-    for g, T in ((g1, T1), (g2, T2)):
-        if type(g).__name__.startswith("BVH") and not _on_mesh(g, T, points, normal, tolerance, detected):
-            return None
-    return kind, points, normal
+    return (kind, points, normal) if pair.on_meshes(points, normal) else None
 
 
-def _mesh_pair(
-    g1: coal.CollisionGeometry,
-    T1: coal.Transform3s,
-    g2: coal.CollisionGeometry,
-    T2: coal.Transform3s,
-    normal: np.ndarray,
-    tolerance: float,
-) -> MeshTouch:
+@dataclass(frozen=True)
+class _Pair:
+    """A touching pair: hand geometry ``g1`` at ``T1`` on object ``g2`` at ``T2`` (world
+    frame), the patch ``tolerance`` [m] and the detected contact normal (3,) or None."""
+
+    g1: coal.CollisionGeometry
+    T1: coal.Transform3s
+    g2: coal.CollisionGeometry
+    T2: coal.Transform3s
+    tolerance: float
+    detected: np.ndarray | None
+
+    def on_meshes(self, points: np.ndarray, normal: np.ndarray) -> bool:
+        """Whether every triangle mesh of the pair has ``points`` (k, 3) [m] on it
+        (:func:`_on_mesh`)."""
+        return all(
+            not type(g).__name__.startswith("BVH")
+            or _on_mesh(g, T, points, normal, self.tolerance, self.detected)
+            for g, T in ((self.g1, self.T1), (self.g2, self.T2))
+        )
+
+
+def _mesh_pair(pair: _Pair, normal: np.ndarray) -> MeshTouch:
     """How the pair touches along ``normal`` (``g1`` into ``g2``), by :func:`mesh_touch` of its
     meshes: ``"curved"`` if one is; ``"flat"`` if each is flat; ``"long"`` if one is long and
     the other flat (a flat mesh, or a primitive whose :func:`touch_shape` is ``"flat"``: a
     straight side on a flat face) or a primitive's straight side (two straight sides); else
     ``"curved"`` (one point)."""
+    ends = ((pair.g1, pair.T1), (pair.g2, pair.T2))
     touches: list[str | None] = []
-    for g, T, d in ((g1, T1, normal), (g2, T2, -normal)):
-        touches.append(mesh_touch(g, T, d, tolerance) if is_mesh(g) else None)
+    for (g, T), d in zip(ends, (normal, -normal)):
+        touches.append(mesh_touch(g, T, d, pair.tolerance) if is_mesh(g) else None)
         if touches[-1] == "curved":  # the other mesh need not be measured
             return "curved"
     if "long" not in touches:
         return "flat"
-    partner = [
-        t if t is not None else touch_shape(g, T, normal) for t, g, T in zip(touches, (g1, g2), (T1, T2))
-    ]
+    partner = [t if t is not None else touch_shape(g, T, normal) for t, (g, T) in zip(touches, ends)]
     return "long" if sorted(partner) in (["flat", "long"], ["long", "straight"]) else "curved"
 
 
@@ -355,34 +367,22 @@ def _line(
 
 
 def _sides_line(
-    g1: coal.CollisionGeometry,
-    T1: coal.Transform3s,
-    g2: coal.CollisionGeometry,
-    T2: coal.Transform3s,
-    point: np.ndarray,
-    normal: np.ndarray,
-    tolerance: float,
+    pair: _Pair, point: np.ndarray, normal: np.ndarray
 ) -> tuple[PatchKind, np.ndarray, np.ndarray] | None:
     """The line of two straight sides touching at ``point`` (3,) [m] with parallel generators
     (:func:`~pinograsp.robots.patch_shapes.parallel_sides`), or ``None`` (crossing: a point)."""
-    sides = (generator(g1, *_to_matrix(T1), point), generator(g2, *_to_matrix(T2), point))
-    ends = parallel_sides(sides, point, normal, tolerance)
-    return None if ends is None else _line(ends, normal, T1)
+    sides = (generator(pair.g1, *_to_matrix(pair.T1), point), generator(pair.g2, *_to_matrix(pair.T2), point))
+    ends = parallel_sides(sides, point, normal, pair.tolerance)
+    return None if ends is None else _line(ends, normal, pair.T1)
 
 
-def _mesh_line(
-    g1: coal.CollisionGeometry,
-    T1: coal.Transform3s,
-    g2: coal.CollisionGeometry,
-    T2: coal.Transform3s,
-    tolerance: float,
-    detected: np.ndarray | None,
-) -> tuple[PatchKind, np.ndarray, np.ndarray] | None:
+def _mesh_line(pair: _Pair) -> tuple[PatchKind, np.ndarray, np.ndarray] | None:
     """The line of a mesh pair with a long top set (a tessellated straight side): along a
     primitive's straight side :func:`_strip_on_side`; else the middle line of Coal's patch of
     the features within ``MESH_FLATNESS * tolerance`` of the plane, at least
     ``MESH_LINE_LENGTH`` tolerances and ``MESH_LINE_ASPECT`` times its width long, on the mesh
     (:func:`_checked_line`); otherwise ``None`` (one point)."""
+    g1, T1, g2, T2, tolerance = pair.g1, pair.T1, pair.g2, pair.T2, pair.tolerance
     found = coal_patch(solid_of(g1), T1, solid_of(g2), T2, tolerance, MESH_FLATNESS * tolerance)
     if found is None:
         return None
@@ -391,54 +391,37 @@ def _mesh_line(
     if "curved" in shapes:
         return None
     if "straight" in shapes:  # a mesh's straight side on a primitive's: two straight sides
-        return _strip_on_side(g1, T1, g2, T2, points.mean(axis=0), normal, tolerance, detected)
-    if _mesh_pair(g1, T1, g2, T2, normal, tolerance) == "curved":
+        return _strip_on_side(pair, points.mean(axis=0), normal)
+    if _mesh_pair(pair, normal) == "curved":
         return None
     ends, length, width = midline(points, normal)
     if length < MESH_LINE_LENGTH * tolerance or MESH_LINE_ASPECT * width > length:
         return None
-    return _checked_line(g1, T1, g2, T2, ends, normal, tolerance, detected)
+    return _checked_line(pair, ends, normal)
 
 
 def _checked_line(
-    g1: coal.CollisionGeometry,
-    T1: coal.Transform3s,
-    g2: coal.CollisionGeometry,
-    T2: coal.Transform3s,
-    ends: np.ndarray,
-    normal: np.ndarray,
-    tolerance: float,
-    detected: np.ndarray | None,
+    pair: _Pair, ends: np.ndarray, normal: np.ndarray
 ) -> tuple[PatchKind, np.ndarray, np.ndarray] | None:
-    """The line ``ends`` (2, 3) [m] if each triangle mesh is within ``tolerance`` along it."""
-    probe = samples(ends)
-    for g, T in ((g1, T1), (g2, T2)):
-        if type(g).__name__.startswith("BVH") and not _on_mesh(g, T, probe, normal, tolerance, detected):
-            return None
-    return _line(ends, normal, T1)
+    """The line ``ends`` (2, 3) [m] if each triangle mesh is within the tolerance along it."""
+    return _line(ends, normal, pair.T1) if pair.on_meshes(samples(ends), normal) else None
 
 
 def _strip_on_side(
-    g1: coal.CollisionGeometry,
-    T1: coal.Transform3s,
-    g2: coal.CollisionGeometry,
-    T2: coal.Transform3s,
-    point: np.ndarray,
-    normal: np.ndarray,
-    tolerance: float,
-    detected: np.ndarray | None,
+    pair: _Pair, point: np.ndarray, normal: np.ndarray
 ) -> tuple[PatchKind, np.ndarray, np.ndarray] | None:
     """The line of a mesh's long top strip on a primitive's straight side through ``point``
     (3,) [m] as two parallel sides, at least :data:`MESH_LINE_LENGTH` tolerances long and on the
     mesh (:func:`_checked_line`); otherwise ``None`` (one point)."""
+    tolerance = pair.tolerance
     sides = tuple(
         top_strip(g, T, d, tolerance) if is_mesh(g) else generator(g, *_to_matrix(T), point)
-        for g, T, d in ((g1, T1, normal), (g2, T2, -normal))
+        for g, T, d in ((pair.g1, pair.T1, normal), (pair.g2, pair.T2, -normal))
     )
     ends = parallel_sides((sides[0], sides[1]), point, normal, tolerance)
     if ends is None or float(np.linalg.norm(ends[1] - ends[0])) < MESH_LINE_LENGTH * tolerance:
         return None
-    return _checked_line(g1, T1, g2, T2, ends, normal, tolerance, detected)
+    return _checked_line(pair, ends, normal)
 
 
 def _on_mesh(
