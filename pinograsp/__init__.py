@@ -70,6 +70,7 @@ if TYPE_CHECKING:
     from .analysis.response import Session as Session
     from .analysis.response import passive_response as passive_response
     from .batch.disturbances import DisturbanceScore as DisturbanceScore
+    from .batch.disturbances import Gravity as Gravity
     from .batch.evaluate import WorstAxisScore as WorstAxisScore
     from .batch.evaluate import evaluate_grasps as evaluate_grasps
     from .batch.evaluate import save_results as save_results
@@ -164,6 +165,7 @@ _LAZY = {
     "evaluate_grasps": "batch.evaluate",
     "WorstAxisScore": "batch.evaluate",
     "DisturbanceScore": "batch.disturbances",
+    "Gravity": "batch.disturbances",
     "save_results": "batch.evaluate",
     "reason_counts": "batch.rows",
     "GraspSpec": "batch.grasps",

@@ -3,7 +3,8 @@
 :class:`DisturbanceScore` is a batch score (``score(model, command) -> {name: float}``) like
 :class:`~pinograsp.batch.evaluate.WorstAxisScore`, over any set of disturbance wrenches: the 26
 directions of a cube (faces, edges, corners; :func:`~pinograsp.core.axes.cube_directions`) by
-default, or the user's wrenches. Each is answered by :func:`pinograsp.max_resistible_wrench`
+default, the object's weight in every orientation with a margin (:class:`Gravity`), or the
+user's wrenches. Each is answered by :func:`pinograsp.max_resistible_wrench`
 with the chosen method (the package's default one unless told), so the score follows whatever
 that method reports. It also returns the Ferrari–Canny epsilon of the same contacts
 (:func:`pinograsp.ferrari_canny`), so that a table ranks by either. ``pg.plan_grasps`` scores its
@@ -20,17 +21,96 @@ from typing import Any
 
 import numpy as np
 
-from ..core.axes import cube_directions
+from ..core.axes import cube_directions, sphere_directions
 from ..core.methods import bounded as limits_bound
 from ..core.methods import method_name
 from ..core.query import Query
 from ..core.settings import DEFAULT_METHOD, Method
-from ..core.validate import choice, finite_array, force
+from ..core.validate import choice, count, finite_array, force, number_in, vector
 from ..core.validate import steps as n_steps
 from ..errors import InvalidInputError
 
 #: Named disturbance sets.
 DISTURBANCE_SETS = ("cube26",)
+#: Standard gravity [m/s²], the default of :attr:`Gravity.g`.
+STANDARD_GRAVITY = 9.81
+#: Most orientations of a :class:`Gravity` set (each one loading path per grasp).
+MAX_ORIENTATIONS = 1000
+_GRAVITY_KEYS = ("mass", "margin", "orientations", "offset", "g")
+
+
+@dataclass(frozen=True)
+class Gravity:
+    """The object's weight in every orientation of the held grasp, with a safety margin.
+
+    Turning the hand with the object in it turns gravity in the hand base frame: the set is the
+    weight ``(1 + margin) mass g`` along each sampled direction ``u``, applied at the centre of
+    mass: the wrench ``(1 + margin) mass g (u, offset x u)`` [N, N·m] about the model's
+    reference point. A disturbance's value is the largest multiple of it resisted, so a score
+    ``>= 1`` says the grasp holds its weight with the margin in every orientation sampled.
+
+    Attributes:
+        mass: Object mass [kg], in (0, 1e6].
+        margin: Safety margin, in [0, 100]: each disturbance is ``1 + margin`` times the weight.
+        orientations: ``"cube26"`` (gravity along the 26 directions of a cube, labels
+            ``"g+fx"``, ``"g-fx+fy-fz"``, ...) or a number of directions in [6, 1000] spread over
+            the sphere (:func:`~pinograsp.core.axes.sphere_directions`, labels ``"g0"``, ...).
+        offset: Centre of mass minus the model's reference point, hand base frame [m], (3,):
+            zero where the reference point is the centre of mass (``pg.GraspSpec``'s default and
+            every planned grasp).
+        g: Gravitational acceleration [m/s²], in (0, 100].
+    """
+
+    mass: float
+    margin: float = 0.5
+    orientations: str | int = "cube26"
+    offset: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    g: float = STANDARD_GRAVITY
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "mass", number_in("mass", self.mass, 0.0, 1e6, "kg", open_low=True))
+        object.__setattr__(self, "margin", number_in("margin", self.margin, 0.0, 100.0))
+        if isinstance(self.orientations, str):
+            choice("orientations", self.orientations, DISTURBANCE_SETS)
+        else:
+            n = count("orientations", self.orientations, MAX_ORIENTATIONS, 6, "one loading path each")
+            object.__setattr__(self, "orientations", n)
+        offset = vector("offset", self.offset, 3)
+        object.__setattr__(self, "offset", tuple(float(v) for v in offset))
+        object.__setattr__(self, "g", number_in("g", self.g, 0.0, 100.0, "m/s²", open_low=True))
+
+    @classmethod
+    def of(cls, data: Mapping[str, Any], name: str = "gravity") -> Gravity:
+        """From ``{"mass": ..., "margin": ..., ...}`` (:meth:`to_dict`'s form); unknown keys named."""
+        if not isinstance(data, Mapping):
+            raise InvalidInputError(name, f"expected a mapping with keys {_GRAVITY_KEYS}, got {data!r}")
+        unknown = [k for k in data if k not in _GRAVITY_KEYS]
+        if unknown or "mass" not in data:
+            what = f"unknown key(s) {unknown}" if unknown else "'mass' [kg] is missing"
+            raise InvalidInputError(name, f"{what}; the keys are {_GRAVITY_KEYS} ('mass' required)")
+        return cls(**{str(k): v for k, v in data.items()})
+
+    @property
+    def weight(self) -> float:
+        """The disturbance's force magnitude ``(1 + margin) mass g`` [N]."""
+        return (1.0 + self.margin) * self.mass * self.g
+
+    def wrenches(self) -> tuple[tuple[str, ...], np.ndarray]:
+        """The labels (k,) and wrenches (k, 6) [N, N·m] of the set."""
+        if self.orientations == "cube26":
+            names, units = cube_directions()
+            labels = tuple(f"g{a}" for a in names)
+        else:
+            units = sphere_directions(int(self.orientations))
+            labels = tuple(f"g{i}" for i in range(len(units)))
+        w = self.weight * units
+        w[:, 3:] = np.cross(np.asarray(self.offset), w[:, :3])
+        return labels, w
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain data: the keys of :meth:`of`."""
+        return {"mass": self.mass, "margin": self.margin, "orientations": self.orientations,
+                "offset": list(self.offset), "g": self.g}  # fmt: skip
 
 
 def disturbance_set(disturbances: object, name: str = "disturbances") -> tuple[tuple[str, ...], np.ndarray]:
@@ -38,7 +118,9 @@ def disturbance_set(disturbances: object, name: str = "disturbances") -> tuple[t
 
     Args:
         disturbances: ``"cube26"`` (the 26 unit force directions of a cube: labels ``"+fx"``,
-            ``"+fx-fy"``, ...) or wrenches, (k, 6), none zero (labels ``"w0"``, ``"w1"``, ...).
+            ``"+fx-fy"``, ...), a :class:`Gravity` (or ``{"gravity": {...}}``, its
+            :meth:`Gravity.to_dict` under the key ``gravity``), or wrenches, (k, 6), none zero
+            (labels ``"w0"``, ``"w1"``, ...).
         name: Argument name in error messages.
 
     Raises:
@@ -47,11 +129,14 @@ def disturbance_set(disturbances: object, name: str = "disturbances") -> tuple[t
     if isinstance(disturbances, str):
         choice(name, disturbances, DISTURBANCE_SETS)
         return cube_directions()
+    gravity = gravity_of(disturbances, name)
+    if gravity is not None:
+        return gravity.wrenches()
     try:
         raw = np.asarray(disturbances, dtype=float)
     except (TypeError, ValueError):
         raise InvalidInputError(
-            name, f"expected 'cube26' or wrenches of shape (k, 6), got {disturbances!r}"
+            name, f"expected 'cube26', a Gravity or wrenches of shape (k, 6), got {disturbances!r}"
         ) from None
     if raw.ndim != 2 or raw.shape[1] != 6 or len(raw) == 0:
         raise InvalidInputError(name, f"expected 'cube26' or wrenches of shape (k, 6), got shape {raw.shape}")
@@ -60,6 +145,20 @@ def disturbance_set(disturbances: object, name: str = "disturbances") -> tuple[t
     if zero:
         raise InvalidInputError(name, f"row(s) {zero} are zero wrenches; give a nonzero wrench per row")
     return tuple(f"w{i}" for i in range(len(w))), w
+
+
+def gravity_of(disturbances: object, name: str = "disturbances") -> Gravity | None:
+    """``disturbances`` as a :class:`Gravity` (itself, or ``{"gravity": {...}}``), else None."""
+    if isinstance(disturbances, Gravity):
+        return disturbances
+    if isinstance(disturbances, Mapping):
+        if list(disturbances) != ["gravity"]:
+            raise InvalidInputError(
+                name,
+                f"a mapping names one set, {{'gravity': {{'mass': ...}}}}; got keys {list(disturbances)}",
+            )
+        return Gravity.of(disturbances["gravity"], f"{name}.gravity")
+    return None
 
 
 @dataclass(frozen=True)
@@ -79,7 +178,8 @@ class DisturbanceScore:
     ``max_<label>`` column per disturbance (labels of :func:`disturbance_set`).
 
     Attributes:
-        disturbances: ``"cube26"`` or wrenches (k, 6) (kept as a tuple of 6-tuples).
+        disturbances: ``"cube26"``, a :class:`Gravity` (also given as ``{"gravity": {...}}``) or
+            wrenches (k, 6) (kept as a tuple of 6-tuples).
         method: The analysis method (default: the package's default method).
         upper: Search limit [N or N·m along the unit direction].
         steps: Search steps (a loading-path method ignores it).
@@ -92,7 +192,7 @@ class DisturbanceScore:
             pruned row stops early; the others follow in the set's order.
     """
 
-    disturbances: str | tuple[tuple[float, ...], ...] = "cube26"
+    disturbances: str | Gravity | tuple[tuple[float, ...], ...] = "cube26"
     method: Method | str = Method(DEFAULT_METHOD)
     upper: float = 50.0
     steps: int = 6
@@ -101,7 +201,10 @@ class DisturbanceScore:
 
     def __post_init__(self) -> None:
         _, w = disturbance_set(self.disturbances)
-        if not isinstance(self.disturbances, str):
+        gravity = gravity_of(self.disturbances)
+        if gravity is not None:
+            object.__setattr__(self, "disturbances", gravity)
+        elif not isinstance(self.disturbances, str):
             object.__setattr__(self, "disturbances", tuple(tuple(float(v) for v in row) for row in w))
         object.__setattr__(self, "method", method_name(self.method))
         object.__setattr__(self, "upper", force("upper", self.upper, "N or N·m"))

@@ -20,7 +20,7 @@ from ..core.validate import force
 from ..core.validate import steps as n_steps
 from ..errors import PinograspError
 from ..scenes.loading import SceneFile, read_yaml
-from .disturbances import disturbance_set
+from .disturbances import disturbance_set, gravity_of
 from .grasps import SHAPES, GraspSpec, ObjectSpec, sample_grasps
 
 #: Keys of one grasp (and of ``defaults``).
@@ -250,8 +250,14 @@ def _score(f: SceneFile, data: dict[str, Any]) -> dict[str, Any]:
     if "steps" in s:  # domains checked before any grasp runs (docs/errors.md); a path ignores steps
         bounded = limits_bound(score.get("method", DEFAULT_METHOD))
         score["steps"] = f.domain(lambda k, v: n_steps(v, k, bounded=bounded), s["steps"], "score.steps")
-    if "disturbances" in s:  # "cube26" or a list of wrenches (k, 6)
+    if "disturbances" in s:  # "cube26", {gravity: {mass: ...}} or a list of wrenches (k, 6)
         _, w = f.domain(lambda k, v: disturbance_set(v, k), s["disturbances"], "score.disturbances")
         d = s["disturbances"]
-        score["disturbances"] = d if isinstance(d, str) else tuple(tuple(float(v) for v in row) for row in w)
+        gravity = gravity_of(d)
+        if gravity is not None:
+            score["disturbances"] = {"gravity": gravity.to_dict()}
+        else:
+            score["disturbances"] = (
+                d if isinstance(d, str) else tuple(tuple(float(v) for v in row) for row in w)
+            )
     return score

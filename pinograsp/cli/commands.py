@@ -296,6 +296,10 @@ def signal_name(signum: int) -> str:
 def _worst_of(score: object) -> str:
     """What a batch score's ``score`` column is the worst of."""
     if isinstance(score, pg.DisturbanceScore):
+        g = score.disturbances
+        if isinstance(g, pg.Gravity):
+            n = len(score.labels)
+            return f"worst of {n} orientations; multiples of {g.weight:.4g} N, the weight x {1 + g.margin:g}"
         return f"worst of {len(score.labels)} disturbances"
     return "worst axis"
 
@@ -347,7 +351,9 @@ def cmd_batch(args: argparse.Namespace) -> int:
     ok = table[table["status"] == "ok"]
     if len(ok):
         q = ok["score"].quantile([0.0, 0.5, 1.0], interpolation="lower").tolist()  # inf-safe: no inf - inf
-        lines.append(f"score [N] of the ok rows ({_worst_of(score)}, {score.method}, upper {score.upper:g}, "
+        gravity = isinstance(score, pg.DisturbanceScore) and isinstance(score.disturbances, pg.Gravity)
+        lines.append(f"score{'' if gravity else ' [N]'} of the ok rows ({_worst_of(score)}, {score.method}, "
+                     f"upper {score.upper:g}, "
                      f"steps {score.steps}): min {q[0]:.4g}, median {q[1]:.4g}, max {q[2]:.4g}")  # fmt: skip
     if args.out:
         lines.append(f"wrote {args.out}")

@@ -48,6 +48,17 @@ def add_plan(sub: argparse._SubParsersAction) -> None:
         "--preload", default="auto", help="auto (default), a command for every actuator, or budget=B"
     )
     p.add_argument("--rank-by", choices=("passive", "epsilon"), default="passive")
+    p.add_argument(
+        "--gravity",
+        type=float,
+        metavar="MASS",
+        help="score the object's weight (MASS [kg]) in every orientation instead of the 26 unit forces: "
+        "values are multiples of (1 + margin) x the weight, a score >= 1 holds it everywhere",
+    )
+    p.add_argument("--margin", type=float, help="with --gravity: the safety margin (default 0.5)")
+    p.add_argument(
+        "--orientations", help="with --gravity: cube26 (default) or a number of directions in [6, 1000]"
+    )
     p.add_argument("--mu", type=float, default=0.5, help="friction coefficient (default 0.5)")
     p.add_argument("--out", metavar="DIR", help="write plans.yaml (GRASPS), plans.json and plan_K.png")
     p.add_argument("--json", action="store_true", help="print the plans as JSON on stdout (nothing else)")
@@ -92,20 +103,41 @@ def _preload(text: str) -> object:
         raise InvalidInputError("--preload", f"expected auto, a number or budget=B, got {text!r}") from None
 
 
+def _disturbances(args: argparse.Namespace) -> object:
+    """``"cube26"``, or a ``pg.Gravity`` from ``--gravity``, ``--margin``, ``--orientations``."""
+    if args.gravity is None:
+        for flag in ("margin", "orientations"):
+            if getattr(args, flag) is not None:
+                raise InvalidInputError(f"--{flag}", "applies to --gravity MASS only; give the object's mass")
+        return "cube26"
+    orientations: object = args.orientations or "cube26"
+    if orientations != "cube26":
+        try:
+            orientations = int(str(orientations))
+        except ValueError:
+            raise InvalidInputError(
+                "--orientations",
+                f"expected cube26 or a number of directions in [6, 1000], got {orientations!r}",
+            ) from None
+    margin = 0.5 if args.margin is None else args.margin
+    return pg.Gravity(args.gravity, margin=margin, orientations=orientations)
+
+
 def cmd_plan(args: argparse.Namespace) -> int:
     """Run ``pinograsp plan``."""
     out = Output(args)
     obj = parse_object(args.object)
+    disturbances = _disturbances(args)
     bar = progress_bar(args, f"plan {args.hand}")
     try:
         plans = pg.plan_grasps(
-            args.hand, obj, n=args.n, top=args.top, preload=_preload(args.preload), seed=args.seed,
-            workers=args.workers, rank_by=args.rank_by, verify=args.verify, mu=args.mu, progress=bar,
-            refine=args.refine, rounds=args.rounds,
+            args.hand, obj, disturbances=disturbances, n=args.n, top=args.top, seed=args.seed,
+            preload=_preload(args.preload), workers=args.workers, rank_by=args.rank_by,
+            verify=args.verify, mu=args.mu, progress=bar, refine=args.refine, rounds=args.rounds,
         )  # fmt: skip
     finally:
         bar.close()
-    lines = [plans.summary().splitlines()[0], plans.summary().splitlines()[1], ""]
+    lines = [*plans.header(), ""]
     lines.append(
         f"{'rank':>4}  {'id':<24} {'origin':<8} {'score':>9}  {'worst':<10} {'epsilon':>8} {'eps rank':>8}"
         "  preload"

@@ -154,3 +154,19 @@ def cube_directions() -> tuple[tuple[str, ...], np.ndarray]:
         rows.append(v / np.linalg.norm(v))
         labels.append("".join(f"{'+' if s > 0 else '-'}f{a}" for s, a in zip(ijk, "xyz") if s))
     return tuple(labels), np.array(rows)
+
+
+def sphere_directions(n: int) -> np.ndarray:
+    """``n`` unit force directions spread evenly over the sphere (a Fibonacci lattice: heights
+    ``1 - (2 i + 1) / n``, longitudes turning by the golden angle), deterministic.
+
+    Returns:
+        The unit wrenches, (n, 6) (zero torque), the first nearest ``+z``.
+    """
+    i = np.arange(n, dtype=float)
+    z = 1.0 - (2.0 * i + 1.0) / n
+    r = np.sqrt(1.0 - z * z)
+    phi = i * (np.pi * (3.0 - np.sqrt(5.0)))
+    out = np.zeros((n, 6))
+    out[:, 0], out[:, 1], out[:, 2] = r * np.cos(phi), r * np.sin(phi), z
+    return out

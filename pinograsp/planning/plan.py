@@ -23,7 +23,7 @@ from typing import Any, cast
 
 import numpy as np
 
-from ..batch.disturbances import DisturbanceScore
+from ..batch.disturbances import DisturbanceScore, Gravity
 from ..batch.grasps import GraspSpec, ObjectSpec, build_grasp, grasp_configuration, load_hand
 from ..core.settings import DEFAULT_METHOD
 from ..core.validate import MAX_SAMPLES, choice, count, finite_number, positive_number, whole_number
@@ -253,7 +253,9 @@ def plan_grasps(
         hand: Built-in hand name or URDF path (as ``pg.GraspSpec.hand``).
         obj: The object (``pg.ObjectSpec`` or a primitive ``pg.RigidObject``); its pose is ignored.
         disturbances: ``"cube26"`` (26 unit forces: faces, edges, corners of a cube, hand base
-            frame) or wrenches (k, 6) [N, N·m].
+            frame), ``pg.Gravity(mass, margin=...)`` (the object's weight times ``1 + margin``
+            in every orientation: values are multiples of it, a score >= 1 holds it everywhere)
+            or wrenches (k, 6) [N, N·m].
         n: Approaches sampled (each closed, preloaded and scored).
         top: Plans returned (fewer when fewer distinct grasps exist).
         preload: ``"auto"`` (``pg.equilibrium_preload`` with ``max_command``), a command for
@@ -331,8 +333,12 @@ def _counts(cands: Sequence[Candidate]) -> dict[str, int]:
 def _options(score: DisturbanceScore) -> dict[str, Any]:
     """The score's options as plain data (a GRASPS.yaml ``score`` block)."""
     d = score.disturbances
+    if isinstance(d, Gravity):
+        kept: object = {"gravity": d.to_dict()}
+    else:
+        kept = d if isinstance(d, str) else [list(row) for row in d]
     return {
-        "disturbances": d if isinstance(d, str) else [list(row) for row in d],
+        "disturbances": kept,
         "method": str(score.method.value if hasattr(score.method, "value") else score.method),
         "upper": score.upper,
         "steps": score.steps,

@@ -204,6 +204,10 @@ class GraspPlans:
 
     def summary(self) -> str:
         """A few lines: what was searched, the gain of the refinement, each plan."""
+        return "\n".join([*self.header(), *(p.summary() for p in self.plans)])
+
+    def header(self) -> list[str]:
+        """What was searched, the gain of the refinement, the times (and a gravity set's unit)."""
         counts = ", ".join(f"{n} {s}" for s, n in self.counts.items())
         t = self.timing
         lines = [
@@ -213,7 +217,15 @@ class GraspPlans:
             f"time {t.total:.1f} s: sample {t.sample:.2f}, score {t.score:.1f}, refine {t.refine:.1f}, "
             f"finish {t.finish:.2f}, verify {t.verify:.1f}",
         ]
-        return "\n".join(lines + [p.summary() for p in self.plans])
+        d = self.score_options.get("disturbances")
+        if isinstance(d, dict) and "gravity" in d:
+            g = d["gravity"]
+            weight = (1.0 + g["margin"]) * g["mass"] * g["g"]
+            lines.append(
+                f"scores: multiples of the weight x {1 + g['margin']:g} ({weight:.4g} N) in "
+                f"{len(self.labels)} orientations; >= 1 holds it in every one"
+            )
+        return lines
 
 
 #: GraspSpec fields written only when they differ from these defaults.
