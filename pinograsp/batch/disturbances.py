@@ -26,7 +26,7 @@ from ..core.methods import bounded as limits_bound
 from ..core.methods import method_name
 from ..core.query import Query
 from ..core.settings import DEFAULT_METHOD, Method
-from ..core.validate import choice, count, finite_array, force, number_in, vector
+from ..core.validate import choice, finite_array, force, number_in, vector, whole_number
 from ..core.validate import steps as n_steps
 from ..errors import InvalidInputError
 
@@ -73,7 +73,13 @@ class Gravity:
         if isinstance(self.orientations, str):
             choice("orientations", self.orientations, DISTURBANCE_SETS)
         else:
-            n = count("orientations", self.orientations, MAX_ORIENTATIONS, 6, "one loading path each")
+            n = whole_number("orientations", self.orientations, 1)
+            if not 6 <= n <= MAX_ORIENTATIONS:
+                raise InvalidInputError(
+                    "orientations",
+                    f"must be 'cube26' or a number of directions in [6, {MAX_ORIENTATIONS}] (one loading "
+                    f"path each), got {self.orientations!r}",
+                )
             object.__setattr__(self, "orientations", n)
         offset = vector("offset", self.offset, 3)
         object.__setattr__(self, "offset", tuple(float(v) for v in offset))
