@@ -173,3 +173,43 @@ def test_cli_plan_gravity(tmp_path, capsys):
     assert rc == 2 and "--margin" in err and "--gravity MASS" in err
     rc, _, err = run(capsys, *argv, "--gravity", "0.1", "--orientations", "many")
     assert rc == 2 and "--orientations" in err and "[6, 1000]" in err
+
+
+def _ability_box_plan5() -> pg.GraspSpec:
+    """Issue 34's Ability × box plan 5 (docs/planning.md, "Acceptance"; tests/data)."""
+    from pathlib import Path
+
+    spec = json.loads((Path(__file__).parent / "data" / "ability_box_plan5_spec.json").read_text())["spec"]
+    return pg.GraspSpec(**{**spec, "object": pg.ObjectSpec(**spec["object"])})
+
+
+def test_snap_columns_name_the_first_snap_on_the_way_to_each_answer():
+    """Plan 5's -fz answer (>= 50 N) passes the snap at the path's first limit 40.49 N
+    (tests/test_sim_finger_mass.py), -fx-fz one at 37.42 N; no other direction snaps below 50 N."""
+    from pinograsp.planning.search import score_batch
+
+    spec = _ability_box_plan5()
+    model, command, _ = build_grasp(spec)
+    score = pg.DisturbanceScore()
+    row = score(model, command)
+    snapped = {a: row[f"snap_{a}"] for a in score.labels if row[f"snap_{a}"] < math.inf}
+    assert set(snapped) == {"-fz", "-fx-fz"}
+    assert snapped["-fz"] == pytest.approx(40.495, abs=0.01) and snapped["-fx-fz"] == pytest.approx(
+        37.42, abs=0.01
+    )
+    assert row["score"] == 50.0 and row["snap_free"] == min(snapped.values())
+    # each is the loading path's own first snap, from a separate call
+    mw = pg.max_resistible_wrench(model, command, [0, 0, -1, 0, 0, 0], upper=50.0)
+    assert snapped["-fz"] == mw.giveway.snaps[0][0] == mw.first_limit
+    # the planner's record carries them (a batch row read back as a candidate)
+    (cand,) = score_batch([spec], score, "sampled", None, {"executor": "local", "workers": 1}, None)
+    assert cand.snaps == snapped and cand.values == {a: row[f"max_{a}"] for a in score.labels}
+
+
+def test_without_a_snap_the_snap_free_worst_is_the_score(jaw_grasp):
+    model, command = jaw_grasp
+    row = pg.DisturbanceScore()(model, command)
+    assert row["snap_free"] == row["score"]
+    assert all(row[f"snap_{a}"] == math.inf for a in pg.DisturbanceScore().labels)
+    iterative = pg.DisturbanceScore(method="iterative")(model, command)  # no path, no snaps
+    assert all(iterative[f"snap_{a}"] == math.inf for a in pg.DisturbanceScore().labels)

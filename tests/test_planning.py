@@ -314,3 +314,20 @@ def test_plot_plan_marks_each_simulated_load(plans):
     assert triangles.get_xdata().tolist() == [1]
     assert triangles.get_ydata()[0] == pytest.approx(ax.patches[1].get_height())
     assert "simulated worst 3.5" in ax.get_title()
+
+
+def test_a_plan_names_and_draws_the_directions_past_a_snap(plans):
+    """``GraspPlan.snaps`` in the summary and as a tick on the bar (made-up snaps: the drawing)."""
+    pytest.importorskip("matplotlib")
+    from dataclasses import replace
+
+    best = plans.plans[0]
+    assert best.snaps == {} and "past a snap" not in best.summary()  # the jaws on a sphere: none
+    labels = list(best.values)
+    snapped = replace(best, snaps={labels[2]: 0.5 * best.values[labels[2]], labels[4]: 1.25})
+    assert f"(worst {best.worst}, 2 past a snap (from 1.25))" in snapped.summary()
+    ax = pg.plot_plan(snapped).axes[-1]
+    (ticks,) = [line for line in ax.lines if line.get_label() == "first snap"]
+    assert ticks.get_xdata().tolist() == [2, 4]
+    assert ticks.get_ydata().tolist() == [0.5 * best.values[labels[2]], 1.25]
+    assert snapped.to_dict()["snaps"] == {labels[2]: 0.5 * best.values[labels[2]], labels[4]: 1.25}

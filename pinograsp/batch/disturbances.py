@@ -180,8 +180,12 @@ class DisturbanceScore:
     model a disturbance with no planar part (``fx, fy, mz``) has no value (NaN) and is skipped.
 
     Returns ``score`` (the smallest value), ``unbounded_fraction`` (of the disturbances),
-    ``epsilon`` (Ferrari–Canny of the contacts, :func:`pinograsp.ferrari_canny`) and one
-    ``max_<label>`` column per disturbance (labels of :func:`disturbance_set`).
+    ``epsilon`` (Ferrari–Canny of the contacts, :func:`pinograsp.ferrari_canny`), ``snap_free``
+    (the smallest value reached without a snap: where a loading path survived snaps on its way
+    to its answer, its first snap's load; docs/giveway.md), one ``max_<label>`` column per
+    disturbance (labels of :func:`disturbance_set`) and one ``snap_<label>``: the load (as a
+    multiple) of the first snap its answer survived below its value, ``inf`` when none (every
+    method but the quasi-static one).
 
     Attributes:
         disturbances: ``"cube26"``, a :class:`Gravity` (also given as ``{"gravity": {...}}``) or
@@ -239,7 +243,8 @@ class DisturbanceScore:
     def columns(self) -> tuple[str, ...]:
         """The table's score columns."""
         pruned = ("pruned",) if self.floor > -math.inf else ()
-        return ("score", "unbounded_fraction", "epsilon", *pruned, *(f"max_{a}" for a in self.labels))
+        maxima, snaps = (f"max_{a}" for a in self.labels), (f"snap_{a}" for a in self.labels)
+        return ("score", "unbounded_fraction", "epsilon", "snap_free", *pruned, *maxima, *snaps)
 
     @property
     def no_grasp(self) -> dict[str, float]:
@@ -254,6 +259,7 @@ class DisturbanceScore:
         query = Query(self.method, self.upper, self.steps)
         session = Session(model)  # one per grasp: its preload stage is solved once
         values = dict.fromkeys((f"max_{a}" for a in self.labels), math.nan)
+        snaps = dict.fromkeys((f"snap_{a}" for a in self.labels), math.nan)
         labels, wrenches = self.labels, self.wrenches
         order = [labels.index(a) for a in self.first]
         order += [i for i in range(len(labels)) if i not in order]
@@ -269,15 +275,23 @@ class DisturbanceScore:
             scale = float(np.linalg.norm(w[[0, 1, 5]] if model.planar else w))
             value = 0.0 if mw.status == "below_resolution" else float(mw.magnitude) / scale
             values[f"max_{labels[i]}"] = value
+            # the first snap on the way to the answer (a path followed past ``upper`` may snap later)
+            survived = [
+                s for s, _ in (mw.giveway.snaps if mw.giveway is not None else ()) if s <= mw.magnitude
+            ]
+            snaps[f"snap_{labels[i]}"] = survived[0] / scale if survived else math.inf
             if value < self.floor:
                 pruned = True
                 break
         known = [v for v in values.values() if not math.isnan(v)]
         unbounded = sum(v == math.inf for v in known)
+        calm = [min(v, s) for v, s in zip(values.values(), snaps.values()) if not math.isnan(v)]
         return {
             "score": min(known),
             "unbounded_fraction": unbounded / len(known),
             "epsilon": ferrari_canny(model),
+            "snap_free": min(calm),
             **({"pruned": float(pruned)} if self.floor > -math.inf else {}),
             **values,
+            **snaps,
         }

@@ -139,12 +139,12 @@ def cmd_plan(args: argparse.Namespace) -> int:
         bar.close()
     lines = [*plans.header(), ""]
     lines.append(
-        f"{'rank':>4}  {'id':<24} {'origin':<8} {'score':>9}  {'worst':<10} {'epsilon':>8} {'eps rank':>8}"
-        "  preload"
+        f"{'rank':>4}  {'id':<24} {'origin':<8} {'score':>9}  {'worst':<10} {'snaps':>5} {'epsilon':>8} "
+        f"{'eps rank':>8}  preload"
     )
     for p in plans.plans:
         lines.append(
-            f"{p.rank:>4}  {p.id:<24} {p.origin:<8} {p.score:>9.4g}  {p.worst:<10} "
+            f"{p.rank:>4}  {p.id:<24} {p.origin:<8} {p.score:>9.4g}  {p.worst:<10} {len(p.snaps):>5} "
             f"{p.epsilon:>8.4g} {p.epsilon_rank:>8}  {p.preload_text()}"
         )
         for c in p.checks:

@@ -122,7 +122,7 @@ def _finish(
             contact_names=model.contact_names, points=np.array(model.points),
             normals=np.array(model.frames[:, :, 0]), score=c.score, values=values,
             worst=min(values, key=lambda k: values[k]), epsilon=c.epsilon, epsilon_rank=eps_rank[i],
-            sampled_score=c.sampled_score,
+            sampled_score=c.sampled_score, snaps=dict(c.snaps),
         )  # fmt: skip
         if i < verify:
             t0 = time.perf_counter()

@@ -13,7 +13,7 @@ from __future__ import annotations
 import hashlib
 import math
 import os
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal
 
@@ -78,6 +78,10 @@ class GraspPlan:
         epsilon_rank: Rank of ``epsilon`` among the returned plans (1 = largest).
         sampled_score: The score of the sampled approach it was refined from (its own if sampled).
         checks: Its simulation per disturbance (``verify``), else empty.
+        snaps: ``{label: load}`` for the disturbances whose answer survived a snap on its way
+            (the first snap's load, a multiple of the disturbance as ``values``): the
+            quasi-static answer past a snap holds for fingers without inertia; heavy fingers may
+            carry the object through it (docs/planning.md, "Snaps in plans").
     """
 
     rank: int
@@ -98,6 +102,7 @@ class GraspPlan:
     epsilon_rank: int
     sampled_score: float
     checks: tuple[PlanCheck, ...] = ()
+    snaps: dict[str, float] = field(default_factory=dict)
 
     def to_dict(self) -> dict[str, Any]:
         """Plain JSON-ready data (the spec as :meth:`GraspSpec.to_dict`)."""
@@ -111,9 +116,11 @@ class GraspPlan:
         return ", ".join(f"{a} {v:.4g}" for a, v in self.command.items())
 
     def summary(self) -> str:
-        """One line: rank, score, worst disturbance, epsilon and its rank, contacts, preload."""
+        """One line: rank, score, worst disturbance (and the directions past a snap), epsilon and its
+        rank, contacts, preload."""
+        snaps = f", {len(self.snaps)} past a snap (from {min(self.snaps.values()):.4g})" if self.snaps else ""
         return (
-            f"#{self.rank} {self.id} ({self.origin}): score {self.score:.4g} (worst {self.worst}), "
+            f"#{self.rank} {self.id} ({self.origin}): score {self.score:.4g} (worst {self.worst}{snaps}), "
             f"epsilon {self.epsilon:.4g} (rank {self.epsilon_rank}), {len(self.contact_names)} contacts, "
             f"preload {self.preload_text()}"
         )

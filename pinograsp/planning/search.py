@@ -13,7 +13,7 @@ from __future__ import annotations
 import json
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -40,6 +40,8 @@ class Candidate:
         command: The preload the row used ``{actuator: value}``.
         origin: Sampled or refined.
         sampled_score: The score of the sampled candidate it descends from.
+        snaps: ``{label: load}``: the first snap each answer survived below its value (a
+            multiple of the disturbance, as ``values``), for the labels whose answer has one.
     """
 
     spec: GraspSpec
@@ -51,6 +53,7 @@ class Candidate:
     command: dict[str, float]
     origin: Origin
     sampled_score: float
+    snaps: dict[str, float] = field(default_factory=dict)
 
     @property
     def ok(self) -> bool:
@@ -93,13 +96,13 @@ def score_batch(
         ok = row["status"] == "ok"
         values = {c[4:]: float(row[c]) for c in columns} if ok else {}
         values = {k: v for k, v in values.items() if not math.isnan(v)}
+        snaps = {k: float(row[f"snap_{k}"]) for k in values if ok and float(row[f"snap_{k}"]) < math.inf}
         s = float(row["score"]) if ok else 0.0
         command = json.loads(row["command"]) if row["command"] else {}
         origin_score = s if sampled is None else sampled[i]
         eps = float(row["epsilon"]) if ok else 0.0
-        out.append(
-            Candidate(spec, row["status"], row["reason"], values, s, eps, command, origin, origin_score)
-        )
+        status, reason = row["status"], row["reason"]
+        out.append(Candidate(spec, status, reason, values, s, eps, command, origin, origin_score, snaps))
     return out
 
 

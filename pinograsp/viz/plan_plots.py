@@ -17,7 +17,8 @@ from .figures import save_figure
 def plot_plan(plan: GraspPlan, path: str | os.PathLike[str] | None = None, *, dpi: int = 110) -> Any:
     """Draw one plan: the scene (hand at ``plan.q``, object at ``plan.object_pose``, contacts)
     and a bar per disturbance of its value (unbounded bars drawn to 1.2 × the largest finite
-    value, hatched; the worst one in red). A verified plan (``plan.checks``) also shows each
+    value, hatched; the worst one in red; an orange bar across a value past a snap marks the
+    first snap's load, ``plan.snaps``). A verified plan (``plan.checks``) also shows each
     simulated load: a black dot where the simulation gave way, a black triangle on the bar
     where it held. Returns the matplotlib ``Figure``; with ``path`` (``.png``, ``.pdf``, ...)
     also writes it.
@@ -46,14 +47,19 @@ def plot_plan(plan: GraspPlan, path: str | os.PathLike[str] | None = None, *, dp
             b.set_hatch("//")
             b.set_alpha(0.5)
     title = f"score {plan.score:.3g} (worst {plan.worst}), epsilon {plan.epsilon:.3g}"
+    snapped = [k for k in labels if k in plan.snaps]
+    if snapped:
+        ax.plot([labels.index(k) for k in snapped], [plan.snaps[k] for k in snapped], "_", color="tab:orange",
+                ms=12, mew=2.5, label="first snap")  # fmt: skip
     if sims:
         x = [labels.index(k) for k in sims]
         gave = [(i, sims[k]) for i, k in zip(x, sims) if math.isfinite(sims[k])]
         held = [i for i, k in zip(x, sims) if not math.isfinite(sims[k])]
         ax.plot([i for i, _ in gave], [y for _, y in gave], "ko", ms=5, label="simulated: gave way")
         ax.plot(held, shown[held], "k^", ms=6, label="simulated: held")
-        ax.legend(fontsize=7, loc="upper right")
         title += f"; simulated worst {min(sims.values()):.3g}"
+    if sims or snapped:
+        ax.legend(fontsize=7, loc="upper right")
     ax.set_xticks(range(len(v)), labels, rotation=90, fontsize=7)
     ax.set_ylabel("largest resisted multiple of the disturbance [N for unit forces]")
     ax.set_title(title, fontsize=9)
