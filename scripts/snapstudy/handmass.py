@@ -213,6 +213,7 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--simulate", action="store_true", help="plan 5 along -fz at the URDF's ratios")
     ap.add_argument("--directions", action="store_true", help="the 26 directions at the URDF's ratios")
+    ap.add_argument("--light", action="store_true", help="the light-finger checks (+fz, 26 at 0.12)")
     ap.add_argument("--jobs", type=int, default=2, help="simulations side by side (default 2)")
     a = ap.parse_args()
     hand, q, model, command = setup()
@@ -241,6 +242,8 @@ def main() -> None:
             for fm in ratios
             for lab in cube_directions()[0]
         ]
+    if a.light:
+        tasks += light_tasks(model, command, check)
     if not tasks:
         urdf_masses()
         return
@@ -254,16 +257,36 @@ def main() -> None:
     for (what, lab, status, load, c), t in zip(done, tasks):
         if not what.endswith("| 26"):
             print(f"| {what} | {lab} | {_text(status, load, t[4])} | {c:.1f} s |")
-    if a.directions:
+    if a.directions or a.light:
         print(f"\n26 directions, acceptance call, upper {check:g} N:")
         print("| finger_mass | held | gave way | CPU |\n|---:|---:|---|---:|")
-        for fm in ratios:
-            rows = [d for d in done if d[0] == f"{fm:g} | 26"]
+        for fm in sorted({float(d[0].split(" |")[0].split()[-1]) for d in done if d[0].endswith("| 26")}):
+            rows = [d for d in done if d[0] in (f"{fm:g} | 26", f"light {fm:g} | 26")]
             gave = ", ".join(f"{d[1]} {_text(d[2], d[3], check)}" for d in rows if d[3] is not None)
             held, c = sum(d[3] is None for d in rows), sum(d[4] for d in rows)
             print(f"| {fm:g} | {held} / {len(rows)} | {gave or '-'} | {c:.0f} s |")
     print(f"\nsimulation CPU: {cpu:.0f} s over {a.jobs} process(es)")
     urdf_masses()
+
+
+def light_tasks(model, command, check: float) -> list[tuple]:
+    """The light-finger checks: +fz with the acceptance call from 0.1 to 0.12 (cone and pyramid),
+    at 0.1 with smaller time steps and the gradual release; the 26 directions at 0.12; -fz at
+    0.151 with ``upper`` 70 N (the circular cone)."""
+    out = []
+    for fm in (0.1, 0.102, 0.105, 0.11, 0.12):
+        for fr in ("cone", "pyramid"):
+            out.append(
+                (f"light {fm:g} | {fr}, ramp 0.02 s, upper {check:g}", "+fz", check, {"friction": fr}, fm)
+            )
+    for dt in (5e-5, 2.5e-5):
+        out.append((f"light 0.1 | cone, ramp 0.02 s, timestep {dt:g} s", "+fz", check, {"timestep": dt}, 0.1))
+    out.append(("light 0.1 | cone, ramp 0.02 s, release 0.05 s", "+fz", check, {"release_time": 0.05}, 0.1))
+    for ramp, rel in ((0.02, 0.0), (0.3, 0.05)):
+        what = f"light 0.151 | cone, ramp {ramp} s, release {rel} s, upper 70"
+        out.append((what, "-fz", 70.0, {"ramp_time": ramp, "release_time": rel}, 0.151))
+    out += [("light 0.12 | 26", lab, check, {}, 0.12) for lab in cube_directions()[0]]
+    return [(w, lab, model, command, up, {**o, "finger_mass": fm}) for w, lab, up, o, fm in out]
 
 
 def urdf_masses() -> None:
