@@ -10,15 +10,16 @@ URDF gives on issue 34's plan 5 (Ability × box 4×5×7 cm), and whether the pla
    mass along its normal ``1 / (n^T J M^-1 J^T n)``, free (every hand joint moves) and with the
    model's constraints (the linkage couplings ``C q = 0`` and the locked thumb rotation), the
    same for the simulation's diagonal armature; ratios to the box's mass at four densities.
-2. ``--simulate``: plan 5 along -fz at the ratio the URDF gives (max over joints, clipped to the
-   allowed minimum): the snap study's settings (pyramid, release 0.05 s, ramp 0.1 s and 0.3 s,
-   upper 70 N) and the acceptance call (``upper=45``, default friction and ramp).
-3. ``--directions``: the acceptance call along all 26 cube directions at that ratio (``--jobs``
-   processes).
+2. ``--simulate``: plan 5 along -fz at the ratios the URDF gives at 700 and 1000 kg/m³ (max and
+   median over joints, max over contacts; clipped to the allowed minimum): the snap study's
+   settings (pyramid, release 0.05 s, ramp 0.1 s and 0.3 s, upper 70 N), the acceptance call
+   (``upper=45``, default friction and ramp) and its slow re-check (ramp 0.3 s, release 0.05 s).
+3. ``--directions``: the acceptance call along all 26 cube directions at those ratios
+   (``--jobs`` processes); ``--light``: the light-finger checks (:func:`light_tasks`).
 4. Whether the acceptance hands' URDFs carry link masses.
 
     python -m scripts.snapstudy.handmass                      # the tables (seconds)
-    nice python -m scripts.snapstudy.handmass --simulate --directions --jobs 2
+    nice python -m scripts.snapstudy.handmass --simulate --directions --light --jobs 2
 """
 
 from __future__ import annotations
