@@ -239,3 +239,37 @@ def test_outputs_and_missing_pyarrow(tmp_path, monkeypatch, capsys):
         pg.save_results(df, tmp_path / "x.parquet")
     assert main(["batch", "nothing.yaml", "--out", "r.parquet"]) == 2
     assert "pinograsp[parquet]" in capsys.readouterr().err
+
+
+def test_a_grasp_record_chooses_its_friction_pyramid(tmp_path):
+    """``GraspSpec.edges``: the jaws on a sphere with 16 pyramid edges follow the 16-edge
+    closed form of the first slip, ``mu' F / (b + mu' a)`` with ``mu' = mu cos(pi/16) /
+    cos(theta - the nearest face's centre)``, along 40 directions spread over the sphere."""
+    from pinograsp.batch.grasps import build_grasp
+    from pinograsp.core.axes import sphere_directions
+    from pinograsp.planning.records import grasp_entry
+
+    sphere = pg.ObjectSpec("sphere", radius=0.02).with_pose((0, 0.045, 0), (0, 0, 0))
+    spec = pg.GraspSpec("parallel_jaw", sphere, command=20.0, edges=16)
+    model, command, _ = build_grasp(spec)
+    assert model.edges == 16 and model.D.shape[1] == 16 * model.nc
+    assert build_grasp(pg.GraspSpec("parallel_jaw", sphere, command=20.0))[0].edges == 8
+    half = math.pi / 16
+    for w in sphere_directions(40):
+        a, b = abs(w[0]), math.hypot(w[1], w[2])
+        mu = 0.5 * math.cos(half) / math.cos(math.atan2(w[2], w[1]) % (2 * half) - half)
+        mw = pg.max_resistible_wrench(model, command, w, upper=50.0)
+        assert mw.magnitude == pytest.approx(mu * 20.0 / (b + mu * a), rel=1e-9)
+    for bad in (2, 257, 8.5, True):
+        with pytest.raises(pg.InvalidInputError, match=r"edges.*\[3, 256\]|edges: expected"):
+            pg.GraspSpec("parallel_jaw", sphere, edges=bad)
+    entry = grasp_entry(spec)
+    assert entry["edges"] == 16 and "edges" not in grasp_entry(pg.GraspSpec("parallel_jaw", sphere))
+    f = tmp_path / "g.yaml"
+    f.write_text(
+        "defaults: {edges: 16}\ngrasps:\n  - {hand: parallel_jaw, object: {shape: sphere, radius: 0.02}}\n"
+    )
+    assert pg.load_grasps(f).grasps[0].edges == 16
+    f.write_text("grasps:\n  - {hand: parallel_jaw, object: {shape: sphere, radius: 0.02}, edges: 2}\n")
+    with pytest.raises(pg.SceneError, match=r"edges.*\[3, 256\]"):
+        pg.load_grasps(f)

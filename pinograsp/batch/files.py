@@ -39,6 +39,7 @@ GRASP_KEYS = (
     "mu",
     "stiffness",
     "patches",
+    "edges",
     "command",
     "max_command",
     "preload_method",
@@ -136,7 +137,7 @@ def _grasp_fields(f: SceneFile, g: Mapping, key: str) -> dict[str, Any]:
             kw[k] = f.number(v, kk, positive=True)
         elif k == "max_penetration":
             kw[k] = f.number(v, kk, nonneg=True)
-        elif k == "max_steps":
+        elif k in ("max_steps", "edges"):
             kw[k] = f.integer(v, kk)
         elif k == "patches":
             kw[k] = f.boolean(v, kk)

@@ -19,6 +19,7 @@ from typing import Any, Literal, cast
 
 import numpy as np
 
+from ..core.build import MAX_EDGES
 from ..core.methods import method_name
 from ..core.poses import rotation_rpy, rpy_of
 from ..core.settings import DEFAULT_METHOD, Method
@@ -171,6 +172,8 @@ class GraspSpec:
         patches: Flat and line contacts as patches of corner points (docs/hands.md, "Contact
             patches"); ``False`` (default for a batch record: one point per touching geometry,
             so that existing tables keep their numbers).
+        edges: Friction pyramid edges per contact, in [3, 256] (``None``: the model's default, 8;
+            docs/planning.md, "Friction pyramid": a planner's candidates use 16).
         command: ``"auto"`` (``pg.equilibrium_preload``: its commands when ``"found"``, and
             also when ``"slides"`` or ``"separates"``, with a :class:`~pinograsp.errors.PinograspWarning`
             in the row's ``warnings``; else a ``no_preload`` row), a number (every actuator) or
@@ -199,6 +202,7 @@ class GraspSpec:
     mu: float = 0.5
     stiffness: float = 1.0
     patches: bool = False
+    edges: int | None = None
     command: Literal["auto"] | float | tuple[tuple[str, float], ...] = "auto"
     max_command: float = 1.0
     preload_method: Method | str = Method(DEFAULT_METHOD)
@@ -241,6 +245,8 @@ class GraspSpec:
         object.__setattr__(self, "max_steps", whole_number("max_steps", self.max_steps))
         if not isinstance(self.patches, bool):
             raise InvalidInputError("patches", f"expected True or False, got {self.patches!r}")
+        if self.edges is not None:
+            object.__setattr__(self, "edges", count("edges", self.edges, MAX_EDGES, 3, "the model's limit"))
         mu = finite_number("mu", self.mu)
         if mu < 0:
             raise InvalidInputError("mu", f"must be >= 0, got {self.mu!r}")
@@ -390,7 +396,14 @@ def build_grasp(spec: GraspSpec) -> tuple[Any, dict[str, float], dict[str, float
     contact = _contact_options(spec)
     try:
         model = grasp_model_from_scene(
-            hand, q, obj, mu=spec.mu, stiffness=spec.stiffness, patches=spec.patches, **contact
+            hand,
+            q,
+            obj,
+            mu=spec.mu,
+            stiffness=spec.stiffness,
+            patches=spec.patches,
+            edges=spec.edges,
+            **contact,
         )
     except ModelError as exc:
         if exc.argument != "contacts":

@@ -206,12 +206,15 @@ def number_in(
 
 
 def count(name: str, value: object, maximum: int, minimum: int = 1, what: str = "") -> int:
-    """An integer in ``[minimum, maximum]`` (``what``: why the maximum), refused before any work."""
-    v = whole_number(name, value, minimum)
-    if v > maximum:
-        why = f" ({what})" if what else ""
-        raise InvalidInputError(name, f"must be an integer in [{minimum}, {maximum}]{why}, got {value!r}")
-    return v
+    """An integer in ``[minimum, maximum]`` (``what``: why the maximum), refused before any work
+    with the whole range in the message."""
+    why = f" ({what})" if what else ""
+    allowed = f"an integer in [{minimum}, {maximum}]{why}"
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise InvalidInputError(name, f"expected {allowed}, got {value!r}")
+    if not minimum <= value <= maximum:
+        raise InvalidInputError(name, f"must be {allowed}, got {value!r}")
+    return int(value)
 
 
 def steps(value: object, name: str = "steps", *, bounded: bool = True) -> int:

@@ -237,7 +237,8 @@ class GraspPlans:
 
 #: GraspSpec fields written only when they differ from these defaults.
 _DEFAULTS = {
-    f: GraspSpec.__dataclass_fields__[f].default for f in ("description", "tolerance", "max_penetration")
+    f: GraspSpec.__dataclass_fields__[f].default
+    for f in ("description", "tolerance", "max_penetration", "edges")
 }
 
 
