@@ -207,6 +207,13 @@ def _whole(*values: object) -> list[int]:
     return [n, top, seed, verify, refine, rounds]
 
 
+#: Friction pyramid edges of every candidate's model (``GraspSpec.edges``; a model's default is
+#: 8). A value past a snap can hang on the pyramid's facets: issue 34's Ability × box plan 5
+#: along −fz gives way at 61.1 N with 8 edges, 42.8 N with 16, 41.0 N with 32, and 43.0 N in the
+#: simulation with the circular cone (docs/planning.md, "Friction pyramid").
+PLAN_EDGES = 16
+
+
 def _setup(
     hand: str, obj: object, preload: object, method: str, fields: dict[str, Any]
 ) -> tuple[GraspSpec, ApproachFrame, list[str], float | None, Any]:
@@ -214,8 +221,10 @@ def _setup(
     driving actuators, the preload budget (``None`` without one) and the hand."""
     if {"object", "command", "id", "q"} & set(fields):
         raise InvalidInputError("fields", "'object', 'command', 'id' and 'q' are set by plan_grasps")
-    # flat and line contacts as patches (a flat pad on a face is one arbitrary point otherwise)
-    probe = GraspSpec(hand, _object(obj), preload_method=method, **{"patches": True, **fields})
+    # flat and line contacts as patches (a flat pad on a face is one arbitrary point otherwise),
+    # friction pyramids of PLAN_EDGES edges (docs/planning.md, "Friction pyramid")
+    defaults = {"patches": True, "edges": PLAN_EDGES}
+    probe = GraspSpec(hand, _object(obj), preload_method=method, **{**defaults, **fields})
     hand_model = load_hand(probe)
     drivers = [a.name for a in hand_model.actuators if a.kind != "locked"]
     command, budget = _preload(preload, drivers)
@@ -274,7 +283,8 @@ def plan_grasps(
             hand's reach (palm to grasp centre): 0 the palm on the surface, 1 the grasp centre.
         duplicate: Two grasps closer than ``(translation [m], rotation [rad])`` are one.
         **fields: Other ``pg.GraspSpec`` fields shared by every candidate (``patches``, True
-            here: flat contacts as corners; ``mu``, ``q_open``, ``max_command``, ...).
+            here: flat contacts as corners; ``edges``, 16 here: :data:`PLAN_EDGES`; ``mu``,
+            ``q_open``, ``max_command``, ...).
 
     Raises:
         InvalidInputError, UnknownNameError, MissingDependencyError (pandas; MuJoCo with ``verify``).
