@@ -41,7 +41,6 @@ import numpy as np
 
 import pinograsp as pg
 from pinograsp.batch.disturbances import cube_directions
-from pinograsp.planning.plan import PLAN_EDGES
 
 ROOT = Path(__file__).resolve().parents[2]
 CACHE = ROOT / "scripts" / "reproduce" / "data" / "planning_acceptance.json"
@@ -215,31 +214,6 @@ def run(args: argparse.Namespace) -> None:
                 print(f"CPU budget spent ({spent:.0f} s)", flush=True)
                 pool.terminate()
                 break
-
-
-def repredict(data: dict[str, Any], edges: int) -> None:
-    """The (b) grasps' 6 face predictions and ε with ``edges`` pyramid edges, each grasp kept as
-    it was sampled (pose, closed hand, preload command) and its simulations kept (the circular
-    cone's: they do not depend on the model's pyramid)."""
-    from pinograsp.analysis.response import Session
-    from pinograsp.batch.grasps import build_grasp
-
-    labels, dirs = cube_directions()
-    for key, pair in data["pairs"].items():
-        for g in pair["grasps"]:
-            if g["spec"].get("edges") == edges:
-                continue
-            g["spec"] = {**g["spec"], "edges": edges}
-            model, command, _ = build_grasp(spec_of(g["spec"]))
-            session = Session(model)
-            for k in FACES:
-                mw = pg.max_resistible_wrench(
-                    model, command, dirs[labels.index(k)], upper=50.0, session=session
-                )
-                g["values"][k] = _num(0.0 if mw.status == "below_resolution" else float(mw.magnitude))
-            g["score"] = _num(min(_val(v) for v in g["values"].values()))
-            g["epsilon"] = pg.ferrari_canny(model)
-        print("re-predicted", key, len(pair["grasps"]), flush=True)
 
 
 def _task(task: tuple) -> dict[str, Any]:
@@ -472,17 +446,10 @@ def main() -> None:
     ap.add_argument("--write", action="store_true", help="put the tables into docs/planning.md")
     ap.add_argument("--pictures", action="store_true", help="draw the disagreements into docs/img/")
     ap.add_argument("--slow", action="store_true", help="re-simulate the plans' give-ways at slower ramps")
-    ap.add_argument(
-        "--repredict", action="store_true", help="the (b) grasps' predictions with the planner's pyramid"
-    )
     args = ap.parse_args()
     if args.slow:
         print("\n".join(slow_check(_load(args.cache))))
         return
-    if args.repredict:
-        data = _load(args.cache)
-        repredict(data, PLAN_EDGES)
-        _save(data, args.cache)
     if args.run:
         run(args)
     if args.pictures:
