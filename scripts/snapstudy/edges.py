@@ -1,5 +1,6 @@
 """Pyramid edges against the circular cone: the default answer with 8 and 16 friction-pyramid
-edges per contact, compared with the cone simulations (no simulation is run).
+edges per contact, compared with the cone simulations (cached; ``--extra N`` runs at most N new
+cone simulations past the snaps, below).
 
 For every direction with a **cone** simulation reference: the 352 directions of
 ``validate_quasistatic`` (``scripts/reproduce/data/qs_sim.jsonl``, the refined record where there
@@ -27,9 +28,14 @@ plane directions, upper 1e3, as ``benchmarks/quasistatic_speed.py``) and its 16-
 grasps (``random_grasp(seed, 4, contacts_per_finger=2)``, seeds 0-2, 6 directions each); each
 direction timed ``--repeat`` times, the fastest kept.
 
+``--extra``: the snap-landed directions (``snaps.jsonl``) whose cone record does not test the snap
+(the hands: no cone record; the record's upper below the snap; or held to its upper past the snap),
+λ* ≤ 100 N, simulated with the cone at ``max(2 λ*, upper)`` (``2 upper`` when held), default
+ramp (the hands and two Ability plan-5 directions also at 0.1 s), answers recomputed at that upper.
+
 Results are cached in ``edges.json`` next to this file; the tables regenerate from it.
 
-    nice -n 10 python -m scripts.snapstudy.edges [--sets qs,plans] [--timing] [--fresh]
+    nice -n 10 python -m scripts.snapstudy.edges [--sets qs,plans] [--extra 40] [--timing] [--fresh]
 """
 
 from __future__ import annotations
