@@ -331,3 +331,34 @@ def test_a_plan_names_and_draws_the_directions_past_a_snap(plans):
     assert ticks.get_xdata().tolist() == [2, 4]
     assert ticks.get_ydata().tolist() == [0.5 * best.values[labels[2]], 1.25]
     assert snapped.to_dict()["snaps"] == {labels[2]: 0.5 * best.values[labels[2]], labels[4]: 1.25}
+
+
+def test_plans_use_16_edge_pyramids_unless_told(capsys):
+    """``PLAN_EDGES`` (docs/planning.md, "Friction pyramid"): every candidate's spec and model
+    carry it; ``--edges`` (``edges=``) chooses another."""
+    from support.clirun import run_json
+
+    from pinograsp.planning.plan import PLAN_EDGES
+
+    argv = [
+        "plan",
+        "parallel_jaw",
+        "sphere:0.02",
+        "--n",
+        "3",
+        "--top",
+        "1",
+        "--preload",
+        "20",
+        "--refine",
+        "0",
+    ]
+    default = run_json(capsys, *argv)["plans"][0]
+    eight = run_json(capsys, *argv, "--edges", "8")["plans"][0]
+    assert PLAN_EDGES == 16 and default["spec"]["edges"] == 16 and eight["spec"]["edges"] == 8
+    model, _, _ = build_grasp(
+        pg.GraspSpec(**{**default["spec"], "object": pg.ObjectSpec(**default["spec"]["object"])})
+    )
+    assert model.edges == 16
+    # the jaws' values along the cube's directions are the same closed forms with 8 or 16 edges
+    assert default["values"] == pytest.approx(eight["values"], rel=1e-9)

@@ -60,6 +60,7 @@ def add_plan(sub: argparse._SubParsersAction) -> None:
         "--orientations", help="with --gravity: cube26 (default) or a number of directions in [6, 1000]"
     )
     p.add_argument("--mu", type=float, default=0.5, help="friction coefficient (default 0.5)")
+    p.add_argument("--edges", type=int, help="friction pyramid edges of every candidate (default 16)")
     p.add_argument("--out", metavar="DIR", help="write plans.yaml (GRASPS), plans.json and plan_K.png")
     p.add_argument("--json", action="store_true", help="print the plans as JSON on stdout (nothing else)")
     p.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None, help="progress bar")
@@ -134,6 +135,7 @@ def cmd_plan(args: argparse.Namespace) -> int:
             args.hand, obj, disturbances=disturbances, n=args.n, top=args.top, seed=args.seed,
             preload=_preload(args.preload), workers=args.workers, rank_by=args.rank_by,
             verify=args.verify, mu=args.mu, progress=bar, refine=args.refine, rounds=args.rounds,
+            **({} if args.edges is None else {"edges": args.edges}),
         )  # fmt: skip
     finally:
         bar.close()
