@@ -334,7 +334,7 @@ def test_bad_yaml_and_missing_files(tmp_path):
         ("planar: yes please", "planar", "expected true or false"),
         ("frame: {rpy: [90 degrees, 0, 0]}", "frame.rpy[0]", "'60 deg'"),
         ("analysis: {solver: 3}", "analysis.solver", "expected a string"),
-        ("analysis: {max_nodes: 0}", "analysis.max_nodes", "must be an integer >= 1"),
+        ("analysis: {max_nodes: 0}", "analysis.max_nodes", "must be an integer in [1, 1000000000]"),
         (
             "analysis: {backend: miqp, complementarity: indicator, solver: gurobi}",
             "analysis.complementarity",

@@ -261,15 +261,13 @@ def plan_grasps(
     Args:
         hand: Built-in hand name or URDF path (as ``pg.GraspSpec.hand``).
         obj: The object (``pg.ObjectSpec`` or a primitive ``pg.RigidObject``); its pose is ignored.
-        disturbances: ``"cube26"`` (26 unit forces: faces, edges, corners of a cube, hand base
-            frame), ``pg.Gravity(mass, margin=...)`` (the object's weight times ``1 + margin``
-            in every orientation: values are multiples of it, a score >= 1 holds it everywhere)
-            or wrenches (k, 6) [N, N·m].
+        disturbances: ``"cube26"`` (26 unit forces of a cube's faces, edges, corners, hand base
+            frame), ``pg.Gravity(mass, margin=...)`` (the weight x ``1 + margin`` in every
+            orientation: values in weights) or wrenches (k, 6) [N, N·m].
         n: Approaches sampled (each closed, preloaded and scored).
         top: Plans returned (fewer when fewer distinct grasps exist).
-        preload: ``"auto"`` (``pg.equilibrium_preload`` with ``max_command``), a command for
-            every actuator, ``{actuator: value}`` [N·m or N], or ``{"budget": B}``: B split over
-            the driving actuators, equally to start, the split refined with the pose.
+        preload: ``"auto"`` (``pg.equilibrium_preload``), a command for every actuator,
+            ``{actuator: value}`` [N·m or N], or ``{"budget": B}`` (split, refined with the pose).
         seed: Seed of the sampling: the same seed gives the same plans, bit for bit.
         workers, executor, progress: Where the batches run and ``progress(done, total)`` over
             all of them (as ``pg.evaluate_grasps``).
@@ -282,9 +280,8 @@ def plan_grasps(
         standoff: Range of the sampled distance of the palm from the surface, in units of the
             hand's reach (palm to grasp centre): 0 the palm on the surface, 1 the grasp centre.
         duplicate: Two grasps closer than ``(translation [m], rotation [rad])`` are one.
-        **fields: Other ``pg.GraspSpec`` fields shared by every candidate (``patches``, True
-            here: flat contacts as corners; ``edges``, 16 here: :data:`PLAN_EDGES`; ``mu``,
-            ``q_open``, ``max_command``, ...).
+        **fields: Other ``pg.GraspSpec`` fields of every candidate (``patches`` True here;
+            ``edges`` :data:`PLAN_EDGES` here; ``mu``, ``q_open``, ``max_command``, ...).
 
     Raises:
         InvalidInputError, UnknownNameError, MissingDependencyError (pandas; MuJoCo with ``verify``).
