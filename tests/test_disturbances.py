@@ -116,6 +116,10 @@ def test_bad_gravity_mappings_are_named():
         pg.DisturbanceScore(disturbances={"gravity": {"mass": 1, "weight": 2}})
     with pytest.raises(pg.InvalidInputError, match="names one set"):
         pg.DisturbanceScore(disturbances={"gravity": {"mass": 1}, "cube26": {}})
+    with pytest.raises(
+        pg.InvalidInputError, match=r"'gravity' is not a named set; give 'cube26', pg.Gravity"
+    ):
+        pg.DisturbanceScore(disturbances="gravity")
 
 
 def test_a_grasps_file_scores_gravity(tmp_path, jaw_grasp):
@@ -173,6 +177,8 @@ def test_cli_plan_gravity(tmp_path, capsys):
     assert rc == 2 and "--margin" in err and "--gravity MASS" in err
     rc, _, err = run(capsys, *argv, "--gravity", "0.1", "--orientations", "many")
     assert rc == 2 and "--orientations" in err and "[6, 1000]" in err
+    rc, _, err = run(capsys, *argv, "--gravity", "-1")  # named by the flag typed, with its range
+    assert rc == 2 and "error: --gravity: must be in (0, 1e+06] kg, got -1.0" in err
 
 
 def _ability_box_plan5() -> pg.GraspSpec:

@@ -331,6 +331,10 @@ def test_a_plan_names_and_draws_the_directions_past_a_snap(plans):
     assert ticks.get_xdata().tolist() == [2, 4]
     assert ticks.get_ydata().tolist() == [0.5 * best.values[labels[2]], 1.25]
     assert snapped.to_dict()["snaps"] == {labels[2]: 0.5 * best.values[labels[2]], labels[4]: 1.25}
+    # a snap above every value (an unbounded direction's) stays inside the drawn bars
+    high = max(v for v in best.values.values() if math.isfinite(v)) * 3
+    ax = pg.plot_plan(replace(best, snaps={labels[0]: high})).axes[-1]
+    assert ax.get_ylim()[1] > high
 
 
 def test_plans_use_16_edge_pyramids_unless_told(capsys):

@@ -26,7 +26,7 @@ from ..core.methods import bounded as limits_bound
 from ..core.methods import method_name
 from ..core.query import Query
 from ..core.settings import DEFAULT_METHOD, Method
-from ..core.validate import choice, finite_array, force, number_in, vector, whole_number
+from ..core.validate import finite_array, force, number_in, vector, whole_number
 from ..core.validate import steps as n_steps
 from ..errors import InvalidInputError
 
@@ -71,7 +71,12 @@ class Gravity:
         object.__setattr__(self, "mass", number_in("mass", self.mass, 0.0, 1e6, "kg", open_low=True))
         object.__setattr__(self, "margin", number_in("margin", self.margin, 0.0, 100.0))
         if isinstance(self.orientations, str):
-            choice("orientations", self.orientations, DISTURBANCE_SETS)
+            if self.orientations not in DISTURBANCE_SETS:
+                raise InvalidInputError(
+                    "orientations",
+                    f"must be 'cube26' or a number of directions in [6, {MAX_ORIENTATIONS}], "
+                    f"got {self.orientations!r}",
+                )
         else:
             n = whole_number("orientations", self.orientations, 1)
             if not 6 <= n <= MAX_ORIENTATIONS:
@@ -133,7 +138,12 @@ def disturbance_set(disturbances: object, name: str = "disturbances") -> tuple[t
         InvalidInputError: An unknown name, a malformed array or a zero wrench.
     """
     if isinstance(disturbances, str):
-        choice(name, disturbances, DISTURBANCE_SETS)
+        if disturbances not in DISTURBANCE_SETS:
+            raise InvalidInputError(
+                name,
+                f"{disturbances!r} is not a named set; give 'cube26', pg.Gravity(mass, margin=...) (in a "
+                "GRASPS file {gravity: {mass: KG}}) or wrenches of shape (k, 6)",
+            )
         return cube_directions()
     gravity = gravity_of(disturbances, name)
     if gravity is not None:

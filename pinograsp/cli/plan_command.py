@@ -47,7 +47,12 @@ def add_plan(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--preload", default="auto", help="auto (default), a command for every actuator, or budget=B"
     )
-    p.add_argument("--rank-by", choices=("passive", "epsilon"), default="passive")
+    p.add_argument(
+        "--rank-by",
+        choices=("passive", "epsilon"),
+        default="passive",
+        help="rank by the worst-case passive resistance (default) or by the Ferrari-Canny epsilon",
+    )
     p.add_argument(
         "--gravity",
         type=float,
@@ -60,7 +65,9 @@ def add_plan(sub: argparse._SubParsersAction) -> None:
         "--orientations", help="with --gravity: cube26 (default) or a number of directions in [6, 1000]"
     )
     p.add_argument("--mu", type=float, default=0.5, help="friction coefficient (default 0.5)")
-    p.add_argument("--edges", type=int, help="friction pyramid edges of every candidate (default 16)")
+    p.add_argument(
+        "--edges", type=int, help="friction pyramid edges of every candidate, in [3, 256] (default 16)"
+    )
     p.add_argument("--out", metavar="DIR", help="write plans.yaml (GRASPS), plans.json and plan_K.png")
     p.add_argument("--json", action="store_true", help="print the plans as JSON on stdout (nothing else)")
     p.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None, help="progress bar")
@@ -121,7 +128,14 @@ def _disturbances(args: argparse.Namespace) -> object:
                 f"expected cube26 or a number of directions in [6, 1000], got {orientations!r}",
             ) from None
     margin = 0.5 if args.margin is None else args.margin
-    return pg.Gravity(args.gravity, margin=margin, orientations=orientations)
+    try:
+        return pg.Gravity(args.gravity, margin=margin, orientations=orientations)
+    except InvalidInputError as exc:  # named by the flag the user typed
+        flag = {"mass": "--gravity", "margin": "--margin", "orientations": "--orientations"}.get(
+            exc.name, exc.name
+        )
+        message = str(exc).split(": ", 1)[-1]
+        raise InvalidInputError(flag, f"{message}; see pinograsp plan --help") from None
 
 
 def cmd_plan(args: argparse.Namespace) -> int:

@@ -37,7 +37,7 @@ def plot_plan(plan: GraspPlan, path: str | os.PathLike[str] | None = None, *, dp
     labels = list(plan.values)
     v = np.array([plan.values[k] for k in labels])
     sims = {c.label: c.simulated for c in plan.checks if c.label in plan.values}
-    finite = np.array([x for x in (*v, *sims.values()) if math.isfinite(x)])
+    finite = np.array([x for x in (*v, *sims.values(), *plan.snaps.values()) if math.isfinite(x)])
     cap = 1.2 * float(finite.max()) if finite.size and finite.max() > 0 else 1.0
     shown = np.where(np.isfinite(v), v, cap)
     colours = ["tab:red" if k == plan.worst else "tab:blue" for k in labels]
