@@ -45,7 +45,8 @@ class SimOptions:
         rotation: Give-way rotation threshold [rad].
         tolerance: Relative resolution of the give-way load.
         mass: Object mass [kg].
-        damping: Damping ratio of the contacts.
+        damping: Damping ratio of the contacts, relative to the lighter of the object (``mass``)
+            and a finger (``finger_mass * mass``).
         preload: ``"held"`` or ``"settled"``.
         preload_time: Duration of the preload phase (command ramp and settling) [s].
         trace_every: Steps between trace samples.
@@ -88,8 +89,13 @@ class Engine:
     def __init__(self, grasp: GraspModel, command: np.ndarray, opts: SimOptions) -> None:
         self.mj = import_mujoco()
         self.grasp, self.opts = grasp, opts
+        # the damping ratio refers to the lighter of the two bodies a contact joins: referred to
+        # the object, light fingers (finger_mass < 1) are overdamped past the explicit step's
+        # stability and vibrate (docs/simulation.md, "Finger mass"); at finger_mass >= 1 it is the
+        # object, as before
+        lighter = opts.mass * min(1.0, opts.finger_mass)
         self.law = ContactLaw.from_model(
-            grasp, opts.stiffness, opts.damping, opts.mass, pyramid=opts.friction == "pyramid"
+            grasp, opts.stiffness, opts.damping, lighter, pyramid=opts.friction == "pyramid"
         )
         reach = np.max(np.linalg.norm(self.law.jacobian, axis=1), axis=0)  # (nq,) [m/rad]
         # a joint kept only through a coupling (a motor driving mimics, core/build.py) moves no
