@@ -154,7 +154,7 @@ def test_the_planner_ranks_the_same_grasps_in_weights():
     assert "multiples of the weight x 1.5 (0.7358 N) in 26 orientations" in grav.summary()
 
 
-def test_cli_plan_gravity(tmp_path, capsys):
+def test_cli_plan_gravity(tmp_path, capsys, monkeypatch):
     argv = [
         "plan",
         "parallel_jaw",
@@ -179,6 +179,12 @@ def test_cli_plan_gravity(tmp_path, capsys):
     assert rc == 2 and "--orientations" in err and "[6, 1000]" in err
     rc, _, err = run(capsys, *argv, "--gravity", "-1")  # named by the flag typed, with its range
     assert rc == 2 and "error: --gravity: must be in (0, 1e+06] kg, got -1.0" in err
+    # the pictures' value axis says weights, not newtons
+    drawn = []
+    monkeypatch.setattr(pg, "plot_plan", lambda plan, path, **kw: drawn.append(kw))
+    rc, _, err = run(capsys, *argv, "--gravity", "0.1", "--margin", "1", "--out", str(tmp_path / "g"))
+    assert rc == 0, err
+    assert drawn == [{"ylabel": "largest resisted multiple of 1.962 N (the weight x 2)"}]
 
 
 def _ability_box_plan5() -> pg.GraspSpec:

@@ -335,6 +335,8 @@ def test_a_plan_names_and_draws_the_directions_past_a_snap(plans):
     high = max(v for v in best.values.values() if math.isfinite(v)) * 3
     ax = pg.plot_plan(replace(best, snaps={labels[0]: high})).axes[-1]
     assert ax.get_ylim()[1] > high
+    assert ax.get_ylabel() == "largest resisted multiple of the disturbance [N for unit forces]"
+    assert pg.plot_plan(best, ylabel="weights").axes[-1].get_ylabel() == "weights"
 
 
 def test_plans_use_16_edge_pyramids_unless_told(capsys):

@@ -167,6 +167,8 @@ def cmd_plan(args: argparse.Namespace) -> int:
             lines.append(
                 f"        {c.label:<10} predicted {c.predicted:.4g}, simulated {c.simulated:.4g} ({c.status})"
             )
+    g = disturbances if isinstance(disturbances, pg.Gravity) else None
+    ylabel = f"largest resisted multiple of {g.weight:.4g} N (the weight x {1 + g.margin:g})" if g else None
     grasps = out.path("plans.yaml")
     if grasps is not None:
         out.written.append(plans.write_grasps(grasps))
@@ -177,7 +179,7 @@ def cmd_plan(args: argparse.Namespace) -> int:
         for p in plans.plans:
             png = out.path(f"plan_{p.rank}.png")
             assert png is not None
-            pg.plot_plan(p, png)
+            pg.plot_plan(p, png) if ylabel is None else pg.plot_plan(p, png, ylabel=ylabel)
             out.written.append(png)
         lines.append(f"re-score: pinograsp batch {grasps}")
     out.print(*lines)

@@ -13,15 +13,20 @@ import numpy as np
 from ..planning.records import GraspPlan
 from .figures import save_figure
 
+#: The value axis's label (the cube's unit forces: newtons).
+VALUE_LABEL = "largest resisted multiple of the disturbance [N for unit forces]"
 
-def plot_plan(plan: GraspPlan, path: str | os.PathLike[str] | None = None, *, dpi: int = 110) -> Any:
+
+def plot_plan(
+    plan: GraspPlan, path: str | os.PathLike[str] | None = None, *, dpi: int = 110, ylabel: str = VALUE_LABEL
+) -> Any:
     """Draw one plan: the scene (hand at ``plan.q``, object at ``plan.object_pose``, contacts)
     and a bar per disturbance of its value (unbounded bars drawn to 1.2 × the largest finite
     value, hatched; the worst one in red; an orange bar across a value past a snap marks the
     first snap's load, ``plan.snaps``). A verified plan (``plan.checks``) also shows each
     simulated load: a black dot where the simulation gave way, a black triangle on the bar
-    where it held. Returns the matplotlib ``Figure``; with ``path`` (``.png``, ``.pdf``, ...)
-    also writes it.
+    where it held. ``ylabel`` names the values' unit (``pinograsp plan --gravity``: weights).
+    Returns the matplotlib ``Figure``; with ``path`` (``.png``, ``.pdf``, ...) also writes it.
     """
     from matplotlib.figure import Figure
 
@@ -61,7 +66,7 @@ def plot_plan(plan: GraspPlan, path: str | os.PathLike[str] | None = None, *, dp
     if sims or snapped:
         ax.legend(fontsize=7, loc="upper right")
     ax.set_xticks(range(len(v)), labels, rotation=90, fontsize=7)
-    ax.set_ylabel("largest resisted multiple of the disturbance [N for unit forces]")
+    ax.set_ylabel(ylabel)
     ax.set_title(title, fontsize=9)
     fig.tight_layout()
     if path is not None:
