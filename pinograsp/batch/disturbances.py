@@ -26,7 +26,7 @@ from ..core.methods import bounded as limits_bound
 from ..core.methods import method_name
 from ..core.query import Query
 from ..core.settings import DEFAULT_METHOD, Method
-from ..core.validate import finite_array, force, number_in, vector, whole_number
+from ..core.validate import count, finite_array, force, number_in, vector
 from ..core.validate import steps as n_steps
 from ..errors import InvalidInputError
 
@@ -78,13 +78,9 @@ class Gravity:
                     f"got {self.orientations!r}",
                 )
         else:
-            n = whole_number("orientations", self.orientations, 1)
-            if not 6 <= n <= MAX_ORIENTATIONS:
-                raise InvalidInputError(
-                    "orientations",
-                    f"must be 'cube26' or a number of directions in [6, {MAX_ORIENTATIONS}] (one loading "
-                    f"path each), got {self.orientations!r}",
-                )
+            n = count(
+                "orientations", self.orientations, MAX_ORIENTATIONS, 6, "directions, one loading path each"
+            )
             object.__setattr__(self, "orientations", n)
         offset = vector("offset", self.offset, 3)
         object.__setattr__(self, "offset", tuple(float(v) for v in offset))
@@ -105,6 +101,11 @@ class Gravity:
     def weight(self) -> float:
         """The disturbance's force magnitude ``(1 + margin) mass g`` [N]."""
         return (1.0 + self.margin) * self.mass * self.g
+
+    @property
+    def unit(self) -> str:
+        """What a value counts, for tables and axes: ``"1.962 N (the weight x 2)"``."""
+        return f"{self.weight:.4g} N (the weight x {1 + self.margin:g})"
 
     def wrenches(self) -> tuple[tuple[str, ...], np.ndarray]:
         """The labels (k,) and wrenches (k, 6) [N, N·m] of the set."""
@@ -220,12 +221,13 @@ class DisturbanceScore:
     first: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
-        _, w = disturbance_set(self.disturbances)
         gravity = gravity_of(self.disturbances)
         if gravity is not None:
             object.__setattr__(self, "disturbances", gravity)
-        elif not isinstance(self.disturbances, str):
-            object.__setattr__(self, "disturbances", tuple(tuple(float(v) for v in row) for row in w))
+        else:
+            _, w = disturbance_set(self.disturbances)
+            if not isinstance(self.disturbances, str):
+                object.__setattr__(self, "disturbances", tuple(tuple(float(v) for v in row) for row in w))
         object.__setattr__(self, "method", method_name(self.method))
         object.__setattr__(self, "upper", force("upper", self.upper, "N or N·m"))
         bounded = limits_bound(self.method)

@@ -298,8 +298,7 @@ def _worst_of(score: object) -> str:
     if isinstance(score, pg.DisturbanceScore):
         g = score.disturbances
         if isinstance(g, pg.Gravity):
-            n = len(score.labels)
-            return f"worst of {n} orientations; multiples of {g.weight:.4g} N, the weight x {1 + g.margin:g}"
+            return f"worst of {len(score.labels)} orientations; multiples of {g.unit}"
         return f"worst of {len(score.labels)} disturbances"
     return "worst axis"
 

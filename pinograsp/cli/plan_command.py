@@ -118,15 +118,8 @@ def _disturbances(args: argparse.Namespace) -> object:
             if getattr(args, flag) is not None:
                 raise InvalidInputError(f"--{flag}", "applies to --gravity MASS only; give the object's mass")
         return "cube26"
-    orientations: object = args.orientations or "cube26"
-    if orientations != "cube26":
-        try:
-            orientations = int(str(orientations))
-        except ValueError:
-            raise InvalidInputError(
-                "--orientations",
-                f"expected cube26 or a number of directions in [6, 1000], got {orientations!r}",
-            ) from None
+    text = str(args.orientations or "cube26")
+    orientations: str | int = int(text) if text.isdigit() else text  # else pg.Gravity names its forms
     margin = 0.5 if args.margin is None else args.margin
     try:
         return pg.Gravity(args.gravity, margin=margin, orientations=orientations)
@@ -134,7 +127,7 @@ def _disturbances(args: argparse.Namespace) -> object:
         flag = {"mass": "--gravity", "margin": "--margin", "orientations": "--orientations"}.get(
             exc.name, exc.name
         )
-        message = str(exc).split(": ", 1)[-1]
+        message = str(exc)[len(exc.name) + 2 :]  # InvalidInputError's text is "name: message"
         raise InvalidInputError(flag, f"{message}; see pinograsp plan --help") from None
 
 
@@ -168,7 +161,7 @@ def cmd_plan(args: argparse.Namespace) -> int:
                 f"        {c.label:<10} predicted {c.predicted:.4g}, simulated {c.simulated:.4g} ({c.status})"
             )
     g = disturbances if isinstance(disturbances, pg.Gravity) else None
-    ylabel = f"largest resisted multiple of {g.weight:.4g} N (the weight x {1 + g.margin:g})" if g else None
+    ylabel = f"largest resisted multiple of {g.unit}" if g else None
     grasps = out.path("plans.yaml")
     if grasps is not None:
         out.written.append(plans.write_grasps(grasps))
@@ -179,7 +172,7 @@ def cmd_plan(args: argparse.Namespace) -> int:
         for p in plans.plans:
             png = out.path(f"plan_{p.rank}.png")
             assert png is not None
-            pg.plot_plan(p, png) if ylabel is None else pg.plot_plan(p, png, ylabel=ylabel)
+            pg.plot_plan(p, png, ylabel=ylabel)
             out.written.append(png)
         lines.append(f"re-score: pinograsp batch {grasps}")
     out.print(*lines)

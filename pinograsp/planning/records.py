@@ -19,6 +19,7 @@ from typing import Any, Literal
 
 import numpy as np
 
+from ..batch.disturbances import gravity_of
 from ..batch.grasps import GraspSpec, ObjectSpec
 from ..core.paths import allowed_roots, inside
 from ..core.serialize import jsonable
@@ -225,11 +226,10 @@ class GraspPlans:
             f"finish {t.finish:.2f}, verify {t.verify:.1f}",
         ]
         d = self.score_options.get("disturbances")
-        if isinstance(d, dict) and "gravity" in d:
-            g = d["gravity"]
-            weight = (1.0 + g["margin"]) * g["mass"] * g["g"]
+        g = gravity_of(d)
+        if g is not None:
             lines.append(
-                f"scores: multiples of the weight x {1 + g['margin']:g} ({weight:.4g} N) in "
+                f"scores: multiples of the weight x {1 + g.margin:g} ({g.weight:.4g} N) in "
                 f"{len(self.labels)} orientations; >= 1 holds it in every one"
             )
         return lines

@@ -18,14 +18,15 @@ VALUE_LABEL = "largest resisted multiple of the disturbance [N for unit forces]"
 
 
 def plot_plan(
-    plan: GraspPlan, path: str | os.PathLike[str] | None = None, *, dpi: int = 110, ylabel: str = VALUE_LABEL
+    plan: GraspPlan, path: str | os.PathLike[str] | None = None, *, dpi: int = 110, ylabel: str | None = None
 ) -> Any:
     """Draw one plan: the scene (hand at ``plan.q``, object at ``plan.object_pose``, contacts)
     and a bar per disturbance of its value (unbounded bars drawn to 1.2 × the largest finite
     value, hatched; the worst one in red; an orange bar across a value past a snap marks the
     first snap's load, ``plan.snaps``). A verified plan (``plan.checks``) also shows each
     simulated load: a black dot where the simulation gave way, a black triangle on the bar
-    where it held. ``ylabel`` names the values' unit (``pinograsp plan --gravity``: weights).
+    where it held. ``ylabel`` names the values' unit (None: :data:`VALUE_LABEL`, newtons for
+    the cube's unit forces; ``pinograsp plan --gravity``: weights).
     Returns the matplotlib ``Figure``; with ``path`` (``.png``, ``.pdf``, ...) also writes it.
     """
     from matplotlib.figure import Figure
@@ -66,7 +67,7 @@ def plot_plan(
     if sims or snapped:
         ax.legend(fontsize=7, loc="upper right")
     ax.set_xticks(range(len(v)), labels, rotation=90, fontsize=7)
-    ax.set_ylabel(ylabel)
+    ax.set_ylabel(VALUE_LABEL if ylabel is None else ylabel)
     ax.set_title(title, fontsize=9)
     fig.tight_layout()
     if path is not None:
